@@ -1,0 +1,77 @@
+/* sss/dipole.h: the dipole diffusion model (Jensen et al. 2001) per colour
+ * channel, as used by Hao–Varshney 2004 §3.1. Units: lengths in mm,
+ * coefficients in 1/mm, R_d in 1/mm². Formulas: shared physics sheet §1–§3.
+ */
+#ifndef SSS_DIPOLE_H
+#define SSS_DIPOLE_H
+
+#include "sss/result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SSS_MAX_CHANNELS 3
+
+/* A homogeneous material: per channel σa and reduced scattering σ′s (1/mm),
+ * one relative index of refraction η = n_inside / n_outside. */
+typedef struct sss_material {
+    char name[32];                      /* preset name or "custom" */
+    double sigma_a[SSS_MAX_CHANNELS];   /* absorption, 1/mm */
+    double sigmap_s[SSS_MAX_CHANNELS];  /* reduced scattering σ′s = σs(1−g), 1/mm */
+    double eta;                         /* relative index of refraction */
+} sss_material;
+
+/* Derived dipole quantities for one channel (physics sheet §1). */
+typedef struct sss_dipole {
+    double sigma_a, sigmap_s;  /* inputs, 1/mm */
+    double sigmap_t;           /* σ′t = σa + σ′s, 1/mm */
+    double alpha_p;            /* α′ = σ′s / σ′t */
+    double sigma_tr;           /* σtr = sqrt(3 σa σ′t), 1/mm */
+    double D;                  /* 1 / (3 σ′t), mm */
+    double F_dr;               /* diffuse Fresnel reflectance */
+    double A;                  /* (1 + F_dr) / (1 − F_dr) */
+    double z_r, z_v;           /* real source depth, virtual source height, mm */
+} sss_dipole;
+
+/* Number of presets and their names, in table order (apple … wholemilk). */
+int sss_material_preset_count(void);
+const char *sss_material_preset_name(int i);
+
+/* Looks a Jensen 2001 preset up by name (case-insensitive); η = 1.3. */
+sss_result sss_material_preset(const char *name, sss_material *out, sss_error *err);
+
+/* Checks a material: finite, σa ≥ 0, σ′s ≥ 0, σ′t > 0 per channel, η > 0. */
+sss_result sss_material_validate(const sss_material *m, sss_error *err);
+
+/* Diffuse Fresnel reflectance F_dr(η), Jensen's fit (Egan–Hilgeman for η<1);
+ * exactly 0 at η = 1, where the fit's 0.0016 is an artefact. */
+double sss_fdr(double eta);
+
+/* Fresnel transmittance F_t(η, cos θ) = 1 − F_r for unpolarised light
+ * entering from outside; 0 under total internal reflection; cos θ is
+ * clamped to [0, 1]. */
+double sss_ft(double eta, double cos_theta);
+
+/* Fills d for one channel. Fails (SSS_ERR_ARG) when σ′t ≤ 0 or inputs are not
+ * finite. */
+sss_result sss_dipole_init(sss_dipole *d, double sigma_a, double sigmap_s, double eta);
+
+/* R_d(r), 1/mm² (physics sheet §2). Finite at r = 0. */
+double sss_rd(const sss_dipole *d, double r);
+
+/* ∫_0^R R_d(r) 2πr dr, exact closed form (dimensionless). */
+double sss_rd_disk(const sss_dipole *d, double R);
+
+/* Total diffuse reflectance ∫_0^∞ R_d 2πr dr = (α′/2)(1 + e^{−(4/3)A s}) e^{−s}. */
+double sss_rd_total(const sss_dipole *d);
+
+/* Smallest radius R (mm) with sss_rd_disk(R) ≥ (1 − eps) · sss_rd_total,
+ * found by bisection on the closed form; clamped to r_max (α′ → 1 makes the
+ * tail decay like r⁻³). Returns 0 when the total is 0. */
+double sss_rd_radius(const sss_dipole *d, double eps, double r_max);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,46 @@
+/* sss/mesh.h: indexed triangle mesh with per-vertex normals and areas.
+ *
+ * Positions are float32 in the mesh's own units (the bake scales them by
+ * mm_per_unit); everything derived from them (normals, areas) is computed in
+ * double from those float positions, so a reader of a .sss file can recompute
+ * exactly what the bake used.
+ */
+#ifndef SSS_MESH_H
+#define SSS_MESH_H
+
+#include <stdint.h>
+#include "sss/result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sss_mesh {
+    uint32_t nv;     /* vertex count */
+    uint32_t nf;     /* triangle count */
+    float *pos;      /* 3*nv, mesh units, owned */
+    float *nrm;      /* 3*nv, unit area-weighted vertex normals, owned (may be NULL) */
+    uint32_t *tri;   /* 3*nf vertex indices, counter-clockwise seen from outside, owned */
+    double *area;    /* nv, ΔA(x_i) = 1/3 of the incident triangle areas, mesh units², owned (may be NULL) */
+} sss_mesh;
+
+/* Allocates pos and tri for nv vertices and nf triangles (nrm/area NULL).
+ * Zero-initialises the arrays. Fails with SSS_ERR_NOMEM on overflow. */
+sss_result sss_mesh_alloc(sss_mesh *m, uint32_t nv, uint32_t nf, sss_error *err);
+
+/* Frees every owned array and zeroes the struct. NULL-safe. */
+void sss_mesh_free(sss_mesh *m);
+
+/* Checks indices < nv and finite positions; then computes nrm (area-weighted
+ * face normals, normalised; a vertex whose incident normals cancel gets
+ * (0,0,0)) and area (ΔA, Hao–Varshney 2004 §3.1), both accumulated in double
+ * in triangle order so the result is deterministic. `name` prefixes errors. */
+sss_result sss_mesh_compute_normals_areas(sss_mesh *m, const char *name, sss_error *err);
+
+/* Axis-aligned bounds of the positions; returns the diagonal length. */
+double sss_mesh_bounds(const sss_mesh *m, double lo[3], double hi[3]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

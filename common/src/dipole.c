@@ -1,0 +1,188 @@
+/* dipole.c: the dipole diffusion profile of Jensen, Marschner, Levoy and
+ * Hanrahan (SIGGRAPH 2001) as used by Hao–Varshney 2004 §3.1, with its
+ * closed-form disk integral, total diffuse reflectance, Fresnel terms and the
+ * measured materials of Jensen 2001 (Figure 5 there; physics sheet §5).
+ *
+ * All quantities per colour channel, lengths in mm, coefficients in 1/mm.
+ */
+#include "sss/dipole.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* Jensen 2001 measured parameters, σ′s and σa in 1/mm, η = 1.3. */
+static const struct {
+    const char *name;
+    double sigmap_s[3], sigma_a[3];
+} presets[] = {
+    {"apple", {2.29, 2.39, 1.97}, {0.0030, 0.0034, 0.046}},
+    {"chicken1", {0.15, 0.21, 0.38}, {0.015, 0.077, 0.19}},
+    {"chicken2", {0.19, 0.25, 0.32}, {0.018, 0.088, 0.20}},
+    {"cream", {7.38, 5.47, 3.15}, {0.0002, 0.0028, 0.0163}},
+    {"ketchup", {0.18, 0.07, 0.03}, {0.061, 0.97, 1.45}},
+    {"marble", {2.19, 2.62, 3.00}, {0.0021, 0.0041, 0.0071}},
+    {"potato", {0.68, 0.70, 0.55}, {0.0024, 0.0090, 0.12}},
+    {"skimmilk", {0.70, 1.22, 1.90}, {0.0014, 0.0025, 0.0142}},
+    {"skin1", {0.74, 0.88, 1.01}, {0.032, 0.17, 0.48}},
+    {"skin2", {1.09, 1.59, 1.79}, {0.013, 0.070, 0.145}},
+    {"wholemilk", {2.55, 3.21, 3.77}, {0.0011, 0.0024, 0.014}},
+};
+#define NPRESETS ((int)(sizeof presets / sizeof presets[0]))
+
+int sss_material_preset_count(void) { return NPRESETS; }
+
+const char *sss_material_preset_name(int i)
+{
+    return (i >= 0 && i < NPRESETS) ? presets[i].name : NULL;
+}
+
+static int name_eq(const char *a, const char *b)
+{
+    for (; *a && *b; a++, b++)
+        if (tolower((unsigned char)*a) != tolower((unsigned char)*b)) return 0;
+    return *a == *b;
+}
+
+sss_result sss_material_preset(const char *name, sss_material *out, sss_error *err)
+{
+    for (int i = 0; i < NPRESETS; i++) {
+        if (!name_eq(name, presets[i].name)) continue;
+        memset(out, 0, sizeof *out);
+        snprintf(out->name, sizeof out->name, "%s", presets[i].name);
+        for (int c = 0; c < 3; c++) {
+            out->sigma_a[c] = presets[i].sigma_a[c];
+            out->sigmap_s[c] = presets[i].sigmap_s[c];
+        }
+        out->eta = 1.3;
+        return SSS_OK;
+    }
+    char list[256] = "";
+    for (int i = 0; i < NPRESETS; i++) {
+        strncat(list, presets[i].name, sizeof list - strlen(list) - 1);
+        if (i + 1 < NPRESETS) strncat(list, ", ", sizeof list - strlen(list) - 1);
+    }
+    return sss_fail(err, SSS_ERR_ARG, "material '%s': unknown preset (known: %s)", name, list);
+}
+
+sss_result sss_material_validate(const sss_material *m, sss_error *err)
+{
+    const char *n = m->name[0] ? m->name : "custom";
+    if (!isfinite(m->eta) || m->eta <= 0.0)
+        return sss_fail(err, SSS_ERR_ARG, "material '%s': eta %g must be a finite number > 0", n, m->eta);
+    static const char rgb[] = "RGB";
+    for (int c = 0; c < 3; c++) {
+        if (!isfinite(m->sigma_a[c]) || m->sigma_a[c] < 0.0)
+            return sss_fail(err, SSS_ERR_ARG, "material '%s': sigma_a %c = %g must be finite and >= 0", n, rgb[c], m->sigma_a[c]);
+        if (!isfinite(m->sigmap_s[c]) || m->sigmap_s[c] < 0.0)
+            return sss_fail(err, SSS_ERR_ARG, "material '%s': sigma'_s %c = %g must be finite and >= 0", n, rgb[c], m->sigmap_s[c]);
+        if (!(m->sigma_a[c] + m->sigmap_s[c] > 0.0))
+            return sss_fail(err, SSS_ERR_ARG, "material '%s': channel %c has sigma'_t = 0 (no extinction: the dipole is undefined)", n, rgb[c]);
+    }
+    return SSS_OK;
+}
+
+/* F_dr: Jensen 2001 eq. (physics sheet §1); for η < 1 Egan & Hilgeman's fit. */
+double sss_fdr(double eta)
+{
+    if (eta == 1.0) return 0.0; /* index-matched boundary reflects nothing; the fit says 0.0016 */
+    if (eta >= 1.0) return -1.440 / (eta * eta) + 0.710 / eta + 0.668 + 0.0636 * eta;
+    return -0.4399 + 0.7099 / eta - 0.3319 / (eta * eta) + 0.0636 / (eta * eta * eta);
+}
+
+/* Unpolarised Fresnel reflectance for light entering a medium of relative
+ * index η at incidence cosine c (physics sheet §3); F_t = 1 − F_r. */
+double sss_ft(double eta, double c)
+{
+    if (!(c > 0.0)) return 0.0; /* grazing or from behind: nothing enters */
+    if (c > 1.0) c = 1.0;
+    double g2 = eta * eta - 1.0 + c * c;
+    if (g2 < 0.0) return 0.0; /* total internal reflection (only possible for η < 1) */
+    double g = sqrt(g2);
+    double a = (g - c) / (g + c);
+    double b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
+    double Fr = 0.5 * a * a * (1.0 + b * b);
+    if (Fr > 1.0) Fr = 1.0;
+    return 1.0 - Fr;
+}
+
+sss_result sss_dipole_init(sss_dipole *d, double sigma_a, double sigmap_s, double eta)
+{
+    memset(d, 0, sizeof *d);
+    if (!isfinite(sigma_a) || !isfinite(sigmap_s) || !isfinite(eta) || sigma_a < 0.0 || sigmap_s < 0.0 ||
+        !(sigma_a + sigmap_s > 0.0) || !(eta > 0.0))
+        return SSS_ERR_ARG;
+    d->sigma_a = sigma_a;
+    d->sigmap_s = sigmap_s;
+    d->sigmap_t = sigma_a + sigmap_s;              /* σ′t, 1/mm */
+    d->alpha_p = sigmap_s / d->sigmap_t;          /* α′ */
+    d->sigma_tr = sqrt(3.0 * sigma_a * d->sigmap_t); /* σtr uses the *reduced* σ′t (physics §1) */
+    d->D = 1.0 / (3.0 * d->sigmap_t);              /* mm */
+    d->F_dr = sss_fdr(eta);
+    d->A = (1.0 + d->F_dr) / (1.0 - d->F_dr);
+    d->z_r = 1.0 / d->sigmap_t;                    /* mm */
+    d->z_v = d->z_r + 4.0 * d->A * d->D;           /* mm */
+    return SSS_OK;
+}
+
+/* One source's term z (1 + σtr d) e^{−σtr d} / d³ with d = sqrt(r² + z²). */
+static double rd_term(double sigma_tr, double z, double r)
+{
+    double d = sqrt(r * r + z * z);
+    return z * (1.0 + sigma_tr * d) * exp(-sigma_tr * d) / (d * d * d);
+}
+
+double sss_rd(const sss_dipole *d, double r)
+{
+    return d->alpha_p / (4.0 * M_PI) * (rd_term(d->sigma_tr, d->z_r, r) + rd_term(d->sigma_tr, d->z_v, r));
+}
+
+/* e^{−σz} − z e^{−σd}/d for one source, written without cancellation for
+ * small R: with δ = d − z = R²/(d + z), it is −e^{−σz} expm1(−σδ − log1p(δ/z)). */
+static double disk_term(double sigma_tr, double z, double R)
+{
+    double d = sqrt(R * R + z * z);
+    double delta = R * R / (d + z);
+    return -exp(-sigma_tr * z) * expm1(-sigma_tr * delta - log1p(delta / z));
+}
+
+double sss_rd_disk(const sss_dipole *d, double R)
+{
+    if (!(R > 0.0)) return 0.0;
+    if (isinf(R)) return sss_rd_total(d);
+    return 0.5 * d->alpha_p * (disk_term(d->sigma_tr, d->z_r, R) + disk_term(d->sigma_tr, d->z_v, R));
+}
+
+double sss_rd_total(const sss_dipole *d)
+{
+    double s = sqrt(3.0 * (1.0 - d->alpha_p));
+    return 0.5 * d->alpha_p * (1.0 + exp(-(4.0 / 3.0) * d->A * s)) * exp(-s);
+}
+
+/* The energy outside radius R: (α′/2) Σ z e^{−σtr d(R)} / d(R); computed
+ * directly, not as total − disk, so tiny tails keep their digits. */
+static double rd_tail(const sss_dipole *d, double R)
+{
+    double dr = sqrt(R * R + d->z_r * d->z_r), dv = sqrt(R * R + d->z_v * d->z_v);
+    return 0.5 * d->alpha_p * (d->z_r * exp(-d->sigma_tr * dr) / dr + d->z_v * exp(-d->sigma_tr * dv) / dv);
+}
+
+double sss_rd_radius(const sss_dipole *d, double eps, double r_max)
+{
+    double total = sss_rd_total(d);
+    if (!(total > 0.0) || !(r_max > 0.0)) return 0.0;
+    double target = eps * total;
+    if (rd_tail(d, r_max) > target) return r_max; /* α′ → 1: r⁻¹-like tail, clamp */
+    double lo = 0.0, hi = r_max;
+    for (int it = 0; it < 200 && hi - lo > 1e-12 * hi; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (rd_tail(d, mid) > target) lo = mid;
+        else hi = mid;
+    }
+    return hi;
+}

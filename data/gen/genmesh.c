@@ -1,0 +1,233 @@
+/* genmesh.c: procedural test meshes (see genmesh.h). */
+#include "genmesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* Growable mesh builder with a vertex-weld table keyed by exact position. */
+typedef struct builder {
+    float *pos; uint32_t nv, cap_v;
+    uint32_t *tri; uint32_t nf, cap_f;
+    int failed;
+} builder;
+
+static uint32_t b_vertex(builder *b, double x, double y, double z)
+{
+    if (b->nv == b->cap_v) {
+        uint32_t cap = b->cap_v ? 2 * b->cap_v : 1024;
+        float *p = realloc(b->pos, (size_t)cap * 3 * sizeof(float));
+        if (!p) { b->failed = 1; return 0; }
+        b->pos = p; b->cap_v = cap;
+    }
+    b->pos[3 * (size_t)b->nv + 0] = (float)x;
+    b->pos[3 * (size_t)b->nv + 1] = (float)y;
+    b->pos[3 * (size_t)b->nv + 2] = (float)z;
+    return b->nv++;
+}
+
+static void b_tri(builder *b, uint32_t i, uint32_t j, uint32_t k)
+{
+    if (b->nf == b->cap_f) {
+        uint32_t cap = b->cap_f ? 2 * b->cap_f : 2048;
+        uint32_t *t = realloc(b->tri, (size_t)cap * 3 * sizeof(uint32_t));
+        if (!t) { b->failed = 1; return; }
+        b->tri = t; b->cap_f = cap;
+    }
+    b->tri[3 * (size_t)b->nf + 0] = i;
+    b->tri[3 * (size_t)b->nf + 1] = j;
+    b->tri[3 * (size_t)b->nf + 2] = k;
+    b->nf++;
+}
+
+static sss_result b_finish(builder *b, sss_mesh *m, const char *name, sss_error *err)
+{
+    memset(m, 0, sizeof *m);
+    if (b->failed) {
+        free(b->pos); free(b->tri);
+        return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", name);
+    }
+    m->pos = b->pos; m->nv = b->nv;
+    m->tri = b->tri; m->nf = b->nf;
+    sss_result r = sss_mesh_compute_normals_areas(m, name, err);
+    if (r != SSS_OK) sss_mesh_free(m);
+    return r;
+}
+
+/* Edge-midpoint cache for icosphere subdivision: key (min, max) → vertex. */
+typedef struct { uint64_t *key; uint32_t *val; size_t cap; } edge_map;
+
+static uint32_t midpoint(builder *b, edge_map *em, uint32_t i, uint32_t j, double radius)
+{
+    uint64_t a = i < j ? i : j, c = i < j ? j : i;
+    uint64_t key = (a << 32) | c;
+    size_t h = (size_t)((key * 0x9E3779B97F4A7C15ull) >> 20) & (em->cap - 1);
+    while (em->key[h] != UINT64_MAX) {
+        if (em->key[h] == key) return em->val[h];
+        h = (h + 1) & (em->cap - 1);
+    }
+    double p[3];
+    for (int k = 0; k < 3; k++) p[k] = 0.5 * ((double)b->pos[3 * (size_t)i + k] + b->pos[3 * (size_t)j + k]);
+    double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    uint32_t v = b_vertex(b, p[0] / len * radius, p[1] / len * radius, p[2] / len * radius);
+    em->key[h] = key;
+    em->val[h] = v;
+    return v;
+}
+
+sss_result sss_gen_sphere(sss_mesh *m, double radius, unsigned subdiv, sss_error *err)
+{
+    if (subdiv > 10 || !(radius > 0)) return sss_fail(err, SSS_ERR_ARG, "sphere: subdivisions %u (max 10), radius %g", subdiv, radius);
+    builder b = {0};
+    const double t = (1.0 + sqrt(5.0)) / 2.0, s = radius / sqrt(1.0 + t * t);
+    const double iv[12][3] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                              {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    static const uint32_t it[20][3] = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
+                                       {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    for (int i = 0; i < 12; i++) b_vertex(&b, iv[i][0] * s, iv[i][1] * s, iv[i][2] * s);
+    for (int i = 0; i < 20; i++) b_tri(&b, it[i][0], it[i][1], it[i][2]);
+    for (unsigned l = 0; l < subdiv && !b.failed; l++) {
+        edge_map em;
+        em.cap = 1;
+        while (em.cap < (size_t)b.nf * 4) em.cap <<= 1;
+        em.key = malloc(em.cap * sizeof *em.key);
+        em.val = malloc(em.cap * sizeof *em.val);
+        uint32_t *old = b.tri, nf = b.nf;
+        b.tri = NULL; b.nf = b.cap_f = 0;
+        if (!em.key || !em.val) { b.failed = 1; free(em.key); free(em.val); free(old); break; }
+        memset(em.key, 0xff, em.cap * sizeof *em.key);
+        for (uint32_t f = 0; f < nf; f++) {
+            uint32_t a = old[3 * f], c = old[3 * f + 1], d = old[3 * f + 2];
+            uint32_t ab = midpoint(&b, &em, a, c, radius), bc = midpoint(&b, &em, c, d, radius),
+                     ca = midpoint(&b, &em, d, a, radius);
+            b_tri(&b, a, ab, ca); b_tri(&b, c, bc, ab); b_tri(&b, d, ca, bc); b_tri(&b, ab, bc, ca);
+        }
+        free(old); free(em.key); free(em.val);
+    }
+    return b_finish(&b, m, "sphere", err);
+}
+
+sss_result sss_gen_plane(sss_mesh *m, double sx, double sy, unsigned nx, unsigned ny, sss_error *err)
+{
+    if (nx < 1 || ny < 1 || (uint64_t)(nx + 1) * (ny + 1) > 50000000u)
+        return sss_fail(err, SSS_ERR_ARG, "plane: %u x %u segments out of range", nx, ny);
+    builder b = {0};
+    for (unsigned j = 0; j <= ny; j++)
+        for (unsigned i = 0; i <= nx; i++)
+            b_vertex(&b, sx * ((double)i / nx - 0.5), sy * ((double)j / ny - 0.5), 0.0);
+    for (unsigned j = 0; j < ny; j++)
+        for (unsigned i = 0; i < nx; i++) {
+            uint32_t v00 = j * (nx + 1) + i, v10 = v00 + 1, v01 = v00 + nx + 1, v11 = v01 + 1;
+            b_tri(&b, v00, v10, v11);
+            b_tri(&b, v00, v11, v01);
+        }
+    return b_finish(&b, m, "plane", err);
+}
+
+sss_result sss_gen_box(sss_mesh *m, double sx, double sy, double sz, unsigned n, int inward, sss_error *err)
+{
+    if (n < 1 || n > 1024) return sss_fail(err, SSS_ERR_ARG, "box: %u segments out of range [1, 1024]", n);
+    builder b = {0};
+    size_t side = (size_t)n + 1;
+    uint32_t *lat = malloc(side * side * side * sizeof(uint32_t)); /* lattice (i,j,k) → vertex, welds edges */
+    if (!lat) return sss_fail(err, SSS_ERR_NOMEM, "box: out of memory");
+    memset(lat, 0xff, side * side * side * sizeof(uint32_t));
+    const double h[3] = {sx, sy, sz};
+    /* Each face: fixed axis a at side s (0 or n); u, v span the other axes so
+     * that (u × v) points outward. */
+    for (int a = 0; a < 3; a++)
+        for (int sgn = 0; sgn < 2; sgn++) {
+            int u = (a + 1) % 3, v = (a + 2) % 3;
+            if (!sgn) { int t = u; u = v; v = t; }
+            for (unsigned j = 0; j < n; j++)
+                for (unsigned i = 0; i < n; i++) {
+                    uint32_t q[4];
+                    const unsigned du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+                    for (int c = 0; c < 4; c++) {
+                        unsigned L[3];
+                        L[a] = sgn ? n : 0; L[u] = i + du[c]; L[v] = j + dv[c];
+                        size_t key = ((size_t)L[0] * side + L[1]) * side + L[2];
+                        if (lat[key] == UINT32_MAX) {
+                            double p[3];
+                            for (int k = 0; k < 3; k++) p[k] = h[k] * ((double)L[k] / n - 0.5);
+                            lat[key] = b_vertex(&b, p[0], p[1], p[2]);
+                        }
+                        q[c] = lat[key];
+                    }
+                    if (inward) { b_tri(&b, q[0], q[2], q[1]); b_tri(&b, q[0], q[3], q[2]); }
+                    else { b_tri(&b, q[0], q[1], q[2]); b_tri(&b, q[0], q[2], q[3]); }
+                }
+        }
+    free(lat);
+    return b_finish(&b, m, "box", err);
+}
+
+sss_result sss_gen_torus(sss_mesh *m, double R, double r, unsigned nu, unsigned nv, sss_error *err)
+{
+    if (nu < 3 || nv < 3 || (uint64_t)nu * nv > 50000000u || !(R > r) || !(r > 0))
+        return sss_fail(err, SSS_ERR_ARG, "torus: bad parameters (R %g, r %g, %u x %u)", R, r, nu, nv);
+    builder b = {0};
+    for (unsigned i = 0; i < nu; i++)
+        for (unsigned j = 0; j < nv; j++) {
+            double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
+            b_vertex(&b, (R + r * cos(v)) * cos(u), (R + r * cos(v)) * sin(u), r * sin(v));
+        }
+    for (unsigned i = 0; i < nu; i++)
+        for (unsigned j = 0; j < nv; j++) {
+            uint32_t a = i * nv + j, c = ((i + 1) % nu) * nv + j, d = ((i + 1) % nu) * nv + (j + 1) % nv,
+                     e = i * nv + (j + 1) % nv;
+            b_tri(&b, a, c, d);
+            b_tri(&b, a, d, e);
+        }
+    return b_finish(&b, m, "torus", err);
+}
+
+sss_result sss_gen_blob(sss_mesh *m, double radius, unsigned subdiv, sss_error *err)
+{
+    sss_result r = sss_gen_sphere(m, 1.0, subdiv, err);
+    if (r != SSS_OK) return r;
+    for (uint32_t v = 0; v < m->nv; v++) {
+        float *p = &m->pos[3 * (size_t)v];
+        double x = p[0], y = p[1], z = p[2];
+        /* Low-frequency lobes deep enough to make concavities that shadow. */
+        double k = 1.0 + 0.22 * sin(3.0 * x + 1.0) * cos(2.0 * y) + 0.18 * cos(4.0 * z + 0.5 * x) + 0.08 * sin(5.0 * y + z);
+        for (int c = 0; c < 3; c++) p[c] = (float)(p[c] * k * radius);
+    }
+    r = sss_mesh_compute_normals_areas(m, "blob", err);
+    if (r != SSS_OK) sss_mesh_free(m);
+    return r;
+}
+
+sss_result sss_mesh_append(sss_mesh *a, const sss_mesh *b, sss_error *err)
+{
+    sss_mesh c;
+    sss_result r = sss_mesh_alloc(&c, a->nv + b->nv, a->nf + b->nf, err);
+    if (r != SSS_OK) return r;
+    memcpy(c.pos, a->pos, (size_t)a->nv * 3 * sizeof(float));
+    memcpy(c.pos + (size_t)a->nv * 3, b->pos, (size_t)b->nv * 3 * sizeof(float));
+    memcpy(c.tri, a->tri, (size_t)a->nf * 3 * sizeof(uint32_t));
+    for (size_t i = 0; i < (size_t)b->nf * 3; i++) c.tri[(size_t)a->nf * 3 + i] = b->tri[i] + a->nv;
+    r = sss_mesh_compute_normals_areas(&c, "merged mesh", err);
+    if (r != SSS_OK) { sss_mesh_free(&c); return r; }
+    sss_mesh_free(a);
+    *a = c;
+    return SSS_OK;
+}
+
+sss_result sss_gen_by_name(const char *kind, unsigned res, double size, sss_mesh *m, sss_error *err)
+{
+    if (!(size > 0)) size = 1.0;
+    if (!strcmp(kind, "sphere")) return sss_gen_sphere(m, size, res, err);
+    if (!strcmp(kind, "blob")) return sss_gen_blob(m, size, res, err);
+    if (!strcmp(kind, "plane")) return sss_gen_plane(m, size, size, res, res, err);
+    if (!strcmp(kind, "cube") || !strcmp(kind, "box")) return sss_gen_box(m, size, size, size, res, 0, err);
+    if (!strcmp(kind, "slab")) return sss_gen_box(m, size, size, size / 50.0, res, 0, err);
+    if (!strcmp(kind, "torus")) return sss_gen_torus(m, size, size / 3.0, 2 * res, res, err);
+    return sss_fail(err, SSS_ERR_ARG, "unknown mesh kind '%s' (sphere, blob, plane, cube, slab, torus)", kind);
+}

@@ -1,0 +1,43 @@
+/* genmesh.h: procedural test meshes at any resolution, outward-facing,
+ * counter-clockwise, with shared (welded) vertices. Normals and areas are
+ * computed (sss_mesh_compute_normals_areas). Sizes are in mesh units.
+ */
+#ifndef SSS_GENMESH_H
+#define SSS_GENMESH_H
+
+#include "sss/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Geodesic sphere: icosahedron subdivided `subdiv` times (10·4^s + 2 vertices). */
+sss_result sss_gen_sphere(sss_mesh *m, double radius, unsigned subdiv, sss_error *err);
+
+/* Plane z = 0 centred at the origin, sx × sy, nx × ny quads (two triangles
+ * each), normal +z. */
+sss_result sss_gen_plane(sss_mesh *m, double sx, double sy, unsigned nx, unsigned ny, sss_error *err);
+
+/* Closed box centred at the origin, sx × sy × sz, each face an n × n grid.
+ * With sz small it is the thin slab. `inward` != 0 flips orientation (a
+ * room seen from inside). */
+sss_result sss_gen_box(sss_mesh *m, double sx, double sy, double sz, unsigned n, int inward, sss_error *err);
+
+/* Torus around z: major radius R, minor radius r, nu × nv segments. */
+sss_result sss_gen_torus(sss_mesh *m, double R, double r, unsigned nu, unsigned nv, sss_error *err);
+
+/* A lumpy sphere (radius modulated by low-frequency bumps) with concave
+ * regions that shadow themselves: the bundled sample's shape. */
+sss_result sss_gen_blob(sss_mesh *m, double radius, unsigned subdiv, sss_error *err);
+
+/* Appends b's vertices and triangles to a (indices shifted). */
+sss_result sss_mesh_append(sss_mesh *a, const sss_mesh *b, sss_error *err);
+
+/* Generates by name: "sphere", "plane", "cube", "box", "slab", "torus",
+ * "blob" with a resolution knob `res` (subdivisions or segments). */
+sss_result sss_gen_by_name(const char *kind, unsigned res, double size, sss_mesh *m, sss_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

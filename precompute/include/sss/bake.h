@@ -1,0 +1,104 @@
+/* sss/bake.h: the precompute pipeline of Hao–Varshney 2004 §3:
+ * scattering neighbourhoods → visibility from each light direction →
+ * integrals q(x_o, ω_j) → quantisation, producing an sss_bake_file.
+ *
+ * The steps are exposed separately so that tests and the exact evaluator can
+ * run them on a subset of vertices or directions.
+ */
+#ifndef SSS_BAKE_H
+#define SSS_BAKE_H
+
+#include <stdint.h>
+#include "sss/dipole.h"
+#include "sss/dirset.h"
+#include "sss/format.h"
+#include "sss/mesh.h"
+#include "sss/result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Options; a zero field means its default. */
+typedef struct sss_bake_options {
+    double mm_per_unit;  /* millimetres per mesh unit (default 1) */
+    uint32_t n_dirs;     /* light directions (default 200) */
+    double eps;          /* neighbourhood energy cutoff ε: radius captures 1−ε of R_d,total (default 1e-3) */
+    sss_quant quant;     /* SSS_QUANT_FLOAT (default) or SSS_QUANT_LLOYD8 */
+    int threads;         /* OpenMP threads (default: OpenMP's own) */
+    int progress;        /* non-zero: progress bar with ETA on stderr when it is a terminal */
+} sss_bake_options;
+
+/* What a bake measured (seconds are wall-clock). */
+typedef struct sss_bake_stats {
+    double t_neighbourhoods, t_visibility, t_integrals, t_quantise;
+    double radius_mm[SSS_MAX_CHANNELS];  /* neighbourhood radius per channel */
+    double search_radius_mm;             /* max over channels: the one searched */
+    uint64_t neighbours_total;           /* Σ |N(x_o)| including x_o itself */
+    double neighbours_mean;
+    uint32_t neighbours_max;
+    uint64_t rays;                       /* occlusion rays traced */
+    double occluded_fraction;            /* of the traced rays */
+    double lloyd_snr_db[SSS_MAX_CHANNELS]; /* lloyd8 only: 10 log10(Σq² / Σ(q − q̂)²) per channel */
+    double lloyd_snr_db_all;             /* same over all channels */
+} sss_bake_stats;
+
+/* Scattering neighbourhoods N(x_o) in compressed-row form with the per-channel
+ * weights w_c(o, i) = (1/π) R_d,c(‖x_i − x_o‖) ΔA(x_i) (mm² · 1/mm² = sr⁻¹ units
+ * of q), and for i = o the self term (1/π) ∫_disk R_d dA over a disk of x_o's
+ * own area (physics sheet §2 (a)). Rows list neighbours in increasing index
+ * order, so sums are taken in the same order whatever the thread count. */
+typedef struct sss_nbhd {
+    uint32_t nrows;       /* number of target vertices */
+    uint32_t channels;
+    uint64_t *start;      /* nrows + 1 offsets into idx / w */
+    uint32_t *idx;        /* neighbour vertex indices */
+    float *w;             /* channels weights per entry, interleaved */
+} sss_nbhd;
+
+/* Builds neighbourhoods for `targets` (ntargets vertex indices; NULL means all
+ * vertices in order). mesh must have area computed. radius_mm is the search
+ * radius; dip[c] the channel models. */
+sss_result sss_nbhd_build(const sss_mesh *mesh, double mm_per_unit, const sss_dipole *dip, uint32_t channels,
+                          double radius_mm, const uint32_t *targets, uint32_t ntargets, sss_nbhd *out,
+                          sss_error *err);
+void sss_nbhd_free(sss_nbhd *nb);
+
+/* Visibility V(x_i, ω_j) by occlusion rays (Embree). The paper used shadow
+ * maps (§3.1); rays are exact up to the origin offset. */
+typedef struct sss_vis sss_vis;
+sss_result sss_vis_create(const sss_mesh *mesh, sss_vis **out, sss_error *err);
+void sss_vis_destroy(sss_vis *vis);
+/* Is vertex v's light from direction d (unit, towards the light) blocked? */
+int sss_vis_occluded(const sss_vis *vis, uint32_t v, const double d[3]);
+
+/* Per-vertex light transport towards each direction, independent of x_o:
+ * G[i * n + j] = F_t(η, n_i·ω_j) · max(0, n_i·ω_j) · V(x_i, ω_j)
+ * for all vertices i (Hao–Varshney 2004 §3.1, eq. for q). rays/occluded
+ * (may be NULL) count the rays traced and blocked. */
+sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
+                                float *G, uint64_t *rays, uint64_t *occluded, sss_error *err);
+
+/* q for every neighbourhood row and direction: q[(j * nrows + r) * channels + c]
+ * = Σ_i w_c(r, i) G[i * n + j], accumulated in double. */
+void sss_integrate(const sss_nbhd *nb, const float *G, uint32_t n, float *q);
+
+/* Lloyd–Max scalar quantiser with 256 levels for one channel: trains on
+ * (a deterministic subsample of) x[k * stride], k < count, writes levels in
+ * increasing order (level 0 pinned to the minimum, so shadowed zeros decode
+ * as zeros) and idx[k * stride]. Returns Σx² and Σ(x − x̂)² via the pointers. */
+sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float levels[256], uint8_t *idx,
+                      double *signal, double *noise, sss_error *err);
+
+/* The whole bake: writes out (mesh copy, material, dirs, q or levels+qidx,
+ * params JSON) and stats. `mesh_name` goes into the params JSON. */
+sss_result sss_bake(const sss_mesh *mesh, const char *mesh_name, const sss_material *mat,
+                    const sss_bake_options *opt, sss_bake_file *out, sss_bake_stats *stats, sss_error *err);
+
+/* Set by a SIGINT handler to stop a bake early (returns SSS_ERR_INTERRUPTED). */
+extern volatile int sss_bake_interrupted;
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,179 @@
+/* bake.c: the precompute pipeline (Hao–Varshney 2004 §3): neighbourhoods,
+ * visibility and transfer, integrals, quantisation, assembled into an
+ * sss_bake_file. Each phase is timed for the benchmarks.
+ */
+#include "sss/bake.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "progress.h"
+
+volatile int sss_bake_interrupted;
+
+static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
+{
+    sss_result r = sss_mesh_alloc(dst, src->nv, src->nf, err);
+    if (r != SSS_OK) return r;
+    memcpy(dst->pos, src->pos, (size_t)src->nv * 3 * sizeof(float));
+    memcpy(dst->tri, src->tri, (size_t)src->nf * 3 * sizeof(uint32_t));
+    r = sss_mesh_compute_normals_areas(dst, "mesh", err);
+    if (r != SSS_OK) sss_mesh_free(dst);
+    return r;
+}
+
+/* Bake parameters as JSON, for provenance. Only inputs go here (no thread
+ * count, no timings), so the file's bytes depend on the inputs alone. */
+static char *params_json(const char *mesh_name, const sss_material *m, const sss_bake_options *o,
+                         uint32_t channels, const double *radius, double search)
+{
+    char buf[2048];
+    const char *nm = mesh_name ? mesh_name : "";
+    char esc[512];
+    size_t k = 0;
+    for (const char *p = nm; *p && k + 7 < sizeof esc; p++) {
+        unsigned char ch = (unsigned char)*p;
+        if (ch == '"' || ch == '\\') { esc[k++] = '\\'; esc[k++] = (char)ch; }
+        else if (ch < 0x20) k += (size_t)snprintf(esc + k, sizeof esc - k, "\\u%04x", ch);
+        else esc[k++] = (char)ch;
+    }
+    esc[k] = 0;
+    snprintf(buf, sizeof buf,
+             "{\"generator\":\"sss-bake 0.1.0\",\"format\":\"%d.%d\",\"mesh\":\"%s\","
+             "\"material\":{\"name\":\"%s\",\"sigma_a\":[%.17g,%.17g,%.17g],\"sigmap_s\":[%.17g,%.17g,%.17g],\"eta\":%.17g},"
+             "\"mm_per_unit\":%.17g,\"dirs\":%u,\"direction_set\":\"spherical-fibonacci\",\"eps\":%.17g,"
+             "\"channels\":%u,\"quant\":\"%s\",\"radius_mm\":[%.9g,%.9g,%.9g],\"search_radius_mm\":%.9g,"
+             "\"normalisation\":\"q = sum F_t(eta,n_i.w) (1/pi) R_d(r) max(0,n_i.w) V dA; self term (1/pi) disk integral\","
+             "\"visibility\":\"embree occlusion rays, origin offset 1e-5 of bbox diagonal along the normal\"}",
+             SSS_FORMAT_MAJOR, SSS_FORMAT_MINOR, esc, m->name, m->sigma_a[0], m->sigma_a[1], m->sigma_a[2],
+             m->sigmap_s[0], m->sigmap_s[1], m->sigmap_s[2], m->eta, o->mm_per_unit, o->n_dirs, o->eps, channels,
+             o->quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float", radius[0], radius[1], radius[2], search);
+    char *s = malloc(strlen(buf) + 1);
+    if (s) strcpy(s, buf);
+    return s;
+}
+
+sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_material *mat,
+                    const sss_bake_options *opt_in, sss_bake_file *out, sss_bake_stats *st_out, sss_error *err)
+{
+    memset(out, 0, sizeof *out);
+    sss_bake_stats st;
+    memset(&st, 0, sizeof st);
+    sss_bake_options o = *opt_in;
+    if (o.mm_per_unit == 0) o.mm_per_unit = 1.0;
+    if (o.n_dirs == 0) o.n_dirs = 200;
+    if (o.eps == 0) o.eps = 1e-3;
+    if (!(o.mm_per_unit > 0) || !isfinite(o.mm_per_unit))
+        return sss_fail(err, SSS_ERR_ARG, "--mm-per-unit %g must be a finite number > 0", o.mm_per_unit);
+    if (!(o.eps > 0 && o.eps < 1)) return sss_fail(err, SSS_ERR_ARG, "eps %g must be in (0, 1)", o.eps);
+    if (o.n_dirs > 100000) return sss_fail(err, SSS_ERR_ARG, "--dirs %u out of range [1, 100000]", o.n_dirs);
+#ifdef _OPENMP
+    if (o.threads > 0) omp_set_num_threads(o.threads);
+#endif
+    sss_progress_enable(o.progress);
+    sss_result r = sss_material_validate(mat, err);
+    if (r != SSS_OK) return r;
+
+    const uint32_t C = 3;
+    sss_dipole dip[SSS_MAX_CHANNELS];
+    for (uint32_t c = 0; c < C; c++) sss_dipole_init(&dip[c], mat->sigma_a[c], mat->sigmap_s[c], mat->eta);
+
+    sss_nbhd nb = {0};
+    sss_vis *vis = NULL;
+    float *G = NULL;
+    r = copy_mesh(mesh_in, &out->mesh, err);
+    if (r != SSS_OK) goto fail;
+    const sss_mesh *mesh = &out->mesh;
+    r = sss_dirset_fibonacci(&out->dirs, o.n_dirs, err);
+    if (r != SSS_OK) goto fail;
+    out->material = *mat;
+    out->mm_per_unit = o.mm_per_unit;
+    out->channels = C;
+    out->quant = o.quant;
+
+    /* Neighbourhood radius per channel: the disk that holds 1−ε of the total
+     * diffuse reflectance, clamped to the object's size (α′ → 1). */
+    double lo[3], hi[3];
+    double diag_mm = sss_mesh_bounds(mesh, lo, hi) * o.mm_per_unit;
+    for (uint32_t c = 0; c < C; c++) {
+        st.radius_mm[c] = sss_rd_radius(&dip[c], o.eps, diag_mm);
+        if (st.radius_mm[c] > st.search_radius_mm) st.search_radius_mm = st.radius_mm[c];
+    }
+
+    double t = sss_now();
+    sss_progress_begin("neighbourhoods", 1);
+    r = sss_nbhd_build(mesh, o.mm_per_unit, dip, C, st.search_radius_mm, NULL, 0, &nb, err);
+    sss_progress_end();
+    if (r != SSS_OK) goto fail;
+    st.t_neighbourhoods = sss_now() - t;
+    st.neighbours_total = nb.start[nb.nrows];
+    st.neighbours_mean = (double)st.neighbours_total / (double)nb.nrows;
+    for (uint32_t v = 0; v < nb.nrows; v++) {
+        uint32_t k = (uint32_t)(nb.start[v + 1] - nb.start[v]);
+        if (k > st.neighbours_max) st.neighbours_max = k;
+    }
+
+    t = sss_now();
+    G = malloc((size_t)mesh->nv * o.n_dirs * sizeof(float) + 1);
+    if (!G) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u transfer values", mesh->nv, o.n_dirs); goto fail; }
+    r = sss_vis_create(mesh, &vis, err);
+    if (r != SSS_OK) goto fail;
+    uint64_t occ = 0;
+    sss_progress_begin("visibility", mesh->nv);
+    r = sss_transfer_compute(mesh, vis, out->dirs.dir, o.n_dirs, mat->eta, G, &st.rays, &occ, err);
+    sss_progress_end();
+    sss_vis_destroy(vis);
+    vis = NULL;
+    if (r != SSS_OK) goto fail;
+    st.occluded_fraction = st.rays ? (double)occ / (double)st.rays : 0.0;
+    st.t_visibility = sss_now() - t;
+
+    t = sss_now();
+    size_t nq = (size_t)o.n_dirs * mesh->nv * C;
+    out->q = malloc(nq * sizeof(float) + 1);
+    if (!out->q) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %zu integrals", nq); goto fail; }
+    sss_progress_begin("integrals", mesh->nv);
+    sss_integrate(&nb, G, o.n_dirs, out->q);
+    sss_progress_end();
+    st.t_integrals = sss_now() - t;
+    free(G);
+    G = NULL;
+    sss_nbhd_free(&nb);
+    if (sss_bake_interrupted) { r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals"); goto fail; }
+
+    if (o.quant == SSS_QUANT_LLOYD8) {
+        t = sss_now();
+        out->levels = malloc(256 * C * sizeof(float));
+        out->qidx = malloc(nq + 1);
+        if (!out->levels || !out->qidx) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %zu indices", nq); goto fail; }
+        double S = 0, N = 0;
+        for (uint32_t c = 0; c < C; c++) {
+            double s, n;
+            r = sss_lloyd8(out->q + c, (uint64_t)o.n_dirs * mesh->nv, C, out->levels + 256 * c, out->qidx + c, &s, &n, err);
+            if (r != SSS_OK) goto fail;
+            st.lloyd_snr_db[c] = n > 0 ? 10.0 * log10(s / n) : INFINITY;
+            S += s;
+            N += n;
+        }
+        st.lloyd_snr_db_all = N > 0 ? 10.0 * log10(S / N) : INFINITY;
+        free(out->q);
+        out->q = NULL;
+        st.t_quantise = sss_now() - t;
+    }
+    out->params_json = params_json(mesh_name, mat, &o, C, st.radius_mm, st.search_radius_mm);
+    if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto fail; }
+    if (st_out) *st_out = st;
+    return SSS_OK;
+
+fail:
+    sss_vis_destroy(vis);
+    free(G);
+    sss_nbhd_free(&nb);
+    sss_file_free(out);
+    return r;
+}

@@ -1,0 +1,71 @@
+/* transfer.c: the part of the Hao–Varshney 2004 §3.1 integrand that depends
+ * only on the incident point x_i and the light direction ω_j,
+ *   G(x_i, ω_j) = F_t(η, n_i·ω_j) · max(0, n_i·ω_j) · V(x_i, ω_j),
+ * so that q(x_o, ω_j) = Σ_i w(o, i) G(x_i, ω_j) is a sparse × dense product.
+ */
+#include "sss/bake.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "progress.h"
+
+sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
+                                float *G, uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
+{
+    if (!mesh->nrm) return sss_fail(err, SSS_ERR_ARG, "transfer: mesh has no normals");
+    uint64_t rays = 0, occ = 0;
+    int stop = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : rays, occ)
+    for (int64_t i = 0; i < (int64_t)mesh->nv; i++) {
+        if (stop) continue;
+        if (sss_bake_interrupted) { stop = 1; continue; }
+        const float *nv = &mesh->nrm[3 * (size_t)i];
+        for (uint32_t j = 0; j < n; j++) {
+            const double *d = &dirs[3 * (size_t)j];
+            double c = nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2];
+            float g = 0.0f;
+            if (c > 0.0) {
+                rays++;
+                if (vis && sss_vis_occluded(vis, (uint32_t)i, d)) occ++;
+                else g = (float)(sss_ft(eta, c) * c);
+            }
+            G[(size_t)i * n + j] = g;
+        }
+        sss_progress_tick(1);
+    }
+    if (stop) return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during visibility");
+    if (rays_out) *rays_out = rays;
+    if (occ_out) *occ_out = occ;
+    return SSS_OK;
+}
+
+void sss_integrate(const sss_nbhd *nb, const float *G, uint32_t n, float *q)
+{
+    const uint32_t C = nb->channels;
+#pragma omp parallel
+    {
+        double *acc = calloc((size_t)n * C + 1, sizeof(double));
+#pragma omp for schedule(dynamic, 64)
+        for (int64_t r = 0; r < (int64_t)nb->nrows; r++) {
+            if (!acc) continue;
+            for (size_t k = 0; k < (size_t)n * C; k++) acc[k] = 0.0;
+            /* Neighbours in increasing index order: the sum's rounding does
+             * not depend on the thread count. */
+            for (uint64_t e = nb->start[r]; e < nb->start[r + 1]; e++) {
+                const float *g = &G[(size_t)nb->idx[e] * n];
+                const float *w = &nb->w[e * C];
+                for (uint32_t c = 0; c < C; c++) {
+                    double wc = w[c];
+                    double *a = &acc[(size_t)c * n];
+                    for (uint32_t j = 0; j < n; j++) a[j] += wc * g[j];
+                }
+            }
+            for (uint32_t j = 0; j < n; j++)
+                for (uint32_t c = 0; c < C; c++)
+                    q[((size_t)j * nb->nrows + (size_t)r) * C + c] = (float)acc[(size_t)c * n + j];
+            sss_progress_tick(1);
+        }
+        free(acc);
+    }
+}

@@ -1,0 +1,213 @@
+/* sss-bake: bakes a mesh and a translucent material into a .sss file
+ * (Hao–Varshney 2004 §3). See `sss-bake --help` and docs/usage.md. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "cli_util.h"
+#include "sss/bake.h"
+#include "sss/import.h"
+
+static const char *TOOL = "sss-bake";
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: sss-bake MESH -o OUT.sss [options]\n"
+        "Bakes per-vertex subsurface-scattering integrals q(x, w_j) for a set of light\n"
+        "directions (Hao & Varshney 2004) into OUT.sss.\n\n"
+        "  MESH                 .ply (ascii/binary), .obj, .off or .stl\n"
+        "  -o, --out FILE       output .sss file (written atomically)\n"
+        "  --material NAME      Jensen 2001 preset: apple chicken1 chicken2 cream ketchup\n"
+        "                       marble potato skimmilk skin1 skin2 wholemilk (default marble)\n"
+        "  --sigma-a R,G,B      custom absorption, 1/mm (with --sigma-s, --eta)\n"
+        "  --sigma-s R,G,B      custom *reduced* scattering sigma'_s = sigma_s (1-g), 1/mm\n"
+        "  --eta E              relative index of refraction (default 1.3)\n"
+        "  --mm-per-unit S      millimetres per mesh unit (default 1)\n"
+        "  --dirs N             number of light directions (default 200)\n"
+        "  --eps E              neighbourhood energy cutoff: radius holds 1-E of R_d total (default 1e-3)\n"
+        "  --quant float|lloyd8 storage of the integrals (default float)\n"
+        "  --threads T          worker threads (default: all cores); output does not depend on it\n"
+        "  --json               print one JSON object with statistics on stdout\n"
+        "  -q, --quiet          no progress bar or summary on stderr\n"
+        "  -h, --help           this text\n");
+}
+
+static void on_sigint(int sig)
+{
+    (void)sig;
+    sss_bake_interrupted = 1;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int main(int argc, char **argv)
+{
+    const char *in = NULL, *outp = NULL, *preset = NULL;
+    double sa[3], ss[3], eta = 1.3;
+    int have_sa = 0, have_ss = 0, have_eta = 0, json = 0, quiet = 0;
+    sss_bake_options opt;
+    memset(&opt, 0, sizeof opt);
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEED() do { if (!v) { fprintf(stderr, "%s: %s needs a value\n", TOOL, a); return 2; } i++; } while (0)
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) { usage(stdout); return 0; }
+        else if (!strcmp(a, "-o") || !strcmp(a, "--out")) { NEED(); outp = v; }
+        else if (!strcmp(a, "--material")) { NEED(); preset = v; }
+        else if (!strcmp(a, "--sigma-a")) { NEED(); if (!cli_parse_triple(TOOL, a, v, sa)) return 2; have_sa = 1; }
+        else if (!strcmp(a, "--sigma-s")) { NEED(); if (!cli_parse_triple(TOOL, a, v, ss)) return 2; have_ss = 1; }
+        else if (!strcmp(a, "--eta")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-3, 1e3, &eta)) return 2; have_eta = 1; }
+        else if (!strcmp(a, "--mm-per-unit")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-12, 1e12, &opt.mm_per_unit)) return 2; if (!(opt.mm_per_unit > 0)) { fprintf(stderr, "%s: --mm-per-unit must be > 0\n", TOOL); return 2; } }
+        else if (!strcmp(a, "--dirs")) { NEED(); if (!cli_parse_u32(TOOL, a, v, 1, 100000, &opt.n_dirs)) return 2; }
+        else if (!strcmp(a, "--eps")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-12, 0.5, &opt.eps)) return 2; }
+        else if (!strcmp(a, "--quant")) {
+            NEED();
+            if (!strcmp(v, "float")) opt.quant = SSS_QUANT_FLOAT;
+            else if (!strcmp(v, "lloyd8")) opt.quant = SSS_QUANT_LLOYD8;
+            else { fprintf(stderr, "%s: --quant: '%s' must be float or lloyd8\n", TOOL, v); return 2; }
+        }
+        else if (!strcmp(a, "--threads")) { uint32_t t; NEED(); if (!cli_parse_u32(TOOL, a, v, 1, 1024, &t)) return 2; opt.threads = (int)t; }
+        else if (!strcmp(a, "--json")) json = 1;
+        else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
+        else if (a[0] == '-' && a[1]) { fprintf(stderr, "%s: unknown option '%s' (see --help)\n", TOOL, a); return 2; }
+        else if (!in) in = a;
+        else { fprintf(stderr, "%s: unexpected argument '%s' (one MESH only)\n", TOOL, a); return 2; }
+#undef NEED
+    }
+    if (!in || !outp) {
+        fprintf(stderr, "%s: %s (see --help)\n", TOOL, !in ? "missing MESH" : "missing -o OUT.sss");
+        return 2;
+    }
+    sss_error err = {{0}};
+    sss_material mat;
+    if (have_sa || have_ss) {
+        if (preset || !have_sa || !have_ss) {
+            fprintf(stderr, "%s: give either --material NAME or both --sigma-a and --sigma-s\n", TOOL);
+            return 2;
+        }
+        memset(&mat, 0, sizeof mat);
+        snprintf(mat.name, sizeof mat.name, "custom");
+        for (int c = 0; c < 3; c++) { mat.sigma_a[c] = sa[c]; mat.sigmap_s[c] = ss[c]; }
+        mat.eta = eta;
+    } else if (sss_material_preset(preset ? preset : "marble", &mat, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 2;
+    } else if (have_eta) {
+        mat.eta = eta;
+    }
+    if (sss_material_validate(&mat, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 2;
+    }
+    opt.progress = !quiet;
+    signal(SIGINT, on_sigint);
+    signal(SIGTERM, on_sigint);
+
+    double t0 = now_s();
+    sss_mesh mesh;
+    sss_import_report rep;
+    if (sss_import_mesh(in, &mesh, &rep, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    double t_import = now_s() - t0;
+    if (!quiet) {
+        char prefix[600];
+        snprintf(prefix, sizeof prefix, "%s: %s", TOOL, in);
+        sss_import_print_repairs(&rep, prefix, stderr);
+    }
+
+    sss_bake_file f;
+    sss_bake_stats st;
+    if (sss_bake(&mesh, cli_basename(in), &mat, &opt, &f, &st, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s: %s\n", TOOL, in, err.msg);
+        sss_mesh_free(&mesh);
+        return sss_bake_interrupted ? 130 : 1;
+    }
+    t0 = now_s();
+    sss_result r = sss_bake_interrupted ? sss_fail(&err, SSS_ERR_INTERRUPTED, "%s: interrupted, nothing written", outp)
+                                        : sss_file_write(outp, &f, &err);
+    double t_write = now_s() - t0;
+    if (r != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_file_free(&f);
+        sss_mesh_free(&mesh);
+        return r == SSS_ERR_INTERRUPTED ? 130 : 1;
+    }
+    FILE *fp = fopen(outp, "rb");
+    long long fsize = -1;
+    if (fp) { fseek(fp, 0, SEEK_END); fsize = ftell(fp); fclose(fp); }
+    const uint32_t nv = f.mesh.nv, C = f.channels, N = f.dirs.n;
+    double q_bytes = f.quant == SSS_QUANT_LLOYD8 ? (double)N * C + 256.0 * 4 * C / nv : 4.0 * N * C;
+    double total = t_import + st.t_neighbourhoods + st.t_visibility + st.t_integrals + st.t_quantise + t_write;
+    if (!quiet)
+        fprintf(stderr,
+                "%s: %s: %u vertices, %u triangles, %u directions, %u channels, %s\n"
+                "  neighbourhood radius %.3g/%.3g/%.3g mm, mean %.1f neighbours (max %u)\n"
+                "  rays %llu (%.1f%% occluded)%s\n"
+                "  time: import %.3fs, neighbourhoods %.3fs, visibility %.3fs, integrals %.3fs, quantise %.3fs, write %.3fs\n"
+                "  %s: %lld bytes, %.1f bytes/vertex (integrals %.1f)\n",
+                TOOL, in, nv, f.mesh.nf, N, C, f.quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float", st.radius_mm[0],
+                st.radius_mm[1], st.radius_mm[2], st.neighbours_mean, st.neighbours_max, (unsigned long long)st.rays,
+                100.0 * st.occluded_fraction, "", t_import, st.t_neighbourhoods, st.t_visibility, st.t_integrals,
+                st.t_quantise, t_write, outp, fsize, (double)fsize / nv, q_bytes);
+    if (!quiet && f.quant == SSS_QUANT_LLOYD8)
+        fprintf(stderr, "  lloyd8 SNR %.2f dB (R %.2f, G %.2f, B %.2f)\n", st.lloyd_snr_db_all, st.lloyd_snr_db[0],
+                st.lloyd_snr_db[1], st.lloyd_snr_db[2]);
+    if (json) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "mesh", in);
+        cJSON_AddStringToObject(o, "output", outp);
+        cJSON_AddNumberToObject(o, "vertices", nv);
+        cJSON_AddNumberToObject(o, "triangles", f.mesh.nf);
+        cJSON_AddNumberToObject(o, "directions", N);
+        cJSON_AddNumberToObject(o, "channels", C);
+        cJSON_AddStringToObject(o, "quant", f.quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float");
+        cJSON_AddStringToObject(o, "material", mat.name);
+        cJSON_AddNumberToObject(o, "mm_per_unit", f.mm_per_unit);
+        cJSON *rp = cJSON_AddObjectToObject(o, "repairs");
+        cJSON_AddNumberToObject(rp, "polygons_triangulated", (double)rep.polygons_triangulated);
+        cJSON_AddNumberToObject(rp, "faces_too_small", (double)rep.faces_too_small);
+        cJSON_AddNumberToObject(rp, "faces_repeated_index", (double)rep.faces_repeated_index);
+        cJSON_AddNumberToObject(rp, "faces_zero_area", (double)rep.faces_zero_area);
+        cJSON_AddNumberToObject(rp, "vertices_unreferenced", (double)rep.vertices_unreferenced);
+        cJSON_AddItemToObject(o, "radius_mm", cJSON_CreateDoubleArray(st.radius_mm, 3));
+        cJSON_AddNumberToObject(o, "neighbours_mean", st.neighbours_mean);
+        cJSON_AddNumberToObject(o, "neighbours_max", st.neighbours_max);
+        cJSON_AddNumberToObject(o, "rays", (double)st.rays);
+        cJSON_AddNumberToObject(o, "occluded_fraction", st.occluded_fraction);
+        cJSON *tm = cJSON_AddObjectToObject(o, "seconds");
+        cJSON_AddNumberToObject(tm, "import", t_import);
+        cJSON_AddNumberToObject(tm, "neighbourhoods", st.t_neighbourhoods);
+        cJSON_AddNumberToObject(tm, "visibility", st.t_visibility);
+        cJSON_AddNumberToObject(tm, "integrals", st.t_integrals);
+        cJSON_AddNumberToObject(tm, "quantise", st.t_quantise);
+        cJSON_AddNumberToObject(tm, "write", t_write);
+        cJSON_AddNumberToObject(tm, "total", total);
+        cJSON_AddNumberToObject(o, "peak_rss_mib", cli_peak_rss_mib());
+        cJSON_AddNumberToObject(o, "file_bytes", (double)fsize);
+        cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)fsize / nv);
+        cJSON_AddNumberToObject(o, "integral_bytes_per_vertex", q_bytes);
+        if (f.quant == SSS_QUANT_LLOYD8) {
+            cJSON_AddNumberToObject(o, "lloyd_snr_db", st.lloyd_snr_db_all);
+            cJSON_AddItemToObject(o, "lloyd_snr_db_per_channel", cJSON_CreateDoubleArray(st.lloyd_snr_db, 3));
+        }
+        char *s = cJSON_PrintUnformatted(o);
+        puts(s);
+        free(s);
+        cJSON_Delete(o);
+    }
+    sss_file_free(&f);
+    sss_mesh_free(&mesh);
+    return 0;
+}
