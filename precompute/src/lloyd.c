@@ -71,6 +71,43 @@ static uint8_t encode(const double *thr, float x)
     return (uint8_t)lo;
 }
 
+/* Initial levels from high-resolution quantisation theory: the
+ * MSE-optimal density of levels is proportional to p(x)^{1/3} (Panter–Dite),
+ * so levels 1..255 go to the quantiles of the normalised p^{1/3} of a fine
+ * histogram; level 0 is the minimum. Lloyd then only polishes. Starting from
+ * plain sample quantiles (density ∝ p) crowds the levels where the data
+ * crowds (near zero for baked integrals) and Lloyd is too slow to undo it. */
+static int init_levels(const float *y, size_t n, double *L)
+{
+    enum { B = 1 << 16 };
+    double lo = y[0], hi = y[n - 1];
+    for (int k = 0; k < LEVELS; k++) L[k] = lo;
+    if (!(hi > lo)) return 1;
+    double *h = calloc(B, sizeof *h);
+    if (!h) return 0;
+    double w = (hi - lo) / B;
+    for (size_t k = 0; k < n; k++) {
+        if ((double)y[k] == lo) continue; /* the minimum's mass belongs to level 0 */
+        long b = (long)(((double)y[k] - lo) / w);
+        h[b < 0 ? 0 : b >= B ? B - 1 : b] += 1.0;
+    }
+    double tot = 0;
+    for (int b = 0; b < B; b++) tot += (h[b] = cbrt(h[b]));
+    double acc = 0;
+    int k = 1;
+    for (int b = 0; b < B && k < LEVELS; b++) {
+        double next = acc + h[b];
+        while (k < LEVELS && (k - 0.5) / (LEVELS - 1) * tot <= next) {
+            double f = h[b] > 0 ? ((k - 0.5) / (LEVELS - 1) * tot - acc) / h[b] : 0.5;
+            L[k++] = lo + (b + f) * w;
+        }
+        acc = next;
+    }
+    for (; k < LEVELS; k++) L[k] = hi;
+    free(h);
+    return 1;
+}
+
 sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float levels[256], uint8_t *idx,
                       double *signal, double *noise, sss_error *err)
 {
@@ -88,23 +125,13 @@ sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float lev
     for (size_t k = 0; k < n; k++) P[k + 1] = P[k] + y[k];
 
     double L[LEVELS];
-    /* Initialise at the sample quantiles; runs of equal quantiles (e.g. the
-     * many exact zeros of shadowed or back-facing samples) are spread
-     * linearly up to the next distinct value so no level is wasted. */
-    for (int k = 0; k < LEVELS; k++) L[k] = y[(size_t)(((double)k + 0.5) / LEVELS * (double)n)];
-    L[0] = y[0];
-    for (int k = 0; k < LEVELS;) {
-        int e = k;
-        while (e + 1 < LEVELS && L[e + 1] == L[k]) e++;
-        if (e > k) {
-            double a = L[k], b = e + 1 < LEVELS ? L[e + 1] : (double)y[n - 1];
-            for (int m = k; m <= e; m++) L[m] = a + (b - a) * (m - k) / (double)(e + 1 - k);
-        }
-        k = e + 1;
+    if (!init_levels(y, n, L)) {
+        free(key); free(P);
+        return sss_fail(err, SSS_ERR_NOMEM, "lloyd8: out of memory");
     }
     /* Lloyd iterations: decision thresholds at midpoints, levels at the cell
      * centroids; level 0 stays pinned to the minimum. */
-    for (int it = 0; it < 300; it++) {
+    for (int it = 0; it < 5000; it++) {
         double change = 0, scale = fabs(L[LEVELS - 1]) + 1e-300;
         size_t a = 0;
         for (int k = 0; k < LEVELS; k++) {
@@ -116,7 +143,7 @@ sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float lev
             }
             a = b;
         }
-        if (change < 1e-9) break;
+        if (change < 1e-13) break;
     }
     free(key);
     free(P);

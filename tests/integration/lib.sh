@@ -1,0 +1,16 @@
+# Shared helpers for the integration scripts: fail with a message, expect
+# success/failure of a command, check a file contains a pattern.
+set -u
+TMP=${1:?scratch dir}
+rm -rf "$TMP" && mkdir -p "$TMP"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+expect_ok() { "$@" >"$TMP/out" 2>"$TMP/err" || { cat "$TMP/err" >&2; fail "expected success: $*"; }; }
+# expect_fail PATTERN CMD...: non-zero exit, a one-line message matching PATTERN, no crash (exit < 128)
+expect_fail() {
+  local pat=$1; shift
+  "$@" >"$TMP/out" 2>"$TMP/err"; local rc=$?
+  [ $rc -ne 0 ] || fail "expected failure: $*"
+  [ $rc -lt 128 ] || fail "crashed with signal $((rc - 128)): $*"
+  grep -q -- "$pat" "$TMP/err" || { cat "$TMP/err" >&2; fail "message should match '$pat': $*"; }
+}
+contains() { grep -q -- "$2" "$1" || { cat "$1" >&2; fail "$1 should contain '$2'"; }; }
