@@ -31,7 +31,11 @@ sss_result sss_dirset_fibonacci(sss_dirset *s, uint32_t n, sss_error *err);
 /* (Re)computes tri/ntri from dir: the convex hull of the unit vectors, which
  * is their spherical Delaunay triangulation. Deterministic. n < 4 gives
  * ntri = 0. Fails if directions are not unit length or are degenerate
- * (e.g. all coplanar with n ≥ 4). */
+ * (e.g. all coplanar with n ≥ 4). Also fails (SSS_ERR_ARG) on duplicate
+ * directions and when the origin is not strictly inside the hull (all
+ * directions within one closed hemisphere), since then some triangle would
+ * have det(a,b,c) ≤ 0. On failure tri is NULL and ntri 0; dir is untouched
+ * (the hull is built from normalised copies). */
 sss_result sss_dirset_triangulate(sss_dirset *s, sss_error *err);
 
 /* Interpolation for direction d (need not be normalised, must be non-zero):
@@ -39,7 +43,10 @@ sss_result sss_dirset_triangulate(sss_dirset *s, sss_error *err);
  * of the containing triangle and returns its index. For n < 4 (no
  * triangulation) returns −1 and weight 1 on the nearest sample (the other two
  * weights 0, indices repeated). λ_a = det(d, v_b, v_c) / det(v_a, v_b, v_c)
- * cyclically, normalised to sum 1 (physics sheet §7). */
+ * cyclically, normalised to sum 1 (physics sheet §7). A zero or non-finite d
+ * also returns −1 (index 0, weights 1, 0, 0). tri must be as triangulate
+ * leaves it (any valid closed triangulation works, only slower). Pure and
+ * thread-safe. */
 int32_t sss_dirset_lookup(const sss_dirset *s, const double d[3], uint32_t idx[3], double w[3]);
 
 /* Frees owned arrays and zeroes the struct. NULL-safe. */
