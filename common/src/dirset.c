@@ -658,6 +658,15 @@ int32_t sss_dirset_lookup(const sss_dirset *s, const double d[3], uint32_t idx[3
         idx[k] = s->tri[3 * (size_t)bt + k];
         w[k] = bmu[k] / sum;
     }
+    /* Snap rounding dust: a weight below 1e-12 is a direction on the
+     * opposite edge or at a sample; zeroing it makes the interpolation
+     * reproduce stored values bit for bit at the samples. */
+    sum = 0.0;
+    for (int k = 0; k < 3; k++) {
+        if (w[k] < 1e-12) w[k] = 0.0;
+        sum += w[k];
+    }
+    for (int k = 0; k < 3; k++) w[k] /= sum;
     return bt;
 }
 
