@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -15,6 +16,25 @@
 #include "progress.h"
 
 volatile int sss_bake_interrupted;
+
+/* Memory this process may still use: MemAvailable from /proc/meminfo
+ * (Linux), else all physical memory; 0 if unknown (no limit). */
+static uint64_t memory_available(void)
+{
+    FILE *f = fopen("/proc/meminfo", "r");
+    if (f) {
+        char line[256];
+        unsigned long long kb;
+        while (fgets(line, sizeof line, f))
+            if (sscanf(line, "MemAvailable: %llu kB", &kb) == 1) {
+                fclose(f);
+                return (uint64_t)kb * 1024u;
+            }
+        fclose(f);
+    }
+    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    return pages > 0 && size > 0 ? (uint64_t)pages * (uint64_t)size : 0;
+}
 
 static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
 {
@@ -105,9 +125,20 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
         if (st.radius_mm[c] > st.search_radius_mm) st.search_radius_mm = st.radius_mm[c];
     }
 
+    /* Say so before starting when the bake cannot fit in memory: the
+     * transfer table G and the integrals are sized by the input; the
+     * neighbourhood rows are counted before they are allocated. */
+    uint64_t avail = memory_available();
+    uint64_t fixed = (uint64_t)mesh->nv * o.n_dirs * (4u + 4u * C + (o.quant == SSS_QUANT_LLOYD8 ? C : 0u));
+    if (avail && fixed > avail) {
+        r = sss_fail(err, SSS_ERR_NOMEM, "the bake needs at least %.2f GiB for %u vertices x %u directions but %.2f GiB "
+                     "is available: use fewer --dirs", fixed / 1073741824.0, mesh->nv, o.n_dirs, avail / 1073741824.0);
+        goto fail;
+    }
     double t = sss_now();
     sss_progress_begin("neighbourhoods", 1);
-    r = sss_nbhd_build(mesh, o.mm_per_unit, dip, C, st.search_radius_mm, NULL, 0, &nb, err);
+    r = sss_nbhd_build(mesh, o.mm_per_unit, dip, C, st.search_radius_mm, NULL, 0, avail ? (avail - fixed) / 10 * 9 : 0,
+                       &nb, err);
     sss_progress_end();
     if (r != SSS_OK) goto fail;
     st.t_neighbourhoods = sss_now() - t;

@@ -23,15 +23,15 @@ void sss_nbhd_free(sss_nbhd *nb)
     memset(nb, 0, sizeof *nb);
 }
 
-static int cmp_u32(const void *a, const void *b)
+static int cmp_int(const void *a, const void *b)
 {
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    int x = *(const int *)a, y = *(const int *)b;
     return (x > y) - (x < y);
 }
 
 sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip, uint32_t channels,
-                          double radius_mm, const uint32_t *targets, uint32_t ntargets, sss_nbhd *out,
-                          sss_error *err)
+                          double radius_mm, const uint32_t *targets, uint32_t ntargets, uint64_t max_bytes,
+                          sss_nbhd *out, sss_error *err)
 {
     memset(out, 0, sizeof *out);
     if (!mesh->area || mesh->nv == 0 || channels < 1 || channels > SSS_MAX_CHANNELS || !(s > 0) ||
@@ -43,11 +43,10 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
 
     /* FLANN works in float; positions in mm. */
     float *pts = malloc((size_t)mesh->nv * 3 * sizeof(float));
-    uint32_t **rows = calloc((size_t)nt + 1, sizeof *rows);
     uint32_t *cnt = calloc((size_t)nt + 1, sizeof *cnt);
-    out->start = malloc(((size_t)nt + 1) * sizeof(uint64_t));
-    if (!pts || !rows || !cnt || !out->start) {
-        free(pts); free(rows); free(cnt); sss_nbhd_free(out);
+    out->start = calloc((size_t)nt + 1, sizeof(uint64_t));
+    if (!pts || !cnt || !out->start) {
+        free(pts); free(cnt); sss_nbhd_free(out);
         return sss_fail(err, SSS_ERR_NOMEM, "neighbourhoods: out of memory for %u vertices", mesh->nv);
     }
     for (size_t k = 0; k < (size_t)mesh->nv * 3; k++) pts[k] = (float)(mesh->pos[k] * s);
@@ -62,109 +61,128 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
     float speedup = 0;
     flann_index_t index = flann_build_index_float(pts, (int)mesh->nv, 3, &speedup, &p);
     if (!index) {
-        free(pts); free(rows); free(cnt); sss_nbhd_free(out);
+        free(pts); free(cnt); sss_nbhd_free(out);
         return sss_fail(err, SSS_ERR_NOMEM, "neighbourhoods: FLANN index build failed");
     }
 
     /* Search a hair wider in float, then decide membership exactly in double
-     * so the set does not depend on FLANN's rounding. */
+     * so the set does not depend on FLANN's rounding. Two passes: the first
+     * only counts, so the memory is known (and refused if too much) before
+     * anything large is allocated; the second fills the rows in place. */
     const double r2 = radius_mm * radius_mm;
     const float search_r2 = (float)(r2 * (1.0 + 1e-5)) + 1e-30f;
     int failed = 0;
-#pragma omp parallel
-    {
-        int cap = 256;
-        int *ind = malloc((size_t)cap * sizeof(int));
-        float *dst = malloc((size_t)cap * sizeof(float));
-        struct FLANNParameters pq = p;
-#pragma omp for schedule(dynamic, 64)
-        for (int64_t t = 0; t < (int64_t)nt; t++) {
-            if (failed || !ind || !dst) { failed = 1; continue; }
-            uint32_t o = targets ? targets[t] : (uint32_t)t;
-            float q[3] = {pts[3 * (size_t)o], pts[3 * (size_t)o + 1], pts[3 * (size_t)o + 2]};
-            int k;
-            for (;;) {
-                pq.max_neighbors = cap;
-                k = flann_radius_search_float(index, q, ind, dst, cap, search_r2, &pq);
-                if (k < cap || cap >= (int)mesh->nv) break;
-                int ncap = cap > (int)mesh->nv / 2 ? (int)mesh->nv : cap * 2;
-                int *i2 = realloc(ind, (size_t)ncap * sizeof(int));
-                if (i2) ind = i2;
-                float *d2 = realloc(dst, (size_t)ncap * sizeof(float));
-                if (d2) dst = d2;
-                if (!i2 || !d2) { k = -1; break; }
-                cap = ncap;
+    for (int pass = 0; pass < 2 && !failed; pass++) {
+        if (pass == 1) {
+            uint64_t total = 0;
+            for (uint32_t t = 0; t < nt; t++) { out->start[t] = total; total += cnt[t]; }
+            out->start[nt] = total;
+            uint64_t bytes = total * (sizeof(uint32_t) + channels * sizeof(float));
+            if (max_bytes && bytes > max_bytes) {
+                flann_free_index_float(index, &p);
+                free(pts); free(cnt); sss_nbhd_free(out);
+                return sss_fail(err, SSS_ERR_NOMEM,
+                                "neighbourhoods need %.2f GiB (%.1f neighbours per vertex within %.3g mm) but only %.2f GiB "
+                                "may be used: raise --mm-per-unit or --eps",
+                                bytes / 1073741824.0, (double)total / nt, radius_mm, max_bytes / 1073741824.0);
             }
-            if (k < 0) { failed = 1; continue; }
-            uint32_t *row = malloc(((size_t)k + 1) * sizeof(uint32_t));
-            if (!row) { failed = 1; continue; }
-            uint32_t m = 0;
-            int self = 0;
-            for (int a = 0; a < k; a++) {
-                uint32_t i = (uint32_t)ind[a];
-                if (i >= mesh->nv) continue;
-                double d2 = 0;
-                for (int c = 0; c < 3; c++) {
-                    double dx = ((double)mesh->pos[3 * (size_t)i + c] - mesh->pos[3 * (size_t)o + c]) * s;
-                    d2 += dx * dx;
-                }
-                if (i == o) self = 1;
-                if (d2 <= r2 || i == o) row[m++] = i;
-            }
-            if (!self) row[m++] = o; /* the self term always belongs to N(x_o) */
-            qsort(row, m, sizeof *row, cmp_u32);
-            rows[t] = row;
-            cnt[t] = m;
+            out->idx = malloc((size_t)total * sizeof(uint32_t) + 1);
+            out->w = malloc((size_t)total * channels * sizeof(float) + 1);
+            if (!out->idx || !out->w) { failed = 1; break; }
         }
-        free(ind);
-        free(dst);
+#pragma omp parallel
+        {
+            int cap = 256;
+            int *ind = malloc((size_t)cap * sizeof(int));
+            float *dst = malloc((size_t)cap * sizeof(float));
+            struct FLANNParameters pq = p;
+#pragma omp for schedule(dynamic, 64)
+            for (int64_t t = 0; t < (int64_t)nt; t++) {
+                if (failed || !ind || !dst) {
+#pragma omp atomic write
+                    failed = 1;
+                    continue;
+                }
+                uint32_t o = targets ? targets[t] : (uint32_t)t;
+                float q[3] = {pts[3 * (size_t)o], pts[3 * (size_t)o + 1], pts[3 * (size_t)o + 2]};
+                int k;
+                for (;;) {
+                    pq.max_neighbors = cap;
+                    k = flann_radius_search_float(index, q, ind, dst, cap, search_r2, &pq);
+                    if (k < cap || cap >= (int)mesh->nv) break;
+                    int ncap = cap > (int)mesh->nv / 2 ? (int)mesh->nv : cap * 2;
+                    int *i2 = realloc(ind, (size_t)ncap * sizeof(int));
+                    if (i2) ind = i2;
+                    float *d2 = realloc(dst, (size_t)ncap * sizeof(float));
+                    if (d2) dst = d2;
+                    if (!i2 || !d2) { k = -1; break; }
+                    cap = ncap;
+                }
+                if (k < 0) {
+#pragma omp atomic write
+                    failed = 1;
+                    continue;
+                }
+                /* Keep the vertices inside the radius (always x_o itself),
+                 * in increasing index order; ind is reused as scratch. */
+                uint32_t m = 0;
+                int self = 0;
+                for (int a = 0; a < k; a++) {
+                    uint32_t i = (uint32_t)ind[a];
+                    if (i >= mesh->nv) continue;
+                    double d2 = 0;
+                    for (int c = 0; c < 3; c++) {
+                        double dx = ((double)mesh->pos[3 * (size_t)i + c] - mesh->pos[3 * (size_t)o + c]) * s;
+                        d2 += dx * dx;
+                    }
+                    if (i == o) self = 1;
+                    if (d2 <= r2 || i == o) ind[m++] = (int)i;
+                }
+                if (!self) ind[m++] = (int)o; /* k < cap here (else all vertices, self included, were found) */
+                if (pass == 0) { cnt[t] = m; continue; }
+                if (m != cnt[t]) { /* cannot happen: the search is deterministic */
+#pragma omp atomic write
+                    failed = 1;
+                    continue;
+                }
+                qsort(ind, m, sizeof *ind, cmp_int);
+                uint64_t base = out->start[t];
+                for (uint32_t a = 0; a < m; a++) {
+                    uint32_t i = (uint32_t)ind[a];
+                    out->idx[base + a] = i;
+                    float *w = &out->w[(base + a) * channels];
+                    if (i == o) {
+                        /* Self term: R_d integrated over a disk of x_o's own
+                         * area (physics sheet §2 (a)); a point sample at
+                         * r = 0 is wrong. */
+                        double R = sqrt(mesh->area[o] * s * s / M_PI);
+                        for (uint32_t c = 0; c < channels; c++) w[c] = (float)(sss_rd_disk(&dip[c], R) / M_PI);
+                    } else {
+                        double d2 = 0;
+                        for (int c = 0; c < 3; c++) {
+                            double dx = ((double)mesh->pos[3 * (size_t)i + c] - mesh->pos[3 * (size_t)o + c]) * s;
+                            d2 += dx * dx;
+                        }
+                        double r = sqrt(d2), dA = mesh->area[i] * s * s; /* mm, mm² */
+                        /* (1/π) R_d(r) ΔA(x_i): Hao–Varshney 2004 §3.1 */
+                        for (uint32_t c = 0; c < channels; c++) w[c] = (float)(sss_rd(&dip[c], r) * dA / M_PI);
+                    }
+                }
+            }
+            free(ind);
+            free(dst);
+        }
     }
     flann_free_index_float(index, &p);
     free(pts);
-
-    uint64_t total = 0;
-    for (uint32_t t = 0; t < nt; t++) { out->start[t] = total; total += cnt[t]; }
-    out->start[nt] = total;
-    if (!failed) {
-        out->idx = malloc((size_t)total * sizeof(uint32_t) + 1);
-        out->w = malloc((size_t)total * channels * sizeof(float) + 1);
-        if (!out->idx || !out->w) failed = 1;
-    }
+    free(cnt);
     if (failed) {
-        for (uint32_t t = 0; t < nt; t++) free(rows[t]);
-        free(rows); free(cnt); sss_nbhd_free(out);
-        return sss_fail(err, SSS_ERR_NOMEM, "neighbourhoods: out of memory (%llu neighbour entries)", (unsigned long long)total);
+        uint64_t total = out->start[nt];
+        sss_nbhd_free(out);
+        return sss_fail(err, SSS_ERR_NOMEM, "neighbourhoods: out of memory (%llu neighbour entries)",
+                        (unsigned long long)total);
     }
     out->nrows = nt;
     out->channels = channels;
-
-#pragma omp parallel for schedule(dynamic, 64)
-    for (int64_t t = 0; t < (int64_t)nt; t++) {
-        uint32_t o = targets ? targets[t] : (uint32_t)t;
-        uint64_t base = out->start[t];
-        for (uint32_t a = 0; a < cnt[t]; a++) {
-            uint32_t i = rows[t][a];
-            out->idx[base + a] = i;
-            float *w = &out->w[(base + a) * channels];
-            if (i == o) {
-                /* Self term: R_d integrated over a disk of x_o's own area
-                 * (physics sheet §2 (a)); a point sample at r = 0 is wrong. */
-                double R = sqrt(mesh->area[o] * s * s / M_PI);
-                for (uint32_t c = 0; c < channels; c++) w[c] = (float)(sss_rd_disk(&dip[c], R) / M_PI);
-            } else {
-                double d2 = 0;
-                for (int c = 0; c < 3; c++) {
-                    double dx = ((double)mesh->pos[3 * (size_t)i + c] - mesh->pos[3 * (size_t)o + c]) * s;
-                    d2 += dx * dx;
-                }
-                double r = sqrt(d2), dA = mesh->area[i] * s * s; /* mm, mm² */
-                /* (1/π) R_d(r) ΔA(x_i): Hao–Varshney 2004 §3.1 */
-                for (uint32_t c = 0; c < channels; c++) w[c] = (float)(sss_rd(&dip[c], r) * dA / M_PI);
-            }
-        }
-        free(rows[t]);
-    }
-    free(rows);
-    free(cnt);
     return SSS_OK;
 }

@@ -58,10 +58,12 @@ typedef struct sss_nbhd {
 
 /* Builds neighbourhoods for `targets` (ntargets vertex indices; NULL means all
  * vertices in order). mesh must have area computed. radius_mm is the search
- * radius; dip[c] the channel models. */
+ * radius; dip[c] the channel models. Counts first: if the rows would take
+ * more than max_bytes (0: no limit), fails with SSS_ERR_NOMEM and a message
+ * giving the size before allocating them. */
 sss_result sss_nbhd_build(const sss_mesh *mesh, double mm_per_unit, const sss_dipole *dip, uint32_t channels,
-                          double radius_mm, const uint32_t *targets, uint32_t ntargets, sss_nbhd *out,
-                          sss_error *err);
+                          double radius_mm, const uint32_t *targets, uint32_t ntargets, uint64_t max_bytes,
+                          sss_nbhd *out, sss_error *err);
 void sss_nbhd_free(sss_nbhd *nb);
 
 /* Visibility V(x_i, ω_j) by occlusion rays (Embree). The paper used shadow
