@@ -36,7 +36,7 @@ static double slab_centre_q(const sss_material *m, int c, double size, double h,
     uint32_t centre = (n / 2) * (n + 1) + n / 2;
     assert_true(mesh.pos[3 * centre] == 0.0f && mesh.pos[3 * centre + 1] == 0.0f);
     sss_nbhd nb;
-    assert_int_equal(sss_nbhd_build(&mesh, 1.0, d, 3, R, &centre, 1, &nb, &err), SSS_OK);
+    assert_int_equal(sss_nbhd_build(&mesh, 1.0, d, 3, R, &centre, 1, 0, &nb, &err), SSS_OK);
     sss_vis *vis;
     assert_int_equal(sss_vis_create(&mesh, &vis, &err), SSS_OK);
     const double up[3] = {0, 0, 1};
