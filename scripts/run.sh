@@ -6,5 +6,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh build
 mkdir -p out
-build/precompute/sss-bake data/meshes/blob.ply -o out/blob.sss --material marble --mm-per-unit 10 --quant lloyd8
+build/precompute/sss-bake data/meshes/blob.ply -o out/blob.sss --material marble --mm-per-unit 100 --quant lloyd8
 build/precompute/sss-stat out/blob.sss

@@ -1,6 +1,13 @@
 #!/usr/bin/env bash
-# Set up (packages + build) and run the whole test suite with ctest.
+# Set up (packages + build) and run the whole test suite with ctest, twice:
+# the release build, then a build with AddressSanitizer + UBSan
+# (SSS_SANITIZE=ON) where any memory error, leak or undefined behaviour fails
+# the test that hit it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh build
 ctest --test-dir build --output-on-failure -j2
+echo "== sanitizer build (ASan + UBSan) ==" >&2
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSS_SANITIZE=ON >/dev/null
+cmake --build build-asan -j"$(nproc)"
+ctest --test-dir build-asan --output-on-failure -j2

@@ -136,7 +136,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
         goto fail;
     }
     double t = sss_now();
-    sss_progress_begin("neighbourhoods", 1);
+    sss_progress_begin("neighbourhoods", 2 * (uint64_t)mesh->nv); /* count pass + fill pass */
     r = sss_nbhd_build(mesh, o.mm_per_unit, dip, C, st.search_radius_mm, NULL, 0, avail ? (avail - fixed) / 10 * 9 : 0,
                        &nb, err);
     sss_progress_end();

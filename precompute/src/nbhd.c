@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "progress.h"
+
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
@@ -139,6 +141,7 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
                     if (d2 <= r2 || i == o) ind[m++] = (int)i;
                 }
                 if (!self) ind[m++] = (int)o; /* k < cap here (else all vertices, self included, were found) */
+                sss_progress_tick(1);
                 if (pass == 0) { cnt[t] = m; continue; }
                 if (m != cnt[t]) { /* cannot happen: the search is deterministic */
 #pragma omp atomic write

@@ -19,5 +19,5 @@ contains "$TMP/bake_lloyd8.json" '"lloyd_snr_db"'
 f=$(stat -c %s "$TMP/blob_float.sss"); l=$(stat -c %s "$TMP/blob_lloyd8.sss")
 [ $((l * 3)) -lt "$f" ] || fail "lloyd8 file ($l B) should be < 1/3 of float ($f B)"
 # the bundled sample bakes too
-expect_ok "$SSS_BAKE" "$SSS_SOURCE/data/meshes/blob.ply" -o "$TMP/sample.sss" --material marble --mm-per-unit 10 --dirs 25 -q
+expect_ok "$SSS_BAKE" "$SSS_SOURCE/data/meshes/blob.ply" -o "$TMP/sample.sss" --material marble --mm-per-unit 100 --dirs 25 -q
 echo "cli_bake_stat: ok"
