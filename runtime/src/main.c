@@ -1,0 +1,240 @@
+/* sss-view: interactive and offscreen viewer of baked translucent meshes.
+ * See `sss-view --help`. */
+#include <epoxy/gl.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "app.h"
+#include "image_io.h"
+#include "offscreen.h"
+#include "renderer.h"
+#include "sss/format.h"
+
+static const char *TOOL = "sss-view";
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: sss-view FILE.sss [options]\n"
+        "       sss-view FILE.sss --offscreen --out IMG.png|IMG.exr [--size WxH] [--light X,Y,Z] [--view X,Y,Z] [--exposure E]\n"
+        "Shows a baked translucent mesh: every frame reconstructs each vertex's scattering q for the\n"
+        "light direction (GPU compute shader by default, or the CPU decoder) and shades\n"
+        "L = E q F_t(eta, n.w_o) + Fresnel-weighted specular.\n\n"
+        "options:\n"
+        "  --offscreen          render one image without a window (EGL surfaceless) and exit\n"
+        "  --out FILE           image to write: .png (8-bit sRGB, tone-mapped) or .exr (linear float)\n"
+        "  --size WxH           image or window size (default 800x600)\n"
+        "  --light X,Y,Z        direction towards the light (default 0,0,1)\n"
+        "  --view X,Y,Z         direction from the object towards the camera (default 0,0,1)\n"
+        "  --exposure E         radiance multiplier before tone mapping (default 1)\n"
+        "  --intensity I        light irradiance E (default 1)\n"
+        "  --tonemap clamp|reinhard   (default clamp: values in [0,1], the measurement convention)\n"
+        "  --cpu                evaluate on the CPU (C decoder) instead of the GPU\n"
+        "  --no-scatter, --no-specular   drop one of the two terms\n"
+        "  --wireframe          draw edges over the surface\n"
+        "  --screenshot FILE    where the P key saves a PNG (window mode)\n"
+        "  --bench N            offscreen: time N frames and print JSON timings on stdout\n"
+        "  -h, --help           this text\n\n"
+        "window controls:\n%s",
+        sss_app_controls_help);
+}
+
+static int parse_triple(const char *opt, const char *s, double out[3])
+{
+    char *end;
+    const char *p = s;
+    for (int k = 0; k < 3; k++) {
+        errno = 0;
+        out[k] = strtod(p, &end);
+        if (end == p || errno || !isfinite(out[k]) || (k < 2 ? *end != ',' : *end != 0)) {
+            fprintf(stderr, "%s: %s: '%s' must be three numbers X,Y,Z\n", TOOL, opt, s);
+            return 0;
+        }
+        p = end + 1;
+    }
+    if (out[0] == 0 && out[1] == 0 && out[2] == 0) {
+        fprintf(stderr, "%s: %s: '%s' is not a direction\n", TOOL, opt, s);
+        return 0;
+    }
+    return 1;
+}
+
+static int parse_positive(const char *opt, const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || errno || !isfinite(v) || !(v > 0)) {
+        fprintf(stderr, "%s: %s: '%s' must be a number > 0\n", TOOL, opt, s);
+        return 0;
+    }
+    *out = v;
+    return 1;
+}
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return 1e3 * (double)ts.tv_sec + 1e-6 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* --bench: N frames of evaluate + draw, each timed on the wall clock after
+ * glFinish (so it measures completed work), plus GPU timer queries. */
+static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, int w, int h, int n)
+{
+    double *scatter = malloc(sizeof(double) * (size_t)n), *draw = malloc(sizeof(double) * (size_t)n),
+           *frame = malloc(sizeof(double) * (size_t)n);
+    float *rgb, *hdr;
+    sss_error err;
+    sss_renderer_render_image(r, p, w, h, &rgb, &hdr, &err); /* sets up the framebuffer, warms caches */
+    free(rgb);
+    free(hdr);
+    for (int i = 0; i < n; i++) {
+        /* move the light a little each frame so every frame really works */
+        double a = 0.05 * i;
+        p->light[0] = sin(a);
+        p->light[1] = 0.3;
+        p->light[2] = cos(a);
+        glFinish();
+        double t0 = now_ms();
+        sss_renderer_evaluate(r, p);
+        glFinish();
+        double t1 = now_ms();
+        sss_renderer_draw(r, p, w, h);
+        glFinish();
+        double t2 = now_ms();
+        scatter[i] = t1 - t0;
+        draw[i] = t2 - t1;
+        frame[i] = t2 - t0;
+    }
+    sss_frame_times gt = sss_renderer_times(r);
+    printf("{\"vertices\":%u,\"channels\":%u,\"quant\":\"%s\",\"path\":\"%s\",\"renderer\":\"%s\",\"frames\":%d,"
+           "\"width\":%d,\"height\":%d,\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,\"frame_ms_median\":%.4f,"
+           "\"scatter_vertices_per_s\":%.6g,\"fps\":%.3f,\"gpu_timer_scatter_ms_last\":%.4f,\"gpu_timer_draw_ms_last\":%.4f,"
+           "\"bytes_per_vertex\":%.3f}\n",
+           f->mesh.nv, f->channels, f->quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float",
+           p->path == SSS_EVAL_CPU ? "cpu" : "gpu", sss_gl_renderer_name(), n, w, h, median(scatter, n),
+           median(draw, n), median(frame, n), f->mesh.nv / (1e-3 * median(scatter, n)), 1e3 / median(frame, n),
+           gt.scatter_ms, gt.draw_ms, sss_renderer_bytes_per_vertex(r));
+    free(scatter);
+    free(draw);
+    free(frame);
+}
+
+int main(int argc, char **argv)
+{
+    const char *path = NULL, *out = NULL, *shot = NULL;
+    int offscreen = 0, w = 800, h = 600, nbench = 0;
+    double intensity = 1.0;
+    sss_view_params p;
+    sss_view_params_default(&p);
+    p.background[0] = p.background[1] = p.background[2] = 0.0f;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEED() do { if (!v) { fprintf(stderr, "%s: %s needs a value\n", TOOL, a); return 2; } i++; } while (0)
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) { usage(stdout); return 0; }
+        else if (!strcmp(a, "--offscreen")) offscreen = 1;
+        else if (!strcmp(a, "--out")) { NEED(); out = v; }
+        else if (!strcmp(a, "--screenshot")) { NEED(); shot = v; }
+        else if (!strcmp(a, "--size")) {
+            NEED();
+            char tail;
+            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384) {
+                fprintf(stderr, "%s: --size: '%s' must be WxH with each in [1, 16384]\n", TOOL, v);
+                return 2;
+            }
+        }
+        else if (!strcmp(a, "--light")) { NEED(); if (!parse_triple(a, v, p.light)) return 2; }
+        else if (!strcmp(a, "--view")) { NEED(); if (!parse_triple(a, v, p.view)) return 2; }
+        else if (!strcmp(a, "--exposure")) { NEED(); if (!parse_positive(a, v, &p.exposure)) return 2; }
+        else if (!strcmp(a, "--intensity")) { NEED(); if (!parse_positive(a, v, &intensity)) return 2; }
+        else if (!strcmp(a, "--tonemap")) {
+            NEED();
+            if (!strcmp(v, "clamp")) p.tonemap = SSS_TONEMAP_CLAMP;
+            else if (!strcmp(v, "reinhard")) p.tonemap = SSS_TONEMAP_REINHARD;
+            else { fprintf(stderr, "%s: --tonemap: '%s' must be clamp or reinhard\n", TOOL, v); return 2; }
+        }
+        else if (!strcmp(a, "--cpu")) p.path = SSS_EVAL_CPU;
+        else if (!strcmp(a, "--no-scatter")) p.scatter = 0;
+        else if (!strcmp(a, "--no-specular")) p.specular = 0;
+        else if (!strcmp(a, "--wireframe")) p.wireframe = 1;
+        else if (!strcmp(a, "--bench")) {
+            NEED();
+            char *end;
+            long n = strtol(v, &end, 10);
+            if (*end || n < 1 || n > 100000) { fprintf(stderr, "%s: --bench: '%s' must be an integer in [1, 100000]\n", TOOL, v); return 2; }
+            nbench = (int)n;
+        }
+        else if (a[0] == '-' && a[1]) { fprintf(stderr, "%s: unknown option '%s' (see --help)\n", TOOL, a); return 2; }
+        else if (!path) path = a;
+        else { fprintf(stderr, "%s: unexpected argument '%s'\n", TOOL, a); return 2; }
+#undef NEED
+    }
+    if (!path) { fprintf(stderr, "%s: missing FILE.sss (see --help)\n", TOOL); return 2; }
+    if (offscreen && !out && !nbench) { fprintf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL); return 2; }
+    for (int k = 0; k < 3; k++) p.light_rgb[k] = intensity;
+
+    sss_bake_file f;
+    sss_error err = {{0}};
+    if (sss_file_read(path, &f, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    if (!offscreen) {
+        sss_app_options ao = {path, w, h, shot};
+        p.background[0] = p.background[1] = p.background[2] = 0.02f;
+        int rc = sss_app_run(&f, &p, &ao);
+        sss_file_free(&f);
+        return rc;
+    }
+    sss_offscreen *ctx;
+    sss_renderer *r;
+    if (sss_offscreen_create(&ctx, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_file_free(&f);
+        return 1;
+    }
+    if (sss_renderer_create(&f, &r, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
+        sss_offscreen_destroy(ctx);
+        sss_file_free(&f);
+        return 1;
+    }
+    int rc = 0;
+    if (nbench) bench(r, &f, &p, w, h, nbench);
+    if (out) {
+        float *rgb, *hdr;
+        if (sss_renderer_render_image(r, &p, w, h, &rgb, &hdr, &err) != SSS_OK ||
+            sss_write_image(out, rgb, hdr, w, h, &err) != SSS_OK) {
+            fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+            rc = 1;
+        } else {
+            fprintf(stderr, "%s: %s: %dx%d, %s, %s path\n", TOOL, out, w, h, sss_gl_renderer_name(),
+                    p.path == SSS_EVAL_CPU ? "CPU" : "GPU");
+            free(rgb);
+            free(hdr);
+        }
+    }
+    sss_renderer_destroy(r);
+    sss_offscreen_destroy(ctx);
+    sss_file_free(&f);
+    return rc;
+}

@@ -1,0 +1,455 @@
+/* renderer.c: OpenGL renderer for baked translucent meshes (renderer.h).
+ *
+ * GPU storage of the scattering data: one buffer holding every direction's
+ * row (nv·channels values, float32 or packed bytes), each row padded to the
+ * SSBO offset alignment so that the three rows a frame needs can be bound
+ * with glBindBufferRange. A bound range is one row (a few MB), far below
+ * GL_MAX_SHADER_STORAGE_BLOCK_SIZE (128 MiB on llvmpipe), while the whole
+ * table (1 GB for the 437K dragon in RGB float) only needs to fit in memory.
+ */
+#include <epoxy/gl.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "renderer.h"
+#include "shaders.h"
+#include "sss/decode.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+struct sss_renderer {
+    const sss_bake_file *f;
+    uint32_t nv, nf, C;
+    double centre[3], radius;
+    GLuint vao, vbo_pos, vbo_nrm, ebo;
+    GLuint rows;        /* all direction rows, padded */
+    GLsizeiptr row_bytes, row_stride;
+    GLuint levels;      /* lloyd8 tables */
+    GLuint qbuf;        /* per-vertex q, nv·C floats */
+    GLuint prog_cs, prog_shade;
+    GLuint queries[2];
+    int have_times;
+    float *cpu_q;       /* CPU path scratch */
+    sss_frame_times times;
+    double cpu_scatter_ms;
+    int last_path;
+    GLuint fbo, fbo_color, fbo_depth;
+    int fbo_w, fbo_h;
+};
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return 1e3 * (double)ts.tv_sec + 1e-6 * (double)ts.tv_nsec;
+}
+
+void sss_view_params_default(sss_view_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->light[2] = 1.0;
+    p->light_rgb[0] = p->light_rgb[1] = p->light_rgb[2] = 1.0;
+    p->view[2] = 1.0;
+    p->distance = 3.6;
+    p->fov_deg = 35.0;
+    p->exposure = 1.0;
+    p->scatter = 1;
+    p->specular = 1;
+    p->tonemap = SSS_TONEMAP_CLAMP;
+    p->path = SSS_EVAL_GPU;
+}
+
+float sss_tonemap_apply(sss_tonemap t, float x)
+{
+    if (t == SSS_TONEMAP_REINHARD) return x / (1.0f + x);
+    return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
+}
+
+static GLuint compile(GLenum type, const char *prefix, const char *src, sss_error *err)
+{
+    GLuint s = glCreateShader(type);
+    const char *parts[3] = {"#version 430 core\n", prefix, src};
+    glShaderSource(s, 3, parts, NULL);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[1024] = "";
+        glGetShaderInfoLog(s, sizeof log, NULL, log);
+        for (char *c = log; *c; c++)
+            if (*c == '\n') *c = ' ';
+        sss_fail(err, SSS_ERR_UNSUPPORTED, "shader compilation failed: %s", log);
+        glDeleteShader(s);
+        return 0;
+    }
+    return s;
+}
+
+static GLuint link(GLuint a, GLuint b, sss_error *err)
+{
+    GLuint p = glCreateProgram();
+    glAttachShader(p, a);
+    if (b) glAttachShader(p, b);
+    glLinkProgram(p);
+    glDeleteShader(a);
+    if (b) glDeleteShader(b);
+    GLint ok = 0;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[1024] = "";
+        glGetProgramInfoLog(p, sizeof log, NULL, log);
+        for (char *c = log; *c; c++)
+            if (*c == '\n') *c = ' ';
+        sss_fail(err, SSS_ERR_UNSUPPORTED, "shader link failed: %s", log);
+        glDeleteProgram(p);
+        return 0;
+    }
+    return p;
+}
+
+sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err)
+{
+    *out = NULL;
+    if (epoxy_gl_version() < 43)
+        return sss_fail(err, SSS_ERR_UNSUPPORTED, "OpenGL 4.3 or newer is needed (this context has %d.%d)",
+                        epoxy_gl_version() / 10, epoxy_gl_version() % 10);
+    sss_renderer *r = calloc(1, sizeof *r);
+    if (!r) return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory");
+    r->f = f;
+    r->nv = f->mesh.nv;
+    r->nf = f->mesh.nf;
+    r->C = f->channels;
+    r->cpu_q = malloc((size_t)r->nv * r->C * sizeof(float));
+    if (!r->cpu_q) { free(r); return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory"); }
+
+    double lo[3], hi[3];
+    sss_mesh_bounds(&f->mesh, lo, hi);
+    for (int k = 0; k < 3; k++) r->centre[k] = 0.5 * (lo[k] + hi[k]);
+    r->radius = 0;
+    for (uint32_t v = 0; v < r->nv; v++) {
+        double d2 = 0;
+        for (int k = 0; k < 3; k++) {
+            double d = f->mesh.pos[3 * (size_t)v + k] - r->centre[k];
+            d2 += d * d;
+        }
+        if (d2 > r->radius) r->radius = d2;
+    }
+    r->radius = r->radius > 0 ? sqrt(r->radius) : 1.0;
+
+    int l8 = f->quant == SSS_QUANT_LLOYD8;
+    GLuint cs = compile(GL_COMPUTE_SHADER, l8 ? "#define LLOYD8 1\n" : "", sss_glsl_scatter_cs, err);
+    r->prog_cs = cs ? link(cs, 0, err) : 0;
+    GLuint vs = r->prog_cs ? compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vs, err) : 0;
+    GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, "", sss_glsl_shade_fs, err) : 0;
+    r->prog_shade = fs ? link(vs, fs, err) : 0;
+    if (!r->prog_shade) {
+        if (vs && !fs) glDeleteShader(vs);
+        sss_renderer_destroy(r);
+        return SSS_ERR_UNSUPPORTED;
+    }
+
+    glGenVertexArrays(1, &r->vao);
+    glBindVertexArray(r->vao);
+    glGenBuffers(1, &r->vbo_pos);
+    glBindBuffer(GL_ARRAY_BUFFER, r->vbo_pos);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)r->nv * 3 * sizeof(float), f->mesh.pos, GL_STATIC_DRAW);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, NULL);
+    glEnableVertexAttribArray(0);
+    glGenBuffers(1, &r->vbo_nrm);
+    glBindBuffer(GL_ARRAY_BUFFER, r->vbo_nrm);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)r->nv * 3 * sizeof(float), f->mesh.nrm, GL_STATIC_DRAW);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, NULL);
+    glEnableVertexAttribArray(1);
+    glGenBuffers(1, &r->ebo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ebo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)r->nf * 3 * sizeof(uint32_t), f->mesh.tri, GL_STATIC_DRAW);
+    glBindVertexArray(0);
+
+    /* Direction rows, each padded to the SSBO offset alignment. */
+    GLint align = 16;
+    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+    if (align < 4) align = 4;
+    r->row_bytes = (GLsizeiptr)r->nv * r->C * (l8 ? 1 : 4);
+    r->row_stride = (r->row_bytes + align - 1) / align * align;
+    glGenBuffers(1, &r->rows);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->rows);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, r->row_stride * (GLsizeiptr)f->dirs.n, NULL, GL_STATIC_DRAW);
+    const uint8_t *src = l8 ? f->qidx : (const uint8_t *)f->q;
+    for (uint32_t j = 0; j < f->dirs.n; j++)
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, r->row_stride * (GLsizeiptr)j, r->row_bytes,
+                        src + (size_t)r->row_bytes * j);
+    if (l8) {
+        glGenBuffers(1, &r->levels);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->levels);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)r->C * 256 * sizeof(float), f->levels, GL_STATIC_DRAW);
+    }
+    glGenBuffers(1, &r->qbuf);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->qbuf);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)r->nv * r->C * sizeof(float), NULL, GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    glGenQueries(2, r->queries);
+    if (glGetError() == GL_OUT_OF_MEMORY) {
+        sss_renderer_destroy(r);
+        return sss_fail(err, SSS_ERR_NOMEM, "renderer: the GPU is out of memory for %u directions x %u vertices",
+                        f->dirs.n, f->mesh.nv);
+    }
+    *out = r;
+    return SSS_OK;
+}
+
+void sss_renderer_destroy(sss_renderer *r)
+{
+    if (!r) return;
+    GLuint bufs[6] = {r->vbo_pos, r->vbo_nrm, r->ebo, r->rows, r->levels, r->qbuf};
+    glDeleteBuffers(6, bufs);
+    if (r->vao) glDeleteVertexArrays(1, &r->vao);
+    if (r->prog_cs) glDeleteProgram(r->prog_cs);
+    if (r->prog_shade) glDeleteProgram(r->prog_shade);
+    if (r->queries[0]) glDeleteQueries(2, r->queries);
+    if (r->fbo) {
+        glDeleteFramebuffers(1, &r->fbo);
+        glDeleteRenderbuffers(1, &r->fbo_color);
+        glDeleteRenderbuffers(1, &r->fbo_depth);
+    }
+    free(r->cpu_q);
+    free(r);
+}
+
+static void normalize3(double v[3])
+{
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0)
+        for (int k = 0; k < 3; k++) v[k] /= l;
+}
+
+static void cross3(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+void sss_renderer_camera(const sss_renderer *r, const sss_view_params *p, double eye[3], double right[3],
+                         double up[3], double fwd[3])
+{
+    double v[3] = {p->view[0], p->view[1], p->view[2]};
+    normalize3(v);
+    if (!(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0.5)) v[0] = 0, v[1] = 0, v[2] = 1;
+    double dist = (p->distance > 0 ? p->distance : 3.6) * r->radius;
+    /* up: +y unless looking along it, then +z */
+    double wup[3] = {0, 1, 0};
+    if (fabs(v[1]) > 0.999) wup[1] = 0, wup[2] = 1;
+    for (int k = 0; k < 3; k++) fwd[k] = -v[k];
+    cross3(fwd, wup, right);
+    normalize3(right);
+    cross3(right, fwd, up);
+    double target[3];
+    for (int k = 0; k < 3; k++) {
+        target[k] = r->centre[k] + (p->pan[0] * right[k] + p->pan[1] * up[k]) * r->radius;
+        eye[k] = target[k] + v[k] * dist;
+    }
+}
+
+void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
+{
+    const sss_bake_file *f = r->f;
+    double l[3] = {p->light[0], p->light[1], p->light[2]};
+    normalize3(l);
+    r->last_path = p->path;
+    if (p->path == SSS_EVAL_CPU) {
+        double t0 = now_ms();
+        sss_decode_all(f, l, r->cpu_q);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->qbuf);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)r->nv * r->C * sizeof(float), r->cpu_q);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        r->cpu_scatter_ms = now_ms() - t0;
+        return;
+    }
+    uint32_t idx[3];
+    double w[3];
+    if (sss_dirset_lookup(&f->dirs, l, idx, w) < 0 && f->dirs.ntri > 0) {
+        idx[0] = idx[1] = idx[2] = 0;
+        w[0] = w[1] = w[2] = 0.0; /* zero or NaN light: no scattering */
+    }
+    glBeginQuery(GL_TIME_ELAPSED, r->queries[0]);
+    glUseProgram(r->prog_cs);
+    for (int k = 0; k < 3; k++)
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, (GLuint)k, r->rows, r->row_stride * (GLintptr)idx[k],
+                          (r->row_bytes + 3) / 4 * 4);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->qbuf);
+    if (r->levels) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->levels);
+    glUniform3f(glGetUniformLocation(r->prog_cs, "u_w"), (float)w[0], (float)w[1], (float)w[2]);
+    GLuint count = r->nv * r->C;
+    glUniform1ui(glGetUniformLocation(r->prog_cs, "u_count"), count);
+    glUniform1ui(glGetUniformLocation(r->prog_cs, "u_channels"), r->C);
+    glDispatchCompute((count + 255) / 256, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glEndQuery(GL_TIME_ELAPSED);
+    r->have_times |= 1;
+}
+
+static void mat4_mul(const double a[16], const double b[16], float out[16])
+{
+    for (int c = 0; c < 4; c++)
+        for (int rr = 0; rr < 4; rr++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++) s += a[k * 4 + rr] * b[c * 4 + k];
+            out[c * 4 + rr] = (float)s;
+        }
+}
+
+void sss_renderer_draw(sss_renderer *r, const sss_view_params *p, int width, int height)
+{
+    double eye[3], right[3], up[3], fwd[3];
+    sss_renderer_camera(r, p, eye, right, up, fwd);
+    /* column-major view and perspective matrices */
+    double V[16] = {right[0], up[0], -fwd[0], 0, right[1], up[1], -fwd[1], 0, right[2], up[2], -fwd[2], 0, 0, 0, 0, 1};
+    V[12] = -(right[0] * eye[0] + right[1] * eye[1] + right[2] * eye[2]);
+    V[13] = -(up[0] * eye[0] + up[1] * eye[1] + up[2] * eye[2]);
+    V[14] = fwd[0] * eye[0] + fwd[1] * eye[1] + fwd[2] * eye[2];
+    double dist = (p->distance > 0 ? p->distance : 3.6) * r->radius;
+    double zn = fmax(dist - 1.5 * r->radius, 1e-3 * r->radius), zf = dist + 1.5 * r->radius;
+    double fy = 1.0 / tan(0.5 * (p->fov_deg > 0 ? p->fov_deg : 35.0) * M_PI / 180.0);
+    double aspect = height > 0 ? (double)width / height : 1.0;
+    double P[16] = {0};
+    P[0] = fy / aspect;
+    P[5] = fy;
+    P[10] = (zf + zn) / (zn - zf);
+    P[11] = -1;
+    P[14] = 2 * zf * zn / (zn - zf);
+    float mvp[16];
+    mat4_mul(P, V, mvp);
+    double l[3] = {p->light[0], p->light[1], p->light[2]};
+    normalize3(l);
+
+    glViewport(0, 0, width, height);
+    glClearColor(p->background[0], p->background[1], p->background[2], 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glBeginQuery(GL_TIME_ELAPSED, r->queries[1]);
+    glUseProgram(r->prog_shade);
+    GLuint pr = r->prog_shade;
+    glUniformMatrix4fv(glGetUniformLocation(pr, "u_mvp"), 1, GL_FALSE, mvp);
+    glUniform1ui(glGetUniformLocation(pr, "u_channels"), r->C);
+    glUniform3f(glGetUniformLocation(pr, "u_eye"), (float)eye[0], (float)eye[1], (float)eye[2]);
+    glUniform3f(glGetUniformLocation(pr, "u_light"), (float)l[0], (float)l[1], (float)l[2]);
+    glUniform3f(glGetUniformLocation(pr, "u_light_rgb"), (float)p->light_rgb[0], (float)p->light_rgb[1],
+                (float)p->light_rgb[2]);
+    glUniform1f(glGetUniformLocation(pr, "u_eta"), (float)r->f->material.eta);
+    glUniform1f(glGetUniformLocation(pr, "u_exposure"), (float)(p->exposure > 0 ? p->exposure : 1.0));
+    glUniform1i(glGetUniformLocation(pr, "u_scatter"), p->scatter);
+    glUniform1i(glGetUniformLocation(pr, "u_specular"), p->specular);
+    GLint fb = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fb);
+    int offscreen = fb != 0 && (GLuint)fb == r->fbo;
+    glUniform1i(glGetUniformLocation(pr, "u_tonemap"), offscreen ? -1 : (int)p->tonemap);
+    glUniform1i(glGetUniformLocation(pr, "u_srgb"), offscreen ? 0 : 1);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->qbuf);
+    glBindVertexArray(r->vao);
+    glUniform1i(glGetUniformLocation(pr, "u_flat"), 0);
+    glDrawElements(GL_TRIANGLES, (GLsizei)(3 * r->nf), GL_UNSIGNED_INT, NULL);
+    if (p->wireframe) {
+        glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        glEnable(GL_POLYGON_OFFSET_LINE);
+        glPolygonOffset(-1.0f, -1.0f);
+        glUniform1i(glGetUniformLocation(pr, "u_flat"), 1);
+        glDrawElements(GL_TRIANGLES, (GLsizei)(3 * r->nf), GL_UNSIGNED_INT, NULL);
+        glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+        glDisable(GL_POLYGON_OFFSET_LINE);
+    }
+    glBindVertexArray(0);
+    glEndQuery(GL_TIME_ELAPSED);
+    r->have_times |= 2;
+}
+
+void sss_renderer_read_q(sss_renderer *r, float *out)
+{
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->qbuf);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)r->nv * r->C * sizeof(float), out);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+}
+
+sss_frame_times sss_renderer_times(const sss_renderer *r)
+{
+    sss_frame_times t = {0, 0};
+    GLuint64 ns = 0;
+    if (r->last_path == SSS_EVAL_CPU) t.scatter_ms = r->cpu_scatter_ms;
+    else if (r->have_times & 1) {
+        glGetQueryObjectui64v(r->queries[0], GL_QUERY_RESULT, &ns);
+        t.scatter_ms = 1e-6 * (double)ns;
+    }
+    if (r->have_times & 2) {
+        glGetQueryObjectui64v(r->queries[1], GL_QUERY_RESULT, &ns);
+        t.draw_ms = 1e-6 * (double)ns;
+    }
+    return t;
+}
+
+double sss_renderer_bytes_per_vertex(const sss_renderer *r)
+{
+    const sss_bake_file *f = r->f;
+    double per = f->quant == SSS_QUANT_LLOYD8 ? 1.0 : 4.0;
+    return per * f->dirs.n * f->channels + (f->quant == SSS_QUANT_LLOYD8 ? 1024.0 * f->channels / f->mesh.nv : 0.0);
+}
+
+sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, int width, int height, float **rgb,
+                                     float **hdr, sss_error *err)
+{
+    *rgb = NULL;
+    if (hdr) *hdr = NULL;
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        return sss_fail(err, SSS_ERR_ARG, "image size %dx%d out of range [1, 16384]", width, height);
+    if (!r->fbo || r->fbo_w != width || r->fbo_h != height) {
+        if (r->fbo) {
+            glDeleteFramebuffers(1, &r->fbo);
+            glDeleteRenderbuffers(1, &r->fbo_color);
+            glDeleteRenderbuffers(1, &r->fbo_depth);
+        }
+        glGenFramebuffers(1, &r->fbo);
+        glGenRenderbuffers(1, &r->fbo_color);
+        glGenRenderbuffers(1, &r->fbo_depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, r->fbo_color);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, width, height);
+        glBindRenderbuffer(GL_RENDERBUFFER, r->fbo_depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
+        glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->fbo_color);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->fbo_depth);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            return sss_fail(err, SSS_ERR_UNSUPPORTED, "float framebuffer %dx%d is not supported", width, height);
+        }
+        r->fbo_w = width;
+        r->fbo_h = height;
+    }
+    size_t n = (size_t)width * height;
+    float *px = malloc(n * 4 * sizeof(float));
+    float *out = malloc(n * 3 * sizeof(float));
+    float *h = hdr ? malloc(n * 3 * sizeof(float)) : NULL;
+    if (!px || !out || (hdr && !h)) {
+        free(px); free(out); free(h);
+        return sss_fail(err, SSS_ERR_NOMEM, "out of memory for a %dx%d image", width, height);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    sss_renderer_evaluate(r, p);
+    sss_renderer_draw(r, p, width, height);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, px);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++) {
+            float x = px[4 * i + c]; /* exposure · L, linear */
+            if (h) h[3 * i + c] = x;
+            out[3 * i + c] = sss_tonemap_apply(p->tonemap, x);
+        }
+    free(px);
+    *rgb = out;
+    if (hdr) *hdr = h;
+    return SSS_OK;
+}

@@ -1,0 +1,99 @@
+/* renderer.h: OpenGL 4.3+ core renderer for baked translucent meshes.
+ *
+ * Per frame (Hao–Varshney 2004 §3.2, moved to the GPU as its §6 suggests):
+ * the CPU finds the direction-set triangle containing the light direction
+ * and its barycentric weights once; the GPU (compute shader) or the CPU (the
+ * C decoder in libsss) reconstructs q(x_v, ω) for every vertex and channel
+ * into one buffer; the draw shades
+ *     L = E · q · F_t(η, n·ω_o)  +  Fresnel-weighted specular
+ * per colour channel, with exposure and tone mapping.
+ *
+ * All functions need a current GL context (window or EGL offscreen) with
+ * GL ≥ 4.3 core; the renderer never creates or destroys contexts.
+ */
+#ifndef SSS_RENDERER_H
+#define SSS_RENDERER_H
+
+#include <stdint.h>
+#include "sss/format.h"
+
+typedef struct sss_renderer sss_renderer;
+
+typedef enum sss_eval_path {
+    SSS_EVAL_GPU = 0, /* compute shader (default) */
+    SSS_EVAL_CPU = 1  /* sss_decode_all (OpenMP + SIMD), then upload */
+} sss_eval_path;
+
+typedef enum sss_tonemap {
+    SSS_TONEMAP_CLAMP = 0,   /* clamp(exposure · L, 0, 1): the measurement convention */
+    SSS_TONEMAP_REINHARD = 1 /* x / (1 + x) after exposure: for viewing bright scenes */
+} sss_tonemap;
+
+/* Everything a frame depends on. Directions need not be normalised. */
+typedef struct sss_view_params {
+    double light[3];      /* towards the light, world (= mesh) space */
+    double light_rgb[3];  /* irradiance E per channel (default 1,1,1) */
+    double view[3];       /* from the object's centre towards the eye */
+    double distance;      /* eye distance in bounding radii (0: default 3.6: the bounding sphere fits a 35° view) */
+    double pan[2];        /* target offset in bounding radii, screen x/y */
+    double fov_deg;       /* vertical field of view (0: default 35) */
+    double exposure;      /* multiplies radiance before tone mapping (0: default 1) */
+    int scatter;          /* draw the subsurface term (default on: set by sss_view_params_default) */
+    int specular;         /* draw the surface reflection term */
+    int wireframe;        /* polygon mode line */
+    sss_tonemap tonemap;
+    sss_eval_path path;
+    float background[3];  /* clear colour, linear */
+} sss_view_params;
+
+/* Fills defaults: light (0,0,1)... see renderer.c. */
+void sss_view_params_default(sss_view_params *p);
+
+/* Frame timings in milliseconds (GPU timer queries for GPU work, wall
+ * clock for CPU work); values are of the previous completed frame. */
+typedef struct sss_frame_times {
+    double scatter_ms; /* evaluation of q for all vertices (incl. upload on the CPU path) */
+    double draw_ms;    /* the shading draw */
+} sss_frame_times;
+
+/* Uploads geometry and scattering data of f (which must stay alive as long
+ * as the renderer: the CPU path decodes from it). Fails with a message if GL
+ * is too old or a buffer cannot be allocated. */
+sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err);
+void sss_renderer_destroy(sss_renderer *r);
+
+/* Reconstructs q for p->light on p->path into the per-vertex buffer. */
+void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p);
+
+/* Draws into the currently bound framebuffer, viewport width × height.
+ * Call after sss_renderer_evaluate. */
+void sss_renderer_draw(sss_renderer *r, const sss_view_params *p, int width, int height);
+
+/* Reads the per-vertex q buffer back: out[v * channels + c]. */
+void sss_renderer_read_q(sss_renderer *r, float *out);
+
+/* Timings of the last evaluate + draw. */
+sss_frame_times sss_renderer_times(const sss_renderer *r);
+
+/* Renders one frame into an internal float framebuffer of width × height
+ * and returns the tone-mapped linear RGB image (3 floats per pixel, rows
+ * bottom-up as OpenGL returns them; values in [0,1] for CLAMP) in *rgb, and,
+ * if hdr is non-NULL, the linear radiance × exposure before tone mapping.
+ * Both malloc'ed, caller frees. */
+sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, int width, int height, float **rgb,
+                                     float **hdr, sss_error *err);
+
+/* Bytes per vertex of the scattering data as stored in the file (for the overlay). */
+double sss_renderer_bytes_per_vertex(const sss_renderer *r);
+
+#endif
+
+#ifndef SSS_RENDERER_CAMERA
+#define SSS_RENDERER_CAMERA
+/* Camera frame for p: eye position and unit right / up / forward vectors in
+ * world space (for mapping mouse drags to rotations). */
+void sss_renderer_camera(const sss_renderer *r, const sss_view_params *p, double eye[3], double right[3],
+                         double up[3], double fwd[3]);
+/* Applies the tone map of p to one linear value already multiplied by the exposure. */
+float sss_tonemap_apply(sss_tonemap t, float x);
+#endif
