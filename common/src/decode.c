@@ -50,25 +50,35 @@ void sss_decode_all(const sss_bake_file *f, const double light[3], float *out)
         const uint8_t *a = f->qidx + (size_t)idx[0] * row;
         const uint8_t *b = f->qidx + (size_t)idx[1] * row;
         const uint8_t *c = f->qidx + (size_t)idx[2] * row;
-        const float *L = f->levels;
+        /* Per frame, fold the weights into the level tables:
+         * T_r[k][x] = w_r · level_k[x] (3 rows × ≤ 3 channels × 256 floats,
+         * 9 KiB, stays in L1), so each value costs three table loads and
+         * two adds: the loop is bound by streaming the index rows. */
+        float T[3][SSS_MAX_CHANNELS][256];
+        for (size_t k = 0; k < ch; k++)
+            for (int x = 0; x < 256; x++) {
+                double L = f->levels[256 * k + (size_t)x];
+                T[0][k][x] = (float)(w0 * L);
+                T[1][k][x] = (float)(w1 * L);
+                T[2][k][x] = (float)(w2 * L);
+            }
         if (ch == 3) {
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if (nrow >= PAR_MIN)
 #endif
             for (ptrdiff_t v = 0; v < (ptrdiff_t)nv; v++) {
                 const size_t i = 3 * (size_t)v;
-                for (size_t k = 0; k < 3; k++) {
-                    const float *Lk = L + 256 * k;
-                    out[i + k] = (float)(w0 * Lk[a[i + k]] + w1 * Lk[b[i + k]] + w2 * Lk[c[i + k]]);
-                }
+                out[i] = T[0][0][a[i]] + T[1][0][b[i]] + T[2][0][c[i]];
+                out[i + 1] = T[0][1][a[i + 1]] + T[1][1][b[i + 1]] + T[2][1][c[i + 1]];
+                out[i + 2] = T[0][2][a[i + 2]] + T[1][2][b[i + 2]] + T[2][2][c[i + 2]];
             }
         } else {
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if (nrow >= PAR_MIN)
 #endif
             for (ptrdiff_t i = 0; i < nrow; i++) {
-                const float *Lk = L + 256 * ((size_t)i % ch);
-                out[i] = (float)(w0 * Lk[a[i]] + w1 * Lk[b[i]] + w2 * Lk[c[i]]);
+                const size_t k = (size_t)i % ch;
+                out[i] = T[0][k][a[i]] + T[1][k][b[i]] + T[2][k][c[i]];
             }
         }
         return;
@@ -76,8 +86,11 @@ void sss_decode_all(const sss_bake_file *f, const double light[3], float *out)
     const float *a = f->q + (size_t)idx[0] * row;
     const float *b = f->q + (size_t)idx[1] * row;
     const float *c = f->q + (size_t)idx[2] * row;
+    /* float weights: four-wide SIMD without conversions; the GPU computes
+     * the same float expression */
+    const float fw0 = (float)w0, fw1 = (float)w1, fw2 = (float)w2;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(static) if (nrow >= PAR_MIN)
+#pragma omp parallel for simd schedule(static) if (nrow >= PAR_MIN)
 #endif
-    for (ptrdiff_t i = 0; i < nrow; i++) out[i] = (float)(w0 * a[i] + w1 * b[i] + w2 * c[i]);
+    for (ptrdiff_t i = 0; i < nrow; i++) out[i] = fw0 * a[i] + fw1 * b[i] + fw2 * c[i];
 }

@@ -104,9 +104,10 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
            *frame = malloc(sizeof(double) * (size_t)n);
     float *rgb, *hdr;
     sss_error err;
-    sss_renderer_render_image(r, p, w, h, &rgb, &hdr, &err); /* sets up the framebuffer, warms caches */
+    sss_renderer_render_image(r, p, w, h, &rgb, &hdr, &err); /* warms caches */
     free(rgb);
     free(hdr);
+    sss_renderer_bind_offscreen(r, w, h, &err); /* draw into a real framebuffer: a surfaceless context has none */
     for (int i = 0; i < n; i++) {
         /* move the light a little each frame so every frame really works */
         double a = 0.05 * i;

@@ -399,11 +399,8 @@ double sss_renderer_bytes_per_vertex(const sss_renderer *r)
     return per * f->dirs.n * f->channels + (f->quant == SSS_QUANT_LLOYD8 ? 1024.0 * f->channels / f->mesh.nv : 0.0);
 }
 
-sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, int width, int height, float **rgb,
-                                     float **hdr, sss_error *err)
+sss_result sss_renderer_bind_offscreen(sss_renderer *r, int width, int height, sss_error *err)
 {
-    *rgb = NULL;
-    if (hdr) *hdr = NULL;
     if (width < 1 || height < 1 || width > 16384 || height > 16384)
         return sss_fail(err, SSS_ERR_ARG, "image size %dx%d out of range [1, 16384]", width, height);
     if (!r->fbo || r->fbo_w != width || r->fbo_h != height) {
@@ -429,6 +426,20 @@ sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, 
         r->fbo_w = width;
         r->fbo_h = height;
     }
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    return SSS_OK;
+}
+
+sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, int width, int height, float **rgb,
+                                     float **hdr, sss_error *err)
+{
+    *rgb = NULL;
+    if (hdr) *hdr = NULL;
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        return sss_fail(err, SSS_ERR_ARG, "image size %dx%d out of range [1, 16384]", width, height);
+    sss_result res = sss_renderer_bind_offscreen(r, width, height, err);
+    if (res != SSS_OK) return res;
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
     size_t n = (size_t)width * height;
     float *px = malloc(n * 4 * sizeof(float));
     float *out = malloc(n * 3 * sizeof(float));

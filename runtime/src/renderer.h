@@ -83,6 +83,10 @@ sss_frame_times sss_renderer_times(const sss_renderer *r);
 sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, int width, int height, float **rgb,
                                      float **hdr, sss_error *err);
 
+/* Creates (or resizes) the internal float framebuffer and binds it, so that
+ * sss_renderer_draw renders linear radiance × exposure into it. */
+sss_result sss_renderer_bind_offscreen(sss_renderer *r, int width, int height, sss_error *err);
+
 /* Bytes per vertex of the scattering data as stored in the file (for the overlay). */
 double sss_renderer_bytes_per_vertex(const sss_renderer *r);
 

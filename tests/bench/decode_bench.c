@@ -1,0 +1,114 @@
+/* decode_bench: CPU scatter-evaluation throughput of sss_decode_all against
+ * the memory-bandwidth bound, for one .sss file.
+ *   decode_bench FILE.sss [FRAMES]
+ * Prints one JSON object: the measured read and copy bandwidth (one thread
+ * and all threads), the decode time per frame (median over FRAMES light
+ * directions, one thread and all threads), the bytes each frame must move
+ * (3 direction rows read + the q output written) and the resulting bound.
+ */
+#include <math.h>
+#include <stdint.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "sss/decode.h"
+#include "sss/format.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmpd(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmpd);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* Bandwidth of reading (sum) and of copying a buffer far larger than the
+ * caches, median of 9 runs, bytes/s. Copy counts read + write bytes. */
+static void bandwidth(int threads, double *read_bps, double *copy_bps)
+{
+    const size_t n = (size_t)64 << 20; /* 256 MiB of floats per array */
+    uint32_t *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+#pragma omp parallel for num_threads(threads)
+    for (size_t i = 0; i < n; i++) { a[i] = (uint32_t)(i & 1023); b[i] = 0; }
+    double tr[9], tc[9];
+    volatile double sink = 0;
+    for (int r = 0; r < 9; r++) {
+        double t = now();
+        uint64_t s = 0; /* integer sum: vectorises, so this measures memory, not an add chain */
+#pragma omp parallel for num_threads(threads) reduction(+ : s)
+        for (size_t i = 0; i < n; i++) s += a[i];
+        tr[r] = now() - t;
+        sink += s;
+        t = now();
+#pragma omp parallel for num_threads(threads)
+        for (size_t i = 0; i < n; i++) b[i] = a[i];
+        tc[r] = now() - t;
+    }
+    (void)sink;
+    *read_bps = n * sizeof(uint32_t) / median(tr, 9);
+    *copy_bps = 2.0 * n * sizeof(uint32_t) / median(tc, 9);
+    free(a);
+    free(b);
+}
+
+static double decode_ms(const sss_bake_file *f, float *out, int threads, int frames)
+{
+    omp_set_num_threads(threads);
+    double *t = malloc(sizeof(double) * (size_t)frames);
+    for (int i = -2; i < frames; i++) {
+        double a = 0.37 * i, light[3] = {sin(a), 0.3, cos(a)};
+        double t0 = now();
+        sss_decode_all(f, light, out);
+        if (i >= 0) t[i] = 1e3 * (now() - t0);
+    }
+    double m = median(t, frames);
+    free(t);
+    return m;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) { fprintf(stderr, "usage: decode_bench FILE.sss [FRAMES]\n"); return 2; }
+    int frames = argc > 2 ? atoi(argv[2]) : 50;
+    if (frames < 1) frames = 1;
+    sss_bake_file f;
+    sss_error err = {{0}};
+    if (sss_file_read(argv[1], &f, &err) != SSS_OK) { fprintf(stderr, "decode_bench: %s\n", err.msg); return 1; }
+    int maxt = omp_get_max_threads();
+    double r1, c1, rN, cN;
+    bandwidth(1, &r1, &c1);
+    bandwidth(maxt, &rN, &cN);
+    size_t nv = f.mesh.nv, C = f.channels;
+    float *out = malloc(nv * C * sizeof(float));
+    double ms1 = decode_ms(&f, out, 1, frames), msN = decode_ms(&f, out, maxt, frames);
+    /* per vertex: three rows of C values read, C floats written */
+    double bytes_read = 3.0 * C * (f.quant == SSS_QUANT_LLOYD8 ? 1 : 4), bytes_written = 4.0 * C;
+    double moved = (bytes_read + bytes_written) * nv;
+    /* the bound uses the copy bandwidth (a read stream and a write stream, like the decode) */
+    double bound1 = 1e3 * moved / c1, boundN = 1e3 * moved / cN;
+    printf("{\"file\":\"%s\",\"vertices\":%zu,\"channels\":%zu,\"quant\":\"%s\",\"frames\":%d,\"threads_max\":%d,"
+           "\"read_GBps_1t\":%.2f,\"copy_GBps_1t\":%.2f,\"read_GBps_all\":%.2f,\"copy_GBps_all\":%.2f,"
+           "\"bytes_read_per_vertex\":%.0f,\"bytes_written_per_vertex\":%.0f,"
+           "\"decode_ms_1t\":%.4f,\"decode_ms_all\":%.4f,\"bound_ms_1t\":%.4f,\"bound_ms_all\":%.4f,"
+           "\"ratio_to_bound_1t\":%.3f,\"ratio_to_bound_all\":%.3f,\"vertices_per_s_1t\":%.4g,\"vertices_per_s_all\":%.4g}\n",
+           argv[1], nv, C, f.quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float", frames, maxt, r1 / 1e9, c1 / 1e9,
+           rN / 1e9, cN / 1e9, bytes_read, bytes_written, ms1, msN, bound1, boundN, ms1 / bound1, msN / boundN,
+           nv / (1e-3 * ms1), nv / (1e-3 * msN));
+    free(out);
+    sss_file_free(&f);
+    return 0;
+}
