@@ -72,6 +72,11 @@ void sss_decode_all(const sss_bake_file *f, const double light[3], float *out)
                 out[i + 1] = T[0][1][a[i + 1]] + T[1][1][b[i + 1]] + T[2][1][c[i + 1]];
                 out[i + 2] = T[0][2][a[i + 2]] + T[1][2][b[i + 2]] + T[2][2][c[i + 2]];
             }
+        } else if (ch == 1) {
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (nrow >= PAR_MIN)
+#endif
+            for (ptrdiff_t i = 0; i < nrow; i++) out[i] = T[0][0][a[i]] + T[1][0][b[i]] + T[2][0][c[i]];
         } else {
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if (nrow >= PAR_MIN)
