@@ -1,0 +1,164 @@
+# sss-view window mode, end to end: a real GLX window on a virtual X server
+# (Xvfb), driven by real X input events (xdotool, through XTEST), checked
+# through the viewer's own screenshots (P key). Fails if the viewer crashes,
+# hangs, draws nothing or ignores input; also checks --help and the
+# one-line errors of window mode.
+. "$(dirname "$0")/lib.sh"
+for tool in xvfb-run xauth xdotool; do
+  command -v "$tool" >/dev/null 2>&1 || fail "$tool is not installed (scripts/setup.sh installs it)"
+done
+: "${SSS_VIEW:?}" "${SSS_PNGSTATS:?}"
+
+# --help lists the window controls
+expect_ok "$SSS_VIEW" --help
+contains "$TMP/out" "screenshot"
+contains "$TMP/out" "wireframe"
+contains "$TMP/out" "orbit"
+
+expect_ok "$SSS_GENMESH" blob 3 "$TMP/blob.ply"
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/b.sss" --material skin1 --mm-per-unit 20 --dirs 50 -q
+
+# Window-mode errors: exit status exactly 1 and exactly one line on stderr,
+# nothing on stdout. No display is given, so none of these may need one
+# (bad files are rejected before any window is opened).
+expect_exit1() {
+  local pat=$1; shift
+  timeout 30 env -u DISPLAY -u WAYLAND_DISPLAY "$@" >"$TMP/out" 2>"$TMP/err"; local rc=$?
+  [ $rc -eq 1 ] || { cat "$TMP/err" >&2; fail "expected exit status 1, got $rc: $*"; }
+  [ "$(wc -l < "$TMP/err")" -eq 1 ] || { cat "$TMP/err" >&2; fail "expected one line on stderr: $*"; }
+  [ ! -s "$TMP/out" ] || fail "printed on stdout: $*"
+  grep -q -- "$pat" "$TMP/err" || { cat "$TMP/err" >&2; fail "message should match '$pat': $*"; }
+}
+cp "$TMP/b.sss" "$TMP/flip.sss"
+printf '\x55' | dd of="$TMP/flip.sss" bs=1 seek=300 conv=notrunc status=none
+expect_exit1 "flip.sss" "$SSS_VIEW" "$TMP/flip.sss"
+head -c 200 "$TMP/b.sss" > "$TMP/trunc.sss"
+expect_exit1 "trunc.sss" "$SSS_VIEW" "$TMP/trunc.sss"
+expect_exit1 "missing.sss" "$SSS_VIEW" "$TMP/missing.sss"
+expect_exit1 "cannot open a window (no display?); use --offscreen" "$SSS_VIEW" "$TMP/b.sss"
+
+# The driver runs inside the virtual X server. Every step that should
+# change the picture is followed by a screenshot and compared with the one
+# before it (overlay hidden, so only the scene is compared: the overlay's
+# fps numbers change by themselves); steps that undo another must give back
+# the earlier picture byte for byte, which also shows that rendering is
+# deterministic, so "differs" really means "input was applied".
+cat > "$TMP/driver.sh" <<'EOF'
+set -u
+T=$TMP
+pid=
+fail() { echo "FAIL: $*" >&2; [ -n "$pid" ] && kill "$pid" 2>/dev/null; exit 1; }
+alive() { kill -0 "$pid" 2>/dev/null; }
+# SSS_VIEW_PRELOAD: sanitizer builds only, see tests/integration/CMakeLists.txt
+if [ -n "${SSS_VIEW_PRELOAD:-}" ]; then
+  LD_PRELOAD=$SSS_VIEW_PRELOAD "$SSS_VIEW" "$T/b.sss" --size 640x480 --screenshot "$T/shot.png" >"$T/view.out" 2>"$T/view.err" &
+else
+  "$SSS_VIEW" "$T/b.sss" --size 640x480 --screenshot "$T/shot.png" >"$T/view.out" 2>"$T/view.err" &
+fi
+pid=$!
+wid=$(timeout 30 xdotool search --sync --onlyvisible --name '^sss-view' 2>/dev/null | head -n 1)
+[ -n "$wid" ] || { alive || { cat "$T/view.err" >&2; fail "sss-view exited before showing a window"; }; fail "no sss-view window within 30 s"; }
+# Keys go to the focused window; with no window manager, focus it directly.
+# All pointer coordinates are relative to the window.
+xdotool mousemove --window "$wid" 320 240 windowfocus "$wid" || fail "xdotool could not reach the window"
+
+# shot NAME [XDOTOOL-COMMANDS...]: send the commands and then P in one
+# xdotool run (one X connection, so the server sees them in this order),
+# wait for the PNG (the viewer renames it into place when complete).
+shot() {
+  local name=$1; shift
+  rm -f "$T/shot.png"
+  xdotool "$@" key p || fail "xdotool failed: $*"
+  local i
+  for i in $(seq 300); do
+    [ -e "$T/shot.png" ] && break
+    alive || { cat "$T/view.err" >&2; fail "sss-view died during: $*"; }
+    sleep 0.05
+  done
+  [ -e "$T/shot.png" ] || fail "no screenshot 15 s after: $* P"
+  mv "$T/shot.png" "$T/$name.png"
+}
+same() { cmp -s "$T/$1.png" "$T/$2.png" || fail "$1.png and $2.png should be identical ($3)"; }
+differ() { cmp -s "$T/$1.png" "$T/$2.png" && fail "$1.png and $2.png should differ ($3)"; return 0; }
+
+shot overlay0 sleep 0.3                     # overlay on, as the user first sees it
+shot s0 key h                               # overlay off from here
+shot s0b sleep 0.1
+same s0 s0b "nothing changed in between"
+shot s1 mousemove --window "$wid" 200 240 mousedown 1 mousemove --window "$wid" 330 300 mouseup 1
+differ s0 s1 "left drag should orbit the camera"
+shot s2 mousemove --window "$wid" 320 240 mousedown 3 mousemove --window "$wid" 360 270 mouseup 3
+differ s1 s2 "right drag should pan"
+shot s3 mousemove --window "$wid" 300 200 keydown ctrl mousedown 1 mousemove --window "$wid" 420 260 mouseup 1 keyup ctrl
+differ s2 s3 "Ctrl+drag should move the light"
+shot s3l mousemove --window "$wid" 300 200 keydown l mousedown 1 mousemove --window "$wid" 260 240 mouseup 1 keyup l
+differ s3 s3l "L+drag should move the light"
+shot s3s mousemove --window "$wid" 300 200 keydown shift mousedown 1 mousemove --window "$wid" 280 190 mouseup 1 keyup shift
+differ s3l s3s "Shift+drag should pan"
+shot s4 mousemove --window "$wid" 320 240 click --repeat 3 --delay 20 4
+differ s3 s4 "scrolling should zoom"
+shot s5 key w
+differ s4 s5 "W should draw the wireframe"
+shot s6 key w
+same s4 s6 "W twice should give the picture back"
+shot s7 key c                               # CPU path: compared with s6 below
+shot s8 key c
+same s6 s8 "C twice should give the GPU picture back"
+shot s9 key --repeat 3 --delay 20 Right
+differ s8 s9 "the Right arrow should rotate the light"
+shot s10 key t
+differ s9 s10 "T should switch the tone map"
+shot s11 key t key 1
+differ s9 s11 "1 should leave scattering only"
+shot s12 key 3 key r
+same s0 s12 "R should reset camera and light"
+shot s13 key equal
+differ s12 s13 "+ should raise the light intensity"
+shot s14 key minus
+same s12 s14 "- should undo +"
+shot s15 key bracketright
+differ s14 s15 "] should raise the exposure"
+shot s16 key bracketleft
+same s14 s16 "[ should undo ]"
+shot overlay1 key h
+# Resizing: the next frame uses the new framebuffer size (down to 1x1),
+# and unmapping/mapping the window (what minimising does) is survived.
+shot tiny windowsize "$wid" 1 1 sleep 0.3
+shot wide windowsize "$wid" 800 500 sleep 0.3 windowunmap --sync "$wid" sleep 0.3 windowmap --sync "$wid" sleep 0.3 mousemove --window "$wid" 400 250 windowfocus "$wid"
+
+xdotool key Escape || fail "xdotool could not send Escape"
+for i in $(seq 200); do alive || break; sleep 0.05; done
+alive && fail "sss-view still running 10 s after Escape"
+wait "$pid"; rc=$?
+pid=
+[ $rc -eq 0 ] || { cat "$T/view.err" >&2; fail "sss-view exited with status $rc"; }
+exit 0
+EOF
+
+export TMP SSS_VIEW SSS_VIEW_PRELOAD="${SSS_VIEW_PRELOAD:-}"
+timeout 240 xvfb-run -a -e "$TMP/xvfb.err" -s "-screen 0 1024x768x24 -nolisten tcp" bash "$TMP/driver.sh"
+rc=$?
+[ $rc -eq 0 ] || { cat "$TMP/xvfb.err" >&2; fail "window driver failed (status $rc$([ $rc -eq 124 ] && echo ", timed out"))"; }
+[ ! -s "$TMP/view.out" ] || fail "sss-view printed on stdout"
+contains "$TMP/view.err" "sss-view: saved $TMP/shot.png"
+
+# The pictures are not blank: the mesh covers a good part of the frame and
+# has shading (not one flat colour), with and without the overlay.
+for name in s0 overlay0 overlay1; do
+  read -r w h mean sd nonbg < <("$SSS_PNGSTATS" "$TMP/$name.png") || fail "cannot read $name.png"
+  [ "$w" = 640 ] && [ "$h" = 480 ] || fail "$name.png is ${w}x$h, expected 640x480"
+  awk -v sd="$sd" -v f="$nonbg" 'BEGIN { exit !(sd > 10 && f >= 0.05) }' ||
+    fail "$name.png looks blank: mean $mean, stddev $sd, non-background fraction $nonbg"
+done
+for pair in "tiny 1 1" "wide 800 500"; do
+  set -- $pair
+  read -r w h _ < <("$SSS_PNGSTATS" "$TMP/$1.png") || fail "cannot read $1.png"
+  [ "$w" = "$2" ] && [ "$h" = "$3" ] || fail "$1.png is ${w}x$h after resizing to $2x$3"
+done
+# CPU and GPU evaluation draw the same picture (up to rounding).
+d=$("$SSS_PNGSTATS" "$TMP/s6.png" "$TMP/s7.png") || fail "cannot compare s6/s7"
+awk -v d="$d" 'BEGIN { exit !(d < 0.01) }' || fail "CPU path picture differs from GPU path in a fraction $d of pixels"
+# A light change moves the shading over a visible area, not a few pixels.
+d=$("$SSS_PNGSTATS" "$TMP/s8.png" "$TMP/s9.png") || fail "cannot compare s8/s9"
+awk -v d="$d" 'BEGIN { exit !(d > 0.02) }' || fail "a 15 degree light turn changed only a fraction $d of pixels"
+echo "window_xvfb: ok"
