@@ -1,21 +1,23 @@
 # sss-view --offscreen: PNG and EXR output, bad input gives a one-line error.
 . "$(dirname "$0")/../integration/lib.sh"
+# sanitizer builds preload Mesa's driver into the viewer only (tests/CMakeLists.txt)
+view() { LD_PRELOAD=${SSS_VIEW_PRELOAD:-} "$SSS_VIEW" "$@"; }
 expect_ok "$SSS_GENMESH" blob 3 "$TMP/blob.ply"
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/b.sss" --material skin1 --mm-per-unit 20 --dirs 50 -q
-expect_ok "$SSS_VIEW" "$TMP/b.sss" --offscreen --out "$TMP/a.png" --size 160x120 --light 0,0,1 --view 0,0,1
+expect_ok view "$TMP/b.sss" --offscreen --out "$TMP/a.png" --size 160x120 --light 0,0,1 --view 0,0,1
 [ "$(head -c 8 "$TMP/a.png" | od -An -tx1 | tr -d ' ')" = "89504e470d0a1a0a" ] || fail "a.png is not a PNG"
-expect_ok "$SSS_VIEW" "$TMP/b.sss" --offscreen --out "$TMP/a.exr" --size 160x120 --light 0,1,0 --cpu
+expect_ok view "$TMP/b.sss" --offscreen --out "$TMP/a.exr" --size 160x120 --light 0,1,0 --cpu
 [ "$(head -c 4 "$TMP/a.exr" | od -An -tx1 | tr -d ' ')" = "762f3101" ] || fail "a.exr is not an OpenEXR file"
-expect_ok "$SSS_VIEW" "$TMP/b.sss" --offscreen --bench 5 --size 64x64
+expect_ok view "$TMP/b.sss" --offscreen --bench 5 --size 64x64
 contains "$TMP/out" '"scatter_ms_median"'
 # the same light gives a different image than another light
-expect_ok "$SSS_VIEW" "$TMP/b.sss" --offscreen --out "$TMP/b.png" --size 160x120 --light 0,0,-1 --view 0,0,1
+expect_ok view "$TMP/b.sss" --offscreen --out "$TMP/b.png" --size 160x120 --light 0,0,-1 --view 0,0,1
 cmp -s "$TMP/a.png" "$TMP/b.png" && fail "changing the light did not change the image"
 # bad input
 head -c 200 "$TMP/b.sss" > "$TMP/trunc.sss"
-expect_fail "trunc.sss" "$SSS_VIEW" "$TMP/trunc.sss" --offscreen --out "$TMP/x.png"
-expect_fail "missing.sss" "$SSS_VIEW" "$TMP/missing.sss" --offscreen --out "$TMP/x.png"
-expect_fail "size" "$SSS_VIEW" "$TMP/b.sss" --offscreen --out "$TMP/x.png" --size 0x5
-expect_fail "light" "$SSS_VIEW" "$TMP/b.sss" --offscreen --out "$TMP/x.png" --light 0,0,0
-expect_fail "unknown image type" "$SSS_VIEW" "$TMP/b.sss" --offscreen --out "$TMP/x.bmp"
+expect_fail "trunc.sss" view "$TMP/trunc.sss" --offscreen --out "$TMP/x.png"
+expect_fail "missing.sss" view "$TMP/missing.sss" --offscreen --out "$TMP/x.png"
+expect_fail "size" view "$TMP/b.sss" --offscreen --out "$TMP/x.png" --size 0x5
+expect_fail "light" view "$TMP/b.sss" --offscreen --out "$TMP/x.png" --light 0,0,0
+expect_fail "unknown image type" view "$TMP/b.sss" --offscreen --out "$TMP/x.bmp"
 echo "cli_view_offscreen: ok"
