@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "font.h"
+#include "gl_util.h"
 
 #define BANDS 6
 #define PER_BAND 16
@@ -118,7 +119,6 @@ struct sss_text {
 };
 
 static const char *text_vs =
-    "#version 430 core\n"
     "layout(location = 0) in vec2 a_pos;\n"
     "layout(location = 1) in vec2 a_uv;\n"
     "layout(location = 2) in vec4 a_rgba;\n"
@@ -133,7 +133,6 @@ static const char *text_vs =
     "}\n";
 
 static const char *text_fs =
-    "#version 430 core\n"
     "uniform sampler2D u_atlas;\n"
     "in vec2 v_uv;\n"
     "in vec4 v_rgba;\n"
@@ -144,51 +143,20 @@ static const char *text_fs =
     "    o_color = vec4(v_rgba.rgb, v_rgba.a * cover);\n"
     "}\n";
 
-static GLuint compile(GLenum type, const char *src, sss_error *err)
-{
-    GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, NULL);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[512] = "";
-        glGetShaderInfoLog(s, sizeof log, NULL, log);
-        for (char *c = log; *c; c++)
-            if (*c == '\n') *c = ' ';
-        sss_fail(err, SSS_ERR_UNSUPPORTED, "overlay shader compilation failed: %s", log);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
 sss_result sss_text_create(sss_text **out, sss_error *err)
 {
     *out = NULL;
     sss_text *t = calloc(1, sizeof *t);
     if (!t) return sss_fail(err, SSS_ERR_NOMEM, "overlay: out of memory");
-    GLuint vs = compile(GL_VERTEX_SHADER, text_vs, err);
-    GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, text_fs, err) : 0;
+    GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", text_vs, err);
+    GLuint fs = vs ? sss_gl_compile(GL_FRAGMENT_SHADER, "", text_fs, err) : 0;
     if (!fs) {
         if (vs) glDeleteShader(vs);
         free(t);
         return SSS_ERR_UNSUPPORTED;
     }
-    t->prog = glCreateProgram();
-    glAttachShader(t->prog, vs);
-    glAttachShader(t->prog, fs);
-    glLinkProgram(t->prog);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(t->prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[512] = "";
-        glGetProgramInfoLog(t->prog, sizeof log, NULL, log);
-        for (char *c = log; *c; c++)
-            if (*c == '\n') *c = ' ';
-        sss_fail(err, SSS_ERR_UNSUPPORTED, "overlay shader link failed: %s", log);
+    t->prog = sss_gl_link(vs, fs, err);
+    if (!t->prog) {
         sss_text_destroy(t);
         return SSS_ERR_UNSUPPORTED;
     }

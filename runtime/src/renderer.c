@@ -16,6 +16,7 @@
 #include <time.h>
 
 #include "renderer.h"
+#include "gl_util.h"
 #include "shaders.h"
 #include "sss/decode.h"
 
@@ -71,48 +72,6 @@ float sss_tonemap_apply(sss_tonemap t, float x)
     return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
 }
 
-static GLuint compile(GLenum type, const char *prefix, const char *src, sss_error *err)
-{
-    GLuint s = glCreateShader(type);
-    const char *parts[3] = {"#version 430 core\n", prefix, src};
-    glShaderSource(s, 3, parts, NULL);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = "";
-        glGetShaderInfoLog(s, sizeof log, NULL, log);
-        for (char *c = log; *c; c++)
-            if (*c == '\n') *c = ' ';
-        sss_fail(err, SSS_ERR_UNSUPPORTED, "shader compilation failed: %s", log);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
-static GLuint link(GLuint a, GLuint b, sss_error *err)
-{
-    GLuint p = glCreateProgram();
-    glAttachShader(p, a);
-    if (b) glAttachShader(p, b);
-    glLinkProgram(p);
-    glDeleteShader(a);
-    if (b) glDeleteShader(b);
-    GLint ok = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = "";
-        glGetProgramInfoLog(p, sizeof log, NULL, log);
-        for (char *c = log; *c; c++)
-            if (*c == '\n') *c = ' ';
-        sss_fail(err, SSS_ERR_UNSUPPORTED, "shader link failed: %s", log);
-        glDeleteProgram(p);
-        return 0;
-    }
-    return p;
-}
-
 sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err)
 {
     *out = NULL;
@@ -143,11 +102,11 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
     r->radius = r->radius > 0 ? sqrt(r->radius) : 1.0;
 
     int l8 = f->quant == SSS_QUANT_LLOYD8;
-    GLuint cs = compile(GL_COMPUTE_SHADER, l8 ? "#define LLOYD8 1\n" : "", sss_glsl_scatter_cs, err);
-    r->prog_cs = cs ? link(cs, 0, err) : 0;
-    GLuint vs = r->prog_cs ? compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vs, err) : 0;
-    GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, "", sss_glsl_shade_fs, err) : 0;
-    r->prog_shade = fs ? link(vs, fs, err) : 0;
+    GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, l8 ? "#define LLOYD8 1\n" : "", sss_glsl_scatter_cs, err);
+    r->prog_cs = cs ? sss_gl_link(cs, 0, err) : 0;
+    GLuint vs = r->prog_cs ? sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vs, err) : 0;
+    GLuint fs = vs ? sss_gl_compile(GL_FRAGMENT_SHADER, "", sss_glsl_shade_fs, err) : 0;
+    r->prog_shade = fs ? sss_gl_link(vs, fs, err) : 0;
     if (!r->prog_shade) {
         if (vs && !fs) glDeleteShader(vs);
         sss_renderer_destroy(r);
