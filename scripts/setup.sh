@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 BUILD=${1:-build}
 PKGS=(build-essential cmake pkg-config git ca-certificates
       libopenmesh-dev libflann-dev liblz4-dev libembree-dev
-      libcjson-dev libcmocka-dev libpng-dev
+      libcjson-dev libcmocka-dev libpng-dev libcgal-dev
       libglfw3-dev libepoxy-dev libegl-dev libgl-dev libopenexr-dev libgl1-mesa-dri libegl-mesa0
       xvfb xauth xdotool)
 missing=()

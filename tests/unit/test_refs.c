@@ -1,0 +1,511 @@
+/* test_refs.c: reference points and barycentric weights (Hao–Varshney 2004
+ * §4.2): selection by decimation, projection onto the simplified mesh,
+ * degenerate and non-manifold input. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <omp.h>
+
+#include "genmesh.h"
+#include "sss/refs.h"
+
+/* ---- helpers ------------------------------------------------------------ */
+
+/* |a − b| ≤ eps (cmocka 1.1.5 has no assert_close). */
+#define assert_close(a, b, eps)                                                                                    \
+    do {                                                                                                           \
+        double a_ = (a), b_ = (b);                                                                                 \
+        if (!(fabs(a_ - b_) <= (eps))) fail_msg("%s = %.17g, expected %.17g (within %g)", #a, a_, b_, (double)(eps)); \
+    } while (0)
+
+static void P(const sss_mesh *m, uint32_t v, double p[3])
+{
+    for (int k = 0; k < 3; k++) p[k] = m->pos[3 * (size_t)v + k];
+}
+
+static double dist3(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* Σ_k w_k p(ref_k) for vertex v. */
+static void reconstruct(const sss_mesh *m, const sss_refs *r, uint32_t v, double q[3])
+{
+    q[0] = q[1] = q[2] = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double p[3];
+        P(m, r->ref_vertex[r->ref_tri[3 * (size_t)r->vtri[v] + k]], p);
+        for (int j = 0; j < 3; j++) q[j] += r->w[3 * (size_t)v + k] * p[j];
+    }
+}
+
+static double mean_edge(const sss_mesh *m)
+{
+    double s = 0.0;
+    for (uint32_t f = 0; f < m->nf; f++)
+        for (int k = 0; k < 3; k++) {
+            double a[3], b[3];
+            P(m, m->tri[3 * (size_t)f + k], a);
+            P(m, m->tri[3 * (size_t)f + (k + 1) % 3], b);
+            s += dist3(a, b);
+        }
+    return s / (3.0 * m->nf);
+}
+
+/* Every structural promise of sss_refs: indices in range, references strictly
+ * increasing, weights finite, ≥ 0 and summing to 1, references on themselves
+ * with weight exactly 1. Returns the largest distance between a vertex and
+ * its reconstruction Σ w_k p(ref_k), over vertices other than `skip`
+ * (UINT32_MAX: none). */
+static double check_refs(const sss_mesh *m, const sss_refs *r, uint32_t skip)
+{
+    assert_int_equal(r->nv, m->nv);
+    assert_true(r->nref >= 1 && r->nref <= m->nv);
+    assert_true(r->nrt >= 1);
+    assert_non_null(r->ref_vertex);
+    assert_non_null(r->ref_tri);
+    assert_non_null(r->vtri);
+    assert_non_null(r->w);
+    uint32_t *ref_of = malloc(m->nv * sizeof *ref_of);
+    assert_non_null(ref_of);
+    for (uint32_t v = 0; v < m->nv; v++) ref_of[v] = UINT32_MAX;
+    for (uint32_t i = 0; i < r->nref; i++) {
+        assert_true(r->ref_vertex[i] < m->nv);
+        if (i > 0 && !(r->ref_vertex[i] > r->ref_vertex[i - 1]))
+            fail_msg("ref_vertex not increasing at %u: %u after %u", i, r->ref_vertex[i], r->ref_vertex[i - 1]);
+        ref_of[r->ref_vertex[i]] = i;
+    }
+    for (size_t k = 0; k < 3 * (size_t)r->nrt; k++) assert_true(r->ref_tri[k] < r->nref);
+
+    double worst = 0.0;
+    for (uint32_t v = 0; v < m->nv; v++) {
+        assert_true(r->vtri[v] < r->nrt);
+        const float *w = r->w + 3 * (size_t)v;
+        double s = 0.0;
+        for (int k = 0; k < 3; k++) {
+            if (!isfinite(w[k]) || w[k] < 0.0f) fail_msg("vertex %u: weight %d = %g", v, k, (double)w[k]);
+            s += w[k];
+        }
+        if (!(fabs(s - 1.0) <= 1e-6)) fail_msg("vertex %u: weights sum to %.9g", v, s);
+        if (ref_of[v] != UINT32_MAX) {
+            /* a reference: weight exactly 1 on its own corner */
+            const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[v];
+            int own = -1;
+            for (int k = 0; k < 3; k++)
+                if (t[k] == ref_of[v]) own = k;
+            if (own < 0) fail_msg("reference vertex %u mapped to triangle %u, which does not use it", v, r->vtri[v]);
+            for (int k = 0; k < 3; k++) assert_true(w[k] == (k == own ? 1.0f : 0.0f));
+        }
+        if (v == skip) continue;
+        double p[3], q[3];
+        P(m, v, p);
+        reconstruct(m, r, v, q);
+        if (ref_of[v] != UINT32_MAX) assert_true(dist3(p, q) == 0.0);
+        worst = fmax(worst, dist3(p, q));
+    }
+    free(ref_of);
+    return worst;
+}
+
+static int same_refs(const sss_refs *a, const sss_refs *b)
+{
+    return a->nv == b->nv && a->nref == b->nref && a->nrt == b->nrt && a->faces_skipped == b->faces_skipped &&
+           !memcmp(a->ref_vertex, b->ref_vertex, a->nref * sizeof *a->ref_vertex) &&
+           !memcmp(a->ref_tri, b->ref_tri, 3 * (size_t)a->nrt * sizeof *a->ref_tri) &&
+           !memcmp(a->vtri, b->vtri, a->nv * sizeof *a->vtri) && !memcmp(a->w, b->w, 3 * (size_t)a->nv * sizeof *a->w);
+}
+
+static void check_weights(const double w[3])
+{
+    double s = 0.0;
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(w[k]) || w[k] < 0.0) fail_msg("weight %d = %g", k, w[k]);
+        s += w[k];
+    }
+    assert_close(s, 1.0, 1e-12);
+}
+
+/* ---- selection and mapping ---------------------------------------------- */
+
+static void buildWithFractionOneIsIdentity(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 1.0, 2, &err), SSS_OK);
+    sss_refs r;
+    assert_int_equal(sss_refs_build(&m, 1.0, 0, &r, &err), SSS_OK);
+    assert_int_equal(r.nref, m.nv);
+    assert_int_equal(r.nrt, m.nf);
+    assert_int_equal(r.faces_skipped, 0);
+    for (uint32_t i = 0; i < r.nref; i++) assert_int_equal(r.ref_vertex[i], i);
+    assert_memory_equal(r.ref_tri, m.tri, 3 * (size_t)m.nf * sizeof *m.tri);
+    assert_true(check_refs(&m, &r, UINT32_MAX) == 0.0);
+    sss_refs_free(&r);
+    assert_null(r.w);
+    sss_mesh_free(&m);
+}
+
+static void buildKeepsFivePercentOfSphereAndReconstructsPositions(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 1.0, 5, &err), SSS_OK);
+    assert_int_equal(m.nv, 10242);
+    sss_refs r;
+    if (sss_refs_build(&m, 0.05, 4, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+    long want = lround(0.05 * m.nv);
+    if (labs((long)r.nref - want) > 1) fail_msg("%u references, expected %ld ± 1", r.nref, want);
+    /* a closed genus-0 surface over the references: Euler V − E + F = 2 */
+    assert_int_equal(r.nrt, 2 * r.nref - 4);
+    double edge = mean_edge(&m), worst = check_refs(&m, &r, UINT32_MAX);
+    /* Σ w_k p(ref_k) is the closest point on the simplified sphere: it lies
+     * within the sagitta of a simplified triangle, a fraction of an edge of
+     * the full mesh. */
+    if (!(worst <= 2.0 * edge)) fail_msg("reconstruction off by %g (mean edge %g)", worst, edge);
+    /* non-references really are interpolated, not all snapped to corners */
+    uint32_t interior = 0;
+    for (uint32_t v = 0; v < m.nv; v++) {
+        const float *w = r.w + 3 * (size_t)v;
+        if (w[0] > 0.0f && w[1] > 0.0f && w[2] > 0.0f) interior++;
+    }
+    assert_true(interior > m.nv / 2);
+    sss_refs_free(&r);
+    sss_mesh_free(&m);
+}
+
+static void buildMapsReferencesOntoThemselvesWithWeightOne(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_blob(&m, 1.0, 4, &err), SSS_OK);
+    sss_refs r;
+    if (sss_refs_build(&m, 0.1, 0, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_true(r.nref < m.nv);
+    uint32_t exact = 0;
+    for (uint32_t i = 0; i < r.nref; i++) {
+        uint32_t v = r.ref_vertex[i];
+        const uint32_t *t = r.ref_tri + 3 * (size_t)r.vtri[v];
+        for (int k = 0; k < 3; k++)
+            if (t[k] == i && r.w[3 * (size_t)v + k] == 1.0f) exact++;
+    }
+    assert_int_equal(exact, r.nref);
+    (void)check_refs(&m, &r, UINT32_MAX);
+    sss_refs_free(&r);
+    sss_mesh_free(&m);
+}
+
+/* Same input, same bytes: twice, and with another thread count. */
+static void buildIsDeterministic(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_blob(&m, 1.0, 4, &err), SSS_OK);
+    sss_refs a, b, c;
+    assert_int_equal(sss_refs_build(&m, 0.05, 0, &a, &err), SSS_OK);
+    assert_int_equal(sss_refs_build(&m, 0.05, 0, &b, &err), SSS_OK);
+    assert_true(same_refs(&a, &b));
+    /* and whatever the thread count of the projection step */
+    int threads = omp_get_max_threads();
+    omp_set_num_threads(threads > 1 ? 1 : 3);
+    assert_int_equal(sss_refs_build(&m, 0.05, 0, &c, &err), SSS_OK);
+    omp_set_num_threads(threads);
+    assert_true(same_refs(&a, &c));
+    sss_refs_free(&a);
+    sss_refs_free(&b);
+    sss_refs_free(&c);
+    sss_mesh_free(&m);
+}
+
+static void buildHonoursMinRefs(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 1.0, 3, &err), SSS_OK);
+    sss_refs r;
+    assert_int_equal(sss_refs_build(&m, 0.01, 100, &r, &err), SSS_OK); /* 1% would be 6 */
+    assert_int_equal(r.nref, 100);
+    (void)check_refs(&m, &r, UINT32_MAX);
+    sss_refs_free(&r);
+    sss_mesh_free(&m);
+}
+
+/* A vertex no triangle uses, next to a collinear (zero-area) triangle that is
+ * the nearest reference triangle: it projects onto the triangle's longest
+ * edge. fraction 1 keeps the input triangles as they are. */
+static void buildHandlesDegenerateNearestTriangle(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_mesh_alloc(&m, 7, 2, &err), SSS_OK);
+    const float pos[7][3] = {
+        {0, 0, 0}, {1, 0, 0}, {2, 0, 0},       /* collinear triangle 0 */
+        {10, 10, 10}, {11, 10, 10}, {10, 11, 10}, /* ordinary triangle 1, far away */
+        {0.7f, 0.3f, 0.0f},                       /* used by no triangle */
+    };
+    memcpy(m.pos, pos, sizeof pos);
+    const uint32_t tri[6] = {0, 1, 2, 3, 4, 5};
+    memcpy(m.tri, tri, sizeof tri);
+    sss_refs r;
+    if (sss_refs_build(&m, 1.0, 0, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_int_equal(r.nref, 6);
+    (void)check_refs(&m, &r, UINT32_MAX);
+    assert_int_equal(r.vtri[6], 0);
+    double q[3];
+    reconstruct(&m, &r, 6, q);
+    assert_close(q[0], 0.7, 1e-6);
+    assert_close(q[1], 0.0, 1e-6);
+    assert_close(q[2], 0.0, 1e-6);
+    sss_refs_free(&r);
+    sss_mesh_free(&m);
+}
+
+/* A plane with one vertex pulled far up into a spike, simplified hard: the
+ * spike's neighbours lie far off whatever triangles remain. */
+static void buildGivesFiniteWeightsForVertexFarOffSurface(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_plane(&m, 2.0, 2.0, 20, 20, &err), SSS_OK);
+    uint32_t spike = UINT32_MAX;
+    for (uint32_t v = 0; v < m.nv; v++)
+        if (fabsf(m.pos[3 * (size_t)v]) < 1e-6f && fabsf(m.pos[3 * (size_t)v + 1]) < 1e-6f) spike = v;
+    assert_true(spike != UINT32_MAX);
+    m.pos[3 * (size_t)spike + 2] = 1000.0f;
+    /* and a lone vertex far outside everything */
+    sss_mesh lone;
+    assert_int_equal(sss_mesh_alloc(&lone, 1, 0, &err), SSS_OK);
+    lone.pos[0] = 1e30f, lone.pos[1] = -1e30f, lone.pos[2] = 3e30f;
+    assert_int_equal(sss_mesh_append(&m, &lone, &err), SSS_OK);
+    sss_mesh_free(&lone);
+
+    sss_refs r;
+    if (sss_refs_build(&m, 0.02, 0, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_true(r.nref < m.nv / 10);
+    (void)check_refs(&m, &r, UINT32_MAX);
+    sss_refs_free(&r);
+    sss_mesh_free(&m);
+}
+
+/* Three triangles on one edge: OpenMesh's TriMesh takes two and refuses the
+ * third; its apex is still mapped. Then the same fin on a sphere. */
+static void buildSurvivesNonManifoldEdge(void **state)
+{
+    (void)state;
+    sss_error err = {{0}};
+    sss_mesh m;
+    assert_int_equal(sss_mesh_alloc(&m, 5, 3, &err), SSS_OK);
+    const float pos[5][3] = {{0, 0, 0}, {1, 0, 0}, {0.5f, 1, 0}, {0.5f, -1, 0}, {0.5f, 0, 1}};
+    memcpy(m.pos, pos, sizeof pos);
+    const uint32_t tri[9] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+    memcpy(m.tri, tri, sizeof tri);
+    sss_refs r;
+    if (sss_refs_build(&m, 0.6, 0, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_int_equal(r.faces_skipped, 1);
+    (void)check_refs(&m, &r, UINT32_MAX);
+    sss_refs_free(&r);
+    /* identity keeps all three */
+    assert_int_equal(sss_refs_build(&m, 1.0, 0, &r, &err), SSS_OK);
+    assert_int_equal(r.nrt, 3);
+    assert_int_equal(r.faces_skipped, 0);
+    (void)check_refs(&m, &r, UINT32_MAX);
+    sss_refs_free(&r);
+    sss_mesh_free(&m);
+
+    /* a fin on an edge of a closed sphere */
+    assert_int_equal(sss_gen_sphere(&m, 1.0, 3, &err), SSS_OK);
+    sss_mesh fin;
+    assert_int_equal(sss_mesh_alloc(&fin, 1, 0, &err), SSS_OK);
+    uint32_t a = m.tri[0], b = m.tri[1];
+    for (int k = 0; k < 3; k++) fin.pos[k] = 1.5f * 0.5f * (m.pos[3 * (size_t)a + k] + m.pos[3 * (size_t)b + k]);
+    assert_int_equal(sss_mesh_append(&m, &fin, &err), SSS_OK);
+    sss_mesh_free(&fin);
+    uint32_t *t2 = realloc(m.tri, 3 * ((size_t)m.nf + 1) * sizeof *t2);
+    assert_non_null(t2);
+    m.tri = t2;
+    m.tri[3 * (size_t)m.nf] = a, m.tri[3 * (size_t)m.nf + 1] = b, m.tri[3 * (size_t)m.nf + 2] = m.nv - 1;
+    m.nf++;
+    if (sss_refs_build(&m, 0.1, 0, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_int_equal(r.faces_skipped, 1);
+    (void)check_refs(&m, &r, UINT32_MAX);
+    sss_refs_free(&r);
+    sss_mesh_free(&m);
+}
+
+static void buildRejectsBadInput(void **state)
+{
+    (void)state;
+    sss_error err = {{0}};
+    sss_mesh m;
+    assert_int_equal(sss_gen_sphere(&m, 1.0, 1, &err), SSS_OK);
+    sss_refs r;
+    assert_int_equal(sss_refs_build(&m, 0.0, 0, &r, &err), SSS_ERR_ARG);
+    assert_int_equal(sss_refs_build(&m, 1.5, 0, &r, &err), SSS_ERR_ARG);
+    assert_int_equal(sss_refs_build(&m, NAN, 0, &r, &err), SSS_ERR_ARG);
+    assert_null(r.w);
+    m.tri[4] = m.nv;
+    assert_int_equal(sss_refs_build(&m, 0.5, 0, &r, &err), SSS_ERR_MESH);
+    assert_non_null(strstr(err.msg, "triangle 1"));
+    m.tri[4] = 0;
+    m.pos[7] = NAN;
+    assert_int_equal(sss_refs_build(&m, 0.5, 0, &r, &err), SSS_ERR_MESH);
+    assert_non_null(strstr(err.msg, "vertex 2"));
+    assert_null(r.ref_vertex);
+    sss_mesh_free(&m);
+    /* every triangle repeats an index: nothing to build on */
+    assert_int_equal(sss_mesh_alloc(&m, 3, 1, &err), SSS_OK);
+    m.tri[0] = 0, m.tri[1] = 1, m.tri[2] = 1;
+    assert_int_equal(sss_refs_build(&m, 1.0, 0, &r, &err), SSS_ERR_MESH);
+    sss_mesh_free(&m);
+}
+
+/* ---- sss_refs_closest_weights -------------------------------------------- */
+
+static void closestWeightsMatchBarycentricsAndClampOutside(void **state)
+{
+    (void)state;
+    const double a[3] = {0, 0, 0}, b[3] = {2, 0, 0}, c[3] = {0, 2, 0};
+    double w[3];
+    /* above the interior: the projection's barycentrics */
+    const double p0[3] = {0.5, 0.25, 3.0};
+    sss_refs_closest_weights(p0, a, b, c, w);
+    check_weights(w);
+    assert_close(w[0], 0.625, 1e-12);
+    assert_close(w[1], 0.25, 1e-12);
+    assert_close(w[2], 0.125, 1e-12);
+    /* beyond corner b */
+    const double p1[3] = {5, -1, 0};
+    sss_refs_closest_weights(p1, a, b, c, w);
+    check_weights(w);
+    assert_close(w[1], 1.0, 0);
+    /* outside edge bc: clamped onto it */
+    const double p2[3] = {2, 2, -1};
+    sss_refs_closest_weights(p2, a, b, c, w);
+    check_weights(w);
+    assert_close(w[0], 0.0, 0);
+    assert_close(w[1], 0.5, 1e-12);
+    assert_close(w[2], 0.5, 1e-12);
+    /* outside edge ab, below it */
+    const double p3[3] = {1.5, -4, 2};
+    sss_refs_closest_weights(p3, a, b, c, w);
+    check_weights(w);
+    assert_close(w[0], 0.25, 1e-12);
+    assert_close(w[1], 0.75, 1e-12);
+    assert_close(w[2], 0.0, 0);
+    /* far away: still a point of the triangle */
+    const double p4[3] = {1e30, 3e29, -1e30};
+    sss_refs_closest_weights(p4, a, b, c, w);
+    check_weights(w);
+    /* non-finite input: corner a */
+    const double p5[3] = {NAN, 0, 0};
+    sss_refs_closest_weights(p5, a, b, c, w);
+    assert_true(w[0] == 1.0 && w[1] == 0.0 && w[2] == 0.0);
+}
+
+static uint64_t rng_state = 0x2545F4914F6CDD1Dull;
+static double urand(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Random triangles (every third one a thin sliver) and points: the weighted
+ * point is never farther from p than any point of a dense barycentric grid
+ * over the triangle. */
+static void closestWeightsBeatDenseSamplingOnRandomTriangles(void **state)
+{
+    (void)state;
+    const int G = 60;
+    for (int it = 0; it < 1500; it++) {
+        double a[3], b[3], c[3], p[3], w[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = 2.0 * urand() - 1.0;
+            b[k] = 2.0 * urand() - 1.0;
+            c[k] = 2.0 * urand() - 1.0;
+            p[k] = 4.0 * urand() - 2.0;
+        }
+        if (it % 3 == 0) /* c within 1e-9 of segment ab */
+            for (int k = 0; k < 3; k++) c[k] = a[k] + 0.3 * (b[k] - a[k]) + 1e-9 * (urand() - 0.5);
+        sss_refs_closest_weights(p, a, b, c, w);
+        check_weights(w);
+        double q[3];
+        for (int k = 0; k < 3; k++) q[k] = w[0] * a[k] + w[1] * b[k] + w[2] * c[k];
+        double d = dist3(p, q), best = INFINITY;
+        for (int i = 0; i <= G; i++)
+            for (int j = 0; i + j <= G; j++) {
+                double u = (double)i / G, v = (double)j / G, s[3];
+                for (int k = 0; k < 3; k++) s[k] = (1.0 - u - v) * a[k] + u * b[k] + v * c[k];
+                best = fmin(best, dist3(p, s));
+            }
+        if (!(d <= best + 1e-8)) fail_msg("case %d: weighted point at %.12g, a grid point at %.12g", it, d, best);
+    }
+}
+
+static void closestWeightsHandleDegenerateTriangles(void **state)
+{
+    (void)state;
+    double w[3];
+    /* collinear, middle corner listed last: longest edge is a–b */
+    const double a[3] = {0, 0, 0}, b[3] = {4, 0, 0}, c[3] = {1, 0, 0};
+    const double p[3] = {3, 2, 0};
+    sss_refs_closest_weights(p, a, b, c, w);
+    check_weights(w);
+    assert_close(w[0], 0.25, 1e-12);
+    assert_close(w[1], 0.75, 1e-12);
+    assert_close(w[2], 0.0, 0);
+    const double q[3] = {-3, 1, 1};
+    sss_refs_closest_weights(q, a, b, c, w);
+    check_weights(w);
+    assert_close(w[0], 1.0, 0);
+    /* nearly collinear sliver */
+    const double s[3] = {2, 1e-14, 0};
+    const double r0[3] = {2, 1, 0};
+    sss_refs_closest_weights(r0, a, b, s, w);
+    check_weights(w);
+    double x = w[1] * 4 + w[2] * 2;
+    assert_close(x, 2.0, 1e-9);
+    /* two corners coincide */
+    const double d[3] = {4, 0, 0};
+    sss_refs_closest_weights(p, a, b, d, w);
+    check_weights(w);
+    assert_close(w[0], 0.25, 1e-12);
+    /* all coincide */
+    sss_refs_closest_weights(p, a, a, a, w);
+    check_weights(w);
+    assert_true(w[0] == 1.0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(buildWithFractionOneIsIdentity),
+        cmocka_unit_test(buildKeepsFivePercentOfSphereAndReconstructsPositions),
+        cmocka_unit_test(buildMapsReferencesOntoThemselvesWithWeightOne),
+        cmocka_unit_test(buildIsDeterministic),
+        cmocka_unit_test(buildHonoursMinRefs),
+        cmocka_unit_test(buildHandlesDegenerateNearestTriangle),
+        cmocka_unit_test(buildGivesFiniteWeightsForVertexFarOffSurface),
+        cmocka_unit_test(buildSurvivesNonManifoldEdge),
+        cmocka_unit_test(buildRejectsBadInput),
+        cmocka_unit_test(closestWeightsMatchBarycentricsAndClampOutside),
+        cmocka_unit_test(closestWeightsBeatDenseSamplingOnRandomTriangles),
+        cmocka_unit_test(closestWeightsHandleDegenerateTriangles),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
