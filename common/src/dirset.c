@@ -23,6 +23,7 @@
  * counts as not seeing it, which triangulates cocircular groups consistently.
  */
 #include "sss/dirset.h"
+#include "sss/random.h"
 
 #include <float.h>
 #include <math.h>
@@ -201,14 +202,6 @@ static void conflict_push(hull *h, int32_t f, uint32_t q)
     h->head[f] = (int32_t)q;
 }
 
-/* splitmix64: fixed-seed shuffle of the insertion order (determinism). */
-static uint64_t splitmix64(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
 
 static int cmp_tri(const void *x, const void *y)
 {
@@ -301,7 +294,7 @@ static sss_result hull_build(hull *h, uint32_t **tri_out, sss_error *err)
         if (i != i0 && i != i1 && i != i2 && i != i3) order[m++] = i;
     uint64_t seed = 0x5353535F44495253ull; /* "SSS_DIRS" */
     for (uint32_t i = m; i > 1; i--) {
-        uint32_t j = (uint32_t)(splitmix64(&seed) % i);
+        uint32_t j = (uint32_t)(sss_rng_next(&seed) % i);
         uint32_t t = order[i - 1];
         order[i - 1] = order[j];
         order[j] = t;

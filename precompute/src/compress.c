@@ -10,6 +10,7 @@
  * absorbs quantisation error of both.
  */
 #include "sss/compress.h"
+#include "sss/random.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -348,16 +349,6 @@ void sss_compressed_eval(const sss_compressed *cq, const double light[3], float 
     }
 }
 
-/* splitmix64: a fixed-seed generator for the test directions. */
-static uint64_t splitmix(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-static double unif(uint64_t *s) { return (double)(splitmix(s) >> 11) * 0x1.0p-53; }
 
 sss_result sss_compressed_error(const sss_compressed *cq, const sss_bake_file *f, uint32_t ndirs_test, uint64_t seed,
                                 double *rel_rms, double *max_abs, double *max_rel, sss_error *err)
@@ -395,8 +386,8 @@ sss_result sss_compressed_error(const sss_compressed *cq, const sss_bake_file *f
     int anynan = 0;
     uint64_t s = seed;
     for (uint32_t t = 0; t < ndirs_test; t++) {
-        double z = 2.0 * unif(&s) - 1.0, phi = 2.0 * 3.14159265358979323846 * unif(&s), rr = sqrt(fmax(0.0, 1 - z * z));
-        const double light[3] = {rr * cos(phi), rr * sin(phi), z};
+        double light[3];
+        sss_rng_direction(&s, light);
         sss_decode_all(f, light, u);
         sss_compressed_eval(cq, light, rc);
         for (size_t v = 0; v < nv; v++)

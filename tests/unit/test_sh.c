@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sss/random.h"
 #include "sss/dirset.h"
 #include "sss/sh.h"
 
@@ -27,22 +28,8 @@
     } while (0)
 
 static uint64_t rng_state;
-static uint64_t rng_next(void)
-{
-    uint64_t z = (rng_state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-static double rng_unit(void) { return (double)(rng_next() >> 11) * (1.0 / 9007199254740992.0); }
-static void random_dir(double d[3])
-{
-    double z = 2.0 * rng_unit() - 1.0, phi = 2.0 * PI * rng_unit();
-    double r = sqrt(fmax(0.0, 1.0 - z * z));
-    d[0] = r * cos(phi);
-    d[1] = r * sin(phi);
-    d[2] = z;
-}
+static double rng_unit(void) { return sss_rng_unit(&rng_state); }
+static void random_dir(double d[3]) { sss_rng_direction(&rng_state, d); }
 
 static int idx(int l, int m) { return l * (l + 1) + m; }
 
