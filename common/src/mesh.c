@@ -50,6 +50,32 @@ double sss_mesh_bounds(const sss_mesh *m, double lo[3], double hi[3])
     return sqrt(d2);
 }
 
+/* (p1 − p0) × (p2 − p0) of triangle f in double: its length is twice the
+ * triangle's area and its direction the face normal. */
+static void tri_cross(const sss_mesh *m, uint32_t f, double c[3])
+{
+    const uint32_t *t = &m->tri[3 * (size_t)f];
+    double p[3][3];
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++) p[i][k] = m->pos[3 * (size_t)t[i] + k];
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++) { e1[k] = p[1][k] - p[0][k]; e2[k] = p[2][k] - p[0][k]; }
+    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+}
+
+void sss_mesh_vertex_areas(const sss_mesh *m, double *area)
+{
+    for (uint32_t v = 0; v < m->nv; v++) area[v] = 0.0;
+    for (uint32_t f = 0; f < m->nf; f++) {
+        double c[3];
+        tri_cross(m, f, c);
+        double a3 = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / 3.0;
+        for (int i = 0; i < 3; i++) area[m->tri[3 * (size_t)f + i]] += a3;
+    }
+}
+
 sss_result sss_mesh_compute_normals_areas(sss_mesh *m, const char *name, sss_error *err)
 {
     if (!name) name = "mesh";
@@ -75,14 +101,8 @@ sss_result sss_mesh_compute_normals_areas(sss_mesh *m, const char *name, sss_err
      * so summing it weights face normals by area. */
     for (uint32_t f = 0; f < m->nf; f++) {
         const uint32_t *t = &m->tri[3 * (size_t)f];
-        double p[3][3];
-        for (int i = 0; i < 3; i++)
-            for (int k = 0; k < 3; k++) p[i][k] = m->pos[3 * (size_t)t[i] + k];
-        double e1[3], e2[3], c[3];
-        for (int k = 0; k < 3; k++) { e1[k] = p[1][k] - p[0][k]; e2[k] = p[2][k] - p[0][k]; }
-        c[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        c[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        double c[3];
+        tri_cross(m, f, c);
         double a3 = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / 3.0;
         for (int i = 0; i < 3; i++) {
             area[t[i]] += a3;

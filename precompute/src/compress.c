@@ -367,21 +367,7 @@ sss_result sss_compressed_error(const sss_compressed *cq, const sss_bake_file *f
         free(rc);
         return sss_fail(err, SSS_ERR_NOMEM, "compress error: out of memory");
     }
-    /* vertex areas: 1/3 of the incident triangle areas */
-    for (size_t t = 0; t < f->mesh.nf; t++) {
-        const uint32_t *tr = f->mesh.tri + 3 * t;
-        if (tr[0] >= nv || tr[1] >= nv || tr[2] >= nv) continue;
-        const float *p0 = f->mesh.pos + 3 * (size_t)tr[0], *p1 = f->mesh.pos + 3 * (size_t)tr[1],
-                    *p2 = f->mesh.pos + 3 * (size_t)tr[2];
-        double e1[3], e2[3];
-        for (int k = 0; k < 3; k++) {
-            e1[k] = (double)p1[k] - p0[k];
-            e2[k] = (double)p2[k] - p0[k];
-        }
-        double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
-        double a = 0.5 * sqrt(cx * cx + cy * cy + cz * cz) / 3.0;
-        for (int k = 0; k < 3; k++) area[tr[k]] += a;
-    }
+    sss_mesh_vertex_areas(&f->mesh, area); /* ΔA: 1/3 of the incident triangle areas */
     double num[SSS_MAX_CHANNELS] = {0}, den[SSS_MAX_CHANNELS] = {0}, mx = 0.0;
     int anynan = 0;
     uint64_t s = seed;

@@ -37,6 +37,11 @@ void sss_mesh_free(sss_mesh *m);
  * in triangle order so the result is deterministic. `name` prefixes errors. */
 sss_result sss_mesh_compute_normals_areas(sss_mesh *m, const char *name, sss_error *err);
 
+/* ΔA for every vertex into area[nv], the same sums in the same order as
+ * sss_mesh_compute_normals_areas, for a mesh that cannot be modified (e.g.
+ * one read from a file). Indices must already be valid. */
+void sss_mesh_vertex_areas(const sss_mesh *m, double *area);
+
 /* Axis-aligned bounds of the positions; returns the diagonal length. */
 double sss_mesh_bounds(const sss_mesh *m, double lo[3], double hi[3]);
 
