@@ -799,3 +799,11 @@ sss_result sss_file_read(const char *path, sss_bake_file *f, sss_error *err)
     free(buf);
     return r;
 }
+
+double sss_file_integral_bytes_per_vertex(const sss_bake_file *f)
+{
+    if (!f->mesh.nv) return 0.0;
+    const double values = (double)f->dirs.n * f->channels;
+    if (f->quant == SSS_QUANT_LLOYD8) return values + 256.0 * sizeof(float) * f->channels / f->mesh.nv;
+    return values * sizeof(float);
+}

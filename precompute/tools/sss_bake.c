@@ -148,7 +148,7 @@ int main(int argc, char **argv)
     long long fsize = -1;
     if (fp) { fseek(fp, 0, SEEK_END); fsize = ftell(fp); fclose(fp); }
     const uint32_t nv = f.mesh.nv, C = f.channels, N = f.dirs.n;
-    double q_bytes = f.quant == SSS_QUANT_LLOYD8 ? (double)N * C + 256.0 * 4 * C / nv : 4.0 * N * C;
+    double q_bytes = sss_file_integral_bytes_per_vertex(&f);
     double total = t_import + st.t_neighbourhoods + st.t_visibility + st.t_integrals + st.t_quantise + t_write;
     if (!quiet)
         fprintf(stderr,

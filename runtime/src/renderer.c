@@ -351,12 +351,7 @@ sss_frame_times sss_renderer_times(const sss_renderer *r)
     return t;
 }
 
-double sss_renderer_bytes_per_vertex(const sss_renderer *r)
-{
-    const sss_bake_file *f = r->f;
-    double per = f->quant == SSS_QUANT_LLOYD8 ? 1.0 : 4.0;
-    return per * f->dirs.n * f->channels + (f->quant == SSS_QUANT_LLOYD8 ? 1024.0 * f->channels / f->mesh.nv : 0.0);
-}
+double sss_renderer_bytes_per_vertex(const sss_renderer *r) { return sss_file_integral_bytes_per_vertex(r->f); }
 
 sss_result sss_renderer_bind_offscreen(sss_renderer *r, int width, int height, sss_error *err)
 {

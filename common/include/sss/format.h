@@ -77,6 +77,10 @@ sss_result sss_file_read(const char *path, sss_bake_file *f, sss_error *err);
 /* Frees everything owned by f and zeroes it. NULL-safe. */
 void sss_file_free(sss_bake_file *f);
 
+/* Bytes per vertex taken by the stored integrals (values plus, for lloyd8,
+ * the level tables spread over the vertices); geometry not included. */
+double sss_file_integral_bytes_per_vertex(const sss_bake_file *f);
+
 /* CRC-32 (IEEE 802.3, reflected, init and xorout 0xFFFFFFFF), chainable:
  * crc = sss_crc32(crc, data, n) starting from 0. */
 uint32_t sss_crc32(uint32_t crc, const void *data, size_t n);
