@@ -13,22 +13,30 @@
 #include <assert.h>
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "sss/dirset.h"
+#include "sss/sh.h"
 
 float sss_decode_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t c)
 {
     assert(j < f->dirs.n && v < f->mesh.nv && c < f->channels);
     size_t i = ((size_t)j * f->mesh.nv + v) * f->channels + c;
     if (f->quant == SSS_QUANT_LLOYD8) return f->levels[(size_t)c * 256 + f->qidx[i]];
-    return f->q[i];
+    if (f->quant == SSS_QUANT_FLOAT) return f->q[i];
+    float out[SSS_MAX_CHANNELS];
+    sss_decode_vertex(f, v, f->dirs.dir + 3 * (size_t)j, out);
+    return out[c];
 }
 
 /* Rows of at least this many values are split across OpenMP threads (when
  * the library is built with OpenMP); below it the fork costs more than it
  * saves. */
 #define PAR_MIN 65536
+
+static void decode_compressed(const sss_bake_file *f, const double d[3], float *out);
 
 void sss_decode_all(const sss_bake_file *f, const double light[3], float *out)
 {
@@ -40,6 +48,10 @@ void sss_decode_all(const sss_bake_file *f, const double light[3], float *out)
         return;
     }
     const double d[3] = {light[0] / len, light[1] / len, light[2] / len};
+    if (f->quant == SSS_QUANT_SH || f->quant == SSS_QUANT_REFS) {
+        decode_compressed(f, d, out);
+        return;
+    }
     uint32_t idx[3];
     double w[3];
     sss_dirset_lookup(&f->dirs, d, idx, w);
@@ -98,4 +110,234 @@ void sss_decode_all(const sss_bake_file *f, const double light[3], float *out)
 #pragma omp parallel for simd schedule(static) if (nrow >= PAR_MIN)
 #endif
     for (ptrdiff_t i = 0; i < nrow; i++) out[i] = fw0 * a[i] + fw1 * b[i] + fw2 * c[i];
+}
+
+/* ---- compressed forms (format 1.1, Hao–Varshney 2004 §4) -------------- *
+ * SH part (§4.1): q̃ = Σ_i c_i y_i(ω). Per call the SH basis is evaluated
+ * once and folded into the dequantisation tables, T_c,i[x] = table_c,i[x] ·
+ * y_i(ω), so a vertex costs ncoef table loads and adds per channel.
+ * References (§4.2): their rows are interpolated over the direction triangle
+ * exactly as an uncompressed lloyd8 file's; a coded vertex blends the three
+ * reference values of its triangle with its weights, then adds its SH
+ * delta (§4.3). q is physically ≥ 0, so the sum is clamped at 0; the GPU
+ * path does the same. */
+
+/* Weights of coded vertex k: w_lo + (w_hi − w_lo) · code / (2^bits − 1). */
+static void coded_weights(const sss_refcode *r, size_t k, double w[3])
+{
+    const double span = (double)r->w_hi - r->w_lo, wmax = r->wbits == 16 ? 65535.0 : 255.0;
+    w[0] = r->w_lo + span * (r->w[2 * k] / wmax);
+    w[1] = r->w_lo + span * (r->w[2 * k + 1] / wmax);
+    w[2] = 1.0 - w[0] - w[1];
+}
+
+/* Folded SH tables for direction d: ys[(c·ncoef + i)·L + x]. */
+static float *fold_sh(const sss_bake_file *f, const double d[3])
+{
+    const sss_shcode *s = &f->sh;
+    const size_t L = sss_shq_levels(s->kind), ntab = (size_t)f->channels * s->ncoef;
+    float *T = malloc((ntab * L + 1) * sizeof *T);
+    if (!T) return NULL;
+    double y[SSS_SH_MAX_COUNT];
+    sss_sh_eval(s->order, d, y);
+    for (size_t t = 0; t < ntab; t++) {
+        const double yi = y[t % s->ncoef];
+        for (size_t x = 0; x < L; x++) T[t * L + x] = (float)(s->table[t * L + x] * yi);
+    }
+    return T;
+}
+
+/* Σ_i T[(c·ncoef + i)·L + code_i] for coded vertex k, channel c. */
+static float sh_sum(const sss_shcode *s, const float *T, size_t C, size_t k, size_t c)
+{
+    const size_t ncoef = s->ncoef, L = s->kind == SSS_SHQ_LLOYD4 ? 16 : 256;
+    const size_t e0 = (k * C + c) * ncoef;
+    const float *Tc = T + c * ncoef * L;
+    float acc = 0.0f;
+    if (s->kind == SSS_SHQ_LLOYD4)
+        for (size_t i = 0; i < ncoef; i++) acc += Tc[i * L + sss_shq_code(s->code, SSS_SHQ_LLOYD4, e0 + i)];
+    else
+        for (size_t i = 0; i < ncoef; i++) acc += Tc[i * L + s->code[e0 + i]];
+    return acc;
+}
+
+/* Reference values at d: R[k·C + c] for every reference k (lloyd8
+ * interpolation between the three direction rows). */
+static void ref_values(const sss_bake_file *f, const double d[3], float *R)
+{
+    const sss_refcode *r = &f->ref;
+    const size_t C = f->channels, row = (size_t)r->nref * C;
+    uint32_t idx[3];
+    double w[3];
+    sss_dirset_lookup(&f->dirs, d, idx, w);
+    const uint8_t *a = r->idx + idx[0] * row, *b = r->idx + idx[1] * row, *c = r->idx + idx[2] * row;
+    float T[3][SSS_MAX_CHANNELS][256];
+    for (size_t k = 0; k < C; k++)
+        for (int x = 0; x < 256; x++) {
+            double L = r->levels[256 * k + (size_t)x];
+            T[0][k][x] = (float)(w[0] * L);
+            T[1][k][x] = (float)(w[1] * L);
+            T[2][k][x] = (float)(w[2] * L);
+        }
+    const ptrdiff_t n = (ptrdiff_t)row;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (n >= PAR_MIN)
+#endif
+    for (ptrdiff_t i = 0; i < n; i++) {
+        const size_t k = (size_t)i % C;
+        R[i] = T[0][k][a[i]] + T[1][k][b[i]] + T[2][k][c[i]];
+    }
+}
+
+/* Value of coded vertex k (channel c) from the reference values R and the
+ * folded SH tables T (either may be NULL when absent). */
+static float coded_value(const sss_bake_file *f, const float *R, const float *T, size_t k, size_t c)
+{
+    const size_t C = f->channels;
+    float x = 0.0f;
+    if (f->quant == SSS_QUANT_REFS) {
+        const sss_refcode *r = &f->ref;
+        double w[3];
+        coded_weights(r, k, w);
+        const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
+        x = (float)(w[0] * R[t[0] * C + c] + w[1] * R[t[1] * C + c] + w[2] * R[t[2] * C + c]);
+    }
+    if (T && f->sh.ncoef) x += sh_sum(&f->sh, T, C, k, c);
+    return x > 0.0f ? x : 0.0f;
+}
+
+static void decode_compressed(const sss_bake_file *f, const double d[3], float *out)
+{
+    const size_t C = f->channels, nv = f->mesh.nv;
+    float *R = NULL, *T = NULL;
+    if (f->sh.ncoef && !(T = fold_sh(f, d))) goto oom;
+    if (f->quant == SSS_QUANT_REFS) {
+        const sss_refcode *r = &f->ref;
+        if (!(R = malloc(((size_t)r->nref * C + 1) * sizeof *R))) goto oom;
+        ref_values(f, d, R);
+        for (size_t k = 0; k < r->nref; k++)
+            for (size_t c = 0; c < C; c++) out[(size_t)r->ref_vertex[k] * C + c] = R[k * C + c];
+        const ptrdiff_t ncod = (ptrdiff_t)f->sh.ncoded;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (ncod * (ptrdiff_t)C >= PAR_MIN / 4)
+#endif
+        for (ptrdiff_t k = 0; k < ncod; k++)
+            for (size_t c = 0; c < C; c++)
+                out[(size_t)r->coded_vertex[k] * C + c] = coded_value(f, R, T, (size_t)k, c);
+    } else {
+        const ptrdiff_t n = (ptrdiff_t)nv;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (n * (ptrdiff_t)C >= PAR_MIN / 4)
+#endif
+        for (ptrdiff_t v = 0; v < n; v++)
+            for (size_t c = 0; c < C; c++) out[(size_t)v * C + c] = coded_value(f, NULL, T, (size_t)v, c);
+    }
+    free(R);
+    free(T);
+    return;
+oom:
+    /* a few hundred KiB of per-call tables could not be had: say "no
+     * light" rather than return garbage */
+    free(R);
+    free(T);
+    memset(out, 0, nv * C * sizeof *out);
+}
+
+/* Position of vertex v among the coded vertices, or SIZE_MAX for a
+ * reference (binary search: both lists increase). */
+static size_t coded_index(const sss_bake_file *f, uint32_t v, size_t *ref)
+{
+    *ref = SIZE_MAX;
+    if (f->quant != SSS_QUANT_REFS) return v;
+    const sss_refcode *r = &f->ref;
+    size_t lo = 0, hi = r->nref;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (r->ref_vertex[mid] < v) lo = mid + 1;
+        else hi = mid;
+    }
+    if (lo < r->nref && r->ref_vertex[lo] == v) {
+        *ref = lo;
+        return SIZE_MAX;
+    }
+    return (size_t)v - lo; /* v minus the references before it */
+}
+
+void sss_decode_vertex(const sss_bake_file *f, uint32_t v, const double light[3], float *out)
+{
+    const size_t C = f->channels;
+    double len = sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
+    if (v >= f->mesh.nv || f->dirs.n == 0 || !(len > 0.0) || !isfinite(len)) {
+        for (size_t c = 0; c < C; c++) out[c] = 0.0f;
+        return;
+    }
+    const double d[3] = {light[0] / len, light[1] / len, light[2] / len};
+    if (f->quant == SSS_QUANT_FLOAT || f->quant == SSS_QUANT_LLOYD8) {
+        uint32_t idx[3];
+        double w[3];
+        sss_dirset_lookup(&f->dirs, d, idx, w);
+        for (size_t c = 0; c < C; c++) {
+            if (f->quant == SSS_QUANT_FLOAT) {
+                /* the float expression sss_decode_all uses, so both agree to the bit */
+                const float *q = f->q;
+                const size_t nv = f->mesh.nv;
+                out[c] = (float)w[0] * q[(idx[0] * nv + v) * C + c] + (float)w[1] * q[(idx[1] * nv + v) * C + c] +
+                         (float)w[2] * q[(idx[2] * nv + v) * C + c];
+            } else {
+                float s = 0.0f; /* as the folded tables: each term rounded, float sums */
+                for (int t = 0; t < 3; t++)
+                    s += (float)(w[t] * f->levels[256 * c + f->qidx[(idx[t] * f->mesh.nv + v) * C + c]]);
+                out[c] = s;
+            }
+        }
+        return;
+    }
+    /* compressed: the same arithmetic as decode_compressed, for one vertex */
+    float *T = NULL;
+    if (f->sh.ncoef && !(T = fold_sh(f, d))) {
+        for (size_t c = 0; c < C; c++) out[c] = 0.0f;
+        return;
+    }
+    size_t ref, k = coded_index(f, v, &ref);
+    float R[3 * SSS_MAX_CHANNELS * 3];
+    if (f->quant == SSS_QUANT_REFS) {
+        const sss_refcode *r = &f->ref;
+        uint32_t idx[3];
+        double w[3];
+        sss_dirset_lookup(&f->dirs, d, idx, w);
+        /* reference values of the (up to three) references needed, computed
+         * as ref_values does */
+        uint32_t need[3];
+        int nneed = 1;
+        if (ref != SIZE_MAX) need[0] = (uint32_t)ref;
+        else {
+            const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
+            need[0] = t[0], need[1] = t[1], need[2] = t[2];
+            nneed = 3;
+        }
+        for (int n = 0; n < nneed; n++)
+            for (size_t c = 0; c < C; c++) {
+                float acc = 0.0f;
+                for (int t = 0; t < 3; t++)
+                    acc += (float)(w[t] * r->levels[256 * c + r->idx[(idx[t] * (size_t)r->nref + need[n]) * C + c]]);
+                R[n * C + c] = acc;
+            }
+        if (ref != SIZE_MAX) {
+            for (size_t c = 0; c < C; c++) out[c] = R[c];
+        } else {
+            double wk[3];
+            coded_weights(r, k, wk);
+            for (size_t c = 0; c < C; c++) {
+                float x = (float)(wk[0] * R[c] + wk[1] * R[C + c] + wk[2] * R[2 * C + c]);
+                if (T) x += sh_sum(&f->sh, T, C, k, c);
+                out[c] = x > 0.0f ? x : 0.0f;
+            }
+        }
+    } else {
+        for (size_t c = 0; c < C; c++) {
+            float x = T ? sh_sum(&f->sh, T, C, k, c) : 0.0f;
+            out[c] = x > 0.0f ? x : 0.0f;
+        }
+    }
+    free(T);
 }

@@ -36,57 +36,18 @@ static const uint8_t SSS_MAGIC[8] = {0x89, 'S', 'S', 'S', '\r', '\n', 0x1A, '\n'
 /* Header bytes for n sections: fixed part, table, header CRC. */
 static uint64_t header_size(uint64_t nsec) { return HDR_FIXED + ENTRY_SIZE * nsec + HDR_CRC_SIZE; }
 
-/* ---- byte packing ---------------------------------------------------- */
-
-static void put_u16(uint8_t *p, uint16_t v) { p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); }
-static void put_u32(uint8_t *p, uint32_t v)
-{
-    for (int i = 0; i < 4; i++) p[i] = (uint8_t)(v >> (8 * i));
-}
-static void put_u64(uint8_t *p, uint64_t v)
-{
-    for (int i = 0; i < 8; i++) p[i] = (uint8_t)(v >> (8 * i));
-}
-static void put_f32(uint8_t *p, float x) { uint32_t u; memcpy(&u, &x, 4); put_u32(p, u); }
-static void put_f64(uint8_t *p, double x) { uint64_t u; memcpy(&u, &x, 8); put_u64(p, u); }
-
-static uint16_t get_u16(const uint8_t *p) { return (uint16_t)(p[0] | (unsigned)p[1] << 8); }
-static uint32_t get_u32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-static uint64_t get_u64(const uint8_t *p) { return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32; }
-static float get_f32(const uint8_t *p) { uint32_t u = get_u32(p); float x; memcpy(&x, &u, 4); return x; }
-static double get_f64(const uint8_t *p) { uint64_t u = get_u64(p); double x; memcpy(&x, &u, 8); return x; }
-
-/* ---- overflow-checked 64-bit arithmetic ------------------------------ */
-
-static int mul_u64(uint64_t a, uint64_t b, uint64_t *r)
-{
-    if (a != 0 && b > UINT64_MAX / a) return 0;
-    *r = a * b;
-    return 1;
-}
-static int add_u64(uint64_t a, uint64_t b, uint64_t *r)
-{
-    if (b > UINT64_MAX - a) return 0;
-    *r = a + b;
-    return 1;
-}
-/* a*b + c*d + e, 0 on overflow. */
-static int lin_u64(uint64_t a, uint64_t b, uint64_t c, uint64_t d, uint64_t e, uint64_t *r)
-{
-    uint64_t x, y;
-    return mul_u64(a, b, &x) && mul_u64(c, d, &y) && add_u64(x, y, &x) && add_u64(x, e, r);
-}
+#include "format_bytes.h"
+#include "format_compressed.h"
 
 /* ---- sections known to format 1 -------------------------------------- */
 
-enum { S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_PARM, S_KNOWN };
-static const char *const known_tag[S_KNOWN] = {"GEOM", "MATL", "DIRS", "QFLT", "QL8 ", "PARM"};
-/* Flag bit 0 as written: PARM is provenance only, a reader may skip it. */
-static const uint32_t known_flags[S_KNOWN] = {FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED,
-                                              FLAG_REQUIRED, FLAG_REQUIRED, 0};
+enum { S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_PARM, S_REFS, S_SHC, S_KNOWN };
+static const char *const known_tag[S_KNOWN] = {"GEOM", "MATL", "DIRS", "QFLT", "QL8 ", "PARM", "REFS", "SHC "};
+/* Flag bit 0 as written: PARM is provenance only, a reader may skip it.
+ * REFS and SHC (1.1) are required, so a 1.0 reader refuses a compressed file
+ * by naming the section instead of misreading it. */
+static const uint32_t known_flags[S_KNOWN] = {FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED,
+                                              FLAG_REQUIRED, 0, FLAG_REQUIRED, FLAG_REQUIRED};
 
 static int known_index(const char tag[4])
 {
@@ -224,7 +185,8 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
                         ds->n, (unsigned long long)dirs_ntri(ds->n));
     if (ds->ntri > 0 && !ds->tri)
         return sss_fail(err, A, "%s: section DIRS: triangles missing", name);
-    if (f->quant != SSS_QUANT_FLOAT && f->quant != SSS_QUANT_LLOYD8)
+    if (f->quant != SSS_QUANT_FLOAT && f->quant != SSS_QUANT_LLOYD8 && f->quant != SSS_QUANT_SH &&
+        f->quant != SSS_QUANT_REFS)
         return sss_fail(err, A, "%s: unknown quantisation mode %d", name, (int)f->quant);
     if (f->quant == SSS_QUANT_FLOAT && !f->q)
         return sss_fail(err, A, "%s: section QFLT: values missing", name);
@@ -242,15 +204,26 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
                         m->nv, f->channels);
     if (f->quant == SSS_QUANT_FLOAT) {
         if ((r = check_q(f->q, nq, name, A, err)) != SSS_OK) return r;
-    } else {
+    } else if (f->quant == SSS_QUANT_LLOYD8) {
         if ((r = check_levels(f->levels, f->channels, name, A, err)) != SSS_OK) return r;
+    } else {
+        if (f->quant == SSS_QUANT_REFS && (r = sss_fmt_check_refs(f, name, A, err)) != SSS_OK) return r;
+        if ((r = sss_fmt_check_shc(f, name, A, err)) != SSS_OK) return r;
     }
     const char *json = f->params_json ? f->params_json : "";
     size_t jlen = strlen(json);
 
     /* Sizes, in writing order (docs/format.md §3: float arrays stay 4-byte
      * aligned because PARM, the only section of arbitrary length, is last). */
-    int order[5] = {S_GEOM, S_MATL, S_DIRS, f->quant == SSS_QUANT_FLOAT ? S_QFLT : S_QL8, S_PARM};
+    int order[6] = {S_GEOM, S_MATL, S_DIRS, S_QFLT, S_PARM, S_PARM};
+    uint32_t nsec = 5;
+    if (f->quant == SSS_QUANT_LLOYD8) order[3] = S_QL8;
+    if (f->quant == SSS_QUANT_SH) order[3] = S_SHC;
+    if (f->quant == SSS_QUANT_REFS) {
+        order[3] = S_REFS;
+        order[4] = S_SHC;
+        nsec = 6;
+    }
     uint64_t size[S_KNOWN] = {0}, count[S_KNOWN] = {0};
     size[S_GEOM] = geom_size(m->nv, m->nf);
     count[S_GEOM] = m->nv;
@@ -262,15 +235,23 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
     if (f->quant == SSS_QUANT_FLOAT) {
         ok = mul_u64(nq, 4, &size[S_QFLT]);
         count[S_QFLT] = nq;
-    } else {
+    } else if (f->quant == SSS_QUANT_LLOYD8) {
         ok = lin_u64(f->channels, 4 * NLEVELS, 1, nq, 4, &size[S_QL8]);
         count[S_QL8] = nq;
+    } else {
+        if (f->quant == SSS_QUANT_REFS) {
+            size[S_REFS] = sss_fmt_refs_size(f);
+            count[S_REFS] = f->ref.nref;
+            ok = size[S_REFS] != 0;
+        }
+        size[S_SHC] = sss_fmt_shc_size(f);
+        count[S_SHC] = f->sh.ncoded;
+        ok = ok && size[S_SHC] != 0;
     }
     size[S_PARM] = jlen;
     count[S_PARM] = jlen;
-    const uint32_t nsec = 5;
     uint64_t total = header_size(nsec);
-    for (int i = 0; i < 5 && ok; i++) ok = add_u64(total, size[order[i]], &total);
+    for (uint32_t i = 0; i < nsec && ok; i++) ok = add_u64(total, size[order[i]], &total);
     if (!ok || total > SIZE_MAX)
         return sss_fail(err, SSS_ERR_NOMEM, "%s: file size overflows", name);
     uint8_t *buf = malloc((size_t)total);
@@ -280,7 +261,9 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
     /* Header. */
     memcpy(buf, SSS_MAGIC, 8);
     put_u16(buf + 8, SSS_FORMAT_MAJOR);
-    put_u16(buf + 10, SSS_FORMAT_MINOR);
+    /* Files that only use 1.0 sections say 1.0, so 1.0 readers keep reading
+     * them; the compressed forms need 1.1. */
+    put_u16(buf + 10, f->quant == SSS_QUANT_FLOAT || f->quant == SSS_QUANT_LLOYD8 ? 0 : SSS_FORMAT_MINOR);
     put_u32(buf + 12, nsec);
     put_u64(buf + 16, total);
 
@@ -325,6 +308,12 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
             break;
         case S_PARM:
             if (jlen) memcpy(p, json, jlen);
+            break;
+        case S_REFS:
+            sss_fmt_pack_refs(f, p);
+            break;
+        case S_SHC:
+            sss_fmt_pack_shc(f, p);
             break;
         }
         uint8_t *e = buf + HDR_FIXED + (size_t)ENTRY_SIZE * i;
@@ -504,6 +493,18 @@ static sss_result parse_parm(const uint8_t *p, const sss_section_info *si, const
     return SSS_OK;
 }
 
+static sss_result parse_refs(const uint8_t *p, const sss_section_info *si, const char *name, sss_bake_file *f,
+                             sss_error *err)
+{
+    return sss_fmt_parse_refs(p, si->size, si->count, name, f, err);
+}
+
+static sss_result parse_shc(const uint8_t *p, const sss_section_info *si, const char *name, sss_bake_file *f,
+                            sss_error *err)
+{
+    return sss_fmt_parse_shc(p, si->size, si->count, name, f, err);
+}
+
 static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, sss_bake_file *f, sss_error *err)
 {
     /* Bytes 0-11 (magic and version) mean the same in every major version;
@@ -608,17 +609,22 @@ static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, ss
     for (size_t i = 0; i < sizeof must / sizeof must[0]; i++)
         if (where[must[i]] < 0)
             return sss_fail(err, CORRUPT, "%s: missing required section %s", name, known_tag[must[i]]);
-    if (where[S_QFLT] < 0 && where[S_QL8] < 0)
-        return sss_fail(err, CORRUPT, "%s: missing required section QFLT or QL8 (one is needed)", name);
-    if (where[S_QFLT] >= 0 && where[S_QL8] >= 0)
-        return sss_fail(err, CORRUPT, "%s: sections QFLT and QL8 are both present (exactly one is allowed)", name);
+    int nq_sections = (where[S_QFLT] >= 0) + (where[S_QL8] >= 0) + (where[S_SHC] >= 0);
+    if (nq_sections == 0)
+        return sss_fail(err, CORRUPT, "%s: missing required section QFLT, QL8 or SHC (one is needed)", name);
+    if (nq_sections > 1)
+        return sss_fail(err, CORRUPT, "%s: more than one of sections QFLT, QL8 and SHC (exactly one is allowed)",
+                        name);
+    if (where[S_REFS] >= 0 && where[S_SHC] < 0)
+        return sss_fail(err, CORRUPT, "%s: section REFS without section SHC", name);
 
     /* Contents, in dependency order: the q sections' sizes follow from GEOM
      * (nv), DIRS (n) and MATL (channels). */
-    static const int order[] = {S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_PARM};
+    static const int order[] = {S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_REFS, S_SHC, S_PARM};
     typedef sss_result (*parser)(const uint8_t *, const sss_section_info *, const char *, sss_bake_file *,
                                  sss_error *);
-    static const parser parse[S_KNOWN] = {parse_geom, parse_matl, parse_dirs, parse_qflt, parse_ql8, parse_parm};
+    static const parser parse[S_KNOWN] = {parse_geom, parse_matl, parse_dirs, parse_qflt,
+                                          parse_ql8,  parse_parm, parse_refs, parse_shc};
     for (size_t i = 0; i < sizeof order / sizeof order[0]; i++) {
         int k = order[i];
         if (where[k] < 0) continue;
@@ -651,6 +657,7 @@ void sss_file_free(sss_bake_file *f)
     free(f->levels);
     free(f->qidx);
     free(f->params_json);
+    sss_fmt_free_compressed(f);
     memset(f, 0, sizeof *f);
 }
 
@@ -805,5 +812,51 @@ double sss_file_integral_bytes_per_vertex(const sss_bake_file *f)
     if (!f->mesh.nv) return 0.0;
     const double values = (double)f->dirs.n * f->channels;
     if (f->quant == SSS_QUANT_LLOYD8) return values + 256.0 * sizeof(float) * f->channels / f->mesh.nv;
+    if (f->quant == SSS_QUANT_SH || f->quant == SSS_QUANT_REFS) {
+        sss_storage s;
+        sss_file_storage(f, &s);
+        return (double)s.scattering / f->mesh.nv;
+    }
     return values * sizeof(float);
+}
+
+void sss_file_storage(const sss_bake_file *f, sss_storage *s)
+{
+    memset(s, 0, sizeof *s);
+    if (!f) return;
+    const uint64_t C = f->channels, nd = f->dirs.n, nv = f->mesh.nv;
+    s->dirs = dirs_size(f->dirs.n, f->dirs.ntri);
+    switch (f->quant) {
+    case SSS_QUANT_FLOAT:
+        s->values = nd * nv * C * 4;
+        break;
+    case SSS_QUANT_LLOYD8:
+        s->section_headers = 4;
+        s->lloyd_tables = C * NLEVELS * 4;
+        s->values = nd * nv * C;
+        break;
+    case SSS_QUANT_REFS: {
+        const sss_refcode *r = &f->ref;
+        const uint64_t ncoded = nv - r->nref;
+        s->section_headers += 28;
+        s->lloyd_tables = C * NLEVELS * 4;
+        s->ref_vertex = 4ull * r->nref;
+        s->ref_tri = 12ull * r->nrt;
+        s->vertex_tri = (uint64_t)r->tri_bytes * ncoded;
+        s->weights = 2ull * (r->wbits / 8) * ncoded;
+        s->ref_values = nd * r->nref * C;
+    } /* fall through: the SH part */
+    /* FALLTHROUGH */
+    case SSS_QUANT_SH: {
+        const sss_shcode *h = &f->sh;
+        const uint64_t ntab = C * h->ncoef;
+        s->section_headers += 16;
+        s->sh_tables = 4 * ntab * (h->kind == SSS_SHQ_LINEAR8 ? 1 : sss_shq_levels(h->kind));
+        s->sh_codes = sss_shq_code_bytes(h->kind, (uint64_t)h->ncoded * ntab);
+        break;
+    }
+    }
+    s->scattering = s->values + s->lloyd_tables + s->section_headers + s->ref_vertex + s->ref_tri + s->vertex_tri +
+                    s->weights + s->ref_values + s->sh_tables + s->sh_codes;
+    s->total = s->scattering + s->dirs;
 }

@@ -1,53 +1,83 @@
-/* compress.c: reference points + barycentric weights + SH-coded deltas
- * (Hao–Varshney 2004 §4), see sss/compress.h.
+/* compress.c: reference points + weights + SH-coded deltas (Hao–Varshney
+ * 2004 §4), producing the format 1.1 storage forms; see sss/compress.h.
  *
  * §4.1: q(x, ω) over the direction samples is projected (least squares,
- * sss_sh.h) onto the first n² real SH.
- * §4.2: reference vertices keep their full integrals; other vertices are
- * barycentric blends of a reference triangle.
- * §4.3: the residual of that blend (the "delta") is SH-coded; here it is
- * formed from the *quantised* reference rows and weights, so the SH part also
- * absorbs quantisation error of both.
+ * sss/sh.h) onto the first n² real SH.
+ * §4.2: reference vertices keep their full rows; other vertices blend the
+ * three references of the simplified triangle they project onto.
+ * §4.3: the residual of that blend (the "delta") is SH-coded; it is formed
+ * from the *quantised* reference rows and weights, so the SH part also
+ * absorbs the quantisation error of both.
  */
 #include "sss/compress.h"
-#include "sss/random.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "sss/bake.h"
-#include "sss/decode.h"
 #include "sss/refs.h"
 #include "sss/sh.h"
 
-void sss_compressed_free(sss_compressed *cq)
+/* Least-squares weights are stored in this range: wide enough for the
+ * optimum of real meshes (a vertex beyond its triangle's edge extrapolates a
+ * little), narrow enough that 16-bit codes stay fine (4.6e-5 steps). */
+#define LS_W_LO (-1.0f)
+#define LS_W_HI 2.0f
+
+void sss_compress_opts_default(sss_compress_opts *o)
 {
-    if (!cq) return;
-    sss_dirset_free(&cq->dirs);
-    free(cq->ref_vertex);
-    free(cq->ref_tri);
-    free(cq->levels);
-    free(cq->ref_idx);
-    free(cq->coded_vertex);
-    free(cq->vtri);
-    free(cq->w16);
-    free(cq->sh_code);
-    free(cq->sh_scale);
-    memset(cq, 0, sizeof *cq);
+    memset(o, 0, sizeof *o);
+    o->order = 3;
+    o->fraction = 0.03;
+    o->sh_kind = SSS_SHQ_LINEAR8;
+    o->wbits = 16;
 }
 
-/* Quantises weights (§4.2 barycentric weights) to 2 × uint16 with rounding;
- * the third is implied as 1 − w0 − w1 and is kept ≥ 0 by lowering the larger
- * stored one when rounding pushed the sum past 65535. */
-static void quantise_weights(const float w[3], uint16_t q[2])
+/* ---- copying what does not change ------------------------------------- */
+
+static void *dup_bytes(const void *p, size_t n)
 {
-    long a = lround((double)w[0] * 65535.0), b = lround((double)w[1] * 65535.0);
-    if (a < 0) a = 0;
-    if (b < 0) b = 0;
-    if (a > 65535) a = 65535;
-    if (b > 65535) b = 65535;
-    while (a + b > 65535) {
+    void *q = malloc(n ? n : 1);
+    if (q && n) memcpy(q, p, n);
+    return q;
+}
+
+static int copy_base(const sss_bake_file *s, sss_bake_file *d)
+{
+    memset(d, 0, sizeof *d);
+    d->mesh.nv = s->mesh.nv;
+    d->mesh.nf = s->mesh.nf;
+    d->mesh.pos = dup_bytes(s->mesh.pos, 3 * (size_t)s->mesh.nv * sizeof(float));
+    d->mesh.nrm = dup_bytes(s->mesh.nrm, 3 * (size_t)s->mesh.nv * sizeof(float));
+    d->mesh.tri = dup_bytes(s->mesh.tri, 3 * (size_t)s->mesh.nf * sizeof(uint32_t));
+    d->material = s->material;
+    d->mm_per_unit = s->mm_per_unit;
+    d->channels = s->channels;
+    d->dirs.n = s->dirs.n;
+    d->dirs.ntri = s->dirs.ntri;
+    d->dirs.dir = dup_bytes(s->dirs.dir, 3 * (size_t)s->dirs.n * sizeof(double));
+    d->dirs.tri = dup_bytes(s->dirs.tri, 3 * (size_t)s->dirs.ntri * sizeof(uint32_t));
+    const char *j = s->params_json ? s->params_json : "";
+    d->params_json = dup_bytes(j, strlen(j) + 1);
+    return d->mesh.pos && d->mesh.nrm && d->mesh.tri && d->dirs.dir && d->dirs.tri && d->params_json;
+}
+
+/* ---- weights (§4.2) ---------------------------------------------------- */
+
+static uint32_t wmax_of(uint32_t wbits) { return wbits == 16 ? 65535u : 255u; }
+
+/* Codes of (w0, w1) in [lo, hi] with rounding. For barycentric weights
+ * ([0, 1]) the implied w2 = 1 − w0 − w1 must stay ≥ 0: if rounding pushed
+ * the sum past 1, the larger code is lowered. */
+static void quantise_weights(double w0, double w1, const sss_refcode *r, int barycentric, uint16_t q[2])
+{
+    const double span = (double)r->w_hi - r->w_lo, m = wmax_of(r->wbits);
+    long a = lround((w0 - r->w_lo) / span * m), b = lround((w1 - r->w_lo) / span * m);
+    a = a < 0 ? 0 : a > (long)m ? (long)m : a;
+    b = b < 0 ? 0 : b > (long)m ? (long)m : b;
+    while (barycentric && a + b > (long)m) {
         if (a >= b) a--;
         else b--;
     }
@@ -55,352 +85,330 @@ static void quantise_weights(const float w[3], uint16_t q[2])
     q[1] = (uint16_t)b;
 }
 
-static void dequantise_weights(const uint16_t q[2], double w[3])
+/* The decoder's weights (decode.c coded_weights), in double. */
+static void dequantise_weights(const sss_refcode *r, const uint16_t q[2], double w[3])
 {
-    w[0] = q[0] / 65535.0;
-    w[1] = q[1] / 65535.0;
-    w[2] = (double)(65535 - (uint32_t)q[0] - (uint32_t)q[1]) / 65535.0;
+    const double span = (double)r->w_hi - r->w_lo, m = wmax_of(r->wbits);
+    w[0] = r->w_lo + span * (q[0] / m);
+    w[1] = r->w_lo + span * (q[1] / m);
+    w[2] = 1.0 - w[0] - w[1];
 }
 
-static sss_result copy_dirset(const sss_dirset *s, sss_dirset *d, sss_error *err)
+/* Removes from x (nd samples at stride s) its least-squares SH part:
+ * x ← x − Y P x, the component the SH order cannot represent. */
+static void sh_residual(const sss_sh_projector *proj, const double *Y, uint32_t nd, uint32_t ncoef, double *x,
+                        size_t s)
 {
-    memset(d, 0, sizeof *d);
-    d->n = s->n;
-    d->ntri = s->ntri;
-    d->dir = malloc(3 * (size_t)s->n * sizeof *d->dir);
-    d->tri = s->ntri ? malloc(3 * (size_t)s->ntri * sizeof *d->tri) : NULL;
-    if (!d->dir || (s->ntri && !d->tri)) {
-        sss_dirset_free(d);
-        return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory copying %u directions", s->n);
+    double c[SSS_SH_MAX_COUNT];
+    sss_sh_project_strided(proj, x, s, c);
+    for (uint32_t j = 0; j < nd; j++) {
+        double acc = 0.0;
+        for (uint32_t i = 0; i < ncoef; i++) acc += Y[(size_t)j * ncoef + i] * c[i];
+        x[j * s] -= acc;
     }
-    memcpy(d->dir, s->dir, 3 * (size_t)s->n * sizeof *d->dir);
-    if (s->ntri) memcpy(d->tri, s->tri, 3 * (size_t)s->ntri * sizeof *d->tri);
-    return SSS_OK;
 }
 
-sss_result sss_compress(const sss_bake_file *f, uint32_t order, double fraction, sss_compressed *out,
-                        sss_error *err)
+/* Least-squares weights (beyond the paper, its §6): with corners a, b, c of
+ * the reference triangle and R_k their dequantised rows, minimise
+ *     ‖P⊥ (q − R_c − w0 (R_a − R_c) − w1 (R_b − R_c))‖²
+ * over all directions and channels, P⊥ removing what the SH order will
+ * code anyway (identity at order 0). A 2×2 normal system; when it is
+ * singular or ill-conditioned (references with equal rows, a degenerate
+ * triangle) the barycentric weights are kept. u, a1, a2: scratch of nd·C. */
+static void ls_weights(const double *qv, const double *Ra, const double *Rb, const double *Rc, size_t n, uint32_t C,
+                       const sss_sh_projector *proj, const double *Y, uint32_t nd, uint32_t ncoef, double *u,
+                       double *a1, double *a2, double w[2])
 {
-    if (out) memset(out, 0, sizeof *out);
-    if (!f || !out) return sss_fail(err, SSS_ERR_ARG, "compress: NULL argument");
+    for (size_t i = 0; i < n; i++) {
+        u[i] = qv[i] - Rc[i];
+        a1[i] = Ra[i] - Rc[i];
+        a2[i] = Rb[i] - Rc[i];
+    }
+    if (ncoef)
+        for (uint32_t c = 0; c < C; c++) {
+            sh_residual(proj, Y, nd, ncoef, u + c, C);
+            sh_residual(proj, Y, nd, ncoef, a1 + c, C);
+            sh_residual(proj, Y, nd, ncoef, a2 + c, C);
+        }
+    double g00 = 0, g01 = 0, g11 = 0, b0 = 0, b1 = 0;
+    for (size_t i = 0; i < n; i++) {
+        g00 += a1[i] * a1[i];
+        g01 += a1[i] * a2[i];
+        g11 += a2[i] * a2[i];
+        b0 += a1[i] * u[i];
+        b1 += a2[i] * u[i];
+    }
+    const double det = g00 * g11 - g01 * g01;
+    if (!(det > 1e-9 * g00 * g11) || !isfinite(det)) return; /* keep the barycentrics in w */
+    double x0 = (g11 * b0 - g01 * b1) / det, x1 = (g00 * b1 - g01 * b0) / det;
+    if (!isfinite(x0) || !isfinite(x1)) return;
+    w[0] = fmin(fmax(x0, LS_W_LO), LS_W_HI);
+    w[1] = fmin(fmax(x1, LS_W_LO), LS_W_HI);
+}
+
+/* ---- the compressor ---------------------------------------------------- */
+
+static sss_result check_opts(const sss_bake_file *f, const sss_compress_opts *o, sss_error *err)
+{
     if (f->quant != SSS_QUANT_FLOAT || !f->q)
         return sss_fail(err, SSS_ERR_ARG, "compress: needs a float bake (quant %d given)", (int)f->quant);
     if (f->channels < 1 || f->channels > SSS_MAX_CHANNELS)
         return sss_fail(err, SSS_ERR_ARG, "compress: %u channels (1 … %d allowed)", f->channels, SSS_MAX_CHANNELS);
     if (f->mesh.nv == 0 || f->dirs.n == 0 || !f->dirs.dir)
         return sss_fail(err, SSS_ERR_ARG, "compress: empty bake (%u vertices, %u directions)", f->mesh.nv, f->dirs.n);
-    if (order > SSS_SH_MAX_ORDER)
-        return sss_fail(err, SSS_ERR_ARG, "compress: SH order %u out of range 0 … %u", order, SSS_SH_MAX_ORDER);
-    if (!(fraction >= 0.0 && fraction <= 1.0))
-        return sss_fail(err, SSS_ERR_ARG, "compress: reference fraction %g out of range [0, 1]", fraction);
-    if (fraction == 0.0 && order == 0)
-        return sss_fail(err, SSS_ERR_ARG, "compress: SH-only mode (fraction 0) needs SH order >= 1");
-    const uint32_t ncoef = sss_sh_count(order);
-    if (ncoef > f->dirs.n)
+    if (o->order > SSS_SH_MAX_ORDER)
+        return sss_fail(err, SSS_ERR_ARG, "compress: SH order %u out of range 0 … %u", o->order, SSS_SH_MAX_ORDER);
+    if (!(o->fraction >= 0.0 && o->fraction <= 1.0))
+        return sss_fail(err, SSS_ERR_ARG, "compress: reference fraction %g out of range [0, 1]", o->fraction);
+    if (o->fraction == 0.0 && o->order == 0)
+        return sss_fail(err, SSS_ERR_ARG, "compress: SH-only mode (no references) needs SH order >= 1");
+    if (o->sh_kind > SSS_SHQ_LLOYD4)
+        return sss_fail(err, SSS_ERR_ARG, "compress: unknown SH quantisation %u", o->sh_kind);
+    if (o->wbits != 8 && o->wbits != 16)
+        return sss_fail(err, SSS_ERR_ARG, "compress: %u bits per weight (8 or 16)", o->wbits);
+    if (!(o->illum_weight >= 0.0) || !isfinite(o->illum_weight))
+        return sss_fail(err, SSS_ERR_ARG, "compress: illumination weight %g is not a finite number >= 0",
+                        o->illum_weight);
+    if (sss_sh_count(o->order) > f->dirs.n)
         return sss_fail(err, SSS_ERR_ARG,
-                        "compress: SH order %u has %u coefficients, more than the %u direction samples", order, ncoef,
-                        f->dirs.n);
+                        "compress: SH order %u has %u coefficients, more than the %u direction samples", o->order,
+                        sss_sh_count(o->order), f->dirs.n);
+    return SSS_OK;
+}
 
-    sss_result r = SSS_OK;
+/* References (§4.2): choose them, quantise their rows, list the coded
+ * vertices with their triangles (weights are set later). `bary` gets the
+ * closest-point barycentrics of every coded vertex (3 per vertex). */
+static sss_result build_refs(const sss_bake_file *f, const sss_compress_opts *o, sss_bake_file *d, float **bary,
+                             sss_error *err)
+{
     const uint32_t nv = f->mesh.nv, C = f->channels, nd = f->dirs.n;
-    sss_compressed cq;
-    memset(&cq, 0, sizeof cq);
-    cq.nv = nv;
-    cq.channels = C;
-    cq.order = order;
-    cq.ncoef = ncoef;
-    cq.fraction = fraction;
-    sss_sh_projector *proj = NULL;
+    sss_refcode *r = &d->ref;
     sss_refs refs;
-    memset(&refs, 0, sizeof refs);
-    float *refq = NULL;
-    double *coef = NULL;
-    uint32_t *refof = NULL;
-
-    if ((r = copy_dirset(&f->dirs, &cq.dirs, err)) != SSS_OK) goto fail;
-    if (ncoef && (r = sss_sh_projector_create(&f->dirs, order, SSS_SH_LEAST_SQUARES, &proj, err)) != SSS_OK) goto fail;
-
-    /* ---- references (§4.2) ---------------------------------------------- */
-    if (fraction > 0.0) {
-        if ((r = sss_refs_build(&f->mesh, fraction, 1, &refs, err)) != SSS_OK) goto fail;
-        cq.nref = refs.nref;
-        cq.nrt = refs.nrt;
-        cq.ref_vertex = refs.ref_vertex;
-        cq.ref_tri = refs.ref_tri;
-        refs.ref_vertex = NULL;
-        refs.ref_tri = NULL;
-        const size_t nrq = (size_t)nd * cq.nref * C;
-        refq = malloc(nrq * sizeof *refq);
-        cq.ref_idx = malloc(nrq);
-        cq.levels = malloc((size_t)C * 256 * sizeof *cq.levels);
-        if (!refq || !cq.ref_idx || !cq.levels) {
-            r = sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for %u reference rows", cq.nref);
-            goto fail;
-        }
-        for (uint32_t j = 0; j < nd; j++)
-            for (uint32_t k = 0; k < cq.nref; k++)
-                memcpy(refq + ((size_t)j * cq.nref + k) * C, f->q + ((size_t)j * nv + cq.ref_vertex[k]) * C,
-                       C * sizeof *refq);
-        /* one Lloyd table per channel, trained on the reference rows only */
-        for (uint32_t c = 0; c < C; c++) {
-            double sig, noi;
-            r = sss_lloyd8(refq + c, (uint64_t)nd * cq.nref, C, cq.levels + 256 * (size_t)c, cq.ref_idx + c, &sig, &noi,
-                           err);
-            if (r != SSS_OK) goto fail;
-        }
-    }
-
-    /* ---- coded vertices: all (SH-only) or the non-references ------------ */
-    refof = malloc((size_t)nv * sizeof *refof);
-    if (!refof) {
-        r = sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory");
-        goto fail;
-    }
-    for (uint32_t v = 0; v < nv; v++) refof[v] = UINT32_MAX;
-    for (uint32_t k = 0; k < cq.nref; k++) refof[cq.ref_vertex[k]] = k;
-    cq.ncoded = nv - cq.nref;
-    cq.coded_vertex = malloc(((size_t)cq.ncoded + 1) * sizeof *cq.coded_vertex);
-    if (fraction > 0.0) {
-        cq.vtri = malloc(((size_t)cq.ncoded + 1) * sizeof *cq.vtri);
-        cq.w16 = malloc(2 * ((size_t)cq.ncoded + 1) * sizeof *cq.w16);
-    }
-    const size_t ncodes = (size_t)cq.ncoded * C * ncoef;
-    cq.sh_code = malloc(ncodes + 1);
-    cq.sh_scale = calloc((size_t)C * ncoef + 1, sizeof *cq.sh_scale);
-    coef = malloc((ncodes + 1) * sizeof *coef);
-    if (!cq.coded_vertex || (fraction > 0.0 && (!cq.vtri || !cq.w16)) || !cq.sh_code || !cq.sh_scale || !coef) {
-        r = sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for %u coded vertices", cq.ncoded);
-        goto fail;
-    }
-    {
-        uint32_t k = 0;
+    sss_result res;
+    if (o->illum_weight > 0.0) {
+        /* feature: q at every 4th direction sample, channels averaged, so
+         * that the decimation sees where the integrals change fast */
+        const uint32_t step = 4, dim = (nd + step - 1) / step;
+        float *feat = malloc((size_t)nv * dim * sizeof *feat + 1);
+        if (!feat) return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for illumination features");
         for (uint32_t v = 0; v < nv; v++)
-            if (refof[v] == UINT32_MAX) cq.coded_vertex[k++] = v;
+            for (uint32_t t = 0; t < dim; t++) {
+                double acc = 0.0;
+                for (uint32_t c = 0; c < C; c++) acc += f->q[((size_t)(t * step) * nv + v) * C + c];
+                feat[(size_t)v * dim + t] = (float)(acc / C);
+            }
+        res = sss_fail(err, SSS_ERR_UNSUPPORTED, "compress: illumination-aware references: not built yet (dim %u)", dim); /* PENDING refs_build_ex */
+        free(feat);
+    } else {
+        res = sss_refs_build(&f->mesh, o->fraction, 1, &refs, err);
     }
-    for (uint32_t k = 0; k < cq.ncoded && cq.vtri; k++) {
-        uint32_t v = cq.coded_vertex[k];
-        cq.vtri[k] = refs.vtri[v];
-        quantise_weights(refs.w + 3 * (size_t)v, cq.w16 + 2 * (size_t)k);
+    if (res != SSS_OK) return res;
+    r->nref = refs.nref;
+    r->nrt = refs.nrt;
+    r->ref_vertex = refs.ref_vertex;
+    r->ref_tri = refs.ref_tri;
+    refs.ref_vertex = NULL;
+    refs.ref_tri = NULL;
+    r->tri_bytes = sss_refs_tri_bytes(r->nrt);
+    r->wbits = o->wbits;
+    r->w_lo = o->ls_weights ? LS_W_LO : 0.0f;
+    r->w_hi = o->ls_weights ? LS_W_HI : 1.0f;
+    const uint32_t ncoded = nv - r->nref;
+    const size_t nrq = (size_t)nd * r->nref * C;
+    float *refq = malloc(nrq * sizeof *refq + 1);
+    r->idx = malloc(nrq + 1);
+    r->levels = malloc((size_t)C * 256 * sizeof *r->levels);
+    r->coded_vertex = malloc(((size_t)ncoded + 1) * sizeof *r->coded_vertex);
+    r->vtri = malloc(((size_t)ncoded + 1) * sizeof *r->vtri);
+    r->w = malloc((2 * (size_t)ncoded + 1) * sizeof *r->w);
+    *bary = malloc((3 * (size_t)ncoded + 1) * sizeof **bary);
+    if (!refq || !r->idx || !r->levels || !r->coded_vertex || !r->vtri || !r->w || !*bary) {
+        free(refq);
+        sss_refs_free(&refs);
+        return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for %u references", r->nref);
     }
+    for (uint32_t j = 0; j < nd; j++)
+        for (uint32_t k = 0; k < r->nref; k++)
+            memcpy(refq + ((size_t)j * r->nref + k) * C, f->q + ((size_t)j * nv + r->ref_vertex[k]) * C,
+                   C * sizeof *refq);
+    /* one Lloyd table per channel, trained on the reference rows only */
+    for (uint32_t c = 0; c < C && res == SSS_OK; c++)
+        res = sss_lloyd8(refq + c, (uint64_t)nd * r->nref, C, r->levels + 256 * (size_t)c, r->idx + c, NULL, NULL,
+                         err);
+    free(refq);
+    if (res != SSS_OK) {
+        sss_refs_free(&refs);
+        return res;
+    }
+    uint32_t k = 0, q = 0;
+    for (uint32_t v = 0; v < nv; v++) {
+        if (q < r->nref && r->ref_vertex[q] == v) {
+            q++;
+            continue;
+        }
+        r->coded_vertex[k] = v;
+        r->vtri[k] = refs.vtri[v];
+        memcpy(*bary + 3 * (size_t)k, refs.w + 3 * (size_t)v, 3 * sizeof **bary);
+        k++;
+    }
+    sss_refs_free(&refs);
+    return SSS_OK;
+}
 
-    /* ---- deltas and their SH projection (§4.1, §4.3) --------------------- */
-    if (ncoef) {
+/* Quantises the coefficient array coef (ncoded × C × ncoef floats) into
+ * d->sh per (channel, coefficient index). */
+static sss_result quantise_sh(const float *coef, uint32_t kind, sss_bake_file *d, sss_error *err)
+{
+    sss_shcode *s = &d->sh;
+    const size_t C = d->channels, ncoef = s->ncoef, ntab = C * ncoef, nk = s->ncoded, L = sss_shq_levels(kind);
+    const size_t ncodes = nk * ntab;
+    s->kind = kind;
+    s->table = calloc(ntab * L + 1, sizeof *s->table);
+    s->code = calloc((size_t)sss_shq_code_bytes(kind, ncodes) + 1, 1);
+    if (kind == SSS_SHQ_LINEAR8) s->scale = calloc(ntab + 1, sizeof *s->scale);
+    if (!s->table || !s->code || (kind == SSS_SHQ_LINEAR8 && !s->scale))
+        return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for SH codes");
+    if (nk == 0 || ntab == 0) return SSS_OK;
+    if (kind == SSS_SHQ_LINEAR8) {
+        /* the paper's: code = round(127 c / scale), scale = max |c| */
+        for (size_t e = 0; e < ncodes; e++) {
+            float a = fabsf(coef[e]);
+            if (a > s->scale[e % ntab]) s->scale[e % ntab] = a;
+        }
+        /* rounding to float may have lowered the scale below max |c| */
+        for (size_t t = 0; t < ntab; t++)
+            if (s->scale[t] > 0.0f) s->scale[t] = nextafterf(s->scale[t], INFINITY);
+        for (size_t e = 0; e < ncodes; e++) {
+            double sc = s->scale[e % ntab];
+            long q = sc > 0.0 ? lround(coef[e] / sc * 127.0) : 0;
+            q = q > 127 ? 127 : q < -127 ? -127 : q;
+            s->code[e] = (uint8_t)(int8_t)q;
+        }
+        sss_shq_linear8_table(s->scale, (uint32_t)ntab, s->table);
+        return SSS_OK;
+    }
+    /* Lloyd-Max per (channel, coefficient): each column has its own
+     * distribution (band 0 positive and wide, high bands narrow around 0) */
+    uint8_t *idx = malloc(ncodes + 1);
+    if (!idx) return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for SH codes");
+    float lev[256];
+    for (size_t t = 0; t < ntab; t++) {
+        sss_result r = sss_lloyd(coef + t, nk, (uint32_t)ntab, (uint32_t)L, 0, lev, idx + t, NULL, NULL, err);
+        if (r != SSS_OK) {
+            free(idx);
+            return r;
+        }
+        memcpy(s->table + t * L, lev, L * sizeof *lev);
+    }
+    if (kind == SSS_SHQ_LLOYD8) memcpy(s->code, idx, ncodes);
+    else
+        for (size_t e = 0; e < ncodes; e++) s->code[e >> 1] |= (uint8_t)((idx[e] & 15u) << ((e & 1u) * 4u));
+    free(idx);
+    return SSS_OK;
+}
+
+sss_result sss_compress(const sss_bake_file *f, const sss_compress_opts *o, sss_bake_file *d, sss_error *err)
+{
+    if (d) memset(d, 0, sizeof *d);
+    if (!f || !o || !d) return sss_fail(err, SSS_ERR_ARG, "compress: NULL argument");
+    sss_result r = check_opts(f, o, err);
+    if (r != SSS_OK) return r;
+    if (!copy_base(f, d)) {
+        sss_file_free(d);
+        return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory copying the bake");
+    }
+    const uint32_t nv = f->mesh.nv, C = f->channels, nd = f->dirs.n, ncoef = sss_sh_count(o->order);
+    const int refmode = o->fraction > 0.0;
+    d->quant = refmode ? SSS_QUANT_REFS : SSS_QUANT_SH;
+    d->sh.order = o->order;
+    d->sh.ncoef = ncoef;
+    sss_sh_projector *proj = NULL;
+    float *bary = NULL, *coef = NULL;
+    double *Y = NULL;
+
+    if (ncoef && (r = sss_sh_projector_create(&f->dirs, o->order, SSS_SH_LEAST_SQUARES, &proj, err)) != SSS_OK)
+        goto fail;
+    if (refmode && (r = build_refs(f, o, d, &bary, err)) != SSS_OK) goto fail;
+    const uint32_t ncoded = refmode ? nv - d->ref.nref : nv;
+    d->sh.ncoded = ncoded;
+    coef = malloc(((size_t)ncoded * C * ncoef + 1) * sizeof *coef);
+    Y = malloc(((size_t)nd * ncoef + 1) * sizeof *Y);
+    if (!coef || !Y) {
+        r = sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for %u coded vertices", ncoded);
+        goto fail;
+    }
+    for (uint32_t j = 0; j < nd && ncoef; j++) sss_sh_eval(o->order, f->dirs.dir + 3 * (size_t)j, Y + (size_t)j * ncoef);
+
+    /* ---- weights and deltas (§4.2–4.3), SH projection (§4.1) ----------- */
+    {
+        const size_t n = (size_t)nd * C;
+        const ptrdiff_t ncod = (ptrdiff_t)ncoded;
         int nomem = 0;
-        const ptrdiff_t ncod = (ptrdiff_t)cq.ncoded;
+        const sss_refcode *rc = &d->ref;
 #ifdef _OPENMP
 #pragma omp parallel
 #endif
         {
-            double *d = malloc((size_t)nd * C * sizeof *d);
-            if (!d) {
+            double *buf = malloc((7 * n + 1) * sizeof *buf);
+            if (!buf) {
 #ifdef _OPENMP
 #pragma omp atomic write
 #endif
                 nomem = 1;
             }
+            double *qv = buf, *R[3] = {buf + n, buf + 2 * n, buf + 3 * n}, *u = buf + 4 * n, *a1 = buf + 5 * n,
+                   *a2 = buf + 6 * n;
+            double cf[SSS_SH_MAX_COUNT];
 #ifdef _OPENMP
 #pragma omp for schedule(dynamic, 256)
 #endif
             for (ptrdiff_t k = 0; k < ncod; k++) {
-                if (!d) continue;
-                const uint32_t v = cq.coded_vertex[k];
-                double w[3] = {0, 0, 0};
-                uint32_t rk[3] = {0, 0, 0};
-                if (cq.vtri) {
-                    dequantise_weights(cq.w16 + 2 * (size_t)k, w);
-                    for (int t = 0; t < 3; t++) rk[t] = cq.ref_tri[3 * (size_t)cq.vtri[k] + t];
+                if (!buf) continue;
+                const uint32_t v = refmode ? rc->coded_vertex[k] : (uint32_t)k;
+                for (size_t i = 0; i < n; i++) qv[i] = f->q[((i / C) * nv + v) * C + i % C];
+                if (refmode) {
+                    const uint32_t *t = rc->ref_tri + 3 * (size_t)rc->vtri[k];
+                    for (int s = 0; s < 3; s++)
+                        for (size_t i = 0; i < n; i++) {
+                            const size_t j = i / C, c = i % C;
+                            R[s][i] = rc->levels[256 * c + rc->idx[(j * rc->nref + t[s]) * C + c]];
+                        }
+                    double w[3] = {bary[3 * (size_t)k], bary[3 * (size_t)k + 1], 0.0};
+                    if (o->ls_weights)
+                        ls_weights(qv, R[0], R[1], R[2], n, C, proj, Y, nd, ncoef, u, a1, a2, w);
+                    uint16_t wq[2];
+                    quantise_weights(w[0], w[1], rc, !o->ls_weights, wq);
+                    d->ref.w[2 * (size_t)k] = wq[0];
+                    d->ref.w[2 * (size_t)k + 1] = wq[1];
+                    dequantise_weights(rc, wq, w);
+                    for (size_t i = 0; i < n; i++) qv[i] -= w[0] * R[0][i] + w[1] * R[1][i] + w[2] * R[2][i];
                 }
-                for (uint32_t j = 0; j < nd; j++)
-                    for (uint32_t c = 0; c < C; c++) {
-                        double x = f->q[((size_t)j * nv + v) * C + c];
-                        if (cq.vtri)
-                            for (int t = 0; t < 3; t++) {
-                                uint8_t q8 = cq.ref_idx[((size_t)j * cq.nref + rk[t]) * C + c];
-                                x -= w[t] * (double)cq.levels[256 * (size_t)c + q8];
-                            }
-                        d[(size_t)j * C + c] = x;
-                    }
-                for (uint32_t c = 0; c < C; c++)
-                    sss_sh_project_strided(proj, d + c, C, coef + ((size_t)k * C + c) * ncoef);
+                for (uint32_t c = 0; c < C && ncoef; c++) {
+                    sss_sh_project_strided(proj, qv + c, C, cf);
+                    for (uint32_t i = 0; i < ncoef; i++) coef[((size_t)k * C + c) * ncoef + i] = (float)cf[i];
+                }
             }
-            free(d);
+            free(buf);
         }
         if (nomem) {
             r = sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for delta rows");
             goto fail;
         }
-        /* 8-bit codes, one scale per (channel, coefficient index) */
-        for (size_t k = 0; k < cq.ncoded; k++)
-            for (uint32_t c = 0; c < C; c++)
-                for (uint32_t i = 0; i < ncoef; i++) {
-                    double a = fabs(coef[(k * C + c) * ncoef + i]);
-                    if (a > cq.sh_scale[c * ncoef + i]) cq.sh_scale[c * ncoef + i] = (float)a;
-                }
-        /* rounding the scale to float may lower it below max |c|: nudge up */
-        for (size_t i = 0; i < (size_t)C * ncoef; i++)
-            if (cq.sh_scale[i] > 0.0f) cq.sh_scale[i] = nextafterf(cq.sh_scale[i], INFINITY);
-        for (size_t k = 0; k < cq.ncoded; k++)
-            for (uint32_t c = 0; c < C; c++)
-                for (uint32_t i = 0; i < ncoef; i++) {
-                    double s = cq.sh_scale[c * ncoef + i], x = coef[(k * C + c) * ncoef + i];
-                    long q = s > 0.0 ? lround(x / s * 127.0) : 0;
-                    if (q > 127) q = 127;
-                    if (q < -127) q = -127;
-                    cq.sh_code[(k * C + c) * ncoef + i] = (int8_t)q;
-                }
     }
+    if ((r = quantise_sh(coef, o->sh_kind, d, err)) != SSS_OK) goto fail;
 
+    free(Y);
     free(coef);
-    free(refof);
-    free(refq);
-    sss_refs_free(&refs);
+    free(bary);
     sss_sh_projector_destroy(proj);
-    *out = cq;
     return SSS_OK;
 
 fail:
+    free(Y);
     free(coef);
-    free(refof);
-    free(refq);
-    sss_refs_free(&refs);
+    free(bary);
     sss_sh_projector_destroy(proj);
-    sss_compressed_free(&cq);
+    sss_file_free(d);
     return r;
-}
-
-void sss_compressed_bytes_of(const sss_compressed *cq, sss_compressed_bytes *b)
-{
-    memset(b, 0, sizeof *b);
-    if (!cq) return;
-    const uint64_t C = cq->channels, nd = cq->dirs.n;
-    b->header = 7 * 4;
-    b->directions = nd * 3 * 4;
-    b->ref_integrals = nd * cq->nref * C;
-    b->lloyd_tables = cq->nref ? C * 256 * 4 : 0;
-    b->ref_vertex_list = (uint64_t)cq->nref * 4;
-    b->vertex_tri = cq->vtri ? (uint64_t)cq->ncoded * 4 : 0;
-    b->ref_tri_table = (uint64_t)cq->nrt * 3 * 4;
-    b->weights = cq->w16 ? (uint64_t)cq->ncoded * 2 * 2 : 0;
-    b->sh_codes = (uint64_t)cq->ncoded * C * cq->ncoef;
-    b->sh_scales = C * cq->ncoef * 4;
-    b->total = b->header + b->directions + b->ref_integrals + b->lloyd_tables + b->ref_vertex_list + b->vertex_tri +
-               b->ref_tri_table + b->weights + b->sh_codes + b->sh_scales;
-    b->per_vertex = cq->nv ? (double)b->total / cq->nv : 0.0;
-}
-
-void sss_compressed_eval(const sss_compressed *cq, const double light[3], float *out)
-{
-    const size_t C = cq->channels, nv = cq->nv, ncoef = cq->ncoef;
-    double len = sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
-    if (cq->dirs.n == 0 || !(len > 0.0) || !isfinite(len)) {
-        memset(out, 0, nv * C * sizeof *out);
-        return;
-    }
-    const double d[3] = {light[0] / len, light[1] / len, light[2] / len};
-
-    /* references: interpolate the three direction rows, as sss_decode_all */
-    if (cq->nref) {
-        uint32_t idx[3];
-        double w[3];
-        sss_dirset_lookup(&cq->dirs, d, idx, w);
-        const size_t row = (size_t)cq->nref * C;
-        const uint8_t *a = cq->ref_idx + idx[0] * row, *b = cq->ref_idx + idx[1] * row, *c = cq->ref_idx + idx[2] * row;
-        const ptrdiff_t nref = (ptrdiff_t)cq->nref;
-#ifdef _OPENMP
-#pragma omp parallel for schedule(static) if (nref >= 16384)
-#endif
-        for (ptrdiff_t k = 0; k < nref; k++)
-            for (size_t ch = 0; ch < C; ch++) {
-                const size_t i = (size_t)k * C + ch;
-                const float *L = cq->levels + 256 * ch;
-                out[(size_t)cq->ref_vertex[k] * C + ch] = (float)(w[0] * L[a[i]] + w[1] * L[b[i]] + w[2] * L[c[i]]);
-            }
-    }
-
-    /* coded vertices: blend + SH delta; fold scale/127 into y once per call */
-    float ys[SSS_MAX_CHANNELS * SSS_SH_MAX_COUNT];
-    if (ncoef) {
-        double y[SSS_SH_MAX_COUNT];
-        sss_sh_eval(cq->order, d, y);
-        for (size_t ch = 0; ch < C; ch++)
-            for (size_t i = 0; i < ncoef; i++) ys[ch * ncoef + i] = (float)(y[i] * cq->sh_scale[ch * ncoef + i] / 127.0);
-    }
-    const ptrdiff_t ncod = (ptrdiff_t)cq->ncoded;
-#ifdef _OPENMP
-#pragma omp parallel for schedule(static) if (ncod >= 16384)
-#endif
-    for (ptrdiff_t k = 0; k < ncod; k++) {
-        const size_t v = cq->coded_vertex[k];
-        double w[3] = {0, 0, 0};
-        size_t rv[3] = {0, 0, 0};
-        if (cq->vtri) {
-            dequantise_weights(cq->w16 + 2 * (size_t)k, w);
-            for (int t = 0; t < 3; t++) rv[t] = cq->ref_vertex[cq->ref_tri[3 * (size_t)cq->vtri[k] + t]];
-        }
-        for (size_t ch = 0; ch < C; ch++) {
-            float s = 0.0f;
-            if (cq->vtri) s = (float)(w[0] * out[rv[0] * C + ch] + w[1] * out[rv[1] * C + ch] + w[2] * out[rv[2] * C + ch]);
-            const int8_t *code = cq->sh_code + ((size_t)k * C + ch) * ncoef;
-            const float *yy = ys + ch * ncoef;
-            float acc = 0.0f;
-            for (size_t i = 0; i < ncoef; i++) acc += (float)code[i] * yy[i];
-            out[v * C + ch] = s + acc;
-        }
-    }
-}
-
-
-sss_result sss_compressed_error(const sss_compressed *cq, const sss_bake_file *f, uint32_t ndirs_test, uint64_t seed,
-                                double *rel_rms, double *max_abs, double *max_rel, sss_error *err)
-{
-    if (!cq || !f || !rel_rms) return sss_fail(err, SSS_ERR_ARG, "compress error: NULL argument");
-    if (ndirs_test == 0) return sss_fail(err, SSS_ERR_ARG, "compress error: no test directions");
-    if (f->mesh.nv != cq->nv || f->channels != cq->channels || f->dirs.n != cq->dirs.n || !f->mesh.tri)
-        return sss_fail(err, SSS_ERR_ARG, "compress error: bake (%u vertices, %u channels) does not match (%u, %u)",
-                        f->mesh.nv, f->channels, cq->nv, cq->channels);
-    const size_t nv = cq->nv, C = cq->channels;
-    double *area = calloc(nv, sizeof *area);
-    float *u = malloc(nv * C * sizeof *u), *rc = malloc(nv * C * sizeof *rc);
-    if (!area || !u || !rc) {
-        free(area);
-        free(u);
-        free(rc);
-        return sss_fail(err, SSS_ERR_NOMEM, "compress error: out of memory");
-    }
-    sss_mesh_vertex_areas(&f->mesh, area); /* ΔA: 1/3 of the incident triangle areas */
-    double num[SSS_MAX_CHANNELS] = {0}, den[SSS_MAX_CHANNELS] = {0}, mx = 0.0;
-    int anynan = 0;
-    uint64_t s = seed;
-    for (uint32_t t = 0; t < ndirs_test; t++) {
-        double light[3];
-        sss_rng_direction(&s, light);
-        sss_decode_all(f, light, u);
-        sss_compressed_eval(cq, light, rc);
-        for (size_t v = 0; v < nv; v++)
-            for (size_t c = 0; c < C; c++) {
-                double e = (double)rc[v * C + c] - u[v * C + c];
-                num[c] += area[v] * e * e;
-                den[c] += area[v] * (double)u[v * C + c] * u[v * C + c];
-                if (isnan(e)) anynan = 1;
-                else if (fabs(e) > mx) mx = fabs(e);
-            }
-    }
-    double tn = 0.0, td = 0.0, asum = 0.0;
-    for (size_t v = 0; v < nv; v++) asum += area[v];
-    for (size_t c = 0; c < C; c++) {
-        rel_rms[c] = den[c] > 0.0 ? sqrt(num[c] / den[c]) : sqrt(num[c]);
-        tn += num[c];
-        td += den[c];
-    }
-    rel_rms[C] = td > 0.0 ? sqrt(tn / td) : sqrt(tn);
-    if (anynan) mx = NAN;
-    if (max_abs) *max_abs = mx;
-    if (max_rel) {
-        double rms_u = sqrt(td / (asum * ndirs_test * (double)C));
-        *max_rel = rms_u > 0.0 ? mx / rms_u : mx;
-    }
-    free(area);
-    free(u);
-    free(rc);
-    return SSS_OK;
 }

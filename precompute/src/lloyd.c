@@ -60,9 +60,9 @@ static size_t upper(const float *y, size_t n, double t)
 }
 
 /* Index of the level nearest to x: the number of thresholds below x. */
-static uint8_t encode(const double *thr, float x)
+static uint8_t encode(const double *thr, int nlev, float x)
 {
-    int lo = 0, hi = LEVELS - 1; /* thresholds thr[0 .. 254] */
+    int lo = 0, hi = nlev - 1; /* thresholds thr[0 .. nlev-2] */
     while (lo < hi) {
         int mid = (lo + hi) / 2;
         if ((double)x > thr[mid]) lo = mid + 1;
@@ -77,41 +77,45 @@ static uint8_t encode(const double *thr, float x)
  * histogram; level 0 is the minimum. Lloyd then only polishes. Starting from
  * plain sample quantiles (density ∝ p) crowds the levels where the data
  * crowds (near zero for baked integrals) and Lloyd is too slow to undo it. */
-static int init_levels(const float *y, size_t n, double *L)
+static int init_levels(const float *y, size_t n, int nlev, int pin, double *L)
 {
     enum { B = 1 << 16 };
     double lo = y[0], hi = y[n - 1];
-    for (int k = 0; k < LEVELS; k++) L[k] = lo;
+    for (int k = 0; k < nlev; k++) L[k] = lo;
     if (!(hi > lo)) return 1;
     double *h = calloc(B, sizeof *h);
     if (!h) return 0;
     double w = (hi - lo) / B;
     for (size_t k = 0; k < n; k++) {
-        if ((double)y[k] == lo) continue; /* the minimum's mass belongs to level 0 */
+        if (pin && (double)y[k] == lo) continue; /* the minimum's mass belongs to level 0 */
         long b = (long)(((double)y[k] - lo) / w);
         h[b < 0 ? 0 : b >= B ? B - 1 : b] += 1.0;
     }
     double tot = 0;
     for (int b = 0; b < B; b++) tot += (h[b] = cbrt(h[b]));
     double acc = 0;
-    int k = 1;
-    for (int b = 0; b < B && k < LEVELS; b++) {
+    int k = pin ? 1 : 0;
+    const int nfree = pin ? nlev - 1 : nlev; /* levels placed by quantile */
+    const double off = pin ? 0.5 : -0.5;    /* quantile of level k: (k - off) / nfree */
+    for (int b = 0; b < B && k < nlev; b++) {
         double next = acc + h[b];
-        while (k < LEVELS && (k - 0.5) / (LEVELS - 1) * tot <= next) {
-            double f = h[b] > 0 ? ((k - 0.5) / (LEVELS - 1) * tot - acc) / h[b] : 0.5;
+        while (k < nlev && (k - off) / nfree * tot <= next) {
+            double f = h[b] > 0 ? ((k - off) / nfree * tot - acc) / h[b] : 0.5;
             L[k++] = lo + (b + f) * w;
         }
         acc = next;
     }
-    for (; k < LEVELS; k++) L[k] = hi;
+    for (; k < nlev; k++) L[k] = hi;
     free(h);
     return 1;
 }
 
-sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float levels[256], uint8_t *idx,
-                      double *signal, double *noise, sss_error *err)
+sss_result sss_lloyd(const float *x, uint64_t count, uint32_t stride, uint32_t nlevels, int pin_min, float *levels,
+                     uint8_t *idx, double *signal, double *noise, sss_error *err)
 {
     if (count == 0 || stride == 0) return sss_fail(err, SSS_ERR_ARG, "lloyd8: no data");
+    if (nlevels < 2 || nlevels > LEVELS) return sss_fail(err, SSS_ERR_ARG, "lloyd: %u levels (2 … 256)", nlevels);
+    const int nlev = (int)nlevels, pin = pin_min != 0;
     uint64_t step = (count + MAX_TRAIN - 1) / MAX_TRAIN;
     size_t n = (size_t)((count + step - 1) / step);
     uint32_t *key = malloc(n * sizeof *key + 1);
@@ -125,18 +129,18 @@ sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float lev
     for (size_t k = 0; k < n; k++) P[k + 1] = P[k] + y[k];
 
     double L[LEVELS];
-    if (!init_levels(y, n, L)) {
+    if (!init_levels(y, n, nlev, pin, L)) {
         free(key); free(P);
         return sss_fail(err, SSS_ERR_NOMEM, "lloyd8: out of memory");
     }
     /* Lloyd iterations: decision thresholds at midpoints, levels at the cell
-     * centroids; level 0 stays pinned to the minimum. */
+     * centroids; level 0 stays pinned to the minimum when asked. */
     for (int it = 0; it < 5000; it++) {
-        double change = 0, scale = fabs(L[LEVELS - 1]) + 1e-300;
+        double change = 0, scale = fmax(fabs(L[nlev - 1]), fabs(L[0])) + 1e-300;
         size_t a = 0;
-        for (int k = 0; k < LEVELS; k++) {
-            size_t b = k + 1 < LEVELS ? upper(y, n, 0.5 * (L[k] + L[k + 1])) : n;
-            if (b > a && k > 0) {
+        for (int k = 0; k < nlev; k++) {
+            size_t b = k + 1 < nlev ? upper(y, n, 0.5 * (L[k] + L[k + 1])) : n;
+            if (b > a && (k > 0 || !pin)) {
                 double c = (P[b] - P[a]) / (double)(b - a);
                 change = fmax(change, fabs(c - L[k]) / scale);
                 L[k] = c;
@@ -148,18 +152,18 @@ sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float lev
     free(key);
     free(P);
 
-    for (int k = 0; k < LEVELS; k++) levels[k] = (float)L[k];
-    for (int k = 1; k < LEVELS; k++)
+    for (int k = 0; k < nlev; k++) levels[k] = (float)L[k];
+    for (int k = 1; k < nlev; k++)
         if (levels[k] < levels[k - 1]) levels[k] = levels[k - 1];
     double thr[LEVELS];
-    for (int k = 0; k + 1 < LEVELS; k++) thr[k] = 0.5 * ((double)levels[k] + (double)levels[k + 1]);
-    thr[LEVELS - 1] = INFINITY;
+    for (int k = 0; k + 1 < nlev; k++) thr[k] = 0.5 * ((double)levels[k] + (double)levels[k + 1]);
+    thr[nlev - 1] = INFINITY;
 
     double S = 0, N = 0;
 #pragma omp parallel for reduction(+ : S, N) schedule(static)
     for (int64_t k = 0; k < (int64_t)count; k++) {
         float v = x[(size_t)k * stride];
-        uint8_t q = encode(thr, v);
+        uint8_t q = encode(thr, nlev, v);
         idx[(size_t)k * stride] = q;
         double e = (double)v - (double)levels[q];
         S += (double)v * v;
@@ -168,4 +172,10 @@ sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float lev
     if (signal) *signal = S;
     if (noise) *noise = N;
     return SSS_OK;
+}
+
+sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float levels[256], uint8_t *idx,
+                      double *signal, double *noise, sss_error *err)
+{
+    return sss_lloyd(x, count, stride, LEVELS, 1, levels, idx, signal, noise, err);
 }

@@ -10,6 +10,7 @@
 
 #include "cli_util.h"
 #include "sss/bake.h"
+#include "sss/compress.h"
 #include "sss/import.h"
 
 static const char *TOOL = "sss-bake";
@@ -31,6 +32,15 @@ static void usage(FILE *f)
         "  --dirs N             number of light directions (default 200)\n"
         "  --eps E              neighbourhood energy cutoff: radius holds 1-E of R_d total (default 1e-3)\n"
         "  --quant float|lloyd8 storage of the integrals (default float)\n"
+        "Compression (Hao & Varshney 2004 sec. 4; docs/compression.md); any of these\n"
+        "stores the compressed form instead of --quant:\n"
+        "  --sh-order N         SH order 0..8 (N^2 coefficients per vertex and channel)\n"
+        "  --refs FRACTION      reference vertices as a fraction of all (0: SH only;\n"
+        "                       default 0.03 with --sh-order)\n"
+        "  --sh-quant K         SH codes: linear8 (paper) | lloyd8 | lloyd4 (default linear8)\n"
+        "  --weight-bits B      8 or 16 bits per stored weight (default 16)\n"
+        "  --ls-weights         least-squares weights instead of barycentrics\n"
+        "  --illum-refs W       illumination-aware references, feature weight W > 0\n"
         "  --threads T          worker threads (default: all cores); output does not depend on it\n"
         "  --json               print one JSON object with statistics on stdout\n"
         "  -q, --quiet          no progress bar or summary on stderr\n"
@@ -57,6 +67,9 @@ int main(int argc, char **argv)
     int have_sa = 0, have_ss = 0, have_eta = 0, json = 0, quiet = 0;
     sss_bake_options opt;
     memset(&opt, 0, sizeof opt);
+    sss_compress_opts co;
+    sss_compress_opts_default(&co);
+    int compress = 0, have_quant = 0, have_refs = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -75,7 +88,26 @@ int main(int argc, char **argv)
             if (!strcmp(v, "float")) opt.quant = SSS_QUANT_FLOAT;
             else if (!strcmp(v, "lloyd8")) opt.quant = SSS_QUANT_LLOYD8;
             else { fprintf(stderr, "%s: --quant: '%s' must be float or lloyd8\n", TOOL, v); return 2; }
+            have_quant = 1;
         }
+        else if (!strcmp(a, "--sh-order")) { NEED(); if (!cli_parse_u32(TOOL, a, v, 0, 8, &co.order)) return 2; compress = 1; }
+        else if (!strcmp(a, "--refs")) { NEED(); if (!cli_parse_double(TOOL, a, v, 0.0, 1.0, &co.fraction)) return 2; compress = 1; have_refs = 1; }
+        else if (!strcmp(a, "--sh-quant")) {
+            NEED();
+            if (!strcmp(v, "linear8")) co.sh_kind = SSS_SHQ_LINEAR8;
+            else if (!strcmp(v, "lloyd8")) co.sh_kind = SSS_SHQ_LLOYD8;
+            else if (!strcmp(v, "lloyd4")) co.sh_kind = SSS_SHQ_LLOYD4;
+            else { fprintf(stderr, "%s: --sh-quant: '%s' must be linear8, lloyd8 or lloyd4\n", TOOL, v); return 2; }
+            compress = 1;
+        }
+        else if (!strcmp(a, "--weight-bits")) {
+            NEED();
+            if (!cli_parse_u32(TOOL, a, v, 8, 16, &co.wbits)) return 2;
+            if (co.wbits != 8 && co.wbits != 16) { fprintf(stderr, "%s: --weight-bits: '%s' must be 8 or 16\n", TOOL, v); return 2; }
+            compress = 1;
+        }
+        else if (!strcmp(a, "--ls-weights")) { co.ls_weights = 1; compress = 1; }
+        else if (!strcmp(a, "--illum-refs")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-9, 1e9, &co.illum_weight)) return 2; compress = 1; }
         else if (!strcmp(a, "--threads")) { uint32_t t; NEED(); if (!cli_parse_u32(TOOL, a, v, 1, 1024, &t)) return 2; opt.threads = (int)t; }
         else if (!strcmp(a, "--json")) json = 1;
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
@@ -84,6 +116,20 @@ int main(int argc, char **argv)
         else { fprintf(stderr, "%s: unexpected argument '%s' (one MESH only)\n", TOOL, a); return 2; }
 #undef NEED
     }
+    if (compress && have_quant) {
+        fprintf(stderr, "%s: --quant and the compression options (--sh-order, --refs, ...) exclude each other\n",
+                TOOL);
+        return 2;
+    }
+    if (compress && !have_refs && co.order == 0) {
+        fprintf(stderr, "%s: --sh-order 0 needs --refs FRACTION > 0 (nothing would be stored)\n", TOOL);
+        return 2;
+    }
+    if (compress && co.fraction == 0.0 && co.order == 0) {
+        fprintf(stderr, "%s: --refs 0 (SH only) needs --sh-order >= 1\n", TOOL);
+        return 2;
+    }
+    if (compress) opt.quant = SSS_QUANT_FLOAT;
     if (!in || !outp) {
         fprintf(stderr, "%s: %s (see --help)\n", TOOL, !in ? "missing MESH" : "missing -o OUT.sss");
         return 2;
@@ -134,6 +180,40 @@ int main(int argc, char **argv)
         sss_mesh_free(&mesh);
         return sss_bake_interrupted ? 130 : 1;
     }
+    double t_compress = 0.0;
+    if (compress && !sss_bake_interrupted) {
+        t0 = now_s();
+        sss_bake_file cf;
+        if (sss_compress(&f, &co, &cf, &err) != SSS_OK) {
+            fprintf(stderr, "%s: %s: %s\n", TOOL, in, err.msg);
+            sss_file_free(&f);
+            sss_mesh_free(&mesh);
+            return 1;
+        }
+        /* provenance: the compression settings join the bake parameters */
+        cJSON *pj = cJSON_Parse(cf.params_json ? cf.params_json : "");
+        if (pj) {
+            cJSON *c = cJSON_AddObjectToObject(pj, "compression");
+            cJSON_AddNumberToObject(c, "sh_order", co.order);
+            cJSON_AddNumberToObject(c, "refs_fraction", co.fraction);
+            cJSON_AddStringToObject(c, "sh_quant", sss_shq_name(co.sh_kind));
+            cJSON_AddNumberToObject(c, "weight_bits", co.wbits);
+            cJSON_AddBoolToObject(c, "ls_weights", co.ls_weights);
+            cJSON_AddNumberToObject(c, "illum_refs", co.illum_weight);
+            char *txt = cJSON_PrintUnformatted(pj);
+            char *copy = txt ? malloc(strlen(txt) + 1) : NULL;
+            if (copy) {
+                memcpy(copy, txt, strlen(txt) + 1);
+                free(cf.params_json);
+                cf.params_json = copy;
+            }
+            free(txt);
+            cJSON_Delete(pj);
+        }
+        sss_file_free(&f);
+        f = cf;
+        t_compress = now_s() - t0;
+    }
     t0 = now_s();
     sss_result r = sss_bake_interrupted ? sss_fail(&err, SSS_ERR_INTERRUPTED, "%s: interrupted, nothing written", outp)
                                         : sss_file_write(outp, &f, &err);
@@ -149,18 +229,25 @@ int main(int argc, char **argv)
     if (fp) { fseek(fp, 0, SEEK_END); fsize = ftell(fp); fclose(fp); }
     const uint32_t nv = f.mesh.nv, C = f.channels, N = f.dirs.n;
     double q_bytes = sss_file_integral_bytes_per_vertex(&f);
-    double total = t_import + st.t_neighbourhoods + st.t_visibility + st.t_integrals + st.t_quantise + t_write;
+    double total = t_import + st.t_neighbourhoods + st.t_visibility + st.t_integrals + st.t_quantise + t_compress +
+                   t_write;
     if (!quiet)
         fprintf(stderr,
                 "%s: %s: %u vertices, %u triangles, %u directions, %u channels, %s\n"
                 "  neighbourhood radius %.3g/%.3g/%.3g mm, mean %.1f neighbours (max %u)\n"
                 "  rays %llu (%.1f%% occluded)%s\n"
-                "  time: import %.3fs, neighbourhoods %.3fs, visibility %.3fs, integrals %.3fs, quantise %.3fs, write %.3fs\n"
+                "  time: import %.3fs, neighbourhoods %.3fs, visibility %.3fs, integrals %.3fs, quantise %.3fs, compress %.3fs, write %.3fs\n"
                 "  %s: %lld bytes, %.1f bytes/vertex (integrals %.1f)\n",
-                TOOL, in, nv, f.mesh.nf, N, C, f.quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float", st.radius_mm[0],
+                TOOL, in, nv, f.mesh.nf, N, C, sss_quant_name(f.quant), st.radius_mm[0],
                 st.radius_mm[1], st.radius_mm[2], st.neighbours_mean, st.neighbours_max, (unsigned long long)st.rays,
                 100.0 * st.occluded_fraction, "", t_import, st.t_neighbourhoods, st.t_visibility, st.t_integrals,
-                st.t_quantise, t_write, outp, fsize, (double)fsize / nv, q_bytes);
+                st.t_quantise, t_compress, t_write, outp, fsize, (double)fsize / nv, q_bytes);
+    if (!quiet && f.quant == SSS_QUANT_REFS)
+        fprintf(stderr, "  %u references (%.2f%%), %u reference triangles, SH order %u (%s), %u-bit %s weights\n",
+                f.ref.nref, 100.0 * f.ref.nref / nv, f.ref.nrt, f.sh.order, sss_shq_name(f.sh.kind), f.ref.wbits,
+                co.ls_weights ? "least-squares" : "barycentric");
+    if (!quiet && f.quant == SSS_QUANT_SH)
+        fprintf(stderr, "  SH order %u (%s) at every vertex\n", f.sh.order, sss_shq_name(f.sh.kind));
     if (!quiet && f.quant == SSS_QUANT_LLOYD8)
         fprintf(stderr, "  lloyd8 SNR %.2f dB (R %.2f, G %.2f, B %.2f)\n", st.lloyd_snr_db_all, st.lloyd_snr_db[0],
                 st.lloyd_snr_db[1], st.lloyd_snr_db[2]);
@@ -172,7 +259,12 @@ int main(int argc, char **argv)
         cJSON_AddNumberToObject(o, "triangles", f.mesh.nf);
         cJSON_AddNumberToObject(o, "directions", N);
         cJSON_AddNumberToObject(o, "channels", C);
-        cJSON_AddStringToObject(o, "quant", f.quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float");
+        cJSON_AddStringToObject(o, "quant", sss_quant_name(f.quant));
+        if (compress) {
+            cJSON_AddNumberToObject(o, "sh_order", f.sh.order);
+            cJSON_AddStringToObject(o, "sh_quant", sss_shq_name(f.sh.kind));
+            cJSON_AddNumberToObject(o, "refs", f.quant == SSS_QUANT_REFS ? f.ref.nref : 0);
+        }
         cJSON_AddStringToObject(o, "material", mat.name);
         cJSON_AddNumberToObject(o, "mm_per_unit", f.mm_per_unit);
         cJSON *rp = cJSON_AddObjectToObject(o, "repairs");
@@ -192,6 +284,7 @@ int main(int argc, char **argv)
         cJSON_AddNumberToObject(tm, "visibility", st.t_visibility);
         cJSON_AddNumberToObject(tm, "integrals", st.t_integrals);
         cJSON_AddNumberToObject(tm, "quantise", st.t_quantise);
+        cJSON_AddNumberToObject(tm, "compress", t_compress);
         cJSON_AddNumberToObject(tm, "write", t_write);
         cJSON_AddNumberToObject(tm, "total", total);
         cJSON_AddNumberToObject(o, "peak_rss_mib", cli_peak_rss_mib());

@@ -1,20 +1,28 @@
 /* compress_bench: size and error of the Hao–Varshney 2004 §4 compression
- * (reference points + barycentric weights + SH-coded deltas, or SH alone)
- * of one float .sss bake.
- *   compress_bench FILE.sss ORDER FRACTION [DIRECTIONS=1000]
+ * (reference points + weights + SH-coded deltas, or SH alone) of one float
+ * .sss bake, for the table in docs/compression.md.
+ *   compress_bench FILE.sss ORDER FRACTION [options]
+ *     --dirs N          random test light directions (default 1000)
+ *     --kind K          SH codes: linear8 (paper) | lloyd8 | lloyd4
+ *     --wbits B         8 or 16 bits per weight (default 16)
+ *     --ls              least-squares weights (beyond the paper)
+ *     --illum W         illumination-aware references with weight W
+ *     --mono C          compress channel C only, as a one-channel bake
+ *     --out FILE        also write the compressed .sss
  * FRACTION 0 is SH-only mode. Prints one JSON object: counts, bytes of every
- * part, bytes per vertex, area-weighted relative RMS error against the
- * uncompressed interpolation (per channel and overall) over DIRECTIONS
- * random light directions (fixed seed), the largest absolute error, and the
- * compression and per-call evaluation times.
+ * part (sss_file_storage: all bytes of the scattering data), bytes per vertex,
+ * area-weighted relative RMS against the uncompressed interpolation (per
+ * channel and overall) over the test directions (fixed seed), and times.
  */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "sss/compress.h"
+#include "sss/decode.h"
 #include "sss/format.h"
 
 static double now(void)
@@ -24,89 +32,123 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+static int usage(void)
+{
+    fprintf(stderr, "usage: compress_bench FILE.sss ORDER FRACTION [--dirs N] [--kind linear8|lloyd8|lloyd4] "
+                    "[--wbits 8|16] [--ls] [--illum W] [--mono C] [--out FILE]\n");
+    return 2;
+}
+
+/* Keeps channel c of a float bake as a one-channel bake (in place). */
+static int to_mono(sss_bake_file *f, uint32_t c)
+{
+    if (c >= f->channels || f->quant != SSS_QUANT_FLOAT) return 0;
+    const size_t n = (size_t)f->dirs.n * f->mesh.nv, C = f->channels;
+    for (size_t i = 0; i < n; i++) f->q[i] = f->q[i * C + c];
+    f->material.sigma_a[0] = f->material.sigma_a[c];
+    f->material.sigmap_s[0] = f->material.sigmap_s[c];
+    f->channels = 1;
+    return 1;
+}
+
 int main(int argc, char **argv)
 {
-    if (argc < 4 || argc > 5) {
-        fprintf(stderr, "usage: compress_bench FILE.sss ORDER FRACTION [DIRECTIONS=1000]\n");
-        return 2;
-    }
+    if (argc < 4) return usage();
+    sss_compress_opts o;
+    sss_compress_opts_default(&o);
     char *end;
     unsigned long order = strtoul(argv[2], &end, 10);
-    if (*end || order > 100) {
-        fprintf(stderr, "compress_bench: bad ORDER '%s'\n", argv[2]);
-        return 2;
-    }
-    double fraction = strtod(argv[3], &end);
-    if (*end) {
-        fprintf(stderr, "compress_bench: bad FRACTION '%s'\n", argv[3]);
-        return 2;
-    }
+    if (*end || order > 100) return usage();
+    o.order = (uint32_t)order;
+    o.fraction = strtod(argv[3], &end);
+    if (*end) return usage();
     unsigned long ndt = 1000;
-    if (argc == 5) {
-        ndt = strtoul(argv[4], &end, 10);
-        if (*end || ndt == 0 || ndt > 1000000) {
-            fprintf(stderr, "compress_bench: bad DIRECTIONS '%s'\n", argv[4]);
-            return 2;
-        }
+    long mono = -1;
+    const char *outpath = NULL;
+    for (int i = 4; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--ls")) o.ls_weights = 1;
+        else if (!v) return usage();
+        else if (!strcmp(a, "--dirs")) ndt = strtoul(v, NULL, 10), i++;
+        else if (!strcmp(a, "--wbits")) o.wbits = (uint32_t)strtoul(v, NULL, 10), i++;
+        else if (!strcmp(a, "--illum")) o.illum_weight = strtod(v, NULL), i++;
+        else if (!strcmp(a, "--mono")) mono = strtol(v, NULL, 10), i++;
+        else if (!strcmp(a, "--out")) outpath = v, i++;
+        else if (!strcmp(a, "--kind")) {
+            if (!strcmp(v, "linear8")) o.sh_kind = SSS_SHQ_LINEAR8;
+            else if (!strcmp(v, "lloyd8")) o.sh_kind = SSS_SHQ_LLOYD8;
+            else if (!strcmp(v, "lloyd4")) o.sh_kind = SSS_SHQ_LLOYD4;
+            else return usage();
+            i++;
+        } else return usage();
     }
+    if (ndt == 0 || ndt > 1000000) return usage();
     sss_error err = {{0}};
-    sss_bake_file f;
+    sss_bake_file f, cf;
     if (sss_file_read(argv[1], &f, &err) != SSS_OK) {
         fprintf(stderr, "compress_bench: %s\n", err.msg);
         return 1;
     }
-    sss_compressed cq;
+    if (mono >= 0 && !to_mono(&f, (uint32_t)mono)) {
+        fprintf(stderr, "compress_bench: --mono %ld: no such channel in a float bake\n", mono);
+        sss_file_free(&f);
+        return 1;
+    }
     double t0 = now();
-    if (sss_compress(&f, (uint32_t)order, fraction, &cq, &err) != SSS_OK) {
+    if (sss_compress(&f, &o, &cf, &err) != SSS_OK) {
         fprintf(stderr, "compress_bench: %s\n", err.msg);
         sss_file_free(&f);
         return 1;
     }
     double t_compress = now() - t0;
-    sss_compressed_bytes b;
-    sss_compressed_bytes_of(&cq, &b);
-
-    double rel[SSS_MAX_CHANNELS + 1], max_abs = 0, max_rel = 0;
-    t0 = now();
-    if (sss_compressed_error(&cq, &f, (uint32_t)ndt, 12345, rel, &max_abs, &max_rel, &err) != SSS_OK) {
+    if (outpath && sss_file_write(outpath, &cf, &err) != SSS_OK) {
         fprintf(stderr, "compress_bench: %s\n", err.msg);
-        sss_compressed_free(&cq);
-        sss_file_free(&f);
+        return 1;
+    }
+    sss_storage b;
+    sss_file_storage(&cf, &b);
+    double rel[SSS_MAX_CHANNELS + 1], rms[SSS_MAX_CHANNELS + 1], max_abs = 0;
+    t0 = now();
+    if (sss_decode_error(&cf, &f, (uint32_t)ndt, 12345, rel, rms, &max_abs, &err) != SSS_OK) {
+        fprintf(stderr, "compress_bench: %s\n", err.msg);
         return 1;
     }
     double t_error = now() - t0;
-    /* per-call evaluation time: mean over 50 directions */
-    float *out = malloc((size_t)cq.nv * cq.channels * sizeof *out);
+    /* per-call evaluation time: median-free mean over 20 directions */
+    float *out = malloc((size_t)cf.mesh.nv * cf.channels * sizeof *out);
     double t_eval = 0.0;
     if (out) {
         t0 = now();
-        for (int i = 0; i < 50; i++) {
+        for (int i = 0; i < 20; i++) {
             double a = 0.37 * i, light[3] = {sin(a), 0.3, cos(a)};
-            sss_compressed_eval(&cq, light, out);
+            sss_decode_all(&cf, light, out);
         }
-        t_eval = (now() - t0) / 50.0;
+        t_eval = (now() - t0) / 20.0;
         free(out);
     }
-    const double raw_float = (double)f.dirs.n * f.channels * 4.0, raw_lloyd8 = (double)f.dirs.n * f.channels;
-    printf("{\"file\": \"%s\", \"vertices\": %u, \"channels\": %u, \"directions\": %u, \"order\": %lu, "
-           "\"fraction\": %g, \"refs\": %u, \"ref_triangles\": %u, \"coded_vertices\": %u,\n",
-           argv[1], cq.nv, cq.channels, cq.dirs.n, order, fraction, cq.nref, cq.nrt, cq.ncoded);
-    printf(" \"bytes\": {\"header\": %llu, \"directions\": %llu, \"ref_integrals\": %llu, \"lloyd_tables\": %llu, "
-           "\"ref_vertex_list\": %llu, \"vertex_tri\": %llu, \"ref_tri_table\": %llu, \"weights\": %llu, "
-           "\"sh_codes\": %llu, \"sh_scales\": %llu, \"total\": %llu},\n",
-           (unsigned long long)b.header, (unsigned long long)b.directions, (unsigned long long)b.ref_integrals,
-           (unsigned long long)b.lloyd_tables, (unsigned long long)b.ref_vertex_list,
-           (unsigned long long)b.vertex_tri, (unsigned long long)b.ref_tri_table, (unsigned long long)b.weights,
-           (unsigned long long)b.sh_codes, (unsigned long long)b.sh_scales, (unsigned long long)b.total);
-    printf(" \"bytes_per_vertex\": %.3f, \"uncompressed_float_bytes_per_vertex\": %.0f, "
-           "\"uncompressed_lloyd8_bytes_per_vertex\": %.0f,\n",
-           b.per_vertex, raw_float, raw_lloyd8);
-    printf(" \"test_directions\": %lu, \"rel_rms\": %.6g, \"rel_rms_channel\": [", ndt, rel[cq.channels]);
-    for (uint32_t c = 0; c < cq.channels; c++) printf("%s%.6g", c ? ", " : "", rel[c]);
-    printf("], \"max_abs_error\": %.6g, \"max_error_over_rms\": %.6g,\n", max_abs, max_rel);
+    const uint32_t nv = cf.mesh.nv, C = cf.channels;
+    static const char *kinds[] = {"linear8", "lloyd8", "lloyd4"};
+    printf("{\"file\": \"%s\", \"vertices\": %u, \"channels\": %u, \"directions\": %u, \"order\": %u, "
+           "\"sh_kind\": \"%s\", \"fraction\": %g, \"wbits\": %u, \"ls_weights\": %d, \"illum_weight\": %g, "
+           "\"refs\": %u, \"ref_triangles\": %u, \"coded_vertices\": %u,\n",
+           argv[1], nv, C, cf.dirs.n, o.order, kinds[o.sh_kind], o.fraction, o.wbits, o.ls_weights, o.illum_weight,
+           cf.ref.nref, cf.ref.nrt, cf.sh.ncoded);
+    printf(" \"bytes\": {\"dirs\": %llu, \"section_headers\": %llu, \"lloyd_tables\": %llu, \"ref_vertex\": %llu, "
+           "\"ref_tri\": %llu, \"vertex_tri\": %llu, \"weights\": %llu, \"ref_values\": %llu, \"sh_tables\": %llu, "
+           "\"sh_codes\": %llu, \"scattering\": %llu, \"total\": %llu},\n",
+           (unsigned long long)b.dirs, (unsigned long long)b.section_headers, (unsigned long long)b.lloyd_tables,
+           (unsigned long long)b.ref_vertex, (unsigned long long)b.ref_tri, (unsigned long long)b.vertex_tri,
+           (unsigned long long)b.weights, (unsigned long long)b.ref_values, (unsigned long long)b.sh_tables,
+           (unsigned long long)b.sh_codes, (unsigned long long)b.scattering, (unsigned long long)b.total);
+    printf(" \"bytes_per_vertex\": %.3f, \"bytes_per_vertex_with_dirs\": %.3f, "
+           "\"uncompressed_float_bytes_per_vertex\": %u, \"uncompressed_lloyd8_bytes_per_vertex\": %u,\n",
+           (double)b.scattering / nv, (double)b.total / nv, cf.dirs.n * C * 4, cf.dirs.n * C);
+    printf(" \"test_directions\": %lu, \"rel_rms\": %.6g, \"rms\": %.6g, \"rel_rms_channel\": [", ndt, rel[C], rms[C]);
+    for (uint32_t c = 0; c < C; c++) printf("%s%.6g", c ? ", " : "", rel[c]);
+    printf("], \"max_abs_error\": %.6g,\n", max_abs);
     printf(" \"seconds\": {\"compress\": %.3f, \"eval_per_call\": %.6f, \"error_measurement\": %.3f}}\n", t_compress,
            t_eval, t_error);
-    sss_compressed_free(&cq);
+    sss_file_free(&cf);
     sss_file_free(&f);
     return 0;
 }

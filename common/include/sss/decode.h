@@ -16,8 +16,29 @@ float sss_decode_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t
 
 /* Writes q(x_v, ω) for all vertices into out[v * channels + c], interpolating
  * between the three direction samples of the spherical triangle containing
- * `light` (unit vector towards the light; normalised here). */
+ * `light` (unit vector towards the light; normalised here). For the
+ * compressed forms (SSS_QUANT_SH, SSS_QUANT_REFS) the reference rows are
+ * interpolated the same way, blended, and the SH part evaluated at `light`;
+ * the result is clamped at 0. */
 void sss_decode_all(const sss_bake_file *f, const double light[3], float *out);
+
+/* q(x_v, ω) for one vertex into out[0 … channels−1], the same value
+ * sss_decode_all writes for it (same arithmetic, same rounding). Any
+ * storage form. v out of range, or a zero or non-finite light, gives 0. */
+void sss_decode_vertex(const sss_bake_file *f, uint32_t v, const double light[3], float *out);
+
+/* Per-vertex error of `approx` against `ref` (same mesh, channels) over
+ * ndirs random unit light directions (sss_rng_direction from `seed`), both
+ * reconstructed by sss_decode_all. Area-weighted (A_v = 1/3 of the incident
+ * triangle areas, sss_mesh_vertex_areas of ref's mesh):
+ *   rel_rms[c] = sqrt(Σ_d Σ_v A_v (a − r)²) / sqrt(Σ_d Σ_v A_v r²),
+ *   rms[c]     = sqrt(Σ_d Σ_v A_v (a − r)² / (ndirs Σ_v A_v)),
+ * index `channels` holding the same over all channels (arrays need
+ * channels + 1 entries; rms may be NULL). *max_abs (may be NULL) is the
+ * largest |a − r|. Errors: SSS_ERR_ARG (mismatch, NULL, ndirs 0),
+ * SSS_ERR_NOMEM. */
+sss_result sss_decode_error(const sss_bake_file *approx, const sss_bake_file *ref, uint32_t ndirs, uint64_t seed,
+                            double *rel_rms, double *rms, double *max_abs, sss_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,4 +1,5 @@
-/* sss/format.h: the .sss baked-scattering file, format version 1.
+/* sss/format.h: the .sss baked-scattering file, format version 1 (minor 1
+ * adds the compressed forms of Hao–Varshney 2004 §4).
  * Spec: docs/format.md. Little-endian, magic + version, a section table with
  * 64-bit offsets and sizes and a CRC-32 per section; written atomically.
  */
@@ -17,13 +18,60 @@ extern "C" {
 #endif
 
 #define SSS_FORMAT_MAJOR 1
-#define SSS_FORMAT_MINOR 0
+#define SSS_FORMAT_MINOR 1
 #define SSS_MAX_SECTIONS 32
 
 typedef enum sss_quant {
     SSS_QUANT_FLOAT = 0,   /* q stored as float32 */
-    SSS_QUANT_LLOYD8 = 1   /* q stored as 8-bit indices into a 256-level Lloyd table per channel */
+    SSS_QUANT_LLOYD8 = 1,  /* q stored as 8-bit indices into a 256-level Lloyd table per channel */
+    SSS_QUANT_SH = 2,      /* (1.1) every vertex: quantised SH coefficients of q (§4.1), section SHC */
+    SSS_QUANT_REFS = 3     /* (1.1) reference vertices keep Lloyd-8 rows; the others blend three of
+                              them and add an SH-coded delta (§4.2-4.3), sections REFS + SHC */
 } sss_quant;
+
+/* How SH coefficients are quantised (section SHC). */
+typedef enum sss_shq {
+    SSS_SHQ_LINEAR8 = 0,   /* the paper's: int8 code, one scale per (channel, coefficient) */
+    SSS_SHQ_LLOYD8 = 1,    /* 8-bit code into a 256-level Lloyd-Max table per (channel, coefficient) */
+    SSS_SHQ_LLOYD4 = 2     /* 4-bit code (two per byte, low nibble first) into a 16-level table */
+} sss_shq;
+
+#define SSS_SH_FILE_MAX_ORDER 8
+
+/* SH-coded part: for the "coded" vertices (all vertices in SSS_QUANT_SH,
+ * the non-references in SSS_QUANT_REFS, in increasing vertex order), the
+ * first order² real SH coefficients (sss/sh.h basis) of q, or of the delta,
+ * per channel. */
+typedef struct sss_shcode {
+    uint32_t order;        /* 0 … 8 (0: no SH part, SSS_QUANT_REFS only) */
+    uint32_t ncoef;        /* order² */
+    uint32_t kind;         /* sss_shq */
+    uint32_t ncoded;       /* coded vertices */
+    /* Dequantisation tables, always filled in memory: coefficient i of
+     * channel c with code x is table[(c * ncoef + i) * levels + x], levels =
+     * 256 or 16. For LINEAR8 the file stores only the scales and the reader
+     * builds table[b] = (int8_t)b · scale / 127 for each code byte b. */
+    float *table;          /* channels * ncoef * levels, owned */
+    float *scale;          /* LINEAR8 only: channels * ncoef scales (what the file stores), owned */
+    uint8_t *code;         /* code bytes as in the file: element e = (k * channels + c) * ncoef + i,
+                              one byte each (8-bit kinds) or nibble e%2 of byte e/2 (LLOYD4); owned */
+} sss_shcode;
+
+/* Reference part (SSS_QUANT_REFS). */
+typedef struct sss_refcode {
+    uint32_t nref;         /* reference vertices */
+    uint32_t nrt;          /* reference triangles */
+    uint32_t tri_bytes;    /* bytes per stored triangle index: 2, 3 or 4 (the fewest that hold nrt − 1) */
+    uint32_t wbits;        /* bits per stored weight: 8 or 16 */
+    float w_lo, w_hi;      /* weight w = w_lo + (w_hi − w_lo) · code / (2^wbits − 1); the third is 1 − w0 − w1 */
+    uint32_t *ref_vertex;  /* nref vertex indices, strictly increasing; owned */
+    uint32_t *ref_tri;     /* 3 * nrt indices into ref_vertex; owned */
+    uint32_t *vtri;        /* ncoded reference-triangle indices (< nrt); owned */
+    uint16_t *w;           /* 2 * ncoded weight codes (< 2^wbits); owned */
+    float *levels;         /* channels * 256 Lloyd levels, ascending; owned */
+    uint8_t *idx;          /* ndirs * nref * channels codes, ((j * nref + r) * channels + c); owned */
+    uint32_t *coded_vertex;/* derived by the reader: the ncoded non-reference vertices, increasing; owned */
+} sss_refcode;
 
 /* One entry of the section table, as found in a file. */
 typedef struct sss_section_info {
@@ -51,6 +99,8 @@ typedef struct sss_bake_file {
     float *q;                 /* SSS_QUANT_FLOAT: n * nv * channels values, owned */
     float *levels;            /* SSS_QUANT_LLOYD8: channels * 256 reconstruction levels, owned */
     uint8_t *qidx;            /* SSS_QUANT_LLOYD8: n * nv * channels indices, owned */
+    sss_shcode sh;            /* SSS_QUANT_SH and SSS_QUANT_REFS */
+    sss_refcode ref;          /* SSS_QUANT_REFS */
     char *params_json;        /* bake parameters as JSON text (provenance), NUL-terminated, owned */
     /* Filled by the reader (ignored by the writer): */
     uint64_t file_size;
@@ -78,8 +128,54 @@ sss_result sss_file_read(const char *path, sss_bake_file *f, sss_error *err);
 void sss_file_free(sss_bake_file *f);
 
 /* Bytes per vertex taken by the stored integrals (values plus, for lloyd8,
- * the level tables spread over the vertices); geometry not included. */
+ * the level tables spread over the vertices; for the compressed forms every
+ * byte of sections REFS and SHC); geometry not included. */
 double sss_file_integral_bytes_per_vertex(const sss_bake_file *f);
+
+/* Exact byte count of every stored part of the scattering data, as encoded
+ * (docs/format.md §5): what sss-stat reports. */
+typedef struct sss_storage {
+    uint64_t dirs;          /* section DIRS (directions and their triangulation) */
+    uint64_t values;        /* QFLT values, or QL8 indices */
+    uint64_t lloyd_tables;  /* QL8 / REFS level tables */
+    uint64_t section_headers; /* fixed fields at the start of QL8, REFS and SHC */
+    uint64_t ref_vertex;    /* REFS: reference vertex indices */
+    uint64_t ref_tri;       /* REFS: reference triangles */
+    uint64_t vertex_tri;    /* REFS: per-vertex reference-triangle indices */
+    uint64_t weights;       /* REFS: per-vertex weights */
+    uint64_t ref_values;    /* REFS: reference rows */
+    uint64_t sh_tables;     /* SHC: scales or Lloyd tables */
+    uint64_t sh_codes;      /* SHC: coefficient codes */
+    uint64_t scattering;    /* the integrals: everything above except dirs */
+    uint64_t total;         /* scattering + dirs */
+} sss_storage;
+void sss_file_storage(const sss_bake_file *f, sss_storage *s);
+
+/* "float", "lloyd8", "sh", "refs" ("?" for an unknown value). */
+const char *sss_quant_name(sss_quant q);
+
+/* "linear8", "lloyd8", "lloyd4" ("?" for an unknown value). */
+const char *sss_shq_name(uint32_t kind);
+
+/* Number of SH dequantisation levels of a kind (256 or 16; 0 if unknown). */
+uint32_t sss_shq_levels(uint32_t kind);
+
+/* Fewest bytes (2, 3 or 4) that hold every reference-triangle index below
+ * nrt: the stored width of sss_refcode.vtri. */
+uint32_t sss_refs_tri_bytes(uint32_t nrt);
+
+/* Builds the LINEAR8 dequantisation tables (256 entries per scale) from n
+ * scales; reader and compressor both use it, so they agree to the bit. */
+void sss_shq_linear8_table(const float *scale, uint32_t n, float *table);
+
+/* Bytes of the SH code array for n elements of a kind. */
+uint64_t sss_shq_code_bytes(uint32_t kind, uint64_t n);
+
+/* Code of element e of an SH code array. */
+static inline uint32_t sss_shq_code(const uint8_t *code, uint32_t kind, uint64_t e)
+{
+    return kind == SSS_SHQ_LLOYD4 ? (uint32_t)(code[e >> 1] >> ((e & 1u) * 4u)) & 15u : code[e];
+}
 
 /* CRC-32 (IEEE 802.3, reflected, init and xorout 0xFFFFFFFF), chainable:
  * crc = sss_crc32(crc, data, n) starting from 0. */

@@ -92,6 +92,12 @@ void sss_integrate(const sss_nbhd *nb, const float *G, uint32_t n, float *q);
 sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float levels[256], uint8_t *idx,
                       double *signal, double *noise, sss_error *err);
 
+/* The same quantiser with nlevels (2 … 256) levels; pin_min pins level 0 to
+ * the minimum (what sss_lloyd8 does), else every level is a free centroid
+ * (signed data such as SH coefficients). */
+sss_result sss_lloyd(const float *x, uint64_t count, uint32_t stride, uint32_t nlevels, int pin_min, float *levels,
+                     uint8_t *idx, double *signal, double *noise, sss_error *err);
+
 /* The whole bake: writes out (mesh copy, material, dirs, q or levels+qidx,
  * params JSON) and stats. `mesh_name` goes into the params JSON. */
 sss_result sss_bake(const sss_mesh *mesh, const char *mesh_name, const sss_material *mat,
