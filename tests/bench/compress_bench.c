@@ -9,6 +9,8 @@
  *     --illum W         illumination-aware references with weight W
  *     --mono C          compress channel C only, as a one-channel bake
  *     --out FILE        also write the compressed .sss
+ *     --row             print one markdown table row instead of JSON:
+ *                       | channels | refs (%) | order | codes | weights | B/vertex (all scattering bytes, directions included) | rel. RMS | RMS | max |
  * FRACTION 0 is SH-only mode. Prints one JSON object: counts, bytes of every
  * part (sss_file_storage: all bytes of the scattering data), bytes per vertex,
  * area-weighted relative RMS against the uncompressed interpolation (per
@@ -64,10 +66,12 @@ int main(int argc, char **argv)
     if (*end) return usage();
     unsigned long ndt = 1000;
     long mono = -1;
+    int row = 0;
     const char *outpath = NULL;
     for (int i = 4; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--ls")) o.ls_weights = 1;
+        else if (!strcmp(a, "--row")) row = 1;
         else if (!v) return usage();
         else if (!strcmp(a, "--dirs")) ndt = strtoul(v, NULL, 10), i++;
         else if (!strcmp(a, "--wbits")) o.wbits = (uint32_t)strtoul(v, NULL, 10), i++;
@@ -128,6 +132,19 @@ int main(int argc, char **argv)
     }
     const uint32_t nv = cf.mesh.nv, C = cf.channels;
     static const char *kinds[] = {"linear8", "lloyd8", "lloyd4"};
+    if (row) {
+        char refs[64] = "—", w[64] = "—";
+        if (cf.quant == SSS_QUANT_REFS) {
+            snprintf(refs, sizeof refs, "%u (%.2f %%)%s", cf.ref.nref, 100.0 * cf.ref.nref / nv,
+                     o.illum_weight > 0 ? " illum" : "");
+            snprintf(w, sizeof w, "%u-bit %s", o.wbits, o.ls_weights ? "LS" : "bary");
+        }
+        printf("| %s | %s | %u | %s | %s | %.2f | %.4f | %.3g | %.3g |\n", C == 1 ? "mono" : "RGB", refs, o.order,
+               o.order ? kinds[o.sh_kind] : "—", w, (double)b.total / nv, rel[C], rms[C], max_abs);
+        sss_file_free(&cf);
+        sss_file_free(&f);
+        return 0;
+    }
     printf("{\"file\": \"%s\", \"vertices\": %u, \"channels\": %u, \"directions\": %u, \"order\": %u, "
            "\"sh_kind\": \"%s\", \"fraction\": %g, \"wbits\": %u, \"ls_weights\": %d, \"illum_weight\": %g, "
            "\"refs\": %u, \"ref_triangles\": %u, \"coded_vertices\": %u,\n",

@@ -281,6 +281,43 @@ static void leastSquaresWeightsBeatBarycentrics(void **state)
     sss_file_free(&l);
 }
 
+/* Where every reference row is the same (constant q: a degenerate least-
+ * squares system, all corners alike), the least-squares weights fall back
+ * to the closest-point barycentrics: finite, in [0, 1], summing to 1; and
+ * the reconstruction is the constant. */
+static void leastSquaresWeightsOnIdenticalRowsStayBounded(void **state)
+{
+    (void)state;
+    sss_bake_file flat = g_file;
+    const size_t nq = (size_t)g_file.dirs.n * g_file.mesh.nv * g_file.channels;
+    flat.q = malloc(nq * sizeof *flat.q);
+    assert_non_null(flat.q);
+    for (size_t i = 0; i < nq; i++) flat.q[i] = 0.25f;
+    sss_compress_opts o;
+    sss_compress_opts_default(&o);
+    o.order = 2;
+    o.fraction = 0.05;
+    o.ls_weights = 1;
+    sss_bake_file cf;
+    sss_error err = {{0}};
+    if (sss_compress(&flat, &o, &cf, &err) != SSS_OK) fail_msg("%s", err.msg);
+    const double span = (double)cf.ref.w_hi - cf.ref.w_lo;
+    for (uint32_t k = 0; k < cf.sh.ncoded; k++) {
+        double w0 = cf.ref.w_lo + span * cf.ref.w[2 * k] / 65535.0, w1 = cf.ref.w_lo + span * cf.ref.w[2 * k + 1] / 65535.0;
+        if (!(w0 >= -1e-4 && w1 >= -1e-4 && w0 + w1 <= 1.0 + 1e-4))
+            fail_msg("coded vertex %u: weights %g %g outside the triangle", k, w0, w1);
+    }
+    float *out = malloc((size_t)g_file.mesh.nv * g_file.channels * sizeof *out);
+    assert_non_null(out);
+    const double l[3] = {0.6, 0.0, 0.8};
+    sss_decode_all(&cf, l, out);
+    for (size_t i = 0; i < (size_t)g_file.mesh.nv * g_file.channels; i++)
+        if (!(fabs(out[i] - 0.25) < 1e-3)) fail_msg("value %zu = %g, not 0.25", i, out[i]);
+    free(out);
+    free(flat.q);
+    sss_file_free(&cf);
+}
+
 /* Lloyd-Max tables are MSE-optimal per coefficient: at 8 bits no worse than
  * the paper's linear codes; 4 bits is coarser than 8. */
 static void lloydCodesAtLeastAsGoodAsLinear(void **state)
@@ -561,6 +598,7 @@ int main(void)
         cmocka_unit_test(shOnlyErrorDecreasesWithOrder),
         cmocka_unit_test(referenceDeltaOrder3BeatsOrder0),
         cmocka_unit_test(leastSquaresWeightsBeatBarycentrics),
+        cmocka_unit_test(leastSquaresWeightsOnIdenticalRowsStayBounded),
         cmocka_unit_test(lloydCodesAtLeastAsGoodAsLinear),
         cmocka_unit_test(decodeVertexMatchesDecodeAll),
         cmocka_unit_test(accountingSumsToTotal),
