@@ -18,6 +18,36 @@ contains "$TMP/bake_lloyd8.json" '"lloyd_snr_db"'
 # lloyd8 integrals take 1 byte instead of 4: the file must be much smaller
 f=$(stat -c %s "$TMP/blob_float.sss"); l=$(stat -c %s "$TMP/blob_lloyd8.sss")
 [ $((l * 3)) -lt "$f" ] || fail "lloyd8 file ($l B) should be < 1/3 of float ($f B)"
+# compressed forms (format 1.1): SH only, and references + SH deltas
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_sh.sss" --material skin1 --mm-per-unit 20 --dirs 50 --sh-order 3 --refs 0 --json -q
+contains "$TMP/out" '"quant":"sh"'
+contains "$TMP/out" '"sh_order":3'
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_refs.sss" --material skin1 --mm-per-unit 20 --dirs 50 \
+  --sh-order 2 --refs 0.05 --sh-quant lloyd4 --weight-bits 8 --ls-weights --json -q
+contains "$TMP/out" '"quant":"refs"'
+expect_ok "$SSS_STAT" "$TMP/blob_refs.sss" --json
+contains "$TMP/out" '"format_version":"1.1"'
+for part in ref_vertex_indices ref_triangles vertex_triangle_indices weights ref_values sh_tables sh_codes directions; do
+  contains "$TMP/out" "\"$part\":{\"bytes\":"
+done
+contains "$TMP/out" '"sh_quant":"lloyd4"'
+contains "$TMP/out" '"weight_bits":8'
+contains "$TMP/out" '"ratio_vs_float":'
+contains "$TMP/out" '"ls_weights":true'
+expect_ok "$SSS_STAT" "$TMP/blob_sh.sss"
+contains "$TMP/out" 'sh_codes'
+contains "$TMP/out" 'smaller than 8-bit'
+# SH order 3 at one byte per coefficient: 27 bytes per vertex of codes, far
+# below the 150 of lloyd8
+s=$(stat -c %s "$TMP/blob_sh.sss"); l=$(stat -c %s "$TMP/blob_lloyd8.sss")
+[ "$s" -lt "$l" ] || fail "SH file ($s B) should be smaller than lloyd8 ($l B)"
+# contradictory or empty compression settings are refused before baking
+expect_fail 'exclude each other' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --quant lloyd8 --sh-order 3
+expect_fail 'needs --refs' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --sh-order 0
+expect_fail 'sh-order' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --sh-order 9
+expect_fail 'refs' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --refs 1.5
+expect_fail 'weight-bits' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --weight-bits 12
+[ ! -e "$TMP/x.sss" ] || fail "a refused bake left a file"
 # the bundled sample bakes too
 expect_ok "$SSS_BAKE" "$SSS_SOURCE/data/meshes/blob.ply" -o "$TMP/sample.sss" --material marble --mm-per-unit 100 --dirs 25 -q
 echo "cli_bake_stat: ok"
