@@ -9,6 +9,23 @@
 #include <stdlib.h>
 
 #include "progress.h"
+#include "transfer.h"
+
+float sss_transfer_one(const sss_mesh *mesh, const sss_vis *vis, uint32_t i, const double d[3], double eta,
+                       int *traced, int *blocked)
+{
+    const float *nv = &mesh->nrm[3 * (size_t)i];
+    double c = nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2];
+    int t = c > 0.0, b = 0;
+    float g = 0.0f;
+    if (t) {
+        b = vis && sss_vis_occluded(vis, i, d);
+        if (!b) g = (float)(sss_ft(eta, c) * c);
+    }
+    if (traced) *traced = t;
+    if (blocked) *blocked = b;
+    return g;
+}
 
 sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
                                 float *G, uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
@@ -20,17 +37,11 @@ sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const 
     for (int64_t i = 0; i < (int64_t)mesh->nv; i++) {
         if (stop) continue;
         if (sss_bake_interrupted) { stop = 1; continue; }
-        const float *nv = &mesh->nrm[3 * (size_t)i];
         for (uint32_t j = 0; j < n; j++) {
-            const double *d = &dirs[3 * (size_t)j];
-            double c = nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2];
-            float g = 0.0f;
-            if (c > 0.0) {
-                rays++;
-                if (vis && sss_vis_occluded(vis, (uint32_t)i, d)) occ++;
-                else g = (float)(sss_ft(eta, c) * c);
-            }
-            G[(size_t)i * n + j] = g;
+            int traced, blocked;
+            G[(size_t)i * n + j] = sss_transfer_one(mesh, vis, (uint32_t)i, &dirs[3 * (size_t)j], eta, &traced, &blocked);
+            rays += (uint64_t)traced;
+            occ += (uint64_t)blocked;
         }
         sss_progress_tick(1);
     }

@@ -1,10 +1,17 @@
-/* sss-stat: what a .sss file holds and where its bytes go. */
+/* sss-stat: what a .sss file holds and where its bytes go; with --query,
+ * the exact q at one vertex for one light direction next to what the stored
+ * data reconstruct there (Hao–Varshney 2004 §3.1 against §3.2 / §4). */
 #include <cjson/cJSON.h>
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli_util.h"
+#include "sss/decode.h"
+#include "sss/exact.h"
 #include "sss/format.h"
 
 static const char *TOOL = "sss-stat";
@@ -12,29 +19,194 @@ static const char *TOOL = "sss-stat";
 static void usage(FILE *f)
 {
     fprintf(f, "usage: sss-stat FILE.sss [--json]\n"
+               "       sss-stat FILE.sss --query VERTEX --light X,Y,Z [--json]\n"
                "Prints vertex count, channels, directions, storage, material, the bytes of every\n"
                "section, and every part of the scattering data (directions, reference indices,\n"
                "triangles, weights, tables, codes) in total and per vertex, with the compression\n"
-               "ratio against 8-bit and float storage. --json prints one JSON object on stdout.\n");
+               "ratio against 8-bit and float storage. --json prints one JSON object on stdout.\n"
+               "\n"
+               "--query VERTEX --light X,Y,Z: q(x_v, w) per channel at vertex VERTEX (0 ... vertices-1)\n"
+               "for a light from direction (X,Y,Z) (towards the light, any non-zero length): the\n"
+               "exact value, recomputed from the file's mesh, material and bake parameters with the\n"
+               "bake's neighbourhoods and visibility rays (no direction samples, no quantisation),\n"
+               "the value reconstructed from the stored data (interpolated between the three\n"
+               "nearest direction samples, decoded from any storage form), and their difference\n"
+               "(reconstructed - exact). Builds the neighbourhoods of the whole mesh first.\n"
+               "\n"
+               "Exit status: 0 success, 1 unreadable or unusable file, 2 bad arguments.\n");
+}
+
+/* The vertex index of --query, checked against the file: a plain decimal
+ * integer below nv. */
+static int parse_vertex(const char *path, const char *s, uint32_t nv, uint32_t *out)
+{
+    const char *p = s;
+    while (isspace((unsigned char)*p)) p++;
+    if (*p == '-') {
+        fprintf(stderr, "%s: %s: --query '%s': a vertex index cannot be negative (the file has vertices 0 ... %u)\n",
+                TOOL, path, s, nv - 1);
+        return 0;
+    }
+    int digits = *p != 0;
+    for (const char *q = p; *q; q++)
+        if (!isdigit((unsigned char)*q)) digits = 0;
+    if (!digits) {
+        fprintf(stderr, "%s: %s: --query '%s' is not a vertex index (an integer in [0, %u])\n", TOOL, path, s, nv - 1);
+        return 0;
+    }
+    errno = 0;
+    unsigned long long v = strtoull(p, NULL, 10);
+    if (errno || v >= nv) {
+        fprintf(stderr, "%s: %s: --query %s: vertex index out of range: the file has %u vertices (0 ... %u)\n", TOOL,
+                path, s, nv, nv - 1);
+        return 0;
+    }
+    *out = (uint32_t)v;
+    return 1;
+}
+
+/* --light X,Y,Z: three finite numbers, not all zero (a direction). */
+static int parse_light(const char *path, const char *s, double l[3])
+{
+    const char *p = s;
+    for (int k = 0; k < 3; k++) {
+        char *end;
+        l[k] = strtod(p, &end);
+        if (end == p || (k < 2 ? *end != ',' : *end != 0)) {
+            fprintf(stderr, "%s: %s: --light '%s' must be three numbers X,Y,Z\n", TOOL, path, s);
+            return 0;
+        }
+        p = end + 1;
+    }
+    if (!isfinite(l[0]) || !isfinite(l[1]) || !isfinite(l[2])) {
+        fprintf(stderr, "%s: %s: --light '%s': every component must be a finite number\n", TOOL, path, s);
+        return 0;
+    }
+    if (l[0] == 0.0 && l[1] == 0.0 && l[2] == 0.0) {
+        fprintf(stderr, "%s: %s: --light '%s' is the zero vector: give a direction towards the light\n", TOOL, path, s);
+        return 0;
+    }
+    return 1;
+}
+
+/* --query: the exact evaluator against the stored data at one vertex. */
+static int query(const char *path, const sss_bake_file *f, const char *vs, const char *ls, int json)
+{
+    uint32_t v;
+    double light[3];
+    if (!parse_vertex(path, vs, f->mesh.nv, &v) || !parse_light(path, ls, light)) return 2;
+    sss_exact *e;
+    sss_error err = {{0}};
+    if (sss_exact_create(f, &e, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
+        return 1;
+    }
+    const uint32_t C = f->channels;
+    float ex[SSS_MAX_CHANNELS], rec[SSS_MAX_CHANNELS];
+    sss_exact_eval_vertex(e, v, light, ex);
+    sss_decode_vertex(f, v, light, rec);
+    /* the unit direction and the nearest stored sample, so a reader can see
+     * whether the light sits on a sample (where a float file has no
+     * interpolation error) */
+    const double m = fmax(fabs(light[0]), fmax(fabs(light[1]), fabs(light[2])));
+    double d[3], dl = 0.0;
+    for (int k = 0; k < 3; k++) { d[k] = light[k] / m; dl += d[k] * d[k]; }
+    dl = sqrt(dl);
+    for (int k = 0; k < 3; k++) d[k] /= dl;
+    uint32_t jn = 0;
+    double best = -2.0;
+    for (uint32_t j = 0; j < f->dirs.n; j++) {
+        const double *w = &f->dirs.dir[3 * (size_t)j];
+        double c = d[0] * w[0] + d[1] * w[1] + d[2] * w[2];
+        if (c > best) { best = c; jn = j; }
+    }
+    const double angle = acos(fmin(1.0, fmax(-1.0, best))) * 180.0 / 3.14159265358979323846;
+    double diff[SSS_MAX_CHANNELS], maxdiff = 0.0;
+    for (uint32_t c = 0; c < C; c++) {
+        diff[c] = (double)rec[c] - (double)ex[c];
+        maxdiff = fmax(maxdiff, fabs(diff[c]));
+    }
+    static const char *const rgb[3] = {"R", "G", "B"};
+    if (json) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "file", path);
+        cJSON_AddNumberToObject(o, "vertex", v);
+        cJSON_AddNumberToObject(o, "vertices", f->mesh.nv);
+        cJSON_AddItemToObject(o, "light", cJSON_CreateDoubleArray(light, 3));
+        cJSON_AddItemToObject(o, "direction", cJSON_CreateDoubleArray(d, 3));
+        cJSON_AddStringToObject(o, "quant", sss_quant_name(f->quant));
+        cJSON_AddNumberToObject(o, "directions", f->dirs.n);
+        cJSON *nd = cJSON_AddObjectToObject(o, "nearest_direction");
+        cJSON_AddNumberToObject(nd, "index", jn);
+        cJSON_AddNumberToObject(nd, "angle_deg", angle);
+        cJSON_AddNumberToObject(o, "channels", C);
+        cJSON_AddNumberToObject(o, "eps", sss_exact_eps(e));
+        cJSON_AddNumberToObject(o, "search_radius_mm", sss_exact_search_radius_mm(e));
+        cJSON *a = cJSON_AddArrayToObject(o, "exact"), *b = cJSON_AddArrayToObject(o, "reconstructed"),
+              *dd = cJSON_AddArrayToObject(o, "difference"), *rr = cJSON_AddArrayToObject(o, "relative_difference");
+        for (uint32_t c = 0; c < C; c++) {
+            cJSON_AddItemToArray(a, cJSON_CreateNumber(ex[c]));
+            cJSON_AddItemToArray(b, cJSON_CreateNumber(rec[c]));
+            cJSON_AddItemToArray(dd, cJSON_CreateNumber(diff[c]));
+            /* relative to the exact value; null where that is 0 (shadowed) */
+            cJSON_AddItemToArray(rr, ex[c] != 0.0f ? cJSON_CreateNumber(diff[c] / ex[c]) : cJSON_CreateNull());
+        }
+        cJSON_AddNumberToObject(o, "max_abs_difference", maxdiff);
+        char *s = cJSON_PrintUnformatted(o);
+        puts(s);
+        free(s);
+        cJSON_Delete(o);
+    } else {
+        printf("%s: vertex %u of %u, light (%g, %g, %g), storage %s, %u directions\n", path, v, f->mesh.nv, light[0],
+               light[1], light[2], sss_quant_name(f->quant), f->dirs.n);
+        printf("  nearest direction sample %u at %.4g deg; exact evaluator: eps %g, search radius %.4g mm\n", jn,
+               angle, sss_exact_eps(e), sss_exact_search_radius_mm(e));
+        printf("  %-8s %15s %15s %15s %12s\n", "channel", "exact", "reconstructed", "difference", "relative");
+        for (uint32_t c = 0; c < C; c++) {
+            char rel[32];
+            if (ex[c] != 0.0f) snprintf(rel, sizeof rel, "%.4g", diff[c] / ex[c]);
+            else snprintf(rel, sizeof rel, "-");
+            printf("  %-8s %15.9g %15.9g %15.6g %12s\n", C == 1 ? "grey" : rgb[c], (double)ex[c], (double)rec[c],
+                   diff[c], rel);
+        }
+        printf("  max |difference| %.6g\n", maxdiff);
+    }
+    sss_exact_destroy(e);
+    return 0;
 }
 
 int main(int argc, char **argv)
 {
-    const char *path = NULL;
+    const char *path = NULL, *qvertex = NULL, *qlight = NULL;
     int json = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--json")) json = 1;
+        else if (!strcmp(argv[i], "--query") || !strcmp(argv[i], "--light")) {
+            if (i + 1 >= argc) { fprintf(stderr, "%s: %s needs a value (see --help)\n", TOOL, argv[i]); return 2; }
+            if (argv[i][2] == 'q') qvertex = argv[++i];
+            else qlight = argv[++i];
+        }
         else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) { usage(stdout); return 0; }
         else if (argv[i][0] == '-' && argv[i][1]) { fprintf(stderr, "%s: unknown option '%s' (see --help)\n", TOOL, argv[i]); return 2; }
         else if (!path) path = argv[i];
         else { fprintf(stderr, "%s: unexpected argument '%s'\n", TOOL, argv[i]); return 2; }
     }
     if (!path) { fprintf(stderr, "%s: missing FILE.sss (see --help)\n", TOOL); return 2; }
+    if (!qvertex != !qlight) {
+        fprintf(stderr, "%s: %s needs %s (see --help)\n", TOOL, qvertex ? "--query" : "--light",
+                qvertex ? "--light X,Y,Z" : "--query VERTEX");
+        return 2;
+    }
     sss_bake_file f;
     sss_error err = {{0}};
     if (sss_file_read(path, &f, &err) != SSS_OK) {
         fprintf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
+    }
+    if (qvertex) {
+        int rc = query(path, &f, qvertex, qlight, json);
+        sss_file_free(&f);
+        return rc;
     }
     const double nv = f.mesh.nv;
     const char *quant = sss_quant_name(f.quant);

@@ -1,0 +1,70 @@
+/* sss/exact.h: the exact evaluator of q(x_v, ω) (Hao–Varshney 2004 §3.1)
+ * for ANY light direction ω, from a .sss file alone.
+ *
+ * A bake stores q only at its direction samples ω_j, possibly quantised or
+ * compressed (§3.2, §4); a renderer interpolates between them. To measure
+ * what that costs, this evaluator recomputes the integral itself, with the
+ * physics, neighbourhoods, self term and visibility rule of the bake:
+ *
+ *   q(x_o, ω) = Σ_{x_i ∈ N(x_o)} w_c(o, i) · F_t(η, n_i·ω) · max(0, n_i·ω) · V(x_i, ω)
+ *
+ * (docs/format.md §5.4). Everything it needs is in the file: the mesh with
+ * its normals (GEOM; the areas ΔA are recomputed exactly from the float
+ * positions), the material and mm per unit (MATL), and the neighbourhood
+ * energy cutoff ε (PARM, "eps"). The stored integrals and directions are not
+ * used, so any storage form works, and at a direction sample ω_j of a float
+ * bake the result is the stored value.
+ */
+#ifndef SSS_EXACT_H
+#define SSS_EXACT_H
+
+#include <stdint.h>
+#include "sss/format.h"
+#include "sss/result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Opaque: a copy of the mesh with areas, the neighbourhoods N(x_o) with
+ * their per-channel weights, and the occlusion BVH, built once. */
+typedef struct sss_exact sss_exact;
+
+/* Builds the evaluator for f (which may be freed afterwards). ε is read from
+ * f->params_json ("eps"; 1e-3, the bake's default, when PARM is empty or has
+ * no "eps"); the neighbourhood radius per channel is then recomputed as the
+ * bake did (sss_rd_radius clamped to the bounding-box diagonal). Errors:
+ * SSS_ERR_ARG (no mesh, bad channel count), SSS_ERR_CORRUPT (PARM is not a
+ * JSON object, or "eps" is not a number in (0, 1)), SSS_ERR_NOMEM,
+ * SSS_ERR_UNSUPPORTED (Embree). The message names the section at fault, not
+ * the file (the caller knows its name). */
+sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *err);
+
+/* q(x_v, ω) for every vertex into out[v * channels + c] (channels of the
+ * file). light points towards the light and need not be unit; a zero or
+ * non-finite light gives zeros. Each vertex's sum runs over its neighbours
+ * in increasing index order in double, so the result does not depend on the
+ * thread count. */
+void sss_exact_eval(const sss_exact *e, const double light[3], float *out);
+
+/* The same for one vertex into out[0 … channels−1], bit for bit what
+ * sss_exact_eval writes for it (it traces only that vertex's neighbours'
+ * rays). v out of range gives zeros. */
+void sss_exact_eval_vertex(const sss_exact *e, uint32_t v, const double light[3], float *out);
+
+/* Vertex and channel counts of the evaluator's mesh and material. */
+uint32_t sss_exact_vertices(const sss_exact *e);
+uint32_t sss_exact_channels(const sss_exact *e);
+
+/* ε used (from PARM or the default) and the neighbourhood search radius in
+ * mm it gives: reported by sss-stat --query. */
+double sss_exact_eps(const sss_exact *e);
+double sss_exact_search_radius_mm(const sss_exact *e);
+
+/* NULL-safe. */
+void sss_exact_destroy(sss_exact *e);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

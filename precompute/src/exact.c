@@ -1,0 +1,214 @@
+/* exact.c: q(x_o, ω) for an arbitrary light direction, recomputed from a
+ * .sss file with the bake's own pieces (Hao–Varshney 2004 §3.1): the
+ * neighbourhoods and weights of nbhd.c, the transfer term of transfer.c and
+ * the occlusion rays of visibility.c. It is the reference against which the
+ * direction interpolation (§3.2), the Lloyd quantisation and the compressed
+ * forms (§4) are measured, so it must not share their approximations: no
+ * direction samples, no quantisation.
+ */
+#include "sss/exact.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sss/bake.h"
+#include "transfer.h"
+
+/* The bake's default cutoff (sss_bake_options.eps = 0 means this). */
+#define EXACT_DEFAULT_EPS 1e-3
+
+struct sss_exact {
+    sss_mesh mesh;   /* own copy: positions, stored normals, tri, recomputed ΔA */
+    uint32_t channels;
+    double eta;
+    double eps, search_radius_mm;
+    sss_nbhd nb;     /* one row per vertex, rows in vertex order */
+    sss_vis *vis;    /* refers to mesh */
+};
+
+/* ε from the bake parameters. The bake writes every input it used into PARM
+ * (bake.c params_json); an empty PARM (a file from another writer) means the
+ * bake's default. A PARM that is not JSON, or an "eps" that is not a valid
+ * cutoff, is refused: silently falling back would make the "exact"
+ * reference use a different neighbourhood than the bake did. */
+static sss_result read_eps(const char *json, double *eps, sss_error *err)
+{
+    *eps = EXACT_DEFAULT_EPS;
+    if (!json) return SSS_OK;
+    const char *p = json;
+    while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') p++;
+    if (!*p) return SSS_OK;
+    cJSON *o = cJSON_Parse(json);
+    if (!o || !cJSON_IsObject(o)) {
+        cJSON_Delete(o);
+        return sss_fail(err, SSS_ERR_CORRUPT, "section PARM: bake parameters are not a JSON object");
+    }
+    const cJSON *e = cJSON_GetObjectItemCaseSensitive(o, "eps");
+    sss_result r = SSS_OK;
+    if (e) {
+        if (!cJSON_IsNumber(e) || !(e->valuedouble > 0.0 && e->valuedouble < 1.0))
+            r = sss_fail(err, SSS_ERR_CORRUPT, "section PARM: \"eps\" must be a number in (0, 1)");
+        else
+            *eps = e->valuedouble;
+    }
+    cJSON_Delete(o);
+    return r;
+}
+
+/* The mesh as the bake used it: the file's positions, triangles and normals
+ * (GEOM stores the bake's own normals) and ΔA recomputed from the float
+ * positions with the same sums in the same order (docs/format.md §5.1). */
+static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
+{
+    sss_result r = sss_mesh_alloc(dst, src->nv, src->nf, err);
+    if (r != SSS_OK) return r;
+    dst->nrm = malloc((size_t)src->nv * 3 * sizeof(float));
+    dst->area = malloc((size_t)src->nv * sizeof(double));
+    if (!dst->nrm || !dst->area) {
+        sss_mesh_free(dst);
+        return sss_fail(err, SSS_ERR_NOMEM, "exact evaluator: out of memory for %u vertices", src->nv);
+    }
+    memcpy(dst->pos, src->pos, (size_t)src->nv * 3 * sizeof(float));
+    memcpy(dst->nrm, src->nrm, (size_t)src->nv * 3 * sizeof(float));
+    memcpy(dst->tri, src->tri, (size_t)src->nf * 3 * sizeof(uint32_t));
+    sss_mesh_vertex_areas(dst, dst->area);
+    return SSS_OK;
+}
+
+sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *err)
+{
+    *out = NULL;
+    if (!f || f->mesh.nv == 0 || f->mesh.nf == 0 || !f->mesh.pos || !f->mesh.nrm || !f->mesh.tri)
+        return sss_fail(err, SSS_ERR_ARG, "exact evaluator: the file has no mesh");
+    if (f->channels < 1 || f->channels > SSS_MAX_CHANNELS)
+        return sss_fail(err, SSS_ERR_ARG, "exact evaluator: %u channels (1 or 3 expected)", f->channels);
+    if (!(f->mm_per_unit > 0) || !isfinite(f->mm_per_unit))
+        return sss_fail(err, SSS_ERR_ARG, "exact evaluator: mm per unit %g must be a finite number > 0", f->mm_per_unit);
+    double eps;
+    sss_result r = read_eps(f->params_json, &eps, err);
+    if (r != SSS_OK) return r;
+    sss_dipole dip[SSS_MAX_CHANNELS];
+    for (uint32_t c = 0; c < f->channels; c++) {
+        r = sss_dipole_init(&dip[c], f->material.sigma_a[c], f->material.sigmap_s[c], f->material.eta);
+        if (r != SSS_OK)
+            return sss_fail(err, r, "section MATL: channel %u: sigma_a %g, sigma'_s %g, eta %g do not make a dipole", c,
+                            f->material.sigma_a[c], f->material.sigmap_s[c], f->material.eta);
+    }
+
+    sss_exact *e = calloc(1, sizeof *e);
+    if (!e) return sss_fail(err, SSS_ERR_NOMEM, "exact evaluator: out of memory");
+    e->channels = f->channels;
+    e->eta = f->material.eta;
+    e->eps = eps;
+    r = copy_mesh(&f->mesh, &e->mesh, err);
+    if (r != SSS_OK) { free(e); return r; }
+
+    /* The bake's radius rule (bake.c): per channel the disk holding 1−ε of
+     * R_d,total (physics sheet §2 (b)), clamped to the object's diagonal;
+     * the search uses the largest. Recomputed, not read from PARM, where it
+     * is rounded to 9 digits: the membership test r ≤ radius must match. */
+    double lo[3], hi[3];
+    const double diag_mm = sss_mesh_bounds(&e->mesh, lo, hi) * f->mm_per_unit;
+    for (uint32_t c = 0; c < f->channels; c++) {
+        double rc = sss_rd_radius(&dip[c], eps, diag_mm);
+        if (rc > e->search_radius_mm) e->search_radius_mm = rc;
+    }
+    r = sss_nbhd_build(&e->mesh, f->mm_per_unit, dip, f->channels, e->search_radius_mm, NULL, 0, 0, &e->nb, err);
+    if (r == SSS_OK) r = sss_vis_create(&e->mesh, &e->vis, err);
+    if (r != SSS_OK) {
+        sss_exact_destroy(e);
+        return r;
+    }
+    *out = e;
+    return SSS_OK;
+}
+
+void sss_exact_destroy(sss_exact *e)
+{
+    if (!e) return;
+    sss_vis_destroy(e->vis);
+    sss_nbhd_free(&e->nb);
+    sss_mesh_free(&e->mesh);
+    free(e);
+}
+
+uint32_t sss_exact_vertices(const sss_exact *e) { return e->mesh.nv; }
+uint32_t sss_exact_channels(const sss_exact *e) { return e->channels; }
+double sss_exact_eps(const sss_exact *e) { return e->eps; }
+double sss_exact_search_radius_mm(const sss_exact *e) { return e->search_radius_mm; }
+
+/* Unit direction towards the light, or 0 for a zero or non-finite one. A
+ * light that is already unit up to rounding (every stored ω_j) is used as
+ * given, so at a direction sample the rays and cosines are bit for bit the
+ * bake's; others are scaled by their largest component first, so huge or
+ * tiny finite vectors normalise without overflow. */
+static int unit_light(const double l[3], double d[3])
+{
+    if (!isfinite(l[0]) || !isfinite(l[1]) || !isfinite(l[2])) return 0;
+    double n2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+    if (fabs(n2 - 1.0) <= 1e-12) {
+        d[0] = l[0], d[1] = l[1], d[2] = l[2];
+        return 1;
+    }
+    double m = fmax(fabs(l[0]), fmax(fabs(l[1]), fabs(l[2])));
+    if (!(m > 0.0)) return 0;
+    double s[3] = {l[0] / m, l[1] / m, l[2] / m};
+    double len = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    for (int k = 0; k < 3; k++) d[k] = s[k] / len;
+    return 1;
+}
+
+/* Row v of the sparse sum q = Σ_i w(v, i) G(x_i, ω) with G taken from g
+ * (a table over all vertices) or, when g is NULL, traced on the fly. The
+ * products and their order are sss_integrate's (double accumulation,
+ * neighbours in increasing index order), so a direction sample gives the
+ * bake's float exactly. */
+static void row_sum(const sss_exact *e, uint32_t v, const double d[3], const float *g, float *out)
+{
+    const uint32_t C = e->channels;
+    double acc[SSS_MAX_CHANNELS] = {0};
+    for (uint64_t k = e->nb.start[v]; k < e->nb.start[v + 1]; k++) {
+        const uint32_t i = e->nb.idx[k];
+        const float gi = g ? g[i] : sss_transfer_one(&e->mesh, e->vis, i, d, e->eta, NULL, NULL);
+        const float *w = &e->nb.w[k * C];
+        for (uint32_t c = 0; c < C; c++) {
+            double wc = w[c];
+            acc[c] += wc * gi;
+        }
+    }
+    for (uint32_t c = 0; c < C; c++) out[c] = (float)acc[c];
+}
+
+void sss_exact_eval_vertex(const sss_exact *e, uint32_t v, const double light[3], float *out)
+{
+    double d[3];
+    if (v >= e->mesh.nv || !unit_light(light, d)) {
+        for (uint32_t c = 0; c < e->channels; c++) out[c] = 0.0f;
+        return;
+    }
+    row_sum(e, v, d, NULL, out);
+}
+
+void sss_exact_eval(const sss_exact *e, const double light[3], float *out)
+{
+    const uint32_t nv = e->mesh.nv, C = e->channels;
+    double d[3];
+    if (!unit_light(light, d)) {
+        memset(out, 0, (size_t)nv * C * sizeof *out);
+        return;
+    }
+    /* G for every vertex once (each is shared by all the neighbourhoods that
+     * hold it: one ray per vertex), then the sparse sums. Without memory for
+     * the table, every row traces its own rays: slower, same values. */
+    float *g = malloc((size_t)nv * sizeof *g);
+    if (g) {
+#pragma omp parallel for schedule(dynamic, 256)
+        for (int64_t i = 0; i < (int64_t)nv; i++)
+            g[i] = sss_transfer_one(&e->mesh, e->vis, (uint32_t)i, d, e->eta, NULL, NULL);
+    }
+#pragma omp parallel for schedule(dynamic, 64)
+    for (int64_t v = 0; v < (int64_t)nv; v++) row_sum(e, (uint32_t)v, d, g, &out[(size_t)v * C]);
+    free(g);
+}

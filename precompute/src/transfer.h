@@ -1,0 +1,18 @@
+/* transfer.h (internal): the transfer term G(x_i, ω) of one vertex for one
+ * direction, shared by the bake's table (sss_transfer_compute) and the exact
+ * evaluator (exact.c), so both apply the same cosine, Fresnel and visibility
+ * rule with the same float rounding (Hao–Varshney 2004 §3.1).
+ */
+#ifndef SSS_TRANSFER_H
+#define SSS_TRANSFER_H
+
+#include "sss/bake.h"
+
+/* G(x_i, ω) = F_t(η, n_i·ω) · max(0, n_i·ω) · V(x_i, ω), rounded to float as
+ * the bake stores it; d is a unit vector towards the light. vis NULL means
+ * no occlusion test. *traced / *blocked (may be NULL) are set to whether a
+ * ray was traced (n_i·ω > 0) and whether it was blocked. */
+float sss_transfer_one(const sss_mesh *mesh, const sss_vis *vis, uint32_t i, const double d[3], double eta,
+                       int *traced, int *blocked);
+
+#endif
