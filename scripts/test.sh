@@ -2,7 +2,9 @@
 # Set up (packages + build) and run the whole test suite with ctest, twice:
 # the release build, then a build with AddressSanitizer + UBSan
 # (SSS_SANITIZE=ON) where any memory error, leak or undefined behaviour fails
-# the test that hit it.
+# the test that hit it. Last, bounded libFuzzer runs (clang, ASan + UBSan)
+# of the .sss reader and the mesh importers, SSS_FUZZ_SECONDS each
+# (default 60).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh build
@@ -12,3 +14,8 @@ echo "== sanitizer build (ASan + UBSan) ==" >&2
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSS_SANITIZE=ON >/dev/null
 cmake --build build-asan -j"$(nproc)"
 ctest --test-dir build-asan --output-on-failure -j2
+echo "== bounded fuzz runs (libFuzzer, ASan + UBSan) ==" >&2
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSS_SANITIZE=ON -DSSS_FUZZ=ON \
+  -DSSS_FUZZ_SECONDS="${SSS_FUZZ_SECONDS:-60}" >/dev/null
+cmake --build build-fuzz -j"$(nproc)" --target fuzz_sss fuzz_mesh
+ctest --test-dir build-fuzz --output-on-failure -L fuzz

@@ -1,4 +1,5 @@
 /* progress.c: progress bar with ETA on stderr (see progress.h). */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c11 */
 #include "progress.h"
 
 #include <stdatomic.h>

@@ -1,5 +1,6 @@
 /* sss-bake: bakes a mesh and a translucent material into a .sss file
  * (Hao–Varshney 2004 §3). See `sss-bake --help` and docs/usage.md. */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c11 */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <signal.h>

@@ -16,6 +16,7 @@
  * area-weighted relative RMS against the uncompressed interpolation (per
  * channel and overall) over the test directions (fixed seed), and times.
  */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c11 */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>

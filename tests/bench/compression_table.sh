@@ -6,6 +6,7 @@
 #   - SH alone at orders 1-7 (the paper's linear 8-bit codes),
 #   - references {1, 3, 5} % x SH order {2, 3, 4} (paper's scheme),
 #   - the variants in $EXTRA (lines of compress_bench options), if set.
+# ONLY=sh or ONLY=refs restricts to one of the first two groups.
 # Bytes count every byte of the scattering data (sss_file_storage, the
 # direction set included); error = area-weighted relative RMS of q against
 # the uncompressed interpolation at 1000 random light directions.
@@ -21,8 +22,8 @@ for f in "$@"; do
   name=$(basename "$f" .sss)
   for mode in "--mono 1" ""; do
     run() { echo -n "| $name "; $bench "$f" "$@" $mode --dirs "$dirs" --row; }
-    for o in 1 2 3 4 5 6 7; do run $o 0 >> "$out"; done
-    for fr in 0.01 0.03 0.05; do for o in 2 3 4; do run $o $fr >> "$out"; done; done
+    if [ "${ONLY:-}" != refs ]; then for o in 1 2 3 4 5 6 7; do run $o 0 >> "$out"; done; fi
+    if [ "${ONLY:-}" != sh ]; then for fr in 0.01 0.03 0.05; do for o in 2 3 4; do run $o $fr >> "$out"; done; done; fi
     if [ -n "${EXTRA:-}" ]; then
       while read -r line; do [ -n "$line" ] && run $line >> "$out"; done <<< "$EXTRA"
     fi

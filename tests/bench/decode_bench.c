@@ -6,6 +6,7 @@
  * directions, one thread and all threads), the bytes each frame must move
  * (3 direction rows read + the q output written) and the resulting bound.
  */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c11 */
 #include <math.h>
 #include <stdint.h>
 #include <omp.h>
