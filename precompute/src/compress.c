@@ -198,7 +198,7 @@ static sss_result build_refs(const sss_bake_file *f, const sss_compress_opts *o,
                 for (uint32_t c = 0; c < C; c++) acc += f->q[((size_t)(t * step) * nv + v) * C + c];
                 feat[(size_t)v * dim + t] = (float)(acc / C);
             }
-        res = sss_fail(err, SSS_ERR_UNSUPPORTED, "compress: illumination-aware references: not built yet (dim %u)", dim); /* PENDING refs_build_ex */
+        res = sss_refs_build_ex(&f->mesh, o->fraction, 1, feat, dim, o->illum_weight, &refs, err);
         free(feat);
     } else {
         res = sss_refs_build(&f->mesh, o->fraction, 1, &refs, err);

@@ -8,9 +8,12 @@
  * q(V) ≈ Σ w_k q(V_k) plus an SH-coded low-frequency difference.
  *
  * Steps: validate; choose the simplified triangles (identity, or OpenMesh
- * quadric decimation in refs_decimate.cpp); references are the vertices those
- * triangles use; each reference maps onto itself with weight exactly 1; every
- * other vertex gets the triangle holding its closest point (CGAL AABB tree in
+ * quadric decimation in refs_decimate.cpp, which also splits non-manifold
+ * input and, beyond the paper, can weigh an illumination feature: §6 asks
+ * for reference points chosen from "both geometry and illumination");
+ * references are the (original) vertices those triangles use; each
+ * reference maps onto itself with weight exactly 1; every other vertex gets
+ * the triangle holding its closest point (CGAL AABB tree in
  * refs_closest.cpp) and the barycentric weights of that point, computed here
  * in double. Every step runs in a fixed order: same input, same bytes.
  */
@@ -181,11 +184,65 @@ static void load3(double *d, const float *pos, uint32_t v)
 sss_result sss_refs_build(const sss_mesh *m, double fraction, uint32_t min_refs, sss_refs *out,
                           sss_error *err)
 {
+    return sss_refs_build_ex(m, fraction, min_refs, NULL, 0, 0.0, out, err);
+}
+
+/* Scale of the feature term (see refs.h): feature_weight · diag² / var,
+ * over the vertices the triangles use, with diag their bounding-box diagonal
+ * and var the mean of |f − f̄|². Centring makes the term blind to a constant
+ * offset of the feature (an ambient term added to every q); dividing by the
+ * variance makes it blind to the feature's units. 0 (geometry alone) when
+ * the feature or the mesh has no spread. */
+static double feature_scale(const sss_mesh *m, const uint32_t *used, const float *feature, uint32_t dim,
+                            double weight, double *mean)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    uint32_t n = 0;
+    for (uint32_t d = 0; d < dim; d++) mean[d] = 0.0;
+    for (uint32_t v = 0; v < m->nv; v++) {
+        if (used[v] == NONE) continue;
+        n++;
+        for (int k = 0; k < 3; k++) {
+            double x = m->pos[3 * (size_t)v + k];
+            lo[k] = fmin(lo[k], x);
+            hi[k] = fmax(hi[k], x);
+        }
+        for (uint32_t d = 0; d < dim; d++) mean[d] += feature[(size_t)dim * v + d];
+    }
+    if (n == 0 || !(weight > 0.0)) return 0.0;
+    for (uint32_t d = 0; d < dim; d++) mean[d] /= n;
+    double var = 0.0;
+    for (uint32_t v = 0; v < m->nv; v++) {
+        if (used[v] == NONE) continue;
+        for (uint32_t d = 0; d < dim; d++) {
+            double x = feature[(size_t)dim * v + d] - mean[d];
+            var += x * x;
+        }
+    }
+    var /= n;
+    double diag2 = 0.0;
+    for (int k = 0; k < 3; k++) diag2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    if (!(var > 0.0) || !(diag2 > 0.0)) return 0.0;
+    double s = weight * diag2 / var;
+    return isfinite(s) ? s : 0.0;
+}
+
+sss_result sss_refs_build_ex(const sss_mesh *m, double fraction, uint32_t min_refs, const float *feature,
+                             uint32_t feature_dim, double feature_weight, sss_refs *out, sss_error *err)
+{
     if (!out) return sss_fail(err, SSS_ERR_ARG, "refs: NULL output");
     memset(out, 0, sizeof *out);
     if (!m) return sss_fail(err, SSS_ERR_ARG, "refs: NULL mesh");
     if (!(fraction > 0.0 && fraction <= 1.0))
         return sss_fail(err, SSS_ERR_ARG, "refs: fraction %g not in (0, 1]", fraction);
+    if (feature) {
+        if (feature_dim == 0) return sss_fail(err, SSS_ERR_ARG, "refs: feature given with feature_dim 0");
+        if (!(feature_weight >= 0.0) || !isfinite(feature_weight))
+            return sss_fail(err, SSS_ERR_ARG, "refs: feature_weight %g not finite and >= 0", feature_weight);
+        if (feature_dim > SIZE_MAX / sizeof(float) / (m->nv ? m->nv : 1))
+            return sss_fail(err, SSS_ERR_ARG, "refs: %u x %u feature values do not fit in memory", m->nv,
+                            feature_dim);
+    }
     if (m->nv == 0 || m->nf == 0 || !m->pos || !m->tri)
         return sss_fail(err, SSS_ERR_MESH, "refs: mesh has no vertices or no triangles");
     const uint32_t nv = m->nv, nf = m->nf;
@@ -198,10 +255,16 @@ sss_result sss_refs_build(const sss_mesh *m, double fraction, uint32_t min_refs,
             if (m->tri[3 * (size_t)f + k] >= nv)
                 return sss_fail(err, SSS_ERR_MESH, "refs: triangle %u: vertex index %u out of range [0, %u)", f,
                                 m->tri[3 * (size_t)f + k], nv);
+    if (feature)
+        for (uint32_t v = 0; v < nv; v++)
+            for (uint32_t d = 0; d < feature_dim; d++)
+                if (!isfinite(feature[(size_t)feature_dim * v + d]))
+                    return sss_fail(err, SSS_ERR_ARG, "refs: vertex %u: feature %u is not finite", v, d);
 
     sss_result r = SSS_OK;
     uint32_t *vt = NULL, *st = NULL, *ref_of = NULL, *qv = NULL, *qt = NULL;
-    uint32_t nvt = 0, nst = 0, skipped = 0;
+    double *fmean = NULL;
+    uint32_t nvt = 0, nst = 0, skipped = 0, split = 0;
 
     /* Triangles with a repeated index are no triangles to OpenMesh (nor to
      * the projection); everything else goes in, zero-area ones included. */
@@ -241,9 +304,22 @@ sss_result sss_refs_build(const sss_mesh *m, double fraction, uint32_t min_refs,
          * the reference mesh is the input itself (fraction = 1). */
         st = vt, nst = nvt, vt = NULL;
     } else {
+        /* Illumination-aware selection (refs.h, §6 future work): the
+         * feature only steers the collapse order, so it is scaled here and
+         * not needed afterwards. */
+        double scale = 0.0;
+        if (feature) {
+            fmean = malloc((size_t)feature_dim * sizeof *fmean);
+            if (!fmean) {
+                r = sss_fail(err, SSS_ERR_NOMEM, "refs: out of memory for %u feature values", feature_dim);
+                goto done;
+            }
+            scale = feature_scale(m, ref_of, feature, feature_dim, feature_weight, fmean);
+        }
         char msg[400];
-        uint32_t rej = 0;
-        sss_om_decimate_status s = sss_om_decimate(m->pos, nv, vt, nvt, target, &st, &nst, &rej, msg, sizeof msg);
+        uint32_t left_out = 0;
+        sss_om_decimate_status s = sss_om_decimate(m->pos, nv, vt, nvt, scale > 0.0 ? feature : NULL, feature_dim,
+                                                   scale, target, &st, &nst, &left_out, &split, msg, sizeof msg);
         free(vt);
         vt = NULL;
         if (s == SSS_OM_DECIMATE_NO_MEMORY) {
@@ -254,12 +330,10 @@ sss_result sss_refs_build(const sss_mesh *m, double fraction, uint32_t min_refs,
             r = sss_fail(err, SSS_ERR_UNSUPPORTED, "refs: %s", msg);
             goto done;
         }
-        skipped += rej;
+        skipped += left_out;
         if (nst == 0) {
-            r = sss_fail(err, SSS_ERR_MESH,
-                         "refs: OpenMesh rejected all %u triangles as non-manifold (%u skipped in all); "
-                         "nothing to simplify",
-                         nvt, skipped);
+            r = sss_fail(err, SSS_ERR_MESH, "refs: no non-degenerate triangle left after simplifying %u triangles",
+                         nvt);
             goto done;
         }
     }
@@ -276,6 +350,7 @@ sss_result sss_refs_build(const sss_mesh *m, double fraction, uint32_t min_refs,
     out->nref = nref;
     out->nrt = nst;
     out->faces_skipped = skipped;
+    out->vertices_split = split;
     out->ref_vertex = malloc((size_t)nref * sizeof *out->ref_vertex);
     out->ref_tri = malloc(3 * (size_t)nst * sizeof *out->ref_tri);
     out->vtri = malloc((size_t)nv * sizeof *out->vtri);
@@ -339,6 +414,7 @@ done:
     free(vt);
     free(st);
     free(ref_of);
+    free(fmean);
     free(qv);
     free(qt);
     if (r != SSS_OK) sss_refs_free(out);

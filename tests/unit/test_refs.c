@@ -1,6 +1,7 @@
 /* test_refs.c: reference points and barycentric weights (Hao–Varshney 2004
  * §4.2): selection by decimation, projection onto the simplified mesh,
- * degenerate and non-manifold input. */
+ * degenerate and non-manifold input, and illumination-aware selection
+ * (beyond the paper, its §6). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -118,6 +119,7 @@ static double check_refs(const sss_mesh *m, const sss_refs *r, uint32_t skip)
 static int same_refs(const sss_refs *a, const sss_refs *b)
 {
     return a->nv == b->nv && a->nref == b->nref && a->nrt == b->nrt && a->faces_skipped == b->faces_skipped &&
+           a->vertices_split == b->vertices_split &&
            !memcmp(a->ref_vertex, b->ref_vertex, a->nref * sizeof *a->ref_vertex) &&
            !memcmp(a->ref_tri, b->ref_tri, 3 * (size_t)a->nrt * sizeof *a->ref_tri) &&
            !memcmp(a->vtri, b->vtri, a->nv * sizeof *a->vtri) && !memcmp(a->w, b->w, 3 * (size_t)a->nv * sizeof *a->w);
@@ -301,8 +303,10 @@ static void buildGivesFiniteWeightsForVertexFarOffSurface(void **state)
     sss_mesh_free(&m);
 }
 
-/* Three triangles on one edge: OpenMesh's TriMesh takes two and refuses the
- * third; its apex is still mapped. Then the same fin on a sphere. */
+/* Three triangles on one edge: OpenMesh's TriMesh would take two and refuse
+ * the third; the split gives the third its own vertex copies instead, so
+ * nothing is skipped, and the references are still original vertices. Then
+ * the same fin on a sphere. */
 static void buildSurvivesNonManifoldEdge(void **state)
 {
     (void)state;
@@ -315,13 +319,15 @@ static void buildSurvivesNonManifoldEdge(void **state)
     memcpy(m.tri, tri, sizeof tri);
     sss_refs r;
     if (sss_refs_build(&m, 0.6, 0, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
-    assert_int_equal(r.faces_skipped, 1);
+    assert_int_equal(r.faces_skipped, 0);
+    assert_true(r.vertices_split >= 2); /* the fin's copies of 0 and 1 */
     (void)check_refs(&m, &r, UINT32_MAX);
     sss_refs_free(&r);
     /* identity keeps all three */
     assert_int_equal(sss_refs_build(&m, 1.0, 0, &r, &err), SSS_OK);
     assert_int_equal(r.nrt, 3);
     assert_int_equal(r.faces_skipped, 0);
+    assert_int_equal(r.vertices_split, 0);
     (void)check_refs(&m, &r, UINT32_MAX);
     sss_refs_free(&r);
     sss_mesh_free(&m);
@@ -340,9 +346,377 @@ static void buildSurvivesNonManifoldEdge(void **state)
     m.tri[3 * (size_t)m.nf] = a, m.tri[3 * (size_t)m.nf + 1] = b, m.tri[3 * (size_t)m.nf + 2] = m.nv - 1;
     m.nf++;
     if (sss_refs_build(&m, 0.1, 0, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
-    assert_int_equal(r.faces_skipped, 1);
+    assert_int_equal(r.faces_skipped, 0);
+    assert_true(r.vertices_split >= 2);
+    long want = lround(0.1 * m.nv);
+    if (labs((long)r.nref - want) > 1) fail_msg("%u references, expected %ld", r.nref, want);
     (void)check_refs(&m, &r, UINT32_MAX);
     sss_refs_free(&r);
+    sss_mesh_free(&m);
+}
+
+/* No reference triangle repeats a reference (copies of one vertex merged
+ * back must not leave degenerate triangles behind). */
+static void check_no_degenerate_ref_tri(const sss_refs *r)
+{
+    for (uint32_t t = 0; t < r->nrt; t++) {
+        const uint32_t *c = r->ref_tri + 3 * (size_t)t;
+        if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2])
+            fail_msg("reference triangle %u repeats a corner: %u %u %u", t, c[0], c[1], c[2]);
+    }
+}
+
+/* A small stand-in for the Stanford dragons' defects: sphere A; sphere B
+ * sharing one vertex with A (two fans at one vertex); sphere C, A mirrored
+ * across the plane through one of A's edges, sharing that edge (four
+ * triangles on it); a fin (a third triangle on another edge of A); and 40
+ * zero-thickness flaps (a triangle and its reverse) on edges of A, listed
+ * before everything else. Before the split, OpenMesh took the flaps first,
+ * refused A's triangles around them and stalled far above the target with
+ * the hole rims and pillows pinned (188 references for a target of 20). */
+static void make_nonmanifold(sss_mesh *out)
+{
+    sss_error err = {{0}};
+    sss_mesh a, b, c, one;
+    assert_int_equal(sss_gen_sphere(&a, 1.0, 3, &err), SSS_OK);
+    assert_int_equal(sss_gen_sphere(&b, 1.0, 3, &err), SSS_OK);
+    assert_int_equal(sss_gen_sphere(&c, 1.0, 3, &err), SSS_OK);
+    const uint32_t n = a.nv, nf = a.nf;
+    /* B touches A at A's rightmost vertex */
+    uint32_t va = 0, vb = 0;
+    for (uint32_t v = 0; v < n; v++) {
+        if (a.pos[3 * (size_t)v] > a.pos[3 * (size_t)va]) va = v;
+        if (b.pos[3 * (size_t)v] < b.pos[3 * (size_t)vb]) vb = v;
+    }
+    float shift[3];
+    for (int k = 0; k < 3; k++) shift[k] = a.pos[3 * (size_t)va + k] - b.pos[3 * (size_t)vb + k];
+    for (uint32_t v = 0; v < n; v++)
+        for (int k = 0; k < 3; k++) b.pos[3 * (size_t)v + k] += shift[k];
+    /* C: A mirrored across the plane through edge ea–eb, normal along ea + eb
+     * (both corners stay put); the winding is flipped to keep it outward */
+    const uint32_t ea = a.tri[0], eb = a.tri[1];
+    double nn[3], len = 0.0, d = 0.0;
+    for (int k = 0; k < 3; k++) {
+        nn[k] = a.pos[3 * (size_t)ea + k] + a.pos[3 * (size_t)eb + k];
+        len += nn[k] * nn[k];
+    }
+    for (int k = 0; k < 3; k++) {
+        nn[k] /= sqrt(len);
+        d += a.pos[3 * (size_t)ea + k] * nn[k];
+    }
+    for (uint32_t v = 0; v < n; v++) {
+        double s = 0.0;
+        for (int k = 0; k < 3; k++) s += c.pos[3 * (size_t)v + k] * nn[k];
+        for (int k = 0; k < 3; k++) c.pos[3 * (size_t)v + k] -= (float)(2.0 * (s - d) * nn[k]);
+    }
+    for (uint32_t f = 0; f < c.nf; f++) {
+        uint32_t t = c.tri[3 * (size_t)f + 1];
+        c.tri[3 * (size_t)f + 1] = c.tri[3 * (size_t)f + 2];
+        c.tri[3 * (size_t)f + 2] = t;
+    }
+    const uint32_t fin_a = a.tri[300], fin_b = a.tri[301];
+    assert_int_equal(sss_mesh_append(&a, &b, &err), SSS_OK);
+    assert_int_equal(sss_mesh_append(&a, &c, &err), SSS_OK);
+    sss_mesh_free(&b);
+    sss_mesh_free(&c);
+    /* weld: B's vertex vb is A's va; C's copies of ea, eb are A's */
+    for (size_t k = 3 * (size_t)nf; k < 6 * (size_t)nf; k++)
+        if (a.tri[k] == n + vb) a.tri[k] = va;
+    for (size_t k = 6 * (size_t)nf; k < 9 * (size_t)nf; k++) {
+        if (a.tri[k] == 2 * n + ea) a.tri[k] = ea;
+        else if (a.tri[k] == 2 * n + eb) a.tri[k] = eb;
+    }
+    /* the fin's apex and the flaps' tips, outside A */
+    enum { NFLAP = 40 };
+    uint32_t flap[NFLAP][2];
+    for (uint32_t i = 0; i < NFLAP; i++) {
+        uint32_t f = 7 + 31 * i;
+        flap[i][0] = a.tri[3 * (size_t)f], flap[i][1] = a.tri[3 * (size_t)f + 1];
+    }
+    assert_int_equal(sss_mesh_alloc(&one, 1 + NFLAP, 0, &err), SSS_OK);
+    for (int k = 0; k < 3; k++) one.pos[k] = 0.7f * (a.pos[3 * (size_t)fin_a + k] + a.pos[3 * (size_t)fin_b + k]);
+    for (uint32_t i = 0; i < NFLAP; i++)
+        for (int k = 0; k < 3; k++)
+            one.pos[3 * (size_t)(i + 1) + k] =
+                0.65f * (a.pos[3 * (size_t)flap[i][0] + k] + a.pos[3 * (size_t)flap[i][1] + k]);
+    const uint32_t apex = a.nv;
+    assert_int_equal(sss_mesh_append(&a, &one, &err), SSS_OK);
+    sss_mesh_free(&one);
+    uint32_t *t = malloc(3 * ((size_t)a.nf + 1 + 2 * NFLAP) * sizeof *t);
+    assert_non_null(t);
+    for (uint32_t i = 0; i < NFLAP; i++) {
+        uint32_t *q = t + 6 * (size_t)i;
+        q[0] = flap[i][0], q[1] = flap[i][1], q[2] = apex + 1 + i;
+        q[3] = flap[i][1], q[4] = flap[i][0], q[5] = apex + 1 + i;
+    }
+    memcpy(t + 6 * NFLAP, a.tri, 3 * (size_t)a.nf * sizeof *t);
+    uint32_t *fin = t + 6 * NFLAP + 3 * (size_t)a.nf;
+    fin[0] = fin_a, fin[1] = fin_b, fin[2] = apex;
+    free(a.tri);
+    a.tri = t;
+    a.nf += 1 + 2 * NFLAP;
+    *out = a;
+}
+
+static void buildReachesTargetOnNonManifoldMesh(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    make_nonmanifold(&m);
+    assert_int_equal(m.nv, 3 * 642 + 41);
+    const double fractions[3] = {0.01, 0.03, 0.05};
+    for (int i = 0; i < 3; i++) {
+        sss_refs r;
+        if (sss_refs_build(&m, fractions[i], 0, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+        long want = lround(fractions[i] * m.nv);
+        if (labs((long)r.nref - want) > 1)
+            fail_msg("fraction %g: %u references, expected %ld +- 1", fractions[i], r.nref, want);
+        assert_int_equal(r.faces_skipped, 80); /* the 40 flaps cancel */
+        assert_true(r.vertices_split > 0);     /* B's, C's and the fin's shared vertices */
+        (void)check_refs(&m, &r, UINT32_MAX);
+        check_no_degenerate_ref_tri(&r);
+        sss_refs_free(&r);
+    }
+    /* deterministic here too, whatever the thread count */
+    sss_refs a, b;
+    assert_int_equal(sss_refs_build(&m, 0.03, 0, &a, &err), SSS_OK);
+    int threads = omp_get_max_threads();
+    omp_set_num_threads(threads > 1 ? 1 : 3);
+    assert_int_equal(sss_refs_build(&m, 0.03, 0, &b, &err), SSS_OK);
+    omp_set_num_threads(threads);
+    assert_true(same_refs(&a, &b));
+    sss_refs_free(&a);
+    sss_refs_free(&b);
+    sss_mesh_free(&m);
+}
+
+/* A manifold input is not split: no copies, nothing skipped. */
+static void buildDoesNotSplitManifoldMesh(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_torus(&m, 1.0, 0.3, 48, 16, &err), SSS_OK);
+    sss_refs r;
+    if (sss_refs_build(&m, 0.05, 0, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_int_equal(r.vertices_split, 0);
+    assert_int_equal(r.faces_skipped, 0);
+    if (labs((long)r.nref - lround(0.05 * m.nv)) > 1) fail_msg("%u references", r.nref);
+    (void)check_refs(&m, &r, UINT32_MAX);
+    sss_refs_free(&r);
+    sss_mesh_free(&m);
+}
+
+/* A sphere cut into 56 unwelded patches (by the cell of each triangle's
+ * centroid; every patch has its own copies of its rim vertices), like the
+ * teapot's Bézier patches: the patches are one surface to the decimation.
+ * Before, their rims and corners stopped it at 234 references for any
+ * target below. A vertex at the same position as a reference maps onto it
+ * exactly. */
+static void buildWeldsCoincidentVertices(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 1.0, 4, &err), SSS_OK);
+    const uint32_t nv0 = m.nv;
+    int *cell = malloc(m.nf * sizeof *cell), *owner = malloc(nv0 * sizeof *owner);
+    uint32_t *copy_of = malloc(4 * (size_t)nv0 * sizeof *copy_of);
+    int *copy_cell = malloc(4 * (size_t)nv0 * sizeof *copy_cell);
+    float *pos = malloc(3 * 4 * (size_t)nv0 * sizeof *pos);
+    assert_true(cell && owner && copy_of && copy_cell && pos);
+    for (uint32_t f = 0; f < m.nf; f++) {
+        double c[3] = {0, 0, 0};
+        for (int k = 0; k < 3; k++)
+            for (int j = 0; j < 3; j++) c[j] += m.pos[3 * (size_t)m.tri[3 * (size_t)f + k] + j] / 3.0;
+        cell[f] = (int)floor(c[0] * 1.5 + 2) * 25 + (int)floor(c[1] * 1.5 + 2) * 5 + (int)floor(c[2] * 1.5 + 2);
+    }
+    memcpy(pos, m.pos, 3 * (size_t)nv0 * sizeof *pos);
+    for (uint32_t v = 0; v < nv0; v++) owner[v] = -1;
+    uint32_t nv = nv0, ncopy = 0;
+    for (uint32_t f = 0; f < m.nf; f++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t v = m.tri[3 * (size_t)f + k], found = UINT32_MAX;
+            if (owner[v] < 0) owner[v] = cell[f];
+            if (owner[v] == cell[f]) continue;
+            for (uint32_t i = 0; i < ncopy && found == UINT32_MAX; i++)
+                if (copy_of[i] == v && copy_cell[i] == cell[f]) found = nv0 + i;
+            if (found == UINT32_MAX) {
+                assert_true(ncopy < 3 * nv0);
+                copy_of[ncopy] = v, copy_cell[ncopy] = cell[f];
+                memcpy(pos + 3 * (size_t)nv, pos + 3 * (size_t)v, 3 * sizeof *pos);
+                found = nv++, ncopy++;
+            }
+            m.tri[3 * (size_t)f + k] = found;
+        }
+    free(m.pos);
+    m.pos = pos;
+    m.nv = nv;
+    assert_int_equal(ncopy, 798);
+    const double fractions[2] = {0.01, 0.05};
+    for (int i = 0; i < 2; i++) {
+        sss_refs r;
+        if (sss_refs_build(&m, fractions[i], 0, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+        long want = lround(fractions[i] * m.nv);
+        if (labs((long)r.nref - want) > 1)
+            fail_msg("fraction %g: %u references, expected %ld +- 1", fractions[i], r.nref, want);
+        assert_int_equal(r.faces_skipped, 0);
+        (void)check_refs(&m, &r, UINT32_MAX);
+        check_no_degenerate_ref_tri(&r);
+        /* a copy whose original is a reference (or vice versa) lands on it */
+        uint32_t exact = 0;
+        for (uint32_t c = 0; c < ncopy; c++) {
+            double p[3], q[3], o[3];
+            P(&m, nv0 + c, p);
+            reconstruct(&m, &r, nv0 + c, q);
+            reconstruct(&m, &r, copy_of[c], o);
+            if (dist3(p, q) == 0.0 && dist3(p, o) == 0.0) exact++;
+        }
+        assert_true(exact > 0);
+        sss_refs_free(&r);
+    }
+    free(cell);
+    free(owner);
+    free(copy_of);
+    free(copy_cell);
+    sss_mesh_free(&m);
+}
+
+/* ---- illumination-aware selection (beyond the paper, its §6) ------------- */
+
+/* A shadow-boundary-like feature on a sphere: two channels, the first a
+ * step across the plane x = 0.3 (lit 1, shadowed 0.1), the second constant. */
+static float *step_feature(const sss_mesh *m)
+{
+    float *f = malloc(2 * (size_t)m->nv * sizeof *f);
+    assert_non_null(f);
+    for (uint32_t v = 0; v < m->nv; v++) {
+        f[2 * (size_t)v] = m->pos[3 * (size_t)v] > 0.3f ? 1.0f : 0.1f;
+        f[2 * (size_t)v + 1] = 0.5f;
+    }
+    return f;
+}
+
+/* RMS over vertices of Σ w_k f(ref_k) − f(v), channel 0. */
+static double feature_rms(const sss_mesh *m, const sss_refs *r, const float *f)
+{
+    double s = 0.0;
+    for (uint32_t v = 0; v < m->nv; v++) {
+        double q = 0.0;
+        for (int k = 0; k < 3; k++)
+            q += r->w[3 * (size_t)v + k] * f[2 * (size_t)r->ref_vertex[r->ref_tri[3 * (size_t)r->vtri[v] + k]]];
+        double e = q - f[2 * (size_t)v];
+        s += e * e;
+    }
+    return sqrt(s / m->nv);
+}
+
+/* References within `band` of the step. */
+static uint32_t refs_near_step(const sss_mesh *m, const sss_refs *r, double band)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < r->nref; i++)
+        if (fabs(m->pos[3 * (size_t)r->ref_vertex[i]] - 0.3) <= band) n++;
+    return n;
+}
+
+static void buildExKeepsReferencesAlongFeatureStep(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 1.0, 4, &err), SSS_OK);
+    float *f = step_feature(&m);
+    sss_refs geo, ill;
+    if (sss_refs_build(&m, 0.05, 0, &geo, &err) != SSS_OK) fail_msg("%s", err.msg);
+    if (sss_refs_build_ex(&m, 0.05, 0, f, 2, 1e-3, &ill, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_int_equal(ill.nref, geo.nref); /* same budget */
+    (void)check_refs(&m, &ill, UINT32_MAX);
+    check_no_degenerate_ref_tri(&ill);
+    double edge = mean_edge(&m);
+    uint32_t ng = refs_near_step(&m, &geo, edge), ni = refs_near_step(&m, &ill, edge);
+    double eg = feature_rms(&m, &geo, f), ei = feature_rms(&m, &ill, f);
+    print_message("near the step: %u geometric, %u illumination-aware references; feature RMS %.4f vs %.4f\n", ng,
+                  ni, eg, ei);
+    /* measured: 58 vs 13, 0.031 vs 0.151 (and cluster feature distances
+     * without the interpolants' gradients gave 8 vs 13, 0.113 vs 0.151) */
+    if (!(ni >= 3 * ng)) fail_msg("%u references near the step, geometric selection has %u", ni, ng);
+    if (!(ei <= eg / 3.0)) fail_msg("feature RMS %.4f, geometric selection %.4f", ei, eg);
+    sss_refs_free(&geo);
+    sss_refs_free(&ill);
+    free(f);
+    sss_mesh_free(&m);
+}
+
+/* No feature, weight 0 or a constant feature: exactly sss_refs_build. */
+static void buildExWithoutFeatureSignalIsGeometric(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_blob(&m, 1.0, 4, &err), SSS_OK);
+    float *f = step_feature(&m);
+    sss_refs geo, a;
+    assert_int_equal(sss_refs_build(&m, 0.05, 0, &geo, &err), SSS_OK);
+    assert_int_equal(sss_refs_build_ex(&m, 0.05, 0, NULL, 0, 0.0, &a, &err), SSS_OK);
+    assert_true(same_refs(&geo, &a));
+    sss_refs_free(&a);
+    assert_int_equal(sss_refs_build_ex(&m, 0.05, 0, f, 2, 0.0, &a, &err), SSS_OK);
+    assert_true(same_refs(&geo, &a));
+    sss_refs_free(&a);
+    /* the step removed: both channels constant, nothing to steer by */
+    for (uint32_t v = 0; v < m.nv; v++) f[2 * (size_t)v] = 0.25f;
+    assert_int_equal(sss_refs_build_ex(&m, 0.05, 0, f, 2, 1e-2, &a, &err), SSS_OK);
+    assert_true(same_refs(&geo, &a));
+    sss_refs_free(&a);
+    sss_refs_free(&geo);
+    free(f);
+    sss_mesh_free(&m);
+}
+
+/* With a feature: deterministic, whatever the thread count, and different
+ * from the geometric choice. */
+static void buildExIsDeterministic(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_blob(&m, 1.0, 4, &err), SSS_OK);
+    float *f = step_feature(&m);
+    sss_refs a, b, geo;
+    assert_int_equal(sss_refs_build_ex(&m, 0.05, 0, f, 2, 1e-3, &a, &err), SSS_OK);
+    int threads = omp_get_max_threads();
+    omp_set_num_threads(threads > 1 ? 1 : 3);
+    assert_int_equal(sss_refs_build_ex(&m, 0.05, 0, f, 2, 1e-3, &b, &err), SSS_OK);
+    omp_set_num_threads(threads);
+    assert_true(same_refs(&a, &b));
+    assert_int_equal(sss_refs_build(&m, 0.05, 0, &geo, &err), SSS_OK);
+    assert_false(same_refs(&a, &geo));
+    sss_refs_free(&a);
+    sss_refs_free(&b);
+    sss_refs_free(&geo);
+    free(f);
+    sss_mesh_free(&m);
+}
+
+static void buildExRejectsBadFeature(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 1.0, 2, &err), SSS_OK);
+    float *f = step_feature(&m);
+    sss_refs r;
+    assert_int_equal(sss_refs_build_ex(&m, 0.1, 0, f, 0, 1e-3, &r, &err), SSS_ERR_ARG);
+    assert_int_equal(sss_refs_build_ex(&m, 0.1, 0, f, 2, -1.0, &r, &err), SSS_ERR_ARG);
+    assert_int_equal(sss_refs_build_ex(&m, 0.1, 0, f, 2, NAN, &r, &err), SSS_ERR_ARG);
+    assert_int_equal(sss_refs_build_ex(&m, 0.1, 0, f, 2, INFINITY, &r, &err), SSS_ERR_ARG);
+    f[2 * 17 + 1] = NAN;
+    assert_int_equal(sss_refs_build_ex(&m, 0.1, 0, f, 2, 1e-3, &r, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "vertex 17"));
+    assert_null(r.ref_vertex);
+    free(f);
     sss_mesh_free(&m);
 }
 
@@ -502,6 +876,13 @@ int main(void)
         cmocka_unit_test(buildHandlesDegenerateNearestTriangle),
         cmocka_unit_test(buildGivesFiniteWeightsForVertexFarOffSurface),
         cmocka_unit_test(buildSurvivesNonManifoldEdge),
+        cmocka_unit_test(buildReachesTargetOnNonManifoldMesh),
+        cmocka_unit_test(buildDoesNotSplitManifoldMesh),
+        cmocka_unit_test(buildWeldsCoincidentVertices),
+        cmocka_unit_test(buildExKeepsReferencesAlongFeatureStep),
+        cmocka_unit_test(buildExWithoutFeatureSignalIsGeometric),
+        cmocka_unit_test(buildExIsDeterministic),
+        cmocka_unit_test(buildExRejectsBadFeature),
         cmocka_unit_test(buildRejectsBadInput),
         cmocka_unit_test(closestWeightsMatchBarycentricsAndClampOutside),
         cmocka_unit_test(closestWeightsBeatDenseSamplingOnRandomTriangles),
