@@ -5,6 +5,18 @@
  */
 #include "sss/bake.h"
 
+/* A neighbour closer than its own area-disk radius ρ = sqrt(ΔA/π) (its area
+ * covers the receiving point: duplicate or nearly coincident vertices) is
+ * integrated over that disk (sss_rd_disk_offset) instead of point-sampled:
+ * R_d(r) ΔA would weight the whole area with the profile's peak, up to
+ * R_d(0) ΔA, far more than the area can hold (physics sheet §6). Farther
+ * neighbours keep the paper's point sample (§3.1), which on a regular
+ * tessellation is the second-order midpoint rule: integrating every
+ * neighbour over a disk instead was measured worse on the planar-slab check
+ * (tests/unit/test_bake.c), since disks of equal area neither tile the plane
+ * nor match the cells. */
+#define NEAR_DISKS 1.0
+
 #include <flann/flann.h>
 #include <math.h>
 #include <stdlib.h>
@@ -167,8 +179,15 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
                             d2 += dx * dx;
                         }
                         double r = sqrt(d2), dA = mesh->area[i] * s * s; /* mm, mm² */
-                        /* (1/π) R_d(r) ΔA(x_i): Hao–Varshney 2004 §3.1 */
-                        for (uint32_t c = 0; c < channels; c++) w[c] = (float)(sss_rd(&dip[c], r) * dA / M_PI);
+                        const double rho = sqrt(dA / M_PI); /* radius of x_i's area as a disk */
+                        if (r < NEAR_DISKS * rho) {
+                            /* x_i's area covers x_o: integrate over it as a disk */
+                            for (uint32_t c = 0; c < channels; c++)
+                                w[c] = (float)(sss_rd_disk_offset(&dip[c], r, rho) / M_PI);
+                        } else {
+                            /* (1/π) R_d(r) ΔA(x_i): Hao–Varshney 2004 §3.1 */
+                            for (uint32_t c = 0; c < channels; c++) w[c] = (float)(sss_rd(&dip[c], r) * dA / M_PI);
+                        }
                     }
                 }
             }

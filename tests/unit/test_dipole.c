@@ -66,6 +66,85 @@ static void diskIntegralMatchesQuadratureForEveryPreset(void **state)
         }
 }
 
+/* Brute force: midpoint rule on an n × n grid over the disk's bounding
+ * square (the profile is smooth and finite, so this converges as h²). */
+static double grid_offset_disk(const sss_dipole *d, double r, double rho, int n)
+{
+    const double h = 2.0 * rho / n;
+    double sum = 0.0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) {
+            double x = -rho + (i + 0.5) * h, y = -rho + (j + 0.5) * h;
+            if (x * x + y * y > rho * rho) continue;
+            sum += sss_rd(d, sqrt((x + r) * (x + r) + y * y));
+        }
+    return sum * h * h;
+}
+
+/* The same integral from its arc-length form, ∫ R_d(s) · (length of the
+ * circle of radius s inside the disk) ds, by a fine midpoint rule. */
+static double arc_offset_disk(const sss_dipole *d, double r, double rho, int n)
+{
+    const double b = r + rho, h = b / n;
+    double sum = 0.0;
+    for (int i = 0; i < n; i++) {
+        double sv = (i + 0.5) * h, th;
+        if (sv <= rho - r) th = M_PI;
+        else {
+            double c = (sv * sv + r * r - rho * rho) / (2.0 * sv * r);
+            th = acos(c > 1 ? 1 : c < -1 ? -1 : c);
+        }
+        sum += 2.0 * sv * th * sss_rd(d, sv) * h;
+    }
+    return sum;
+}
+
+/* A neighbour's area as a disk at distance r (the near-field weight of the
+ * bake): the closed form at r = 0, brute-force quadrature in between, the
+ * point sample far away; and a coincident vertex gets at most the energy
+ * its area can hold, unlike the point sample R_d(0) ΔA. */
+static void offsetDiskIntegralMatchesQuadrature(void **state)
+{
+    (void)state;
+    const char *mats[] = {"skin1", "marble", "ketchup"};
+    for (int m = 0; m < 3; m++)
+        for (int c = 0; c < 3; c++) {
+            sss_dipole d;
+            dipole_preset(mats[m], c, &d);
+            const double rhos[] = {0.2, 1.0, 4.0};
+            for (int k = 0; k < 3; k++) {
+                const double rho = rhos[k];
+                double at0 = sss_rd_disk_offset(&d, 0.0, rho), disk = sss_rd_disk(&d, rho);
+                if (fabs(at0 - disk) > 1e-12 * disk) fail_msg("%s r=0: %.15g vs disk %.15g", mats[m], at0, disk);
+                const double rs[] = {0.3 * rho, rho, 1.7 * rho, 2.9 * rho};
+                for (int t = 0; t < 4; t++) {
+                    /* two independent references: a 2-D grid over the disk
+                     * (first order where the steep profile meets the disk's
+                     * edge, so 1e-3) and the arc-length form on 2e5 points */
+                    double got = sss_rd_disk_offset(&d, rs[t], rho), grid = grid_offset_disk(&d, rs[t], rho, 800),
+                           arc = arc_offset_disk(&d, rs[t], rho, 200000);
+                    if (!(fabs(got - grid) <= 1e-3 * grid + 1e-15) || !(fabs(got - arc) <= 2e-6 * arc + 1e-15))
+                        fail_msg("%s ch %d rho %g r %g: %.9g, grid %.9g, arc %.9g", mats[m], c, rho, rs[t], got, grid,
+                                 arc);
+                }
+                /* far away the disk is a point, up to the second-order term
+                 * of e^{−σtr r} averaged over the disk, ≈ (σtr ρ)² / 8 */
+                double far = 40.0 * rho, pt = sss_rd(&d, far) * M_PI * rho * rho, got = sss_rd_disk_offset(&d, far, rho);
+                double tol = 0.01 + 0.25 * (d.sigma_tr * rho) * (d.sigma_tr * rho);
+                if (d.sigma_tr * rho <= 1.0 && !(fabs(got - pt) <= tol * pt + 1e-300))
+                    fail_msg("%s far: %.9g vs point %.9g", mats[m], got, pt);
+                /* a coincident vertex never holds more than the whole area's disk integral */
+                assert_true(at0 <= sss_rd_total(&d));
+                if (rho >= 1.0) assert_true(at0 < sss_rd(&d, 0.0) * M_PI * rho * rho);
+            }
+        }
+    sss_dipole d;
+    dipole_preset("marble", 0, &d);
+    assert_true(sss_rd_disk_offset(&d, 1.0, 0.0) == 0.0);
+    assert_true(sss_rd_disk_offset(&d, NAN, 1.0) == 0.0);
+    assert_true(sss_rd_disk_offset(&d, -1.0, 1.0) == 0.0);
+}
+
 static void diskIntegralApproachesClosedFormTotalForEveryPreset(void **state)
 {
     (void)state;
@@ -185,6 +264,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(diskIntegralMatchesQuadratureForEveryPreset),
         cmocka_unit_test(diskIntegralApproachesClosedFormTotalForEveryPreset),
+        cmocka_unit_test(offsetDiskIntegralMatchesQuadrature),
         cmocka_unit_test(fresnelDiffuseReflectanceMatchesSheetAt1_3),
         cmocka_unit_test(sanityValuesMatchSheet),
         cmocka_unit_test(fresnelTransmittanceLimits),

@@ -63,6 +63,14 @@ double sss_rd(const sss_dipole *d, double r);
 /* ∫_0^R R_d(r) 2πr dr, exact closed form (dimensionless). */
 double sss_rd_disk(const sss_dipole *d, double R);
 
+/* ∫ R_d(|y|) dA over a disk of radius rho whose centre lies at distance r
+ * from the origin (dimensionless): the contribution of a neighbour's area
+ * ΔA = π rho² at distance r without point-sampling R_d, whose peak at 0 a
+ * point sample over- or undershoots when r is comparable to rho (and
+ * overshoots badly for coincident vertices, r = 0). Equals sss_rd_disk(rho)
+ * at r = 0 and tends to R_d(r) π rho² for r ≫ rho. */
+double sss_rd_disk_offset(const sss_dipole *d, double r, double rho);
+
 /* Total diffuse reflectance ∫_0^∞ R_d 2πr dr = (α′/2)(1 + e^{−(4/3)A s}) e^{−s}. */
 double sss_rd_total(const sss_dipole *d);
 
