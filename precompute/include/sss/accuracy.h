@@ -1,0 +1,35 @@
+/* sss/accuracy.h: how far a .sss file's reconstruction of q is from the
+ * exact evaluator (sss/exact.h), per vertex, at random light directions
+ * (issue 5; the paper's error protocol is Hao–Varshney 2004 §3.3). */
+#ifndef SSS_ACCURACY_H
+#define SSS_ACCURACY_H
+#include <stdint.h>
+#include "sss/exact.h"
+#include "sss/format.h"
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Index `channels` of every array holds the figure over all channels. */
+typedef struct sss_vertex_error {
+    uint32_t channels;  /* of the file */
+    uint32_t ndirs;     /* light directions used */
+    double rms[SSS_MAX_CHANNELS + 1];       /* sqrt(Σ_d Σ_v A_v (r − x)² / (ndirs Σ_v A_v)) */
+    double rel_rms[SSS_MAX_CHANNELS + 1];   /* sqrt(Σ A (r − x)² / Σ A x²) */
+    double max_abs[SSS_MAX_CHANNELS + 1];   /* max |r − x| */
+    double rms_exact[SSS_MAX_CHANNELS + 1]; /* area-weighted RMS of x itself, for scale */
+} sss_vertex_error;
+
+/* Per-vertex error of f's reconstruction r = sss_decode_all(f, ω) against
+ * the exact x = sss_exact_eval(e, ω) (e built from f) at ndirs random unit
+ * directions from `seed` (sss_rng_direction), each at least 1e-6 rad from
+ * every direction sample (closer ones are redrawn), area-weighted with
+ * A_v = 1/3 of the incident triangle areas. Deterministic. Errors:
+ * SSS_ERR_ARG (NULL, ndirs 0, e not from a file like f), SSS_ERR_NOMEM. */
+sss_result sss_vertex_error_vs_exact(const sss_bake_file *f, const sss_exact *e, uint32_t ndirs, uint64_t seed,
+                                     sss_vertex_error *out, sss_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,83 @@
+/* accuracy.c: error of a file's reconstruction against the exact evaluator
+ * (see sss/accuracy.h). The exact q has no direction interpolation (§3.2)
+ * and no compression (§4), so this one number covers every approximation
+ * the file makes. */
+#include "sss/accuracy.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sss/decode.h"
+#include "sss/random.h"
+
+/* A random unit direction not within 1e-6 rad of a direction sample (at a
+ * sample the interpolation error vanishes, which would flatter the file). */
+static void draw_direction(const sss_dirset *s, uint64_t *state, double d[3])
+{
+    for (;;) {
+        sss_rng_direction(state, d);
+        double best = -2.0;
+        for (uint32_t j = 0; j < s->n; j++) {
+            const double *w = s->dir + 3 * (size_t)j;
+            best = fmax(best, d[0] * w[0] + d[1] * w[1] + d[2] * w[2]);
+        }
+        if (best < cos(1e-6)) return;
+    }
+}
+
+sss_result sss_vertex_error_vs_exact(const sss_bake_file *f, const sss_exact *e, uint32_t ndirs, uint64_t seed,
+                                     sss_vertex_error *out, sss_error *err)
+{
+    if (out) memset(out, 0, sizeof *out);
+    if (!f || !e || !out) return sss_fail(err, SSS_ERR_ARG, "vertex error: NULL argument");
+    if (ndirs == 0) return sss_fail(err, SSS_ERR_ARG, "vertex error: no light directions");
+    if (sss_exact_vertices(e) != f->mesh.nv || sss_exact_channels(e) != f->channels)
+        return sss_fail(err, SSS_ERR_ARG, "vertex error: exact evaluator (%u vertices, %u channels) is not for this "
+                        "file (%u, %u)", sss_exact_vertices(e), sss_exact_channels(e), f->mesh.nv, f->channels);
+    const size_t nv = f->mesh.nv, C = f->channels;
+    double *area = calloc(nv, sizeof *area);
+    float *x = malloc(nv * C * sizeof *x), *r = malloc(nv * C * sizeof *r);
+    if (!area || !x || !r) {
+        free(area);
+        free(x);
+        free(r);
+        return sss_fail(err, SSS_ERR_NOMEM, "vertex error: out of memory for %zu vertices", nv);
+    }
+    sss_mesh_vertex_areas(&f->mesh, area);
+    double asum = 0.0;
+    for (size_t v = 0; v < nv; v++) asum += area[v];
+    double num[SSS_MAX_CHANNELS + 1] = {0}, den[SSS_MAX_CHANNELS + 1] = {0};
+    uint64_t state = seed;
+    for (uint32_t t = 0; t < ndirs; t++) {
+        double d[3];
+        draw_direction(&f->dirs, &state, d);
+        sss_exact_eval(e, d, x);
+        sss_decode_all(f, d, r);
+        for (size_t v = 0; v < nv; v++)
+            for (size_t c = 0; c < C; c++) {
+                const double xe = x[v * C + c], dv = (double)r[v * C + c] - xe;
+                num[c] += area[v] * dv * dv;
+                den[c] += area[v] * xe * xe;
+                /* NaN must not hide behind fmax */
+                out->max_abs[c] = isnan(dv) ? NAN : fmax(out->max_abs[c], fabs(dv));
+            }
+    }
+    out->channels = (uint32_t)C;
+    out->ndirs = ndirs;
+    for (size_t c = 0; c <= C; c++) {
+        if (c < C) {
+            num[C] += num[c];
+            den[C] += den[c];
+            out->max_abs[C] = isnan(out->max_abs[c]) ? NAN : fmax(out->max_abs[C], out->max_abs[c]);
+        }
+        const double n = asum * ndirs * (c < C ? 1.0 : (double)C);
+        out->rms[c] = n > 0.0 ? sqrt(num[c] / n) : 0.0;
+        out->rms_exact[c] = n > 0.0 ? sqrt(den[c] / n) : 0.0;
+        out->rel_rms[c] = den[c] > 0.0 ? sqrt(num[c] / den[c]) : sqrt(num[c]);
+    }
+    free(area);
+    free(x);
+    free(r);
+    return SSS_OK;
+}
