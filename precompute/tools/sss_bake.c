@@ -35,6 +35,10 @@ static void usage(FILE *f)
         "  --quant float|lloyd8 storage of the integrals (default float)\n"
         "Compression (Hao & Varshney 2004 sec. 4; docs/compression.md); any of these\n"
         "stores the compressed form instead of --quant:\n"
+        "  --compress P         preset: paper (3%% references, SH order 3, linear 8-bit codes,\n"
+        "                       16-bit barycentric weights) or compact (<= 16 / 30 bytes per\n"
+        "                       vertex grey / RGB at lower error: docs/compression.md);\n"
+        "                       the options below override it\n"
         "  --sh-order N         SH order 0..8 (N^2 coefficients per vertex and channel)\n"
         "  --refs FRACTION      reference vertices as a fraction of all (0: SH only;\n"
         "                       default 0.03 with --sh-order)\n"
@@ -70,7 +74,9 @@ int main(int argc, char **argv)
     memset(&opt, 0, sizeof opt);
     sss_compress_opts co;
     sss_compress_opts_default(&co);
-    int compress = 0, have_quant = 0, have_refs = 0;
+    int compress = 0, have_quant = 0, have_refs = 0, compact = 0;
+    /* which compression options were given, so a preset only fills the rest */
+    int set_order = 0, set_kind = 0, set_wbits = 0, set_ls = 0, set_illum = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -91,7 +97,14 @@ int main(int argc, char **argv)
             else { fprintf(stderr, "%s: --quant: '%s' must be float or lloyd8\n", TOOL, v); return 2; }
             have_quant = 1;
         }
-        else if (!strcmp(a, "--sh-order")) { NEED(); if (!cli_parse_u32(TOOL, a, v, 0, 8, &co.order)) return 2; compress = 1; }
+        else if (!strcmp(a, "--compress")) {
+            NEED();
+            if (!strcmp(v, "paper")) compact = 0;
+            else if (!strcmp(v, "compact")) compact = 1;
+            else { fprintf(stderr, "%s: --compress: '%s' must be paper or compact\n", TOOL, v); return 2; }
+            compress = 1;
+        }
+        else if (!strcmp(a, "--sh-order")) { NEED(); if (!cli_parse_u32(TOOL, a, v, 0, 8, &co.order)) return 2; compress = 1; set_order = 1; }
         else if (!strcmp(a, "--refs")) { NEED(); if (!cli_parse_double(TOOL, a, v, 0.0, 1.0, &co.fraction)) return 2; compress = 1; have_refs = 1; }
         else if (!strcmp(a, "--sh-quant")) {
             NEED();
@@ -100,15 +113,17 @@ int main(int argc, char **argv)
             else if (!strcmp(v, "lloyd4")) co.sh_kind = SSS_SHQ_LLOYD4;
             else { fprintf(stderr, "%s: --sh-quant: '%s' must be linear8, lloyd8 or lloyd4\n", TOOL, v); return 2; }
             compress = 1;
+            set_kind = 1;
         }
         else if (!strcmp(a, "--weight-bits")) {
             NEED();
             if (!cli_parse_u32(TOOL, a, v, 8, 16, &co.wbits)) return 2;
             if (co.wbits != 8 && co.wbits != 16) { fprintf(stderr, "%s: --weight-bits: '%s' must be 8 or 16\n", TOOL, v); return 2; }
             compress = 1;
+            set_wbits = 1;
         }
-        else if (!strcmp(a, "--ls-weights")) { co.ls_weights = 1; compress = 1; }
-        else if (!strcmp(a, "--illum-refs")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-9, 1e9, &co.illum_weight)) return 2; compress = 1; }
+        else if (!strcmp(a, "--ls-weights")) { co.ls_weights = 1; compress = 1; set_ls = 1; }
+        else if (!strcmp(a, "--illum-refs")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-9, 1e9, &co.illum_weight)) return 2; compress = 1; set_illum = 1; }
         else if (!strcmp(a, "--threads")) { uint32_t t; NEED(); if (!cli_parse_u32(TOOL, a, v, 1, 1024, &t)) return 2; opt.threads = (int)t; }
         else if (!strcmp(a, "--json")) json = 1;
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
@@ -122,7 +137,7 @@ int main(int argc, char **argv)
                 TOOL);
         return 2;
     }
-    if (compress && !have_refs && co.order == 0) {
+    if (compress && !have_refs && set_order && co.order == 0) {
         fprintf(stderr, "%s: --sh-order 0 needs --refs FRACTION > 0 (nothing would be stored)\n", TOOL);
         return 2;
     }
@@ -182,6 +197,19 @@ int main(int argc, char **argv)
         return sss_bake_interrupted ? 130 : 1;
     }
     double t_compress = 0.0;
+    if (compress && compact) {
+        /* docs/compression.md "compact": at most 16 (grey) / 30 (RGB) bytes per
+         * vertex at no more error than the paper's configuration, measured on
+         * the dragons: 4-bit Lloyd SH codes, 8-bit least-squares weights,
+         * illumination-aware references; 3 % references for one channel, 2 %
+         * for three (RGB shares triangles and weights but not rows) */
+        if (!have_refs) co.fraction = f.channels == 1 ? 0.03 : 0.02;
+        if (!set_order) co.order = 3;
+        if (!set_kind) co.sh_kind = SSS_SHQ_LLOYD4;
+        if (!set_wbits) co.wbits = 8;
+        if (!set_ls) co.ls_weights = 1;
+        if (!set_illum) co.illum_weight = 1e-3;
+    }
     if (compress && !sss_bake_interrupted) {
         t0 = now_s();
         sss_bake_file cf;

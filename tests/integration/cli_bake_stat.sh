@@ -41,6 +41,20 @@ contains "$TMP/out" 'smaller than 8-bit'
 # below the 150 of lloyd8
 s=$(stat -c %s "$TMP/blob_sh.sss"); l=$(stat -c %s "$TMP/blob_lloyd8.sss")
 [ "$s" -lt "$l" ] || fail "SH file ($s B) should be smaller than lloyd8 ($l B)"
+# the compact preset: 4-bit Lloyd SH codes, 8-bit least-squares weights,
+# illumination-aware references, 2 % of the vertices for RGB; an explicit
+# option overrides the preset
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_compact.sss" --material skin1 --mm-per-unit 20 --dirs 50 --compress compact -q
+expect_ok "$SSS_STAT" "$TMP/blob_compact.sss" --json
+contains "$TMP/out" '"sh_quant":"lloyd4"'
+contains "$TMP/out" '"weight_bits":8'
+contains "$TMP/out" '"refs":13,'
+contains "$TMP/out" '"ls_weights":true'
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_compact2.sss" --material skin1 --mm-per-unit 20 --dirs 50 --compress compact --sh-order 2 -q
+expect_ok "$SSS_STAT" "$TMP/blob_compact2.sss" --json
+contains "$TMP/out" '"sh_order":2'
+contains "$TMP/out" '"sh_quant":"lloyd4"'
+expect_fail 'paper or compact' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --compress tiny
 # contradictory or empty compression settings are refused before baking
 expect_fail 'exclude each other' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --quant lloyd8 --sh-order 3
 expect_fail 'needs --refs' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --sh-order 0
