@@ -1,0 +1,41 @@
+# A bake interrupted at any point (SIGINT, SIGTERM, SIGKILL) leaves either
+# the previous file or no file under the output name, never a partial one;
+# a bake that would not fit in memory says so before starting, with its
+# estimate (issue 6; docs/format.md §7 for the atomic write).
+. "$(dirname "$0")/lib.sh"
+mesh="$SSS_SOURCE/data/meshes/blob.ply"   # 10,242 vertices: a few seconds per bake
+slow=(--material marble --mm-per-unit 60 -q)
+# the "old" file: a quick bake of the same mesh
+expect_ok "$SSS_BAKE" "$mesh" -o "$TMP/out.sss" --dirs 12 --material marble --mm-per-unit 60 -q
+cp "$TMP/out.sss" "$TMP/old.sss"
+check_old() {
+  cmp -s "$TMP/out.sss" "$TMP/old.sss" || fail "$1: the output was replaced or damaged"
+  expect_ok "$SSS_STAT" "$TMP/out.sss"
+}
+for sig in INT TERM KILL; do
+  for delay in 0.1 0.7 1.5; do
+    "$SSS_BAKE" "$mesh" -o "$TMP/out.sss" "${slow[@]}" 2>"$TMP/err" &
+    pid=$!
+    sleep "$delay"
+    kill -"$sig" "$pid" 2>/dev/null
+    wait "$pid"; rc=$?
+    [ "$rc" -ne 0 ] || fail "SIG$sig after ${delay}s: the bake finished before the signal (make it slower)"
+    case $sig in
+      INT|TERM) [ "$rc" -eq 130 ] || { cat "$TMP/err" >&2; fail "SIG$sig: exit $rc, expected 130"; }
+                grep -q 'interrupted' "$TMP/err" || fail "SIG$sig: no 'interrupted' message";;
+      KILL) [ "$rc" -eq 137 ] || fail "SIGKILL: exit $rc, expected 137";;
+    esac
+    check_old "SIG$sig after ${delay}s"
+    # a clean interruption leaves no temporary file either
+    if [ "$sig" != KILL ] && ls "$TMP"/out.sss.tmp.* >/dev/null 2>&1; then fail "SIG$sig left a temporary file"; fi
+  done
+done
+# with no previous file, an interrupted bake leaves none
+rm -f "$TMP/out.sss" "$TMP"/out.sss.tmp.*
+"$SSS_BAKE" "$mesh" -o "$TMP/out.sss" "${slow[@]}" 2>/dev/null &
+pid=$!; sleep 0.5; kill -INT "$pid"; wait "$pid"
+[ ! -e "$TMP/out.sss" ] || fail "an interrupted first bake left an output file"
+# memory: refused before any work, with the estimate, nothing written
+SSS_MEMORY_LIMIT_MB=8 expect_fail 'needs at least .* GiB .* is available' "$SSS_BAKE" "$mesh" -o "$TMP/out.sss" --dirs 800 -q
+[ ! -e "$TMP/out.sss" ] || fail "a refused bake wrote a file"
+echo "cli_interrupt: ok"
