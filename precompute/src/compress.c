@@ -179,37 +179,57 @@ static sss_result check_opts(const sss_bake_file *f, const sss_compress_opts *o,
 /* References (§4.2): choose them, quantise their rows, list the coded
  * vertices with their triangles (weights are set later). `bary` gets the
  * closest-point barycentrics of every coded vertex (3 per vertex). */
+sss_result sss_compress_choose_refs(const sss_bake_file *f, double fraction, double illum_weight, sss_refs *out,
+                                   sss_error *err)
+{
+    if (out) memset(out, 0, sizeof *out);
+    if (!f || !out || f->quant != SSS_QUANT_FLOAT || !f->q)
+        return sss_fail(err, SSS_ERR_ARG, "compress: references need a float bake");
+    const uint32_t nv = f->mesh.nv, C = f->channels, nd = f->dirs.n;
+    if (!(illum_weight > 0.0)) return sss_refs_build(&f->mesh, fraction, 1, out, err);
+    /* feature: q at every 4th direction sample, channels averaged, so that
+     * the decimation sees where the integrals change fast */
+    const uint32_t step = 4, dim = (nd + step - 1) / step;
+    float *feat = malloc((size_t)nv * dim * sizeof *feat + 1);
+    if (!feat) return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for illumination features");
+    for (uint32_t v = 0; v < nv; v++)
+        for (uint32_t t = 0; t < dim; t++) {
+            double acc = 0.0;
+            for (uint32_t c = 0; c < C; c++) acc += f->q[((size_t)(t * step) * nv + v) * C + c];
+            feat[(size_t)v * dim + t] = (float)(acc / C);
+        }
+    sss_result res = sss_refs_build_ex(&f->mesh, fraction, 1, feat, dim, illum_weight, out, err);
+    free(feat);
+    return res;
+}
+
 static sss_result build_refs(const sss_bake_file *f, const sss_compress_opts *o, sss_bake_file *d, float **bary,
                              sss_error *err)
 {
     const uint32_t nv = f->mesh.nv, C = f->channels, nd = f->dirs.n;
     sss_refcode *r = &d->ref;
-    sss_refs refs;
-    sss_result res;
-    if (o->illum_weight > 0.0) {
-        /* feature: q at every 4th direction sample, channels averaged, so
-         * that the decimation sees where the integrals change fast */
-        const uint32_t step = 4, dim = (nd + step - 1) / step;
-        float *feat = malloc((size_t)nv * dim * sizeof *feat + 1);
-        if (!feat) return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for illumination features");
-        for (uint32_t v = 0; v < nv; v++)
-            for (uint32_t t = 0; t < dim; t++) {
-                double acc = 0.0;
-                for (uint32_t c = 0; c < C; c++) acc += f->q[((size_t)(t * step) * nv + v) * C + c];
-                feat[(size_t)v * dim + t] = (float)(acc / C);
-            }
-        res = sss_refs_build_ex(&f->mesh, o->fraction, 1, feat, dim, o->illum_weight, &refs, err);
-        free(feat);
+    sss_refs built;
+    memset(&built, 0, sizeof built);
+    const sss_refs *src = o->refs;
+    sss_result res = SSS_OK;
+    if (src) {
+        if (src->nv != nv || src->nref == 0 || !src->ref_vertex || !src->vtri || !src->w)
+            return sss_fail(err, SSS_ERR_ARG, "compress: the given references are not for this mesh");
     } else {
-        res = sss_refs_build(&f->mesh, o->fraction, 1, &refs, err);
+        if ((res = sss_compress_choose_refs(f, o->fraction, o->illum_weight, &built, err)) != SSS_OK) return res;
+        src = &built;
     }
-    if (res != SSS_OK) return res;
+    const sss_refs refs = *src; /* read-only view: vtri and w are read, the lists copied */
     r->nref = refs.nref;
     r->nrt = refs.nrt;
-    r->ref_vertex = refs.ref_vertex;
-    r->ref_tri = refs.ref_tri;
-    refs.ref_vertex = NULL;
-    refs.ref_tri = NULL;
+    r->ref_vertex = malloc((size_t)refs.nref * sizeof *r->ref_vertex + 1);
+    r->ref_tri = malloc(3 * (size_t)refs.nrt * sizeof *r->ref_tri + 1);
+    if (!r->ref_vertex || !r->ref_tri) {
+        sss_refs_free(&built);
+        return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for %u references", refs.nref);
+    }
+    memcpy(r->ref_vertex, refs.ref_vertex, (size_t)refs.nref * sizeof *r->ref_vertex);
+    memcpy(r->ref_tri, refs.ref_tri, 3 * (size_t)refs.nrt * sizeof *r->ref_tri);
     r->tri_bytes = sss_refs_tri_bytes(r->nrt);
     r->wbits = o->wbits;
     r->w_lo = o->ls_weights ? LS_W_LO : 0.0f;
@@ -225,7 +245,7 @@ static sss_result build_refs(const sss_bake_file *f, const sss_compress_opts *o,
     *bary = malloc((3 * (size_t)ncoded + 1) * sizeof **bary);
     if (!refq || !r->idx || !r->levels || !r->coded_vertex || !r->vtri || !r->w || !*bary) {
         free(refq);
-        sss_refs_free(&refs);
+        sss_refs_free(&built);
         return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for %u references", r->nref);
     }
     for (uint32_t j = 0; j < nd; j++)
@@ -238,7 +258,7 @@ static sss_result build_refs(const sss_bake_file *f, const sss_compress_opts *o,
                          err);
     free(refq);
     if (res != SSS_OK) {
-        sss_refs_free(&refs);
+        sss_refs_free(&built);
         return res;
     }
     uint32_t k = 0, q = 0;
@@ -252,7 +272,7 @@ static sss_result build_refs(const sss_bake_file *f, const sss_compress_opts *o,
         memcpy(*bary + 3 * (size_t)k, refs.w + 3 * (size_t)v, 3 * sizeof **bary);
         k++;
     }
-    sss_refs_free(&refs);
+    sss_refs_free(&built);
     return SSS_OK;
 }
 

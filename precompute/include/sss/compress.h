@@ -29,6 +29,7 @@
 #define SSS_COMPRESS_H
 #include <stdint.h>
 #include "sss/format.h"
+#include "sss/refs.h"
 #include "sss/result.h"
 #ifdef __cplusplus
 extern "C" {
@@ -41,7 +42,17 @@ typedef struct sss_compress_opts {
     uint32_t wbits;      /* 8 or 16 bits per stored weight */
     int ls_weights;      /* 0: closest-point barycentrics (paper); 1: least squares */
     double illum_weight; /* 0: geometric references (paper); > 0: illumination-aware */
+    /* Optional: references chosen beforehand by sss_compress_choose_refs for
+     * this bake, fraction and illum_weight (then ignored), so that a sweep
+     * over SH orders and codes decimates once. NULL: chosen here. */
+    const sss_refs *refs;
 } sss_compress_opts;
+
+/* The references sss_compress would choose for f: sss_refs_build on its
+ * mesh, or with illum_weight > 0 sss_refs_build_ex with q at every 4th
+ * direction sample (channels averaged) as the feature. */
+sss_result sss_compress_choose_refs(const sss_bake_file *f, double fraction, double illum_weight, sss_refs *out,
+                                   sss_error *err);
 
 /* Paper defaults: order 3 (9 coefficients), 3 % references, linear 8-bit
  * SH codes, 16-bit barycentric weights, geometric references. */
