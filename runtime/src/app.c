@@ -335,7 +335,8 @@ static void draw_overlay(app *a, int fw, int fh)
                                                       : "none";
     const char *base = strrchr(a->opt->file_path, '/');
     base = base ? base + 1 : a->opt->file_path;
-    char buf[1536];
+    char buf[1536], storage[128];
+    sss_storage_describe(f, storage, sizeof storage);
     snprintf(buf, sizeof buf,
              "%.60s  %dx%d\n"
              "%.1f fps  %.2f ms/frame\n"
@@ -349,7 +350,7 @@ static void draw_overlay(app *a, int fw, int fh)
              "H: help/overlay  P: screenshot",
              base, fw, fh, a->frame_ms > 0 ? 1e3 / a->frame_ms : 0.0, a->frame_ms, a->scatter_ms,
              a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU", a->draw_ms, f->mesh.nv, f->channels, f->dirs.n,
-             sss_renderer_bytes_per_vertex(a->r), f->quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float",
+             sss_renderer_bytes_per_vertex(a->r), storage,
              f->material.name, f->material.eta, a->p.exposure, a->p.light_rgb[0],
              a->p.tonemap == SSS_TONEMAP_REINHARD ? "reinhard" : "clamp", l[0], l[1], l[2], terms,
              a->p.wireframe ? "  wireframe" : "");

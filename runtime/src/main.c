@@ -24,7 +24,8 @@ static void usage(FILE *f)
         "       sss-view FILE.sss --offscreen --out IMG.png|IMG.exr [--size WxH] [--light X,Y,Z] [--view X,Y,Z] [--exposure E]\n"
         "Shows a baked translucent mesh: every frame reconstructs each vertex's scattering q for the\n"
         "light direction (GPU compute shader by default, or the CPU decoder) and shades\n"
-        "L = E q F_t(eta, n.w_o) + Fresnel-weighted specular.\n\n"
+        "L = E q F_t(eta, n.w_o) + Fresnel-weighted specular. Any storage form: float, lloyd8, and the\n"
+        "compressed sh and refs (SH codes; reference rows + SH-coded deltas), decoded per frame.\n\n"
         "options:\n"
         "  --offscreen          render one image without a window (EGL surfaceless) and exit\n"
         "  --out FILE           image to write: .png (8-bit sRGB, tone-mapped) or .exr (linear float)\n"
@@ -127,11 +128,13 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
         frame[i] = t2 - t0;
     }
     sss_frame_times gt = sss_renderer_times(r);
-    printf("{\"vertices\":%u,\"channels\":%u,\"quant\":\"%s\",\"path\":\"%s\",\"renderer\":\"%s\",\"frames\":%d,"
+    char storage[128];
+    sss_storage_describe(f, storage, sizeof storage);
+    printf("{\"vertices\":%u,\"channels\":%u,\"quant\":\"%s\",\"storage\":\"%s\",\"path\":\"%s\",\"renderer\":\"%s\",\"frames\":%d,"
            "\"width\":%d,\"height\":%d,\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,\"frame_ms_median\":%.4f,"
            "\"scatter_vertices_per_s\":%.6g,\"fps\":%.3f,\"gpu_timer_scatter_ms_last\":%.4f,\"gpu_timer_draw_ms_last\":%.4f,"
            "\"bytes_per_vertex\":%.3f}\n",
-           f->mesh.nv, f->channels, f->quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float",
+           f->mesh.nv, f->channels, sss_quant_name(f->quant), storage,
            p->path == SSS_EVAL_CPU ? "cpu" : "gpu", sss_gl_renderer_name(), n, w, h, median(scatter, n),
            median(draw, n), median(frame, n), f->mesh.nv / (1e-3 * median(scatter, n)), 1e3 / median(frame, n),
            gt.scatter_ms, gt.draw_ms, sss_renderer_bytes_per_vertex(r));

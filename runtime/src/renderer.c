@@ -6,6 +6,18 @@
  * with glBindBufferRange. A bound range is one row (a few MB), far below
  * GL_MAX_SHADER_STORAGE_BLOCK_SIZE (128 MiB on llvmpipe), while the whole
  * table (1 GB for the 437K dragon in RGB float) only needs to fit in memory.
+ *
+ * Compressed forms (format 1.1, Hao–Varshney 2004 §4) stay compressed on
+ * the GPU: the SH codes (§4.1, each vertex's codes word-aligned), and for
+ * the reference form the reference rows (laid out like a lloyd8 file's, one
+ * entry per reference) plus each coded vertex's triangle and weight codes
+ * (§4.2–4.3). Two passes: the references' values, then every coded vertex
+ * (blend of three of them plus its SH-coded delta).
+ * Per frame the CPU does only the light-dependent, vertex-independent work:
+ * it folds the direction weights into the 256-level tables and the SH basis
+ * values y_i(light) into the SH tables (a few thousand products), exactly as
+ * the C decoder (common/src/decode.c) does, so the GPU's per-vertex sums use
+ * the very same float terms and give the C decoder's result to the bit.
  */
 #include <epoxy/gl.h>
 
@@ -19,6 +31,7 @@
 #include "gl_util.h"
 #include "shaders.h"
 #include "sss/decode.h"
+#include "sss/sh.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -29,11 +42,22 @@ struct sss_renderer {
     uint32_t nv, nf, C;
     double centre[3], radius;
     GLuint vao, vbo_pos, vbo_nrm, ebo;
-    GLuint rows;        /* all direction rows, padded */
+    GLuint rows;        /* all direction rows, padded (float, lloyd8, or the references' rows) */
     GLsizeiptr row_bytes, row_stride;
-    GLuint levels;      /* lloyd8 tables */
+    uint32_t row_n;     /* entries per row / channels: nv, or nref for the reference form */
+    GLuint levels;      /* lloyd8 / reference rows: the three level tables times the weights, per frame */
+    float *fold_l;      /* CPU copy of those, 3·C·256 */
+    const float *lvl;   /* the file's level tables (f->levels or f->ref.levels), C·256 */
     GLuint qbuf;        /* per-vertex q, nv·C floats */
     GLuint prog_cs, prog_shade;
+    /* compressed forms */
+    GLuint prog_coded;  /* second pass: coded vertices */
+    uint32_t ncoded, sh_levels;
+    GLuint sh_codes;    /* SH codes, each coded vertex's starting on a new word */
+    GLuint sh_tab;      /* SH tables times y_i(light), per frame */
+    float *fold_sh;     /* CPU copy of those, C·ncoef·levels */
+    GLuint ref_q;       /* reference values of the frame, nref·C */
+    GLuint ref_vertex, ref_tri, coded_rec, wtab;
     GLuint queries[2];
     int have_times;
     float *cpu_q;       /* CPU path scratch */
@@ -72,6 +96,19 @@ float sss_tonemap_apply(sss_tonemap t, float x)
     return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
 }
 
+/* A shader storage buffer of n bytes holding data (NULL: undefined),
+ * left bound to GL_SHADER_STORAGE_BUFFER. At least 4 bytes, so that
+ * binding it is valid even when it is empty. */
+static GLuint make_ssbo(GLsizeiptr n, const void *data, GLenum usage)
+{
+    GLuint b = 0;
+    glGenBuffers(1, &b);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, n >= 4 ? n : 4, n >= 4 ? data : NULL, usage);
+    if (n > 0 && n < 4 && data) glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, n, data);
+    return b;
+}
+
 sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err)
 {
     *out = NULL;
@@ -101,10 +138,43 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
     }
     r->radius = r->radius > 0 ? sqrt(r->radius) : 1.0;
 
-    int l8 = f->quant == SSS_QUANT_LLOYD8;
-    GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, l8 ? "#define LLOYD8 1\n" : "", sss_glsl_scatter_cs, err);
-    r->prog_cs = cs ? sss_gl_link(cs, 0, err) : 0;
-    GLuint vs = r->prog_cs ? sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vs, err) : 0;
+    const sss_quant qt = f->quant;
+    const int l8 = qt == SSS_QUANT_LLOYD8, refs = qt == SSS_QUANT_REFS, sh = qt == SSS_QUANT_SH;
+    if (qt != SSS_QUANT_FLOAT && !l8 && !refs && !sh) {
+        sss_renderer_destroy(r);
+        return sss_fail(err, SSS_ERR_UNSUPPORTED, "renderer: storage form %d is not supported", (int)qt);
+    }
+    const sss_shcode *shc = &f->sh;
+    r->sh_levels = shc->ncoef ? sss_shq_levels(shc->kind) : 0;
+    if ((sh || refs) && shc->ncoef && !r->sh_levels) {
+        sss_renderer_destroy(r);
+        return sss_fail(err, SSS_ERR_UNSUPPORTED, "renderer: SH code kind %u is not supported", shc->kind);
+    }
+    /* SH-only codes every vertex, in vertex order; the reference form codes
+     * the others (the reader has checked both). */
+    r->ncoded = sh || refs ? shc->ncoded : 0;
+    if ((sh && r->ncoded != r->nv) || (refs && (uint64_t)r->ncoded + f->ref.nref != r->nv)) {
+        sss_renderer_destroy(r);
+        return sss_fail(err, SSS_ERR_CORRUPT, "renderer: %u coded vertices do not match %u vertices", r->ncoded, r->nv);
+    }
+
+    /* Programs: the row interpolation (float, lloyd8, and pass 1 of the
+     * reference form), the coded-vertex pass (compressed forms), shading. */
+    int ok = 1;
+    if (!sh) {
+        GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, refs ? "#define LLOYD8 1\n#define REFS 1\n" : l8 ? "#define LLOYD8 1\n" : "",
+                                   sss_glsl_scatter_cs, err);
+        ok = cs && (r->prog_cs = sss_gl_link(cs, 0, err)) != 0;
+    }
+    if (ok && (sh || refs)) {
+        char pre[192];
+        snprintf(pre, sizeof pre, "#define CHANNELS %u\n#define NCOEF %u\n#define SH_LEVELS %u\n%s%s", r->C, shc->ncoef,
+                 r->sh_levels ? r->sh_levels : 256u, shc->kind == SSS_SHQ_LLOYD4 ? "#define SH_NIBBLE 1\n" : "",
+                 refs ? "#define REFS 1\n" : "");
+        GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_coded_cs, err);
+        ok = cs && (r->prog_coded = sss_gl_link(cs, 0, err)) != 0;
+    }
+    GLuint vs = ok ? sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vs, err) : 0;
     GLuint fs = vs ? sss_gl_compile(GL_FRAGMENT_SHADER, "", sss_glsl_shade_fs, err) : 0;
     r->prog_shade = fs ? sss_gl_link(vs, fs, err) : 0;
     if (!r->prog_shade) {
@@ -130,23 +200,93 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)r->nf * 3 * sizeof(uint32_t), f->mesh.tri, GL_STATIC_DRAW);
     glBindVertexArray(0);
 
-    /* Direction rows, each padded to the SSBO offset alignment. */
-    GLint align = 16;
-    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
-    if (align < 4) align = 4;
-    r->row_bytes = (GLsizeiptr)r->nv * r->C * (l8 ? 1 : 4);
-    r->row_stride = (r->row_bytes + align - 1) / align * align;
-    glGenBuffers(1, &r->rows);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->rows);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, r->row_stride * (GLsizeiptr)f->dirs.n, NULL, GL_STATIC_DRAW);
-    const uint8_t *src = l8 ? f->qidx : (const uint8_t *)f->q;
-    for (uint32_t j = 0; j < f->dirs.n; j++)
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, r->row_stride * (GLsizeiptr)j, r->row_bytes,
-                        src + (size_t)r->row_bytes * j);
-    if (l8) {
-        glGenBuffers(1, &r->levels);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->levels);
-        glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)r->C * 256 * sizeof(float), f->levels, GL_STATIC_DRAW);
+    /* Buffers bound whole must fit one storage block. */
+    GLint64 max_block = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    const uint32_t per_word = shc->kind == SSS_SHQ_LLOYD4 ? 8 : 4, ncv = r->C * shc->ncoef;
+    const uint32_t vwords = shc->ncoef ? (ncv + per_word - 1) / per_word : 0;
+    const uint64_t code_bytes = (uint64_t)r->ncoded * vwords * 4;
+    const uint64_t whole[3] = {(uint64_t)r->nv * r->C * sizeof(float), code_bytes,
+                               (uint64_t)r->ncoded * 3 * sizeof(uint32_t)};
+    for (int k = 0; k < 3; k++)
+        if (max_block > 0 && whole[k] > (uint64_t)max_block) {
+            sss_renderer_destroy(r);
+            return sss_fail(err, SSS_ERR_UNSUPPORTED,
+                            "renderer: a %.1f MiB storage buffer is needed, above this GL's limit of %.1f MiB",
+                            (double)whole[k] / 1048576.0, (double)max_block / 1048576.0);
+        }
+
+    /* Direction rows, each padded to the SSBO offset alignment: the
+     * vertices' rows (float, lloyd8) or the references' (§4.2). */
+    if (!sh) {
+        GLint align = 16;
+        glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+        if (align < 4) align = 4;
+        r->row_n = refs ? f->ref.nref : r->nv;
+        r->row_bytes = (GLsizeiptr)r->row_n * r->C * (l8 || refs ? 1 : 4);
+        r->row_stride = (r->row_bytes + align - 1) / align * align;
+        glGenBuffers(1, &r->rows);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->rows);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, r->row_stride * (GLsizeiptr)f->dirs.n, NULL, GL_STATIC_DRAW);
+        const uint8_t *src = refs ? f->ref.idx : l8 ? f->qidx : (const uint8_t *)f->q;
+        for (uint32_t j = 0; j < f->dirs.n && r->row_bytes > 0; j++)
+            glBufferSubData(GL_SHADER_STORAGE_BUFFER, r->row_stride * (GLsizeiptr)j, r->row_bytes,
+                            src + (size_t)r->row_bytes * j);
+    }
+    if (l8 || refs) {
+        r->lvl = refs ? f->ref.levels : f->levels;
+        r->fold_l = malloc((size_t)3 * r->C * 256 * sizeof(float));
+        r->levels = make_ssbo((GLsizeiptr)3 * r->C * 256 * sizeof(float), NULL, GL_DYNAMIC_DRAW);
+    }
+    if (shc->ncoef && (sh || refs)) {
+        /* The codes as stored, but each vertex's C·ncoef codes starting on
+         * a word of their own (at most 3 bytes of padding per vertex): an
+         * invocation then loads its vertex's few words once, at fixed
+         * offsets, instead of one word per code. */
+        uint32_t *words = calloc((size_t)r->ncoded * vwords + 1, sizeof *words);
+        if (words) {
+            const uint32_t bits = 32 / per_word;
+            for (size_t k = 0; k < r->ncoded; k++)
+                for (uint32_t b = 0; b < ncv; b++)
+                    words[k * vwords + b / per_word] |= sss_shq_code(shc->code, shc->kind, (uint64_t)k * ncv + b)
+                                                        << (b % per_word * bits);
+            r->sh_codes = make_ssbo((GLsizeiptr)code_bytes, words, GL_STATIC_DRAW);
+            free(words);
+        }
+        size_t ntab = (size_t)r->C * shc->ncoef * r->sh_levels;
+        r->fold_sh = malloc(ntab * sizeof(float));
+        r->sh_tab = make_ssbo((GLsizeiptr)(ntab * sizeof(float)), NULL, GL_DYNAMIC_DRAW);
+    }
+    if (refs) {
+        const sss_refcode *rf = &f->ref;
+        r->ref_q = make_ssbo((GLsizeiptr)rf->nref * r->C * sizeof(float), NULL, GL_DYNAMIC_COPY);
+        r->ref_vertex = make_ssbo((GLsizeiptr)rf->nref * sizeof(uint32_t), rf->ref_vertex, GL_STATIC_DRAW);
+        r->ref_tri = make_ssbo((GLsizeiptr)rf->nrt * 3 * sizeof(uint32_t), rf->ref_tri, GL_STATIC_DRAW);
+        /* one record per coded vertex: its vertex, its reference triangle,
+         * its two weight codes packed in one word (≤ 16 bits each) */
+        uint32_t *rec = malloc(((size_t)r->ncoded * 3 + 1) * sizeof *rec);
+        /* every weight a code can stand for, as coded_weights in the C
+         * decoder computes it (in double): at most 65536 values, and the
+         * GPU then needs no double division */
+        const uint32_t nw = rf->wbits == 16 ? 65536u : 256u;
+        double *wt = malloc(nw * sizeof *wt);
+        if (rec && wt) {
+            for (size_t k = 0; k < r->ncoded; k++) {
+                rec[3 * k] = rf->coded_vertex[k];
+                rec[3 * k + 1] = rf->vtri[k];
+                rec[3 * k + 2] = (uint32_t)rf->w[2 * k] | (uint32_t)rf->w[2 * k + 1] << 16;
+            }
+            const double span = (double)rf->w_hi - rf->w_lo, wmax = rf->wbits == 16 ? 65535.0 : 255.0;
+            for (uint32_t x = 0; x < nw; x++) wt[x] = rf->w_lo + span * ((double)x / wmax);
+            r->coded_rec = make_ssbo((GLsizeiptr)r->ncoded * 3 * sizeof(uint32_t), rec, GL_STATIC_DRAW);
+            r->wtab = make_ssbo((GLsizeiptr)nw * sizeof(double), wt, GL_STATIC_DRAW);
+        }
+        free(rec);
+        free(wt);
+    }
+    if ((r->lvl && !r->fold_l) || (r->sh_tab && (!r->fold_sh || !r->sh_codes)) || (refs && !r->wtab)) {
+        sss_renderer_destroy(r);
+        return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory");
     }
     glGenBuffers(1, &r->qbuf);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->qbuf);
@@ -165,10 +305,12 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
 void sss_renderer_destroy(sss_renderer *r)
 {
     if (!r) return;
-    GLuint bufs[6] = {r->vbo_pos, r->vbo_nrm, r->ebo, r->rows, r->levels, r->qbuf};
-    glDeleteBuffers(6, bufs);
+    GLuint bufs[13] = {r->vbo_pos, r->vbo_nrm,  r->ebo,     r->rows,    r->levels,    r->qbuf, r->sh_codes,
+                       r->sh_tab,  r->ref_q,    r->ref_vertex, r->ref_tri, r->coded_rec, r->wtab};
+    glDeleteBuffers(13, bufs);
     if (r->vao) glDeleteVertexArrays(1, &r->vao);
     if (r->prog_cs) glDeleteProgram(r->prog_cs);
+    if (r->prog_coded) glDeleteProgram(r->prog_coded);
     if (r->prog_shade) glDeleteProgram(r->prog_shade);
     if (r->queries[0]) glDeleteQueries(2, r->queries);
     if (r->fbo) {
@@ -177,6 +319,8 @@ void sss_renderer_destroy(sss_renderer *r)
         glDeleteRenderbuffers(1, &r->fbo_depth);
     }
     free(r->cpu_q);
+    free(r->fold_l);
+    free(r->fold_sh);
     free(r);
 }
 
@@ -230,24 +374,77 @@ void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
         r->cpu_scatter_ms = now_ms() - t0;
         return;
     }
-    uint32_t idx[3];
-    double w[3];
-    if (sss_dirset_lookup(&f->dirs, l, idx, w) < 0 && f->dirs.ntri > 0) {
+    uint32_t idx[3] = {0, 0, 0};
+    double w[3] = {0.0, 0.0, 0.0};
+    if (r->rows && sss_dirset_lookup(&f->dirs, l, idx, w) < 0 && f->dirs.ntri > 0) {
         idx[0] = idx[1] = idx[2] = 0;
         w[0] = w[1] = w[2] = 0.0; /* zero or NaN light: no scattering */
     }
+    /* Light-dependent tables, folded on the CPU in double and rounded once,
+     * term for term what the C decoder forms (see the top of this file). */
+    if (r->fold_l) {
+        /* T_t[c][x] = w_t · level_c[x]: the §3.2 interpolation of 8-bit rows
+         * becomes three table loads per value */
+        const size_t n = (size_t)r->C * 256;
+        for (size_t t = 0; t < 3; t++)
+            for (size_t x = 0; x < n; x++) r->fold_l[t * n + x] = (float)(w[t] * r->lvl[x]);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->levels);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(3 * n * sizeof(float)), r->fold_l);
+    }
+    if (r->fold_sh) {
+        /* T_c,i[x] = table_c,i[x] · y_i(ω): q̃ = Σ_i c_i y_i(ω) (§4.1) becomes
+         * one table load per coefficient */
+        const sss_shcode *s = &f->sh;
+        const size_t L = r->sh_levels, ntab = (size_t)r->C * s->ncoef;
+        double y[SSS_SH_MAX_COUNT];
+        sss_sh_eval(s->order, l, y);
+        for (size_t t = 0; t < ntab; t++) {
+            const double yi = y[t % s->ncoef];
+            for (size_t x = 0; x < L; x++) r->fold_sh[t * L + x] = (float)(s->table[t * L + x] * yi);
+        }
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->sh_tab);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(ntab * L * sizeof(float)), r->fold_sh);
+    }
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     glBeginQuery(GL_TIME_ELAPSED, r->queries[0]);
-    glUseProgram(r->prog_cs);
-    for (int k = 0; k < 3; k++)
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, (GLuint)k, r->rows, r->row_stride * (GLintptr)idx[k],
-                          (r->row_bytes + 3) / 4 * 4);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->qbuf);
-    if (r->levels) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->levels);
-    glUniform3f(glGetUniformLocation(r->prog_cs, "u_w"), (float)w[0], (float)w[1], (float)w[2]);
-    GLuint count = r->nv * r->C;
-    glUniform1ui(glGetUniformLocation(r->prog_cs, "u_count"), count);
-    glUniform1ui(glGetUniformLocation(r->prog_cs, "u_channels"), r->C);
-    glDispatchCompute((count + 255) / 256, 1, 1);
+    GLuint count = r->row_n * r->C;
+    if (r->prog_cs && count > 0) {
+        /* rows of the vertices (float, lloyd8), or pass 1 of the reference
+         * form: the references' values, also scattered to their vertices */
+        glUseProgram(r->prog_cs);
+        for (int k = 0; k < 3; k++)
+            glBindBufferRange(GL_SHADER_STORAGE_BUFFER, (GLuint)k, r->rows, r->row_stride * (GLintptr)idx[k],
+                              (r->row_bytes + 3) / 4 * 4);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->qbuf);
+        if (r->levels) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->levels);
+        if (r->ref_q) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r->ref_q);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, r->ref_vertex);
+        }
+        glUniform3f(glGetUniformLocation(r->prog_cs, "u_w"), (float)w[0], (float)w[1], (float)w[2]);
+        glUniform1ui(glGetUniformLocation(r->prog_cs, "u_count"), count);
+        glUniform1ui(glGetUniformLocation(r->prog_cs, "u_channels"), r->C);
+        glDispatchCompute((count + 255) / 256, 1, 1);
+    }
+    count = r->ncoded;
+    if (r->prog_coded && count > 0) {
+        /* pass 2 reads the reference values pass 1 has just written */
+        if (r->prog_cs) glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glUseProgram(r->prog_coded);
+        if (r->sh_codes) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r->sh_codes);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->sh_tab);
+        }
+        if (r->coded_rec) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r->coded_rec);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r->ref_tri);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r->ref_q);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, r->wtab);
+        }
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->qbuf);
+        glUniform1ui(glGetUniformLocation(r->prog_coded, "u_count"), count);
+        glDispatchCompute((count + 255) / 256, 1, 1);
+    }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glEndQuery(GL_TIME_ELAPSED);
     r->have_times |= 1;
@@ -352,6 +549,25 @@ sss_frame_times sss_renderer_times(const sss_renderer *r)
 }
 
 double sss_renderer_bytes_per_vertex(const sss_renderer *r) { return sss_file_integral_bytes_per_vertex(r->f); }
+
+void sss_storage_describe(const sss_bake_file *f, char *buf, size_t n)
+{
+    if (!n) return;
+    const char *q = sss_quant_name(f->quant);
+    const sss_shcode *s = &f->sh;
+    if (f->quant == SSS_QUANT_SH) {
+        snprintf(buf, n, "%s: SH %u %s", q, s->order, sss_shq_name(s->kind));
+    } else if (f->quant == SSS_QUANT_REFS) {
+        double pct = f->mesh.nv ? 100.0 * f->ref.nref / f->mesh.nv : 0.0;
+        if (s->ncoef)
+            snprintf(buf, n, "%s %.1f%% + SH %u %s, %u-bit weights", q, pct, s->order, sss_shq_name(s->kind),
+                     f->ref.wbits);
+        else
+            snprintf(buf, n, "%s %.1f%%, %u-bit weights", q, pct, f->ref.wbits);
+    } else {
+        snprintf(buf, n, "%s", q);
+    }
+}
 
 sss_result sss_renderer_bind_offscreen(sss_renderer *r, int width, int height, sss_error *err)
 {

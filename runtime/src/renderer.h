@@ -2,9 +2,10 @@
  *
  * Per frame (Hao–Varshney 2004 §3.2, moved to the GPU as its §6 suggests):
  * the CPU finds the direction-set triangle containing the light direction
- * and its barycentric weights once; the GPU (compute shader) or the CPU (the
- * C decoder in libsss) reconstructs q(x_v, ω) for every vertex and channel
- * into one buffer; the draw shades
+ * and its barycentric weights once (and, for the compressed forms of §4, the
+ * SH basis at the light); the GPU (compute shaders) or the CPU (the C decoder
+ * in libsss) reconstructs q(x_v, ω) for every vertex and channel into one
+ * buffer, from any storage form (float, lloyd8, sh, refs); the draw shades
  *     L = E · q · F_t(η, n·ω_o)  +  Fresnel-weighted specular
  * per colour channel, with exposure and tone mapping.
  *
@@ -14,6 +15,7 @@
 #ifndef SSS_RENDERER_H
 #define SSS_RENDERER_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include "sss/format.h"
 
@@ -89,6 +91,12 @@ sss_result sss_renderer_bind_offscreen(sss_renderer *r, int width, int height, s
 
 /* Bytes per vertex of the scattering data as stored in the file (for the overlay). */
 double sss_renderer_bytes_per_vertex(const sss_renderer *r);
+
+/* One-line description of f's storage form for the overlay and --bench:
+ * sss_quant_name, then for the compressed forms the SH order and code kind
+ * and the reference fraction, e.g. "refs 3.0% + SH 3 linear8, 16-bit
+ * weights". Always NUL-terminated (n > 0). */
+void sss_storage_describe(const sss_bake_file *f, char *buf, size_t n);
 
 #endif
 

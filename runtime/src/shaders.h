@@ -5,8 +5,19 @@
 /* Compute: q = w0·row_a + w1·row_b + w2·row_c for every vertex and channel
  * (Hao–Varshney 2004 §3.2 interpolation, barycentric in the spherical
  * Delaunay triangle). Prefixed at compile time with "#define LLOYD8 1" for
- * 8-bit storage (rows hold packed bytes, levels[c·256 + index]). */
+ * 8-bit storage (rows hold packed bytes; binding 4 holds the three level
+ * tables with the weights folded in, levels[(r·C + c)·256 + index]), and
+ * additionally "#define REFS 1" for the reference rows of the compressed
+ * form (§4.2): the rows then have one entry per reference vertex, and the
+ * values go both to the reference buffer (binding 5, read by the second
+ * pass) and to q at the reference's vertex (binding 6 lists them). */
 extern const char *sss_glsl_scatter_cs;
+
+/* Compute, compressed forms (§4.1, §4.3): for every coded vertex and
+ * channel, the blend of its three reference values (REFS) plus the SH sum
+ * Σ_i table[c, i, code] · y_i(light), clamped at 0. See shaders.c for the
+ * defines it needs. */
+extern const char *sss_glsl_coded_cs;
 
 /* Vertex + fragment: shading L = E·q·F_t(η, n·ω_o) + specular, exposure,
  * tone mapping, optional sRGB encoding. */
