@@ -94,7 +94,16 @@ int main(int argc, char **argv)
     float *out = malloc(nv * C * sizeof(float));
     double ms1 = decode_ms(&f, out, 1, frames), msN = decode_ms(&f, out, maxt, frames);
     /* per vertex: three rows of C values read, C floats written */
+    /* bytes a frame must read per vertex: three direction rows (float,
+     * lloyd8); for the compressed forms, every stored byte that a vertex's
+     * evaluation touches is about its share of the scattering data (the
+     * reference rows are read for three directions only: 3/n of them) */
     double bytes_read = 3.0 * C * (f.quant == SSS_QUANT_LLOYD8 ? 1 : 4), bytes_written = 4.0 * C;
+    if (f.quant == SSS_QUANT_SH || f.quant == SSS_QUANT_REFS) {
+        sss_storage st;
+        sss_file_storage(&f, &st);
+        bytes_read = (double)(st.scattering - st.ref_values) / nv + 3.0 * (double)st.ref_values / f.dirs.n / nv;
+    }
     double moved = (bytes_read + bytes_written) * nv;
     /* the bound uses the sum3 bandwidth: the same three-reads-one-write pattern as the decode */
     double bound1 = 1e3 * moved / r1, boundN = 1e3 * moved / rN;
@@ -103,7 +112,7 @@ int main(int argc, char **argv)
            "\"bytes_read_per_vertex\":%.0f,\"bytes_written_per_vertex\":%.0f,"
            "\"decode_ms_1t\":%.4f,\"decode_ms_all\":%.4f,\"bound_ms_1t\":%.4f,\"bound_ms_all\":%.4f,"
            "\"ratio_to_bound_1t\":%.3f,\"ratio_to_bound_all\":%.3f,\"vertices_per_s_1t\":%.4g,\"vertices_per_s_all\":%.4g}\n",
-           argv[1], nv, C, f.quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float", frames, maxt, r1 / 1e9, c1 / 1e9,
+           argv[1], nv, C, sss_quant_name(f.quant), frames, maxt, r1 / 1e9, c1 / 1e9,
            rN / 1e9, cN / 1e9, bytes_read, bytes_written, ms1, msN, bound1, boundN, ms1 / bound1, msN / boundN,
            nv / (1e-3 * ms1), nv / (1e-3 * msN));
     free(out);
