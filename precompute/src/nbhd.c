@@ -17,6 +17,13 @@
  * nor match the cells. */
 #define NEAR_DISKS 1.0
 
+/* Vertices i and o at bit-identical positions. */
+static int same_position(const sss_mesh *m, uint32_t i, uint32_t o)
+{
+    const float *a = m->pos + 3 * (size_t)i, *b = m->pos + 3 * (size_t)o;
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
 #include <flann/flann.h>
 #include <math.h>
 #include <stdlib.h>
@@ -162,16 +169,31 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
                 }
                 qsort(ind, m, sizeof *ind, cmp_int);
                 uint64_t base = out->start[t];
+                /* Vertices at exactly x_o's position (unwelded meshes: STL
+                 * soups, seams) are one patch of the surface cut into
+                 * pieces: their areas form one disk around x_o, shared in
+                 * proportion to area. Separate small disks, each centred on
+                 * the profile's peak, would add up to several times what
+                 * the combined area holds (docs/robustness.md B4). */
+                double group_area = 0.0;
+                for (uint32_t a = 0; a < m; a++) {
+                    uint32_t i = (uint32_t)ind[a];
+                    if (i == o || same_position(mesh, i, o)) group_area += mesh->area[i];
+                }
+                double group_disk[SSS_MAX_CHANNELS];
+                for (uint32_t c = 0; c < channels; c++)
+                    group_disk[c] = group_area > 0.0 ? sss_rd_disk(&dip[c], sqrt(group_area * s * s / M_PI)) / M_PI : 0.0;
                 for (uint32_t a = 0; a < m; a++) {
                     uint32_t i = (uint32_t)ind[a];
                     out->idx[base + a] = i;
                     float *w = &out->w[(base + a) * channels];
-                    if (i == o) {
+                    if (i == o || same_position(mesh, i, o)) {
                         /* Self term: R_d integrated over a disk of x_o's own
                          * area (physics sheet §2 (a)); a point sample at
-                         * r = 0 is wrong. */
-                        double R = sqrt(mesh->area[o] * s * s / M_PI);
-                        for (uint32_t c = 0; c < channels; c++) w[c] = (float)(sss_rd_disk(&dip[c], R) / M_PI);
+                         * r = 0 is wrong. With coincident copies, this
+                         * vertex's share of their common disk. */
+                        const double share = group_area > 0.0 ? mesh->area[i] / group_area : 0.0;
+                        for (uint32_t c = 0; c < channels; c++) w[c] = (float)(group_disk[c] * share);
                     } else {
                         double d2 = 0;
                         for (int c = 0; c < 3; c++) {

@@ -52,6 +52,109 @@ static double slab_centre_q(const sss_material *m, int c, double size, double h,
     return q[c];
 }
 
+/* q (all channels) at vertex `centre` of mesh (normals and areas set), lit
+ * head-on, through the bake's own neighbourhood, visibility and integrals. */
+static void centre_q(sss_mesh *mesh, const sss_material *m, uint32_t centre, float q[3])
+{
+    sss_dipole d[3];
+    double R = 0.0;
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(sss_dipole_init(&d[k], m->sigma_a[k], m->sigmap_s[k], m->eta), SSS_OK);
+        R = fmax(R, sss_rd_radius(&d[k], 1e-3, 1e4));
+    }
+    sss_error err = {{0}};
+    sss_nbhd nb;
+    assert_int_equal(sss_nbhd_build(mesh, 1.0, d, 3, R, &centre, 1, 0, &nb, &err), SSS_OK);
+    sss_vis *vis;
+    assert_int_equal(sss_vis_create(mesh, &vis, &err), SSS_OK);
+    const double up[3] = {0, 0, 1};
+    float *G = malloc(mesh->nv * sizeof(float));
+    assert_non_null(G);
+    assert_int_equal(sss_transfer_compute(mesh, vis, up, 1, m->eta, G, NULL, NULL, &err), SSS_OK);
+    sss_integrate(&nb, G, 1, q);
+    free(G);
+    sss_vis_destroy(vis);
+    sss_nbhd_free(&nb);
+}
+
+/* An unwelded mesh (every triangle with its own three vertices, as in STL
+ * files) is the same surface as the welded one: q at the centre must agree
+ * within 1 %, not exceed it several times (docs/robustness.md B4: copies at
+ * one position share one disk of their combined area). */
+static void unweldedSlabMatchesWeldedSlab(void **state)
+{
+    (void)state;
+    sss_material m;
+    assert_int_equal(sss_material_preset("skin1", &m, NULL), SSS_OK);
+    sss_error err = {{0}};
+    const unsigned n = 24; /* 2.5 mm cells on a 60 mm square: coarse, so copies matter */
+    sss_mesh w, u;
+    assert_int_equal(sss_gen_plane(&w, 60.0, 60.0, n, n, &err), SSS_OK);
+    assert_int_equal(sss_mesh_alloc(&u, 3 * w.nf, w.nf, &err), SSS_OK);
+    uint32_t ucentre = UINT32_MAX;
+    for (uint32_t t = 0; t < w.nf; t++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t v = w.tri[3 * t + k], nvu = 3 * t + (uint32_t)k;
+            memcpy(u.pos + 3 * (size_t)nvu, w.pos + 3 * (size_t)v, 3 * sizeof(float));
+            u.tri[nvu] = nvu;
+            if (w.pos[3 * v] == 0.0f && w.pos[3 * v + 1] == 0.0f && ucentre == UINT32_MAX) ucentre = nvu;
+        }
+    assert_true(ucentre != UINT32_MAX);
+    assert_int_equal(sss_mesh_compute_normals_areas(&w, "welded", &err), SSS_OK);
+    assert_int_equal(sss_mesh_compute_normals_areas(&u, "soup", &err), SSS_OK);
+    const uint32_t wcentre = (n / 2) * (n + 1) + n / 2;
+    float qw[3], qu[3];
+    centre_q(&w, &m, wcentre, qw);
+    centre_q(&u, &m, ucentre, qu);
+    for (int c = 0; c < 3; c++) {
+        print_message("unwelded slab channel %d: welded %g, soup %g\n", c, qw[c], qu[c]);
+        if (!(fabs(qu[c] - qw[c]) <= 0.01 * qw[c])) fail_msg("channel %d: soup %g vs welded %g", c, qu[c], qw[c]);
+    }
+    sss_mesh_free(&w);
+    sss_mesh_free(&u);
+}
+
+/* η outside the range where the diffuse Fresnel fits stay below 1, and
+ * coefficients that overflow, are refused up front instead of baking NaN
+ * (docs/robustness.md B1, B2); the ends of the range still bake. */
+static void outOfRangeMaterialsRefused(void **state)
+{
+    (void)state;
+    sss_material m;
+    assert_int_equal(sss_material_preset("marble", &m, NULL), SSS_OK);
+    const double bad_eta[] = {0.2, 0.29, 3.6, 4.0, 1000.0};
+    for (size_t i = 0; i < sizeof bad_eta / sizeof bad_eta[0]; i++) {
+        sss_material b = m;
+        b.eta = bad_eta[i];
+        sss_error err = {{0}};
+        assert_int_equal(sss_material_validate(&b, &err), SSS_ERR_ARG);
+        assert_non_null(strstr(err.msg, "eta"));
+        /* where the fit itself reaches 1 the dipole refuses too */
+        sss_dipole d;
+        if (sss_fdr(bad_eta[i]) >= 1.0)
+            assert_int_equal(sss_dipole_init(&d, m.sigma_a[0], m.sigmap_s[0], bad_eta[i]), SSS_ERR_ARG);
+    }
+    assert_true(sss_fdr(0.2) >= 1.0 && sss_fdr(4.0) >= 1.0); /* the cases above include such */
+    const double ok_eta[] = {SSS_ETA_MIN, 1.0, 2.5, SSS_ETA_MAX};
+    for (size_t i = 0; i < 4; i++) {
+        sss_material b = m;
+        b.eta = ok_eta[i];
+        assert_int_equal(sss_material_validate(&b, NULL), SSS_OK);
+        float q[3];
+        sss_mesh mesh;
+        assert_int_equal(sss_gen_plane(&mesh, 20.0, 20.0, 8, 8, NULL), SSS_OK);
+        centre_q(&mesh, &b, 4 * 9 + 4, q);
+        for (int c = 0; c < 3; c++) assert_true(isfinite(q[c]) && q[c] > 0.0f);
+        sss_mesh_free(&mesh);
+    }
+    sss_material b = m;
+    b.sigma_a[0] = 1e308;
+    b.sigmap_s[0] = 1e308;
+    assert_int_equal(sss_material_validate(&b, NULL), SSS_ERR_ARG);
+    sss_dipole d;
+    assert_int_equal(sss_dipole_init(&d, 1e308, 1e308, 1.3), SSS_ERR_ARG);
+}
+
 /* physics sheet §4: an infinite flat surface lit head-on scatters
  * q = F_t(η, 1) · R_d,total / π (the 1−ε cutoff and the discretisation must
  * stay within 2%). */
@@ -187,6 +290,8 @@ int main(void)
         cmocka_unit_test(planarSlabMatchesTotalReflectanceForMarble),
         cmocka_unit_test(planarSlabMatchesTotalReflectanceForSkin1),
         cmocka_unit_test(vertexInsideClosedBoxIsFullyShadowed),
+        cmocka_unit_test(unweldedSlabMatchesWeldedSlab),
+        cmocka_unit_test(outOfRangeMaterialsRefused),
         cmocka_unit_test(bakeIsByteIdenticalWithOneAndTwoThreads),
         cmocka_unit_test(bakedIntegralsAreFiniteNonNegativeAndShadowed),
     };

@@ -41,7 +41,14 @@ const char *sss_material_preset_name(int i);
 /* Looks a Jensen 2001 preset up by name (case-insensitive); η = 1.3. */
 sss_result sss_material_preset(const char *name, sss_material *out, sss_error *err);
 
-/* Checks a material: finite, σa ≥ 0, σ′s ≥ 0, σ′t > 0 per channel, η > 0. */
+/* Accepted ranges: η where the F_dr fits stay below 1; coefficients up to a
+ * sub-nanometre mean free path. */
+#define SSS_ETA_MIN 0.3
+#define SSS_ETA_MAX 3.5
+#define SSS_SIGMA_MAX 1e6
+
+/* Checks a material: finite, 0 ≤ σa, σ′s ≤ SSS_SIGMA_MAX, σ′t > 0 per
+ * channel, SSS_ETA_MIN ≤ η ≤ SSS_ETA_MAX. */
 sss_result sss_material_validate(const sss_material *m, sss_error *err);
 
 /* Diffuse Fresnel reflectance F_dr(η), Jensen's fit (Egan–Hilgeman for η<1);
