@@ -8,6 +8,19 @@ slow=(--material marble --mm-per-unit 60 -q)
 # the "old" file: a quick bake of the same mesh
 expect_ok "$SSS_BAKE" "$mesh" -o "$TMP/out.sss" --dirs 12 --material marble --mm-per-unit 60 -q
 cp "$TMP/out.sss" "$TMP/old.sss"
+# Background jobs of a non-interactive shell start with SIGINT ignored; the
+# bake installs its own handler early in main, so wait for that (SigCgt in
+# /proc) before the delay starts: otherwise a slow start (sanitizer builds)
+# would see the signal while it is still ignored.
+wait_handler() {
+  local m i
+  for i in $(seq 1 500); do
+    m=$(awk '/^SigCgt:/ {print $2}' "/proc/$1/status" 2>/dev/null) || true
+    if [ -n "$m" ] && (( (16#$m >> 1) & 1 )); then return 0; fi
+    sleep 0.02
+  done
+  return 1
+}
 check_old() {
   cmp -s "$TMP/out.sss" "$TMP/old.sss" || fail "$1: the output was replaced or damaged"
   expect_ok "$SSS_STAT" "$TMP/out.sss"
@@ -16,6 +29,7 @@ for sig in INT TERM KILL; do
   for delay in 0.1 0.7 1.5; do
     "$SSS_BAKE" "$mesh" -o "$TMP/out.sss" "${slow[@]}" 2>"$TMP/err" &
     pid=$!
+    wait_handler "$pid" || fail "the bake never installed its SIGINT handler"
     sleep "$delay"
     kill -"$sig" "$pid" 2>/dev/null
     wait "$pid"; rc=$?
@@ -33,7 +47,7 @@ done
 # with no previous file, an interrupted bake leaves none
 rm -f "$TMP/out.sss" "$TMP"/out.sss.tmp.*
 "$SSS_BAKE" "$mesh" -o "$TMP/out.sss" "${slow[@]}" 2>/dev/null &
-pid=$!; sleep 0.5; kill -INT "$pid"; wait "$pid"
+pid=$!; wait_handler "$pid"; sleep 0.5; kill -INT "$pid"; wait "$pid"
 [ ! -e "$TMP/out.sss" ] || fail "an interrupted first bake left an output file"
 # memory: refused before any work, with the estimate, nothing written
 SSS_MEMORY_LIMIT_MB=8 expect_fail 'needs at least .* GiB .* is available' "$SSS_BAKE" "$mesh" -o "$TMP/out.sss" --dirs 800 -q
