@@ -45,37 +45,19 @@ sss_result sss_vertex_error_vs_exact(const sss_bake_file *f, const sss_exact *e,
         return sss_fail(err, SSS_ERR_NOMEM, "vertex error: out of memory for %zu vertices", nv);
     }
     sss_mesh_vertex_areas(&f->mesh, area);
-    double asum = 0.0;
-    for (size_t v = 0; v < nv; v++) asum += area[v];
-    double num[SSS_MAX_CHANNELS + 1] = {0}, den[SSS_MAX_CHANNELS + 1] = {0};
+    sss_err_accum acc;
+    sss_err_accum_init(&acc, (uint32_t)C, area, (uint32_t)nv);
     uint64_t state = seed;
     for (uint32_t t = 0; t < ndirs; t++) {
         double d[3];
         draw_direction(&f->dirs, &state, d);
         sss_exact_eval(e, d, x);
         sss_decode_all(f, d, r);
-        for (size_t v = 0; v < nv; v++)
-            for (size_t c = 0; c < C; c++) {
-                const double xe = x[v * C + c], dv = (double)r[v * C + c] - xe;
-                num[c] += area[v] * dv * dv;
-                den[c] += area[v] * xe * xe;
-                /* NaN must not hide behind fmax */
-                out->max_abs[c] = isnan(dv) ? NAN : fmax(out->max_abs[c], fabs(dv));
-            }
+        sss_err_accum_add(&acc, area, r, x, (uint32_t)nv);
     }
     out->channels = (uint32_t)C;
     out->ndirs = ndirs;
-    for (size_t c = 0; c <= C; c++) {
-        if (c < C) {
-            num[C] += num[c];
-            den[C] += den[c];
-            out->max_abs[C] = isnan(out->max_abs[c]) ? NAN : fmax(out->max_abs[C], out->max_abs[c]);
-        }
-        const double n = asum * ndirs * (c < C ? 1.0 : (double)C);
-        out->rms[c] = n > 0.0 ? sqrt(num[c] / n) : 0.0;
-        out->rms_exact[c] = n > 0.0 ? sqrt(den[c] / n) : 0.0;
-        out->rel_rms[c] = den[c] > 0.0 ? sqrt(num[c] / den[c]) : sqrt(num[c]);
-    }
+    sss_err_accum_result(&acc, out->rms, out->rel_rms, out->max_abs, out->rms_exact);
     free(area);
     free(x);
     free(r);

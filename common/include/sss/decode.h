@@ -27,6 +27,25 @@ void sss_decode_all(const sss_bake_file *f, const double light[3], float *out);
  * storage form. v out of range, or a zero or non-finite light, gives 0. */
 void sss_decode_vertex(const sss_bake_file *f, uint32_t v, const double light[3], float *out);
 
+/* Area-weighted error statistics of an approximation a against a reference
+ * r over one mesh, accumulated one light direction at a time (every error
+ * figure of the toolkit is formed here). Index `channels` of the results is
+ * over all channels. */
+typedef struct sss_err_accum {
+    uint32_t channels, ndirs;
+    double area_sum;                            /* Σ_v A_v */
+    double num[SSS_MAX_CHANNELS], den[SSS_MAX_CHANNELS]; /* Σ A (a − r)², Σ A r² */
+    double max_abs[SSS_MAX_CHANNELS];           /* max |a − r| (NaN once any difference was NaN) */
+} sss_err_accum;
+
+void sss_err_accum_init(sss_err_accum *acc, uint32_t channels, const double *area, uint32_t nv);
+/* Adds one direction: a and r hold nv × channels values. */
+void sss_err_accum_add(sss_err_accum *acc, const double *area, const float *a, const float *r, uint32_t nv);
+/* rms, rel_rms, max_abs, rms_ref: channels + 1 entries each, any may be NULL.
+ *   rms = sqrt(Σ A (a − r)² / (ndirs Σ A)), rel_rms = sqrt(Σ A (a − r)² / Σ A r²),
+ *   rms_ref = sqrt(Σ A r² / (ndirs Σ A)); rel_rms is NaN when any difference was. */
+void sss_err_accum_result(const sss_err_accum *acc, double *rms, double *rel_rms, double *max_abs, double *rms_ref);
+
 /* Per-vertex error of `approx` against `ref` (same mesh, channels) over
  * ndirs random unit light directions (sss_rng_direction from `seed`), both
  * reconstructed by sss_decode_all. Area-weighted (A_v = 1/3 of the incident
