@@ -146,6 +146,37 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
         st.radius_mm[c] = sss_rd_radius(&dip[c], o.eps, diag_mm);
         if (st.radius_mm[c] > st.search_radius_mm) st.search_radius_mm = st.radius_mm[c];
     }
+    /* Resolution check (docs/robustness.md B3): the smoothest profile has
+     * scale 1/σtr of the channel with the smallest σtr (a vanishing σa means
+     * an unbounded range: the radius stands in for it). An edge longer than
+     * twice that puts area where R_d has decayed but weighs it with R_d at
+     * the vertex. Counted, not refused: the user decides to resample. */
+    {
+        double range = 0.0;
+        for (uint32_t c = 0; c < C; c++) {
+            double rc = dip[c].sigma_tr > 0.0 ? 1.0 / dip[c].sigma_tr : st.radius_mm[c];
+            if (rc > range) range = rc;
+        }
+        st.range_mm = range;
+        const double lim = 2.0 * range / o.mm_per_unit; /* in mesh units */
+        uint8_t *coarse = calloc(mesh->nv ? mesh->nv : 1, 1);
+        double longest = 0.0;
+        for (uint32_t t = 0; t < mesh->nf && coarse; t++)
+            for (int k = 0; k < 3; k++) {
+                const uint32_t a = mesh->tri[3 * (size_t)t + k], b = mesh->tri[3 * (size_t)t + (k + 1) % 3];
+                double d2 = 0.0;
+                for (int x = 0; x < 3; x++) {
+                    double dx = (double)mesh->pos[3 * (size_t)a + x] - mesh->pos[3 * (size_t)b + x];
+                    d2 += dx * dx;
+                }
+                const double len = sqrt(d2);
+                if (len > longest) longest = len;
+                if (len > lim) coarse[a] = coarse[b] = 1;
+            }
+        for (uint32_t v = 0; v < mesh->nv && coarse; v++) st.coarse_vertices += coarse[v];
+        st.longest_edge_mm = longest * o.mm_per_unit;
+        free(coarse);
+    }
 
     /* Say so before starting when the bake cannot fit in memory: the
      * transfer table G and the integrals are sized by the input; the

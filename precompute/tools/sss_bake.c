@@ -271,6 +271,11 @@ int main(int argc, char **argv)
                 st.radius_mm[1], st.radius_mm[2], st.neighbours_mean, st.neighbours_max, (unsigned long long)st.rays,
                 100.0 * st.occluded_fraction, "", t_import, st.t_neighbourhoods, st.t_visibility, st.t_integrals,
                 st.t_quantise, t_compress, t_write, outp, fsize, (double)fsize / nv, q_bytes);
+    if (st.coarse_vertices)
+        fprintf(stderr, "%s: %s: warning: %u vertices have an edge longer than %.3g mm, twice the scattering length "
+                "1/sigma_tr = %.3g mm (longest edge %.3g mm): the per-vertex sum does not resolve the profile there "
+                "and q comes out too large; resample the mesh finer\n", TOOL, in, st.coarse_vertices,
+                2.0 * st.range_mm, st.range_mm, st.longest_edge_mm);
     if (!quiet && f.quant == SSS_QUANT_REFS)
         fprintf(stderr, "  %u references (%.2f%%), %u reference triangles, SH order %u (%s), %u-bit %s weights\n",
                 f.ref.nref, 100.0 * f.ref.nref / nv, f.ref.nrt, f.sh.order, sss_shq_name(f.sh.kind), f.ref.wbits,
@@ -303,6 +308,9 @@ int main(int argc, char **argv)
         cJSON_AddNumberToObject(rp, "faces_zero_area", (double)rep.faces_zero_area);
         cJSON_AddNumberToObject(rp, "vertices_unreferenced", (double)rep.vertices_unreferenced);
         cJSON_AddItemToObject(o, "radius_mm", cJSON_CreateDoubleArray(st.radius_mm, 3));
+        cJSON_AddNumberToObject(o, "coarse_vertices", st.coarse_vertices);
+        cJSON_AddNumberToObject(o, "longest_edge_mm", st.longest_edge_mm);
+        cJSON_AddNumberToObject(o, "scattering_length_mm", st.range_mm);
         cJSON_AddNumberToObject(o, "neighbours_mean", st.neighbours_mean);
         cJSON_AddNumberToObject(o, "neighbours_max", st.neighbours_max);
         cJSON_AddNumberToObject(o, "rays", (double)st.rays);

@@ -36,4 +36,16 @@ expect_ok "$SSS_BAKE" "$TMP/s.ply" -o "$TMP/sh8.sss" "${m[@]}" --dirs 200 --sh-o
 finite_error "$TMP/sh8.sss"
 expect_fail '64 coefficients, more than the 50' "$SSS_BAKE" "$TMP/s.ply" -o "$TMP/x.sss" "${m[@]}" --dirs 50 --sh-order 8 --refs 0
 [ ! -e "$TMP/x.sss" ] || fail "a refused bake wrote a file"
+# resolution: a flat strip of 0.5 x 10 mm triangles (skin1, 1/sigma_tr = 3.67 mm
+# in red) is warned about with a count; a fine mesh is not
+awk 'BEGIN { nx = 120; ny = 6; print "OFF"; print (nx + 1) * (ny + 1), 2 * nx * ny, 0
+  for (j = 0; j <= ny; j++) for (i = 0; i <= nx; i++) print -30 + 60 * i / nx, -30 + 60 * j / ny, 0
+  for (j = 0; j < ny; j++) for (i = 0; i < nx; i++) { a = j * (nx + 1) + i
+    print 3, a, a + 1, a + nx + 2; print 3, a, a + nx + 2, a + nx + 1 } }' > "$TMP/strip.off"
+expect_ok "$SSS_BAKE" "$TMP/strip.off" -o "$TMP/strip.sss" --material skin1 --dirs 12 -q --json
+contains "$TMP/err" 'warning: .* vertices have an edge longer than 7.35 mm'
+grep -q '"coarse_vertices":[1-9]' "$TMP/out" || fail "coarse_vertices should count the strip's vertices"
+expect_ok "$SSS_BAKE" "$TMP/s.ply" -o "$TMP/fine.sss" "${m[@]}" --dirs 12 --json
+contains "$TMP/out" '"coarse_vertices":0'
+! grep -q 'warning' "$TMP/err" || fail "a fine mesh was warned about"
 echo "cli_params_extreme: ok"

@@ -41,6 +41,14 @@ typedef struct sss_bake_stats {
     double occluded_fraction;            /* of the traced rays */
     double lloyd_snr_db[SSS_MAX_CHANNELS]; /* lloyd8 only: 10 log10(Σq² / Σ(q − q̂)²) per channel */
     double lloyd_snr_db_all;             /* same over all channels */
+    /* Vertices with an incident edge longer than 2/σtr of the channel with
+     * the longest range: there the per-vertex sum (Hao–Varshney 2004 §3.1,
+     * "each vertex represents a small area") does not resolve even the
+     * smoothest profile, and q comes out too large (docs/robustness.md B3).
+     * The tool warns with this count. */
+    uint32_t coarse_vertices;
+    double longest_edge_mm;              /* the longest edge of the mesh */
+    double range_mm;                     /* 1/σtr of that channel (∞ for σa = 0 is reported as the radius) */
 } sss_bake_stats;
 
 /* Scattering neighbourhoods N(x_o) in compressed-row form with the per-channel
