@@ -189,21 +189,23 @@ static void ref_values(const sss_bake_file *f, const double d[3], float *R)
     }
 }
 
-/* Value of coded vertex k (channel c) from the reference values R and the
- * folded SH tables T (either may be NULL when absent). */
-static float coded_value(const sss_bake_file *f, const float *R, const float *T, size_t k, size_t c)
+/* Values of coded vertex k, all channels, into out[0 … C−1], from the
+ * reference values R and the folded SH tables T (either may be NULL when
+ * absent). The triangle and weights are shared by the channels: read once. */
+static void coded_values(const sss_bake_file *f, const float *R, const float *T, size_t k, float *out)
 {
     const size_t C = f->channels;
-    float x = 0.0f;
+    double w[3] = {0, 0, 0};
+    const uint32_t *t = NULL;
     if (f->quant == SSS_QUANT_REFS) {
-        const sss_refcode *r = &f->ref;
-        double w[3];
-        coded_weights(r, k, w);
-        const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
-        x = (float)(w[0] * R[t[0] * C + c] + w[1] * R[t[1] * C + c] + w[2] * R[t[2] * C + c]);
+        coded_weights(&f->ref, k, w);
+        t = f->ref.ref_tri + 3 * (size_t)f->ref.vtri[k];
     }
-    if (T && f->sh.ncoef) x += sh_sum(&f->sh, T, C, k, c);
-    return x > 0.0f ? x : 0.0f;
+    for (size_t c = 0; c < C; c++) {
+        float x = t ? (float)(w[0] * R[t[0] * C + c] + w[1] * R[t[1] * C + c] + w[2] * R[t[2] * C + c]) : 0.0f;
+        if (T && f->sh.ncoef) x += sh_sum(&f->sh, T, C, k, c);
+        out[c] = x > 0.0f ? x : 0.0f;
+    }
 }
 
 static void decode_compressed(const sss_bake_file *f, const double d[3], float *out)
@@ -221,16 +223,13 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], float *
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if (ncod * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
-        for (ptrdiff_t k = 0; k < ncod; k++)
-            for (size_t c = 0; c < C; c++)
-                out[(size_t)r->coded_vertex[k] * C + c] = coded_value(f, R, T, (size_t)k, c);
+        for (ptrdiff_t k = 0; k < ncod; k++) coded_values(f, R, T, (size_t)k, out + (size_t)r->coded_vertex[k] * C);
     } else {
         const ptrdiff_t n = (ptrdiff_t)nv;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if (n * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
-        for (ptrdiff_t v = 0; v < n; v++)
-            for (size_t c = 0; c < C; c++) out[(size_t)v * C + c] = coded_value(f, NULL, T, (size_t)v, c);
+        for (ptrdiff_t v = 0; v < n; v++) coded_values(f, NULL, T, (size_t)v, out + (size_t)v * C);
     }
     free(R);
     free(T);

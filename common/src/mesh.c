@@ -76,6 +76,22 @@ void sss_mesh_vertex_areas(const sss_mesh *m, double *area)
     }
 }
 
+sss_result sss_mesh_copy(const sss_mesh *src, sss_mesh *dst, sss_error *err)
+{
+    sss_result r = sss_mesh_alloc(dst, src->nv, src->nf, err);
+    if (r != SSS_OK) return r;
+    memcpy(dst->pos, src->pos, (size_t)src->nv * 3 * sizeof(float));
+    memcpy(dst->tri, src->tri, (size_t)src->nf * 3 * sizeof(uint32_t));
+    if (src->nrm && !(dst->nrm = malloc((size_t)src->nv * 3 * sizeof(float) + 1))) goto nomem;
+    if (src->area && !(dst->area = malloc((size_t)src->nv * sizeof(double) + 1))) goto nomem;
+    if (src->nrm) memcpy(dst->nrm, src->nrm, (size_t)src->nv * 3 * sizeof(float));
+    if (src->area) memcpy(dst->area, src->area, (size_t)src->nv * sizeof(double));
+    return SSS_OK;
+nomem:
+    sss_mesh_free(dst);
+    return sss_fail(err, SSS_ERR_NOMEM, "out of memory copying a mesh of %u vertices", src->nv);
+}
+
 sss_result sss_mesh_compute_normals_areas(sss_mesh *m, const char *name, sss_error *err)
 {
     if (!name) name = "mesh";

@@ -56,10 +56,9 @@ static uint64_t memory_available_system(void)
 
 static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
 {
-    sss_result r = sss_mesh_alloc(dst, src->nv, src->nf, err);
+    const sss_mesh geom = {src->nv, src->nf, src->pos, NULL, src->tri, NULL}; /* normals recomputed below */
+    sss_result r = sss_mesh_copy(&geom, dst, err);
     if (r != SSS_OK) return r;
-    memcpy(dst->pos, src->pos, (size_t)src->nv * 3 * sizeof(float));
-    memcpy(dst->tri, src->tri, (size_t)src->nf * 3 * sizeof(uint32_t));
     r = sss_mesh_compute_normals_areas(dst, "mesh", err);
     if (r != SSS_OK) sss_mesh_free(dst);
     return r;

@@ -47,11 +47,7 @@ static void *dup_bytes(const void *p, size_t n)
 static int copy_base(const sss_bake_file *s, sss_bake_file *d)
 {
     memset(d, 0, sizeof *d);
-    d->mesh.nv = s->mesh.nv;
-    d->mesh.nf = s->mesh.nf;
-    d->mesh.pos = dup_bytes(s->mesh.pos, 3 * (size_t)s->mesh.nv * sizeof(float));
-    d->mesh.nrm = dup_bytes(s->mesh.nrm, 3 * (size_t)s->mesh.nv * sizeof(float));
-    d->mesh.tri = dup_bytes(s->mesh.tri, 3 * (size_t)s->mesh.nf * sizeof(uint32_t));
+    if (sss_mesh_copy(&s->mesh, &d->mesh, NULL) != SSS_OK) return 0;
     d->material = s->material;
     d->mm_per_unit = s->mm_per_unit;
     d->channels = s->channels;
@@ -61,7 +57,7 @@ static int copy_base(const sss_bake_file *s, sss_bake_file *d)
     d->dirs.tri = dup_bytes(s->dirs.tri, 3 * (size_t)s->dirs.ntri * sizeof(uint32_t));
     const char *j = s->params_json ? s->params_json : "";
     d->params_json = dup_bytes(j, strlen(j) + 1);
-    return d->mesh.pos && d->mesh.nrm && d->mesh.tri && d->dirs.dir && d->dirs.tri && d->params_json;
+    return d->dirs.dir && d->dirs.tri && d->params_json;
 }
 
 /* ---- weights (§4.2) ---------------------------------------------------- */

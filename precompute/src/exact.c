@@ -62,17 +62,13 @@ static sss_result read_eps(const char *json, double *eps, sss_error *err)
  * positions with the same sums in the same order (docs/format.md §5.1). */
 static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
 {
-    sss_result r = sss_mesh_alloc(dst, src->nv, src->nf, err);
+    const sss_mesh geom = {src->nv, src->nf, src->pos, src->nrm, src->tri, NULL}; /* ΔA recomputed */
+    sss_result r = sss_mesh_copy(&geom, dst, err);
     if (r != SSS_OK) return r;
-    dst->nrm = malloc((size_t)src->nv * 3 * sizeof(float));
-    dst->area = malloc((size_t)src->nv * sizeof(double));
-    if (!dst->nrm || !dst->area) {
+    if (!(dst->area = malloc((size_t)src->nv * sizeof(double)))) {
         sss_mesh_free(dst);
         return sss_fail(err, SSS_ERR_NOMEM, "exact evaluator: out of memory for %u vertices", src->nv);
     }
-    memcpy(dst->pos, src->pos, (size_t)src->nv * 3 * sizeof(float));
-    memcpy(dst->nrm, src->nrm, (size_t)src->nv * 3 * sizeof(float));
-    memcpy(dst->tri, src->tri, (size_t)src->nf * 3 * sizeof(uint32_t));
     sss_mesh_vertex_areas(dst, dst->area);
     return SSS_OK;
 }

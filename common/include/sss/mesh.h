@@ -31,6 +31,10 @@ sss_result sss_mesh_alloc(sss_mesh *m, uint32_t nv, uint32_t nf, sss_error *err)
 /* Frees every owned array and zeroes the struct. NULL-safe. */
 void sss_mesh_free(sss_mesh *m);
 
+/* Deep copy of src into *dst: pos and tri, and nrm / area where src has
+ * them (NULL otherwise). On failure (SSS_ERR_NOMEM) *dst is zeroed. */
+sss_result sss_mesh_copy(const sss_mesh *src, sss_mesh *dst, sss_error *err);
+
 /* Checks indices < nv and finite positions; then computes nrm (area-weighted
  * face normals, normalised; a vertex whose incident normals cancel gets
  * (0,0,0)) and area (ΔA, Hao–Varshney 2004 §3.1), both accumulated in double
