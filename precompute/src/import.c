@@ -285,7 +285,31 @@ typedef struct expect {
     ull too_small;       /* faces the reader drops itself (OBJ) */
     ull repeated;
     unsigned char *drop; /* OBJ: per delivered face, 1 = uses a vertex twice in the file */
+    /* Positions as the file states them, in double (3 per vertex, in the
+     * reader's vertex order), where the file holds more than float32: ascii
+     * PLY, OFF and OBJ, binary PLY with double coordinates; NULL otherwise
+     * (STL, float PLY). OpenMesh's readers deliver float32 only; these let a
+     * far-off mesh be recentred before the float conversion
+     * (docs/robustness.md B6). */
+    double *dpos;
 } expect;
+
+/* Room for the double positions of nv vertices (NULL with an error set). */
+static double *alloc_dpos(const src *s, ull nv, sss_error *err)
+{
+    if (nv > (ull)SIZE_MAX / 24 - 1) {
+        sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %llu vertices", s->name, nv);
+        return NULL;
+    }
+    double *d = malloc((size_t)nv * 3 * sizeof(double) + 1);
+    if (!d) sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %llu vertices", s->name, nv);
+    return d;
+}
+
+/* A token check_float accepted, as a double. The file's bytes are followed by
+ * whitespace or the terminating NUL (src_read), so strtod stops at the
+ * token's end. */
+static double tok_double(tok t) { return strtod(t.s, NULL); }
 
 /* ---------------------------------------------------------------------------
  * PLY
@@ -617,7 +641,7 @@ static int face_has_extras(const ply_header *h)
 /* Binary body: checks every record fits (list lengths included), and when the
  * face element has properties besides vertex_indices, compacts each face
  * record to just that list in place. *end receives the end of the face data. */
-static sss_result ply_scan_binary(src *s, const ply_header *h, char **endp, sss_error *err)
+static sss_result ply_scan_binary(src *s, const ply_header *h, char **endp, double *dpos, sss_error *err)
 {
     int be = h->format == PLY_BE;
     char *p = s->data + h->data_off, *end = s->data + s->size;
@@ -630,6 +654,29 @@ static sss_result ply_scan_binary(src *s, const ply_header *h, char **endp, sss_
             if (sat_mul(el->count, rec) > avail)
                 return sss_fail(err, SSS_ERR_CORRUPT, "%s: element %s: file ends inside record %llu of %llu (truncated)",
                                 s->name, el->name, rec ? avail / rec : 0, el->count);
+            if (e == h->iv && dpos) {
+                /* coordinates in double (float ones widen exactly) */
+                for (ull r = 0; r < el->count; r++) {
+                    size_t off = 0;
+                    for (int i = 0; i < el->nprops; i++) {
+                        const ply_prop *pr = &el->props[i];
+                        const unsigned char *b = (const unsigned char *)p + r * rec + off;
+                        off += ptype_size(pr->type);
+                        if (pr->role < ROLE_X || pr->role > ROLE_Z) continue;
+                        double v;
+                        if (pr->type == PT_F64) {
+                            uint64_t u = rd_uint(b, 8, be);
+                            memcpy(&v, &u, 8);
+                        } else {
+                            uint32_t u = (uint32_t)rd_uint(b, 4, be);
+                            float f;
+                            memcpy(&f, &u, 4);
+                            v = f;
+                        }
+                        dpos[3 * r + (ull)(pr->role - ROLE_X)] = v;
+                    }
+                }
+            }
             p += el->count * rec;
             continue;
         }
@@ -673,7 +720,7 @@ static sss_result ply_scan_binary(src *s, const ply_header *h, char **endp, sss_
  * reader parses numbers, list lengths that fit, finite coordinates, face
  * indices in range. Compacts face records to "n i1 .. in" like the binary
  * scan. */
-static sss_result ply_scan_ascii(src *s, const ply_header *h, char **endp, sss_error *err)
+static sss_result ply_scan_ascii(src *s, const ply_header *h, char **endp, double *dpos, sss_error *err)
 {
     char *base = s->data, *p = s->data + h->data_off, *end = s->data + s->size;
     ull nv = h->elems[h->iv].count;
@@ -698,6 +745,7 @@ static sss_result ply_scan_ascii(src *s, const ply_header *h, char **endp, sss_e
                         if (c == NUM_BAD)
                             return sss_fail(err, SSS_ERR_CORRUPT, "%s: vertex %llu: %s '" TOKF "' is not a number (line %llu)",
                                             s->name, r, pr->name, TOKA(t), line_of(base, t.s));
+                        if (dpos) dpos[3 * r + (ull)(pr->role - ROLE_X)] = tok_double(t);
                     }
                     continue;
                 }
@@ -788,9 +836,16 @@ static sss_result prepare_ply(src *s, expect *ex, sss_error *err)
     if (r == SSS_OK) r = ply_check_sizes(s, h, err);
     if (r == SSS_OK) r = ply_check_usable(s, h, err);
     if (r == SSS_OK) r = src_read_all(s, err);
+    if (r == SSS_OK) {
+        /* Double positions where the file holds more than float32. */
+        int wide = h->format == PLY_ASCII;
+        for (int i = 0; r == SSS_OK && i < h->elems[h->iv].nprops; i++)
+            wide |= h->elems[h->iv].props[i].role != ROLE_OTHER && h->elems[h->iv].props[i].type == PT_F64;
+        if (wide && !(ex->dpos = alloc_dpos(s, h->elems[h->iv].count, err))) r = SSS_ERR_NOMEM;
+    }
     char *end = NULL, *start = NULL;
     if (r == SSS_OK)
-        r = h->format == PLY_ASCII ? ply_scan_ascii(s, h, &end, err) : ply_scan_binary(s, h, &end, err);
+        r = h->format == PLY_ASCII ? ply_scan_ascii(s, h, &end, ex->dpos, err) : ply_scan_binary(s, h, &end, ex->dpos, err);
     if (r == SSS_OK) r = ply_canonical(s, h, &start, err);
     if (r == SSS_OK) {
         ex->fmt = SSS_OM_PLY;
@@ -871,6 +926,7 @@ static sss_result prepare_off(src *s, expect *ex, sss_error *err)
 
     r = src_read_all(s, err);
     if (r != SSS_OK) return r;
+    if (!(ex->dpos = alloc_dpos(s, nv, err))) return SSS_ERR_NOMEM;
     base = s->data;
     p = s->data + body;
     end = s->data + s->size;
@@ -897,6 +953,7 @@ static sss_result prepare_off(src *s, expect *ex, sss_error *err)
             if (c == NUM_BAD)
                 return sss_fail(err, SSS_ERR_CORRUPT, "%s: vertex %llu: '" TOKF "' is not a number (line %llu)", s->name, v,
                                 TOKA(t), line_of(base, t.s));
+            ex->dpos[3 * v + (ull)k] = tok_double(t);
         }
         /* The reader discards the rest of a vertex line (normals, colours). */
         while (p < end && *p != '\n') p++;
@@ -1011,6 +1068,8 @@ static sss_result prepare_obj(src *s, expect *ex, sss_error *err)
     if (nv_total > (ull)UINT32_MAX - 1)
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "%s: %llu vertices; at most 4294967294 are supported", s->name, nv_total);
 
+    if (!(ex->dpos = alloc_dpos(s, nv_total, err))) return SSS_ERR_NOMEM;
+
     /* Pass 2: validate, predict what the reader adds, neutralise the rest. */
     size_t cap_idx = 64, cap_drop = 1024;
     sll *ids = malloc(cap_idx * sizeof *ids);
@@ -1042,6 +1101,7 @@ static sss_result prepare_obj(src *s, expect *ex, sss_error *err)
                     r = sss_fail(err, SSS_ERR_CORRUPT, "%s: vertex %llu: '" TOKF "' is not a number (line %llu)", s->name,
                                  nv_seen, TOKA(t), it.no);
                 if (r != SSS_OK) break;
+                ex->dpos[3 * nv_seen + (ull)k] = tok_double(t);
             }
             nv_seen++;
         } else if (tok_is(kw, "f")) {
@@ -1257,8 +1317,609 @@ static int has_repeat(const int32_t *v, uint32_t n, sll *scratch)
     return count_distinct(scratch, n) != n;
 }
 
-static sss_result build_mesh(const char *name, const sss_om_soup *s, const expect *ex, sss_mesh *out,
-                             sss_import_report *rep, sss_error *err)
+/* ---------------------------------------------------------------------------
+ * Recentring (docs/robustness.md B6)
+ * ------------------------------------------------------------------------- */
+
+/* A mesh whose bounding-box centre c lies farther from the origin than
+ * RECENTRE_RATIO times its half-size h (largest half-extent) is moved by -c,
+ * in double, before its positions become float32. float32 spacing at |x| is
+ * |x|·2^-23; the bake starts shadow rays 1e-5 of the bounding-box diagonal
+ * (>= 2e-5·h) off the surface (visibility.c), which at |c| = 16h is still
+ * about 10 float steps. Nearer meshes keep their coordinates, so their bakes
+ * stay byte-identical; farther ones lost triangles to rounding and shadowed
+ * themselves (a unit sphere at 10^6: spacing 1/16, 9,152 of 16,128 triangles
+ * collapsed, 15 % of rays blocked). */
+#define RECENTRE_RATIO 16.0
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+static sss_result recentre(const char *name, sss_om_soup *s, const expect *ex, sss_import_report *rep, sss_error *err)
+{
+    ull nv = s->nv;
+    unsigned char *used = calloc((size_t)nv + 1, 1);
+    if (!used) return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %llu vertices", name, nv);
+    /* The vertices faces use (indices are in range: checked before). */
+    ull off = 0;
+    for (ull f = 0; f < s->nf; f++) {
+        uint32_t n = s->fsize[f];
+        if (n >= 3)
+            for (uint32_t i = 0; i < n; i++) used[s->idx[off + i]] = 1;
+        off += n;
+    }
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (ull v = 0; v < nv; v++) {
+        if (!used[v]) continue;
+        for (int k = 0; k < 3; k++) {
+            double x = ex->dpos ? ex->dpos[3 * v + (ull)k] : (double)s->pos[3 * v + (ull)k];
+            if (x < lo[k]) lo[k] = x;
+            if (x > hi[k]) hi[k] = x;
+        }
+    }
+    double c[3], h = 0.0, cmax = 0.0;
+    for (int k = 0; k < 3; k++) {
+        if (!(lo[k] <= hi[k])) { free(used); return SSS_OK; } /* no face uses a vertex */
+        double half = 0.5 * (hi[k] - lo[k]);
+        c[k] = lo[k] + half;
+        if (half > h) h = half;
+        if (fabs(c[k]) > cmax) cmax = fabs(c[k]);
+    }
+    if (!(h > 0.0) || cmax <= RECENTRE_RATIO * h) { free(used); return SSS_OK; }
+    /* Only used vertices are moved: they lie within h of c, so the result
+     * is finite; the others are removed later anyway. */
+    for (ull v = 0; v < nv; v++) {
+        if (!used[v]) continue;
+        for (int k = 0; k < 3; k++) {
+            double x = ex->dpos ? ex->dpos[3 * v + (ull)k] : (double)s->pos[3 * v + (ull)k];
+            s->pos[3 * v + (ull)k] = (float)(x - c[k]);
+        }
+    }
+    free(used);
+    rep->recentred = 1;
+    for (int k = 0; k < 3; k++) rep->offset[k] = c[k];
+    return SSS_OK;
+}
+
+/* ---------------------------------------------------------------------------
+ * Polygon triangulation (docs/robustness.md B7)
+ * ------------------------------------------------------------------------- */
+
+typedef struct poly_scratch {
+    double *xy;       /* 2 per corner: coordinates in the polygon's plane */
+    uint32_t *prev, *next, *reflex;
+    unsigned char *is_reflex;
+    /* Ear clipping is cubic at worst (a full pass per ear, every reflex
+     * corner tested): the steps a mesh may spend on it in all are capped so
+     * that a hostile file (thousands of jagged polygons) still imports in
+     * bounded time; past the cap, polygons are fanned and warned. Reset
+     * before each pass so both passes decide alike. */
+    uint64_t budget;
+} poly_scratch;
+
+#define EAR_BUDGET ((uint64_t)1 << 28)
+
+static void poly_scratch_free(poly_scratch *sc)
+{
+    free(sc->xy); free(sc->prev); free(sc->next); free(sc->reflex); free(sc->is_reflex);
+    memset(sc, 0, sizeof *sc);
+}
+
+static int poly_scratch_alloc(poly_scratch *sc, uint32_t n)
+{
+    memset(sc, 0, sizeof *sc);
+    if (n <= 3) return 1;
+    size_t m = n < SSS_IMPORT_EAR_MAX ? n : SSS_IMPORT_EAR_MAX;
+    sc->xy = malloc(2 * (size_t)n * sizeof(double));
+    sc->prev = malloc(m * sizeof(uint32_t));
+    sc->next = malloc(m * sizeof(uint32_t));
+    sc->reflex = malloc(m * sizeof(uint32_t));
+    sc->is_reflex = malloc(m);
+    if (sc->xy && sc->prev && sc->next && sc->reflex && sc->is_reflex) return 1;
+    poly_scratch_free(sc);
+    return 0;
+}
+
+enum { POLY_FAN = 0, POLY_EAR, POLY_UNCLIPPED };
+
+static double cross2(const double *xy, uint32_t a, uint32_t b, uint32_t c)
+{
+    return (xy[2 * b] - xy[2 * a]) * (xy[2 * c + 1] - xy[2 * a + 1]) -
+           (xy[2 * b + 1] - xy[2 * a + 1]) * (xy[2 * c] - xy[2 * a]);
+}
+
+/* Corner b of the remaining polygon (a, b, c consecutive) is an ear: a left
+ * turn, and no reflex corner lies inside or on the triangle (a convex
+ * corner cannot lie in it unless a reflex one does). Corners at the same
+ * position as a, b or c are not in the way. */
+static int is_ear(const poly_scratch *sc, uint32_t nreflex, uint32_t a, uint32_t b, uint32_t c)
+{
+    const double *xy = sc->xy;
+    if (!(cross2(xy, a, b, c) > 0.0)) return 0;
+    for (uint32_t r = 0; r < nreflex; r++) {
+        uint32_t p = sc->reflex[r];
+        if (!sc->is_reflex[p] || p == a || p == b || p == c) continue;
+        int same = 0;
+        for (int k = 0; k < 3 && !same; k++) {
+            uint32_t q = k == 0 ? a : k == 1 ? b : c;
+            same = xy[2 * p] == xy[2 * q] && xy[2 * p + 1] == xy[2 * q + 1];
+        }
+        if (same) continue;
+        if (cross2(xy, a, b, p) >= 0.0 && cross2(xy, b, c, p) >= 0.0 && cross2(xy, c, a, p) >= 0.0) return 0;
+    }
+    return 1;
+}
+
+/* Triangulates polygon v[0..n), n > 3, into n - 2 triangles whose corners
+ * (positions 0..n-1 in v) go to tri, 3 each, in the polygon's winding.
+ *
+ * A convex polygon (every turn to the left of its best-fit plane's normal,
+ * once around) is fanned from corner 0, as every polygon was before, so
+ * existing meshes import unchanged. The fan of a non-convex polygon folds
+ * over: a triangle comes out flipped and overlapping the others (B7: an
+ * L-shaped hexagon of area 3 gave areas -0.5, 0.5, 2, 1). Those are
+ * ear-clipped instead, in the plane of the Newell normal (the polygon's
+ * plane if it is planar, a best fit if it is warped). Returns POLY_FAN,
+ * POLY_EAR, or POLY_UNCLIPPED when no ear is left (a self-intersecting
+ * polygon), the polygon has more than SSS_IMPORT_EAR_MAX corners, or the
+ * mesh's ear-clipping budget is spent: what remains is fanned. */
+static int triangulate(const float *pos, const int32_t *v, uint32_t n, poly_scratch *sc, uint32_t *tri)
+{
+#define P(i, k) ((double)pos[3 * (size_t)v[i] + (k)] - (double)pos[3 * (size_t)v[0] + (k)])
+    double N[3] = {0.0, 0.0, 0.0};
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t j = i + 1 == n ? 0 : i + 1;
+        N[0] += (P(i, 1) - P(j, 1)) * (P(i, 2) + P(j, 2));
+        N[1] += (P(i, 2) - P(j, 2)) * (P(i, 0) + P(j, 0));
+        N[2] += (P(i, 0) - P(j, 0)) * (P(i, 1) + P(j, 1));
+    }
+    double len = sqrt(N[0] * N[0] + N[1] * N[1] + N[2] * N[2]);
+    int status = POLY_FAN;
+    if (len > 0.0 && isfinite(len)) {
+        for (int k = 0; k < 3; k++) N[k] /= len;
+        /* u, w, N right-handed: u x w = N, so the polygon's winding is
+         * counter-clockwise (positive area) in (u, w). */
+        int ax = fabs(N[0]) <= fabs(N[1]) && fabs(N[0]) <= fabs(N[2]) ? 0 : fabs(N[1]) <= fabs(N[2]) ? 1 : 2;
+        double e[3] = {0.0, 0.0, 0.0}, u[3], w[3];
+        e[ax] = 1.0;
+        u[0] = e[1] * N[2] - e[2] * N[1];
+        u[1] = e[2] * N[0] - e[0] * N[2];
+        u[2] = e[0] * N[1] - e[1] * N[0];
+        double ul = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        for (int k = 0; k < 3; k++) u[k] /= ul;
+        w[0] = N[1] * u[2] - N[2] * u[1];
+        w[1] = N[2] * u[0] - N[0] * u[2];
+        w[2] = N[0] * u[1] - N[1] * u[0];
+        double *xy = sc->xy;
+        for (uint32_t i = 0; i < n; i++) {
+            xy[2 * i] = P(i, 0) * u[0] + P(i, 1) * u[1] + P(i, 2) * u[2];
+            xy[2 * i + 1] = P(i, 0) * w[0] + P(i, 1) * w[1] + P(i, 2) * w[2];
+        }
+        /* Convex: no right turn between successive edges of non-zero length
+         * (a tolerance of 1e-12 relative keeps nearly straight corners
+         * convex), and the turns add up to one full turn (a star polygon
+         * turns left everywhere but twice around). */
+        int convex = 1, nedges = 0;
+        double turning = 0.0, first[2] = {0.0, 0.0}, last[2] = {0.0, 0.0};
+        for (uint32_t i = 0; i < n && convex; i++) {
+            uint32_t j = i + 1 == n ? 0 : i + 1;
+            double d[2] = {xy[2 * j] - xy[2 * i], xy[2 * j + 1] - xy[2 * i + 1]};
+            if (d[0] == 0.0 && d[1] == 0.0) continue;
+            if (nedges++ == 0) {
+                first[0] = d[0]; first[1] = d[1];
+            } else {
+                double cr = last[0] * d[1] - last[1] * d[0], dt = last[0] * d[0] + last[1] * d[1];
+                if (cr < -1e-12 * hypot(last[0], last[1]) * hypot(d[0], d[1])) convex = 0;
+                turning += atan2(cr, dt);
+            }
+            last[0] = d[0]; last[1] = d[1];
+        }
+        if (convex && nedges >= 3) {
+            double cr = last[0] * first[1] - last[1] * first[0], dt = last[0] * first[0] + last[1] * first[1];
+            if (cr < -1e-12 * hypot(last[0], last[1]) * hypot(first[0], first[1])) convex = 0;
+            turning += atan2(cr, dt);
+            if (fabs(turning - 2.0 * M_PI) > 1e-3) convex = 0;
+        }
+        if (!convex) status = n > SSS_IMPORT_EAR_MAX ? POLY_UNCLIPPED : POLY_EAR;
+    }
+#undef P
+    uint32_t t = 0;
+    if (status == POLY_EAR) {
+        uint32_t *prev = sc->prev, *next = sc->next, nreflex = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            prev[i] = i == 0 ? n - 1 : i - 1;
+            next[i] = i + 1 == n ? 0 : i + 1;
+        }
+        for (uint32_t i = 0; i < n; i++) {
+            sc->is_reflex[i] = !(cross2(sc->xy, prev[i], i, next[i]) > 0.0);
+            if (sc->is_reflex[i]) sc->reflex[nreflex++] = i;
+        }
+        uint32_t m = n, cur = 0, stall = 0;
+        while (m > 3) {
+            uint32_t a = prev[cur], c = next[cur];
+            if (sc->budget <= (uint64_t)nreflex + 1) { sc->budget = 0; status = POLY_UNCLIPPED; break; }
+            sc->budget -= (uint64_t)nreflex + 1;
+            if (is_ear(sc, nreflex, a, cur, c)) {
+                tri[3 * t] = a; tri[3 * t + 1] = cur; tri[3 * t + 2] = c;
+                t++;
+                next[a] = c;
+                prev[c] = a;
+                sc->is_reflex[cur] = 0;
+                m--;
+                /* Clipping an ear can only make its neighbours convex. */
+                if (sc->is_reflex[a] && cross2(sc->xy, prev[a], a, c) > 0.0) sc->is_reflex[a] = 0;
+                if (sc->is_reflex[c] && cross2(sc->xy, a, c, next[c]) > 0.0) sc->is_reflex[c] = 0;
+                cur = c;
+                stall = 0;
+            } else {
+                cur = c;
+                if (++stall >= m) { status = POLY_UNCLIPPED; break; }
+            }
+        }
+        if (status == POLY_EAR) {
+            tri[3 * t] = prev[cur]; tri[3 * t + 1] = cur; tri[3 * t + 2] = next[cur];
+            return POLY_EAR;
+        }
+        /* No ear: fan what is left from cur. */
+        for (uint32_t b = next[cur]; next[b] != cur; b = next[b]) {
+            tri[3 * t] = cur; tri[3 * t + 1] = b; tri[3 * t + 2] = next[b];
+            t++;
+        }
+        return POLY_UNCLIPPED;
+    }
+    for (uint32_t k = 1; k + 1 < n; k++) {
+        tri[3 * t] = 0; tri[3 * t + 1] = k; tri[3 * t + 2] = k + 1;
+        t++;
+    }
+    return status;
+}
+
+/* ---------------------------------------------------------------------------
+ * Duplicate triangles and orientation (docs/robustness.md B5)
+ * ------------------------------------------------------------------------- */
+
+typedef struct tri_key {
+    uint32_t v[3]; /* sorted */
+    uint32_t f;
+} tri_key;
+
+static int cmp_tri_key(const void *pa, const void *pb)
+{
+    const tri_key *a = pa, *b = pb;
+    for (int k = 0; k < 3; k++)
+        if (a->v[k] != b->v[k]) return a->v[k] < b->v[k] ? -1 : 1;
+    return (a->f > b->f) - (a->f < b->f);
+}
+
+/* Drops every triangle on the same three vertices as an earlier one (in
+ * either winding). Copies add their area to the vertices twice (B5: mean q
+ * +40 %), and an opposite-winding copy cancels the vertex normals (q = 0
+ * everywhere). The first one stays; the orientation pass then decides its
+ * winding. */
+static sss_result drop_duplicates(const char *name, sss_mesh *m, sss_import_report *rep, sss_error *err)
+{
+    tri_key *key = malloc((size_t)m->nf * sizeof *key + 1);
+    unsigned char *dup = calloc((size_t)m->nf + 1, 1);
+    if (!key || !dup) {
+        free(key); free(dup);
+        return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %u triangles", name, m->nf);
+    }
+    for (uint32_t f = 0; f < m->nf; f++) {
+        uint32_t a = m->tri[3 * (size_t)f], b = m->tri[3 * (size_t)f + 1], c = m->tri[3 * (size_t)f + 2], x;
+        if (a > b) { x = a; a = b; b = x; }
+        if (b > c) { x = b; b = c; c = x; }
+        if (a > b) { x = a; a = b; b = x; }
+        key[f] = (tri_key){{a, b, c}, f};
+    }
+    qsort(key, m->nf, sizeof *key, cmp_tri_key);
+    uint64_t ndup = 0;
+    for (uint32_t i = 1; i < m->nf; i++)
+        if (memcmp(key[i].v, key[i - 1].v, sizeof key[i].v) == 0) {
+            dup[key[i].f] = 1;
+            ndup++;
+        }
+    free(key);
+    if (ndup) {
+        uint32_t t = 0;
+        for (uint32_t f = 0; f < m->nf; f++)
+            if (!dup[f]) {
+                memmove(m->tri + 3 * (size_t)t, m->tri + 3 * (size_t)f, 3 * sizeof(uint32_t));
+                t++;
+            }
+        m->nf = t;
+    }
+    free(dup);
+    rep->faces_duplicate = ndup;
+    return SSS_OK;
+}
+
+static int cmp_u64(const void *pa, const void *pb)
+{
+    uint64_t a = *(const uint64_t *)pa, b = *(const uint64_t *)pb;
+    return (a > b) - (a < b);
+}
+
+/* Edge k of triangle t runs tri[k] -> tri[(k+1)%3]. */
+static int edge_of(const uint32_t *t, uint32_t lo, uint32_t hi, int *forward)
+{
+    for (int k = 0; k < 3; k++) {
+        uint32_t a = t[k], b = t[(k + 1) % 3];
+        if ((a == lo && b == hi) || (a == hi && b == lo)) {
+            *forward = a == lo;
+            return k;
+        }
+    }
+    return -1;
+}
+
+#define NB_NONE UINT32_MAX
+
+typedef struct comp_info {
+    uint64_t nfaces, nflip;
+    uint32_t seed;
+    int closed;
+    double volume;       /* 6 x signed volume, in the orientation relative to the seed */
+    double lo[3], hi[3]; /* bounding box */
+    int invert;          /* decision: reverse every flip of the component */
+} comp_info;
+
+/* Does the ray from o along d cross triangle (a, b, c)? Möller–Trumbore in
+ * double, t > 0. */
+static int ray_hits(const double o[3], const double d[3], const double a[3], const double b[3], const double c[3])
+{
+    double e1[3], e2[3], p[3], s[3], q[3];
+    for (int k = 0; k < 3; k++) { e1[k] = b[k] - a[k]; e2[k] = c[k] - a[k]; s[k] = o[k] - a[k]; }
+    p[0] = d[1] * e2[2] - d[2] * e2[1];
+    p[1] = d[2] * e2[0] - d[0] * e2[2];
+    p[2] = d[0] * e2[1] - d[1] * e2[0];
+    double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+    if (det == 0.0) return 0;
+    double inv = 1.0 / det;
+    double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv;
+    if (u < 0.0 || u > 1.0) return 0;
+    q[0] = s[1] * e1[2] - s[2] * e1[1];
+    q[1] = s[2] * e1[0] - s[0] * e1[2];
+    q[2] = s[0] * e1[1] - s[1] * e1[0];
+    double w = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) * inv;
+    if (w < 0.0 || u + w > 1.0) return 0;
+    return (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv > 0.0;
+}
+
+static void vpos(const sss_mesh *m, uint32_t v, double p[3])
+{
+    for (int k = 0; k < 3; k++) p[k] = m->pos[3 * (size_t)v + k];
+}
+
+/* Makes the winding consistent and outward (B5: normals follow the winding
+ * and shadow rays start along them, so an inside-out cube baked q = 0 and a
+ * sphere with half its triangles flipped lost 60 % of its mean q).
+ *
+ * Triangles are grouped into surfaces (connected through manifold edges:
+ * exactly two triangles); a breadth-first walk from each surface's first
+ * triangle flips its neighbours to agree with it. A closed surface (every
+ * edge manifold and consistent) is then turned outward by its signed
+ * volume: a negative one is inverted, unless it lies inside another closed
+ * surface (ray parity), where it may be a cavity (a hollow shell's inner
+ * wall faces inward) or a solid inside a solid, which the file must decide.
+ * An open surface keeps the winding of the majority of its triangles (ties:
+ * its first triangle's). Edges still inconsistent afterwards (a
+ * non-orientable surface) are counted for a warning. A consistently wound,
+ * outward mesh is left as it is. */
+static sss_result orient(const char *name, sss_mesh *m, sss_import_report *rep, sss_error *err)
+{
+    const uint32_t nv = m->nv, nf = m->nf;
+    const uint32_t *tri = m->tri;
+    uint64_t *bstart = calloc((size_t)nv + 2, sizeof *bstart);
+    uint64_t *he = malloc(3 * (size_t)nf * sizeof *he + 1);
+    uint32_t *nb = malloc(3 * (size_t)nf * sizeof *nb + 1);
+    unsigned char *same = calloc(3 * (size_t)nf + 1, 1);
+    if (!bstart || !he || !nb || !same) {
+        free(bstart); free(he); free(nb); free(same);
+        return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for the edges of %u triangles", name, nf);
+    }
+    /* Half-edges bucketed by their smaller vertex, sorted by (larger
+     * vertex, triangle): equal edges end up adjacent, in triangle order. */
+    for (size_t i = 0; i < 3 * (size_t)nf; i++) {
+        uint32_t a = tri[i], b = tri[i % 3 == 2 ? i - 2 : i + 1];
+        bstart[(a < b ? a : b) + 2]++;
+    }
+    for (size_t v = 2; v < (size_t)nv + 2; v++) bstart[v] += bstart[v - 1];
+    for (size_t i = 0; i < 3 * (size_t)nf; i++) {
+        uint32_t a = tri[i], b = tri[i % 3 == 2 ? i - 2 : i + 1];
+        uint32_t lo = a < b ? a : b, hi = a < b ? b : a;
+        he[bstart[lo + 1]++] = (uint64_t)hi << 32 | (uint64_t)(i / 3);
+    }
+    for (size_t i = 0; i < 3 * (size_t)nf; i++) nb[i] = NB_NONE;
+    for (uint32_t lo = 0; lo < nv; lo++) {
+        uint64_t b0 = bstart[lo], b1 = bstart[lo + 1];
+        if (b1 - b0 > 1) qsort(he + b0, (size_t)(b1 - b0), sizeof *he, cmp_u64);
+        for (uint64_t i = b0; i < b1;) {
+            uint64_t j = i + 1;
+            while (j < b1 && he[j] >> 32 == he[i] >> 32) j++;
+            if (j - i == 2) { /* manifold edge: exactly two triangles */
+                uint32_t hi = (uint32_t)(he[i] >> 32), f = (uint32_t)he[i], g = (uint32_t)he[i + 1];
+                int ff = 0, fg = 0;
+                int kf = edge_of(tri + 3 * (size_t)f, lo, hi, &ff), kg = edge_of(tri + 3 * (size_t)g, lo, hi, &fg);
+                nb[3 * (size_t)f + (size_t)kf] = g;
+                nb[3 * (size_t)g + (size_t)kg] = f;
+                /* same direction in both: they disagree as stored */
+                same[3 * (size_t)f + (size_t)kf] = same[3 * (size_t)g + (size_t)kg] = ff == fg;
+            }
+            i = j;
+        }
+    }
+    free(he);
+    free(bstart);
+
+    uint32_t *comp = malloc((size_t)nf * sizeof *comp + 1);
+    uint32_t *queue = malloc((size_t)nf * sizeof *queue + 1);
+    unsigned char *flip = calloc((size_t)nf + 1, 1);
+    size_t ccap = 16, ncomp = 0;
+    comp_info *ci = malloc(ccap * sizeof *ci);
+    uint32_t *cstart = NULL, *cface = queue;
+    sss_result r = SSS_OK;
+    if (!comp || !queue || !flip || !ci) {
+        r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for the surfaces of %u triangles", name, nf);
+        goto done;
+    }
+    for (uint32_t f = 0; f < nf; f++) comp[f] = NB_NONE;
+    for (uint32_t seed = 0; seed < nf; seed++) {
+        if (comp[seed] != NB_NONE) continue;
+        if (ncomp == ccap) {
+            comp_info *nc = realloc(ci, 2 * ccap * sizeof *ci);
+            if (!nc) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for the surfaces", name); goto done; }
+            ci = nc;
+            ccap *= 2;
+        }
+        comp_info *c = &ci[ncomp];
+        memset(c, 0, sizeof *c);
+        c->seed = seed;
+        c->closed = 1;
+        uint32_t qh = 0, qt = 0;
+        queue[qt++] = seed;
+        comp[seed] = (uint32_t)ncomp;
+        while (qh < qt) {
+            uint32_t f = queue[qh++];
+            for (int k = 0; k < 3; k++) {
+                uint32_t g = nb[3 * (size_t)f + (size_t)k];
+                if (g == NB_NONE) { c->closed = 0; continue; }
+                unsigned char want = flip[f] ^ same[3 * (size_t)f + (size_t)k];
+                if (comp[g] == NB_NONE) {
+                    comp[g] = (uint32_t)ncomp;
+                    flip[g] = want;
+                    queue[qt++] = g;
+                } else if (flip[g] != want) {
+                    c->closed = 0; /* non-orientable */
+                }
+            }
+        }
+        c->nfaces = qt;
+        double ref[3];
+        vpos(m, tri[3 * (size_t)seed], ref);
+        for (int k = 0; k < 3; k++) { c->lo[k] = INFINITY; c->hi[k] = -INFINITY; }
+        for (uint32_t i = 0; i < qt; i++) {
+            uint32_t f = queue[i];
+            c->nflip += flip[f];
+            double p[3][3];
+            for (int j = 0; j < 3; j++) {
+                vpos(m, tri[3 * (size_t)f + (size_t)j], p[j]);
+                for (int k = 0; k < 3; k++) {
+                    if (p[j][k] < c->lo[k]) c->lo[k] = p[j][k];
+                    if (p[j][k] > c->hi[k]) c->hi[k] = p[j][k];
+                    p[j][k] -= ref[k];
+                }
+            }
+            if (c->closed) {
+                double det = p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) -
+                             p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+                             p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
+                c->volume += flip[f] ? -det : det;
+            }
+        }
+        ncomp++;
+    }
+
+    /* Faces of each surface, for the containment test. */
+    {
+        int any_negative = 0;
+        for (size_t i = 0; i < ncomp; i++) any_negative |= ci[i].closed && ci[i].volume < 0.0;
+        if (any_negative) {
+            cstart = calloc(ncomp + 2, sizeof *cstart);
+            if (!cstart) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for the surfaces", name); goto done; }
+            for (uint32_t f = 0; f < nf; f++) cstart[comp[f] + 2]++;
+            for (size_t i = 2; i < ncomp + 2; i++) cstart[i] += cstart[i - 1];
+            for (uint32_t f = 0; f < nf; f++) cface[cstart[comp[f] + 1]++] = f;
+        }
+    }
+    uint64_t nclosed = 0, nneg = 0;
+    for (size_t i = 0; i < ncomp; i++) {
+        nclosed += ci[i].closed != 0;
+        nneg += ci[i].closed && ci[i].volume < 0.0;
+    }
+    /* The containment test costs a bounding-box check per pair of
+     * surfaces and a ray test per triangle of each candidate container:
+     * beyond 2^26 pairs or 2^28 triangle tests in all (thousands of
+     * inside-out parts in a large closed one) the remaining negative
+     * surfaces are taken as not nested, so the work stays bounded. */
+    const int test_nesting = nneg * (uint64_t)ncomp <= ((uint64_t)1 << 26);
+    uint64_t ray_budget = (uint64_t)1 << 28;
+    /* A direction no axis-aligned mesh lines up with. */
+    const double dir[3] = {0.5376, 0.6812, 0.4968};
+    for (size_t i = 0; i < ncomp; i++) {
+        comp_info *c = &ci[i];
+        if (!c->closed || c->volume == 0.0) {
+            c->invert = 2 * c->nflip > c->nfaces; /* open: the majority's winding */
+            continue;
+        }
+        if (c->volume > 0.0) continue; /* outward */
+        int nested = 0;
+        if (test_nesting && ray_budget > 0) {
+            /* the centroid of the seed triangle, in the final positions */
+            double o[3] = {0.0, 0.0, 0.0}, p[3];
+            for (int j = 0; j < 3; j++) {
+                vpos(m, tri[3 * (size_t)c->seed + (size_t)j], p);
+                for (int k = 0; k < 3; k++) o[k] += p[k] / 3.0;
+            }
+            for (size_t e = 0; e < ncomp && !nested; e++) {
+                const comp_info *d = &ci[e];
+                if (e == i || !d->closed) continue;
+                int inside_box = 1;
+                for (int k = 0; k < 3; k++) inside_box &= d->lo[k] <= c->lo[k] && c->hi[k] <= d->hi[k];
+                if (!inside_box) continue;
+                uint64_t len = cstart[e + 1] - cstart[e];
+                if (len > ray_budget) { ray_budget = 0; break; }
+                ray_budget -= len;
+                uint64_t hits = 0;
+                for (uint32_t q = cstart[e]; q < cstart[e + 1]; q++) {
+                    const uint32_t *t = tri + 3 * (size_t)cface[q];
+                    double a[3], b[3], cc[3];
+                    vpos(m, t[0], a); vpos(m, t[1], b); vpos(m, t[2], cc);
+                    hits += (uint64_t)ray_hits(o, dir, a, b, cc);
+                }
+                nested = hits % 2 == 1;
+            }
+        }
+        c->invert = !nested;
+    }
+    /* Apply; count. */
+    uint32_t *t = m->tri;
+    for (uint32_t f = 0; f < nf; f++) {
+        const comp_info *c = &ci[comp[f]];
+        if (!(flip[f] ^ (unsigned char)c->invert)) continue;
+        uint32_t x = t[3 * (size_t)f + 1];
+        t[3 * (size_t)f + 1] = t[3 * (size_t)f + 2];
+        t[3 * (size_t)f + 2] = x;
+        if (c->closed) rep->faces_flipped++;
+        else rep->open_faces_flipped++;
+    }
+    for (size_t i = 0; i < ncomp; i++) {
+        const comp_info *c = &ci[i];
+        uint64_t final_flips = c->invert ? c->nfaces - c->nflip : c->nflip;
+        if (c->closed && 2 * final_flips > c->nfaces) rep->surfaces_inside_out++;
+    }
+    /* Manifold edges whose triangles disagree after all (each edge once). */
+    for (uint32_t f = 0; f < nf; f++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t g = nb[3 * (size_t)f + (size_t)k];
+            if (g == NB_NONE || g < f) continue;
+            unsigned char ef = flip[f] ^ (unsigned char)ci[comp[f]].invert;
+            unsigned char eg = flip[g] ^ (unsigned char)ci[comp[g]].invert;
+            if ((ef ^ eg) != same[3 * (size_t)f + (size_t)k]) rep->orientation_conflicts++;
+        }
+done:
+    free(cstart);
+    free(nb);
+    free(same);
+    free(comp);
+    free(queue);
+    free(flip);
+    free(ci);
+    return r;
+}
+
+static sss_result build_mesh(const char *name, sss_om_soup *s, const expect *ex, sss_mesh *out, sss_import_report *rep,
+                             sss_error *err)
 {
     ull nv = s->nv;
     rep->vertices_read = nv;
@@ -1285,16 +1946,22 @@ static sss_result build_mesh(const char *name, const sss_om_soup *s, const expec
             off += n;
         }
     }
+    sss_result r = recentre(name, s, ex, rep, err);
+    if (r != SSS_OK) return r;
     sll *scratch = maxn > 32 ? malloc((size_t)maxn * sizeof *scratch) : NULL;
     uint32_t *remap = malloc(((size_t)nv + 1) * sizeof *remap);
-    if ((maxn > 32 && !scratch) || !remap) {
-        free(scratch); free(remap);
+    uint32_t *ptri = maxn > 3 ? malloc(3 * ((size_t)maxn - 2) * sizeof *ptri) : NULL;
+    poly_scratch ps;
+    int ps_ok = poly_scratch_alloc(&ps, maxn);
+    if ((maxn > 32 && !scratch) || !remap || (maxn > 3 && !ptri) || !ps_ok) {
+        free(scratch); free(remap); free(ptri); poly_scratch_free(&ps);
         return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %llu vertices", name, nv);
     }
     for (ull v = 0; v < nv; v++) remap[v] = UINT32_MAX;
 
     /* Pass 1: classify faces, count triangles, mark the vertices kept. */
     ull ntri = 0;
+    ps.budget = EAR_BUDGET;
     {
         ull off = 0;
         for (ull f = 0; f < s->nf; f++) {
@@ -1304,23 +1971,32 @@ static sss_result build_mesh(const char *name, const sss_om_soup *s, const expec
             if (ex->drop && ex->drop[f]) continue; /* counted by the scan */
             if (n < 3) { rep->faces_too_small++; continue; }
             if (has_repeat(v, n, scratch)) { rep->faces_repeated_index++; continue; }
-            if (n > 3) rep->polygons_triangulated++;
-            for (uint32_t k = 1; k + 1 < n; k++) {
-                if (zero_area(s->pos, (uint32_t)v[0], (uint32_t)v[k], (uint32_t)v[k + 1])) {
+            static const uint32_t one[3] = {0, 1, 2};
+            const uint32_t *pt = one;
+            if (n > 3) {
+                rep->polygons_triangulated++;
+                int how = triangulate(s->pos, v, n, &ps, ptri);
+                rep->polygons_ear_clipped += how == POLY_EAR;
+                rep->polygons_unclipped += how == POLY_UNCLIPPED;
+                pt = ptri;
+            }
+            for (uint32_t k = 0; k + 2 < n; k++) {
+                uint32_t a = (uint32_t)v[pt[3 * k]], b = (uint32_t)v[pt[3 * k + 1]], c = (uint32_t)v[pt[3 * k + 2]];
+                if (zero_area(s->pos, a, b, c)) {
                     rep->faces_zero_area++;
                     continue;
                 }
                 ntri++;
-                remap[v[0]] = remap[v[k]] = remap[v[k + 1]] = 0;
+                remap[a] = remap[b] = remap[c] = 0;
             }
         }
     }
     if (ntri == 0) {
-        free(scratch); free(remap);
+        free(scratch); free(remap); free(ptri); poly_scratch_free(&ps);
         return sss_fail(err, SSS_ERR_MESH, "%s: no triangles left after repair (%llu faces read)", name, ex->faces_in_file);
     }
     if (ntri > UINT32_MAX) {
-        free(scratch); free(remap);
+        free(scratch); free(remap); free(ptri); poly_scratch_free(&ps);
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "%s: %llu triangles; at most 4294967295 are supported", name, ntri);
     }
     uint32_t nv2 = 0;
@@ -1328,15 +2004,16 @@ static sss_result build_mesh(const char *name, const sss_om_soup *s, const expec
         if (remap[v] == 0) remap[v] = nv2++;
     rep->vertices_unreferenced = nv - nv2;
 
-    sss_result r = sss_mesh_alloc(out, nv2, (uint32_t)ntri, err);
+    r = sss_mesh_alloc(out, nv2, (uint32_t)ntri, err);
     if (r != SSS_OK) {
-        free(scratch); free(remap);
+        free(scratch); free(remap); free(ptri); poly_scratch_free(&ps);
         return r;
     }
     for (ull v = 0; v < nv; v++)
         if (remap[v] != UINT32_MAX) memcpy(out->pos + 3 * (size_t)remap[v], s->pos + 3 * v, 3 * sizeof(float));
 
     /* Pass 2: the same decisions, writing the triangles. */
+    ps.budget = EAR_BUDGET;
     {
         ull off = 0, t = 0;
         for (ull f = 0; f < s->nf; f++) {
@@ -1344,18 +2021,29 @@ static sss_result build_mesh(const char *name, const sss_om_soup *s, const expec
             const int32_t *v = s->idx + off;
             off += n;
             if ((ex->drop && ex->drop[f]) || n < 3 || has_repeat(v, n, scratch)) continue;
-            for (uint32_t k = 1; k + 1 < n; k++) {
-                if (zero_area(s->pos, (uint32_t)v[0], (uint32_t)v[k], (uint32_t)v[k + 1])) continue;
-                out->tri[3 * t + 0] = remap[v[0]];
-                out->tri[3 * t + 1] = remap[v[k]];
-                out->tri[3 * t + 2] = remap[v[k + 1]];
+            static const uint32_t one[3] = {0, 1, 2};
+            const uint32_t *pt = one;
+            if (n > 3) {
+                triangulate(s->pos, v, n, &ps, ptri);
+                pt = ptri;
+            }
+            for (uint32_t k = 0; k + 2 < n; k++) {
+                uint32_t a = (uint32_t)v[pt[3 * k]], b = (uint32_t)v[pt[3 * k + 1]], c = (uint32_t)v[pt[3 * k + 2]];
+                if (zero_area(s->pos, a, b, c)) continue;
+                out->tri[3 * t + 0] = remap[a];
+                out->tri[3 * t + 1] = remap[b];
+                out->tri[3 * t + 2] = remap[c];
                 t++;
             }
         }
     }
     free(scratch);
     free(remap);
-    r = sss_mesh_compute_normals_areas(out, name, err);
+    free(ptri);
+    poly_scratch_free(&ps);
+    r = drop_duplicates(name, out, rep, err);
+    if (r == SSS_OK) r = orient(name, out, rep, err);
+    if (r == SSS_OK) r = sss_mesh_compute_normals_areas(out, name, err);
     if (r != SSS_OK) sss_mesh_free(out);
     return r;
 }
@@ -1440,6 +2128,7 @@ sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *r
     }
     sss_om_soup_free(&soup);
     free(ex.drop);
+    free(ex.dpos);
     src_close(&s);
     if (r != SSS_OK) sss_mesh_free(out);
     return r;
@@ -1449,7 +2138,8 @@ uint64_t sss_import_repairs(const sss_import_report *rep)
 {
     if (!rep) return 0;
     return rep->polygons_triangulated + rep->faces_too_small + rep->faces_repeated_index + rep->faces_zero_area +
-           rep->vertices_unreferenced;
+           rep->vertices_unreferenced + rep->faces_duplicate + rep->faces_flipped + rep->open_faces_flipped +
+           rep->recentred;
 }
 
 void sss_import_print_repairs(const sss_import_report *rep, const char *prefix, void *stream)
@@ -1466,10 +2156,40 @@ void sss_import_print_repairs(const sss_import_report *rep, const char *prefix, 
          "faces using a vertex more than once dropped"},
         {rep->faces_zero_area, "zero-area triangle dropped", "zero-area triangles dropped"},
         {rep->vertices_unreferenced, "unreferenced vertex removed", "unreferenced vertices removed"},
+        {rep->polygons_ear_clipped, "non-convex polygon ear-clipped in its plane instead (a fan would fold over)",
+         "non-convex polygons ear-clipped in their plane instead (a fan would fold over)"},
+        {rep->faces_duplicate, "triangle repeating an earlier one's vertices dropped",
+         "triangles repeating an earlier one's vertices dropped"},
+        {rep->faces_flipped, "triangle of a closed surface flipped to face outward consistently",
+         "triangles of closed surfaces flipped to face outward consistently"},
+        {rep->surfaces_inside_out, "closed surface was inside out as a whole", "closed surfaces were inside out as a whole"},
+        {rep->open_faces_flipped, "triangle of an open surface flipped to agree with the majority of its surface",
+         "triangles of open surfaces flipped to agree with the majority of their surface"},
     };
     for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++)
         if (lines[i].n)
             fprintf(f, "%s%srepaired: %llu %s\n", prefix, sep, (ull)lines[i].n, lines[i].n == 1 ? lines[i].one : lines[i].many);
+    if (rep->recentred)
+        fprintf(f, "%s%srepaired: mesh recentred: (%.17g, %.17g, %.17g) subtracted from every position, as its centre lies "
+                "far from the origin for its size (float32 positions)\n", prefix, sep, rep->offset[0], rep->offset[1],
+                rep->offset[2]);
+}
+
+void sss_import_print_warnings(const sss_import_report *rep, const char *prefix, void *stream)
+{
+    if (!rep) return;
+    FILE *f = stream ? (FILE *)stream : stderr;
+    const char *sep = (prefix && *prefix) ? ": " : "";
+    if (!prefix) prefix = "";
+    if (rep->polygons_unclipped)
+        fprintf(f, "%s%swarning: %llu non-convex polygon%s could not be ear-clipped (self-intersecting, more than %d "
+                "vertices, or past the import's ear-clipping budget) and %s fan-triangulated: some of %s triangles may overlap or face the wrong way\n", prefix, sep,
+                (ull)rep->polygons_unclipped, rep->polygons_unclipped == 1 ? "" : "s", SSS_IMPORT_EAR_MAX,
+                rep->polygons_unclipped == 1 ? "was" : "were", rep->polygons_unclipped == 1 ? "its" : "their");
+    if (rep->orientation_conflicts)
+        fprintf(f, "%s%swarning: %llu edge%s between triangles of opposite orientation could not be made consistent "
+                "(a non-orientable surface such as a Moebius strip): normals there are unreliable\n", prefix, sep,
+                (ull)rep->orientation_conflicts, rep->orientation_conflicts == 1 ? "" : "s");
 }
 
 /* ---------------------------------------------------------------------------

@@ -93,7 +93,10 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
     const double r2 = radius_mm * radius_mm;
     const float search_r2 = (float)(r2 * (1.0 + 1e-5)) + 1e-30f;
     int failed = 0;
-    for (int pass = 0; pass < 2 && !failed; pass++) {
+    /* SIGINT/SIGTERM (sss_bake_interrupted) is polled per vertex: this phase
+     * took 355 s for 10^6 vertices, and a stop must not wait for it
+     * (docs/robustness.md, "Interrupted bakes"). */
+    for (int pass = 0; pass < 2 && !failed && !sss_bake_interrupted; pass++) {
         if (pass == 1) {
             uint64_t total = 0;
             for (uint32_t t = 0; t < nt; t++) { out->start[t] = total; total += cnt[t]; }
@@ -119,6 +122,7 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
             struct FLANNParameters pq = p;
 #pragma omp for schedule(dynamic, 64)
             for (int64_t t = 0; t < (int64_t)nt; t++) {
+                if (sss_bake_interrupted) continue; /* the rest of the loop is skipped quickly */
                 if (failed || !ind || !dst) {
 #pragma omp atomic write
                     failed = 1;
@@ -220,6 +224,10 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
     flann_free_index_float(index, &p);
     free(pts);
     free(cnt);
+    if (sss_bake_interrupted) {
+        sss_nbhd_free(out);
+        return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during neighbourhoods");
+    }
     if (failed) {
         uint64_t total = out->start[nt];
         sss_nbhd_free(out);

@@ -19,12 +19,16 @@
 #include "genmesh.h"
 #include "sss/import.h"
 
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
 /* ---------------------------------------------------------------------------
  * Temporary files
  * ------------------------------------------------------------------------- */
 
 static char g_dir[64];
-static char g_files[64][160];
+static char g_files[128][160];
 static int g_nfiles;
 
 static int setup_dir(void **state)
@@ -63,7 +67,7 @@ static const char *write_file(const char *name, const void *data, size_t n)
     assert_int_equal(fclose(f), 0);
     int known = 0;
     for (int i = 0; i < g_nfiles; i++) known |= strcmp(g_files[i], p) == 0;
-    if (!known && g_nfiles < 64) snprintf(g_files[g_nfiles++], sizeof g_files[0], "%s", p);
+    if (!known && g_nfiles < 128) snprintf(g_files[g_nfiles++], sizeof g_files[0], "%s", p);
     return p;
 }
 
@@ -714,6 +718,434 @@ static void printRepairsWritesOneLinePerNonZeroCounter(void **state)
                         "sss-bake: bunny.ply: repaired: 1 zero-area triangle dropped\n");
 }
 
+/* ---------------------------------------------------------------------------
+ * Orientation, duplicates, non-convex polygons, far-off meshes (issue 6,
+ * docs/robustness.md B5-B7)
+ * ------------------------------------------------------------------------- */
+
+/* Writes m as OFF text (positions %.9g, or %.17g plus offset when far),
+ * with triangle t reversed where rev(t) says so. */
+static const char *write_off_mesh(const char *name, const sss_mesh *m, double offset, int (*rev)(uint32_t t))
+{
+    size_t cap = 256 + (size_t)m->nv * 80 + (size_t)m->nf * 40, n = 0;
+    char *text = malloc(cap);
+    assert_non_null(text);
+    n += (size_t)snprintf(text + n, cap - n, "OFF\n%u %u 0\n", m->nv, m->nf);
+    for (uint32_t v = 0; v < m->nv; v++)
+        n += (size_t)snprintf(text + n, cap - n, "%.17g %.17g %.17g\n", offset + m->pos[3 * v], offset + m->pos[3 * v + 1],
+                              offset + m->pos[3 * v + 2]);
+    for (uint32_t t = 0; t < m->nf; t++) {
+        const uint32_t *x = m->tri + 3 * t;
+        if (rev && rev(t)) n += (size_t)snprintf(text + n, cap - n, "3 %u %u %u\n", x[0], x[2], x[1]);
+        else n += (size_t)snprintf(text + n, cap - n, "3 %u %u %u\n", x[0], x[1], x[2]);
+    }
+    assert_true(n < cap);
+    const char *p = write_text(name, text);
+    free(text);
+    return p;
+}
+
+static int rev_all(uint32_t t) { (void)t; return 1; }
+static int rev_odd(uint32_t t) { return (int)(t & 1u); }
+static int rev_few(uint32_t t) { return t == 3 || t == 10 || t == 17; }
+
+/* Every vertex normal of a closed convex mesh around c points away from c. */
+static void assert_normals_outward(const sss_mesh *m, const double c[3])
+{
+    for (uint32_t v = 0; v < m->nv; v++) {
+        double d = 0;
+        for (int k = 0; k < 3; k++) d += (m->pos[3 * v + k] - c[k]) * m->nrm[3 * v + k];
+        assert_true(d > 0);
+    }
+}
+
+static void importTurnsInsideOutCubeOutward(void **state)
+{
+    (void)state;
+    /* B5's reproducer: every quad of the cube wound inward. */
+    const char *off = "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                      "4 1 2 3 0\n4 7 6 5 4\n4 4 5 1 0\n4 6 7 3 2\n4 3 7 4 0\n4 5 6 2 1\n";
+    sss_mesh m;
+    sss_import_report rep;
+    sss_error err;
+    assert_int_equal(import(write_text("inside_out.off", off), &m, &rep, &err), SSS_OK);
+    assert_cube(&m);
+    assert_int_equal(rep.faces_flipped, 12);
+    assert_int_equal(rep.surfaces_inside_out, 1);
+    assert_int_equal(rep.open_faces_flipped, 0);
+    assert_int_equal(rep.orientation_conflicts, 0);
+    const double c[3] = {0.5, 0.5, 0.5};
+    assert_normals_outward(&m, c);
+    sss_mesh_free(&m);
+}
+
+static void importMakesFlippedTrianglesOfSphereConsistent(void **state)
+{
+    (void)state;
+    sss_mesh s, m;
+    sss_import_report rep;
+    sss_error err;
+    assert_int_equal(sss_gen_sphere(&s, 1.0, 3, &err), SSS_OK);
+    const double c[3] = {0, 0, 0};
+    /* Half the triangles reversed (B5: mean q -60 % before), then all of them. */
+    int (*revs[2])(uint32_t) = {rev_odd, rev_all};
+    const char *names[2] = {"half_flipped.off", "all_flipped.off"};
+    for (int i = 0; i < 2; i++) {
+        assert_int_equal(import(write_off_mesh(names[i], &s, 0.0, revs[i]), &m, &rep, &err), SSS_OK);
+        assert_int_equal(m.nf, s.nf);
+        assert_int_equal(rep.faces_flipped, i == 0 ? s.nf / 2 : s.nf);
+        assert_int_equal(rep.surfaces_inside_out, i == 0 ? 0 : 1);
+        assert_normals_outward(&m, c);
+        /* flipping back restores the generator's triangles exactly */
+        assert_memory_equal(m.tri, s.tri, (size_t)s.nf * 3 * sizeof(uint32_t));
+        sss_mesh_free(&m);
+    }
+    /* A consistent outward sphere is left alone: nothing flipped. */
+    assert_int_equal(import(write_off_mesh("sphere.off", &s, 0.0, NULL), &m, &rep, &err), SSS_OK);
+    assert_int_equal(rep.faces_flipped + rep.open_faces_flipped + rep.faces_duplicate, 0);
+    assert_int_equal(sss_import_repairs(&rep), 0);
+    assert_memory_equal(m.tri, s.tri, (size_t)s.nf * 3 * sizeof(uint32_t));
+    sss_mesh_free(&m);
+    sss_mesh_free(&s);
+}
+
+static void importOpenSurfaceTakesItsMajorityWinding(void **state)
+{
+    (void)state;
+    sss_mesh s, m;
+    sss_import_report rep;
+    sss_error err;
+    assert_int_equal(sss_gen_plane(&s, 1.0, 1.0, 4, 4, &err), SSS_OK); /* 32 triangles, normal +z */
+    /* 3 of 32 reversed: flipped back to the majority */
+    assert_int_equal(import(write_off_mesh("plane_few.off", &s, 0.0, rev_few), &m, &rep, &err), SSS_OK);
+    assert_int_equal(rep.open_faces_flipped, 3);
+    assert_int_equal(rep.faces_flipped, 0);
+    assert_memory_equal(m.tri, s.tri, (size_t)s.nf * 3 * sizeof(uint32_t));
+    sss_mesh_free(&m);
+    /* all reversed: consistent already; which side is outside cannot be
+     * told for an open surface, so the file's winding stays */
+    assert_int_equal(import(write_off_mesh("plane_down.off", &s, 0.0, rev_all), &m, &rep, &err), SSS_OK);
+    assert_int_equal(rep.open_faces_flipped + rep.faces_flipped, 0);
+    for (uint32_t v = 0; v < m.nv; v++) assert_true(m.nrm[3 * v + 2] < -0.99f);
+    sss_mesh_free(&m);
+    sss_mesh_free(&s);
+}
+
+/* Appends b to a, with b's triangles reversed when inward. */
+static void append(sss_mesh *a, const sss_mesh *b, int inward)
+{
+    sss_error err;
+    sss_mesh c;
+    assert_int_equal(sss_mesh_copy(b, &c, &err), SSS_OK);
+    if (inward)
+        for (uint32_t t = 0; t < c.nf; t++) {
+            uint32_t x = c.tri[3 * t + 1];
+            c.tri[3 * t + 1] = c.tri[3 * t + 2];
+            c.tri[3 * t + 2] = x;
+        }
+    assert_int_equal(sss_mesh_append(a, &c, &err), SSS_OK);
+    sss_mesh_free(&c);
+}
+
+static void importLeavesCavityInsideClosedSurfaceAlone(void **state)
+{
+    (void)state;
+    sss_mesh outer, inner, m;
+    sss_import_report rep;
+    sss_error err;
+    /* A hollow shell: its inner wall faces the cavity (negative volume,
+     * nested): left as it is. */
+    assert_int_equal(sss_gen_sphere(&outer, 2.0, 2, &err), SSS_OK);
+    assert_int_equal(sss_gen_sphere(&inner, 1.0, 2, &err), SSS_OK);
+    append(&outer, &inner, 1);
+    assert_int_equal(import(write_off_mesh("hollow.off", &outer, 0.0, NULL), &m, &rep, &err), SSS_OK);
+    assert_int_equal(rep.faces_flipped + rep.surfaces_inside_out, 0);
+    assert_memory_equal(m.tri, outer.tri, (size_t)outer.nf * 3 * sizeof(uint32_t));
+    sss_mesh_free(&m);
+    sss_mesh_free(&outer);
+    /* The same inward sphere on its own is inside out: turned outward. */
+    assert_int_equal(sss_gen_sphere(&outer, 1.0, 2, &err), SSS_OK);
+    memset(&m, 0, sizeof m);
+    assert_int_equal(import(write_off_mesh("inward.off", &inner, 0.0, rev_all), &m, &rep, &err), SSS_OK);
+    assert_int_equal(rep.faces_flipped, inner.nf);
+    assert_int_equal(rep.surfaces_inside_out, 1);
+    sss_mesh_free(&m);
+    sss_mesh_free(&outer);
+    sss_mesh_free(&inner);
+}
+
+static void importWarnsOnNonOrientableStrip(void **state)
+{
+    (void)state;
+    /* A Moebius strip of 12 quads: one edge is left inconsistent whatever
+     * is flipped. */
+    enum { K = 12 };
+    char text[4096];
+    size_t n = (size_t)snprintf(text, sizeof text, "OFF\n%d %d 0\n", 2 * K, K);
+    for (int i = 0; i < K; i++) {
+        double a = 2 * M_PI * i / K, h = a / 2;
+        for (int s = -1; s <= 1; s += 2) {
+            double r = 2 + 0.5 * s * cos(h);
+            n += (size_t)snprintf(text + n, sizeof text - n, "%.9g %.9g %.9g\n", r * cos(a), r * sin(a), 0.5 * s * sin(h));
+        }
+    }
+    for (int i = 0; i < K; i++) {
+        int j = (i + 1) % K;
+        /* the last quad joins the strip's two sides crosswise */
+        int b0 = 2 * j + (j == 0), b1 = 2 * j + (j != 0);
+        n += (size_t)snprintf(text + n, sizeof text - n, "4 %d %d %d %d\n", 2 * i, b0, b1, 2 * i + 1);
+    }
+    sss_mesh m;
+    sss_import_report rep;
+    sss_error err;
+    assert_int_equal(import(write_text("moebius.off", text), &m, &rep, &err), SSS_OK);
+    assert_int_equal(m.nf, 2 * K);
+    assert_true(rep.orientation_conflicts >= 1);
+    for (uint32_t v = 0; v < m.nv; v++) assert_true(isfinite(m.nrm[3 * v]) && m.area[v] > 0);
+    FILE *f = tmpfile();
+    assert_non_null(f);
+    sss_import_print_warnings(&rep, "sss-bake: moebius.off", f);
+    rewind(f);
+    char buf[512];
+    size_t got = fread(buf, 1, sizeof buf - 1, f);
+    buf[got] = '\0';
+    fclose(f);
+    assert_non_null(strstr(buf, "sss-bake: moebius.off: warning: "));
+    assert_non_null(strstr(buf, "non-orientable"));
+    sss_mesh_free(&m);
+}
+
+static void importDropsDuplicateTrianglesInEitherWinding(void **state)
+{
+    (void)state;
+    /* The cube, then its first four triangles again: two as they are, two
+     * reversed (B5: copies doubled the areas, reversed copies cancelled the
+     * normals). */
+    char text[2048];
+    size_t n = (size_t)snprintf(text, sizeof text, "OFF\n8 16 0\n");
+    for (int v = 0; v < 8; v++) n += (size_t)snprintf(text + n, sizeof text - n, "%g %g %g\n", CUBE_V[v][0], CUBE_V[v][1], CUBE_V[v][2]);
+    for (int k = 0; k < 16; k++) {
+        int t[3];
+        cube_tri(k % 12, t);
+        if (k >= 14) n += (size_t)snprintf(text + n, sizeof text - n, "3 %d %d %d\n", t[0], t[2], t[1]);
+        else n += (size_t)snprintf(text + n, sizeof text - n, "3 %d %d %d\n", t[0], t[1], t[2]);
+    }
+    sss_mesh m;
+    sss_import_report rep;
+    sss_error err;
+    assert_int_equal(import(write_text("dups.off", text), &m, &rep, &err), SSS_OK);
+    assert_cube(&m);
+    assert_int_equal(rep.faces_duplicate, 4);
+    assert_int_equal(rep.faces_flipped, 0);
+    const double c[3] = {0.5, 0.5, 0.5};
+    assert_normals_outward(&m, c);
+    for (int k = 0; k < 12; k++) {
+        int t[3];
+        cube_tri(k, t);
+        for (int i = 0; i < 3; i++) assert_int_equal(m.tri[3 * k + i], t[i]);
+    }
+    sss_mesh_free(&m);
+}
+
+/* Signed area of triangle t in the z = 0 plane. */
+static double tri_area_z(const sss_mesh *m, uint32_t t)
+{
+    const float *a = m->pos + 3 * m->tri[3 * t], *b = m->pos + 3 * m->tri[3 * t + 1], *c = m->pos + 3 * m->tri[3 * t + 2];
+    return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+}
+
+static void importEarClipsNonConvexPolygons(void **state)
+{
+    (void)state;
+    struct { const char *name, *off; double area; } cases[] = {
+        /* B7's L-shaped hexagon, listed from a corner next to the reflex one:
+         * its fan gave areas -0.5, 0.5, 2, 1 */
+        {"l_hexagon.off", "OFF\n6 1 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n6 2 3 4 5 0 1\n", 3.0},
+        /* a dart (non-convex quad) fanned from its reflex corner's neighbour */
+        {"dart.off", "OFF\n4 1 0\n0 0 0\n2 1 0\n0 2 0\n0.5 1 0\n4 1 2 3 0\n", 1.5},
+        /* an arrow-shaped pentagon, tilted out of the axis planes */
+        {"arrow.off", "OFF\n5 1 0\n0 0 0\n4 0 0\n4 2 0\n2 0.5 0\n0 2 0\n5 3 4 0 1 2\n", 5.0},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        sss_mesh m;
+        sss_import_report rep;
+        sss_error err;
+        assert_int_equal(import(write_text(cases[i].name, cases[i].off), &m, &rep, &err), SSS_OK);
+        assert_int_equal(rep.polygons_triangulated, 1);
+        assert_int_equal(rep.polygons_ear_clipped, 1);
+        assert_int_equal(rep.polygons_unclipped, 0);
+        double sum = 0;
+        for (uint32_t t = 0; t < m.nf; t++) {
+            double a = tri_area_z(&m, t);
+            assert_true(a > 0); /* no flipped triangle */
+            sum += a;
+        }
+        assert_true(fabs(sum - cases[i].area) < 1e-6); /* no overlap: the area is kept */
+        assert_true(fabs(total_area(&m) - cases[i].area) < 1e-6);
+        for (uint32_t v = 0; v < m.nv; v++) assert_true(m.nrm[3 * v + 2] > 0.999f);
+        sss_mesh_free(&m);
+    }
+    /* Convex polygons are still fanned from their first corner: the cube
+     * tests above check the exact triangles. A pentagram (self-intersecting)
+     * cannot be ear-clipped: fanned and warned. */
+    sss_mesh m;
+    sss_import_report rep;
+    sss_error err;
+    char text[512];
+    size_t n = (size_t)snprintf(text, sizeof text, "OFF\n5 1 0\n");
+    for (int k = 0; k < 5; k++)
+        n += (size_t)snprintf(text + n, sizeof text - n, "%.9g %.9g 0\n", cos(2 * M_PI * k / 5), sin(2 * M_PI * k / 5));
+    snprintf(text + n, sizeof text - n, "5 0 2 4 1 3\n");
+    assert_int_equal(import(write_text("star.off", text), &m, &rep, &err), SSS_OK);
+    assert_int_equal(rep.polygons_ear_clipped + rep.polygons_unclipped, 1);
+    for (uint32_t v = 0; v < m.nv; v++) assert_true(isfinite(m.nrm[3 * v]));
+    sss_mesh_free(&m);
+}
+
+static void importRecentresFarMeshInDoubleBeforeFloat(void **state)
+{
+    (void)state;
+    sss_mesh s, near, far;
+    sss_import_report rn, rf;
+    sss_error err;
+    assert_int_equal(sss_gen_sphere(&s, 1.0, 4, &err), SSS_OK); /* 2562 vertices, 5120 triangles */
+    assert_int_equal(import(write_off_mesh("origin.off", &s, 0.0, NULL), &near, &rn, &err), SSS_OK);
+    assert_int_equal(rn.recentred, 0);
+    assert_memory_equal(near.pos, s.pos, (size_t)s.nv * 3 * sizeof(float));
+    /* B6: at 10^6, float32 spacing is 1/16; 9,152 of 16,128 triangles of a
+     * unit UV sphere collapsed before. The file has %.17g coordinates. */
+    assert_int_equal(import(write_off_mesh("far.off", &s, 1e6, NULL), &far, &rf, &err), SSS_OK);
+    assert_int_equal(rf.recentred, 1);
+    for (int k = 0; k < 3; k++) assert_true(fabs(rf.offset[k] - 1e6) < 1e-6);
+    assert_int_equal(rf.faces_zero_area, 0);
+    assert_int_equal(far.nv, s.nv);
+    assert_int_equal(far.nf, s.nf);
+    assert_memory_equal(far.tri, s.tri, (size_t)s.nf * 3 * sizeof(uint32_t));
+    for (size_t i = 0; i < 3 * (size_t)s.nv; i++) assert_true(fabs(far.pos[i] - s.pos[i]) < 1e-9);
+    for (uint32_t v = 0; v < s.nv; v++) assert_true(fabs(far.area[v] - near.area[v]) < 1e-6 * near.area[v]);
+    sss_mesh_free(&far);
+    /* Binary PLY with double coordinates and OBJ keep the precision too. */
+    bytes B = {0};
+    char hdr[256];
+    snprintf(hdr, sizeof hdr, "ply\nformat binary_little_endian 1.0\nelement vertex %u\nproperty double x\n"
+             "property double y\nproperty double z\nelement face %u\nproperty list uchar int vertex_indices\nend_header\n",
+             s.nv, s.nf);
+    put_str(&B, hdr);
+    for (size_t i = 0; i < 3 * (size_t)s.nv; i++) {
+        double d = 1e6 + s.pos[i];
+        uint64_t u;
+        memcpy(&u, &d, 8);
+        put_u32(&B, (uint32_t)u, 0);
+        put_u32(&B, (uint32_t)(u >> 32), 0);
+    }
+    for (uint32_t t = 0; t < s.nf; t++) {
+        put_u8(&B, 3);
+        for (int k = 0; k < 3; k++) put_u32(&B, s.tri[3 * t + k], 0);
+    }
+    assert_int_equal(import(write_file("far_double.ply", B.b, B.n), &far, &rf, &err), SSS_OK);
+    assert_int_equal(rf.recentred, 1);
+    assert_int_equal(rf.faces_zero_area, 0);
+    for (size_t i = 0; i < 3 * (size_t)s.nv; i++) assert_true(fabs(far.pos[i] - s.pos[i]) < 1e-9);
+    sss_mesh_free(&far);
+    free(B.b);
+    /* A mesh 10 sizes away keeps its coordinates (and its bakes' bytes). */
+    assert_int_equal(import(write_off_mesh("near.off", &s, 10.0, NULL), &far, &rf, &err), SSS_OK);
+    assert_int_equal(rf.recentred, 0);
+    for (size_t i = 0; i < 3 * (size_t)s.nv; i++) assert_true(fabs(far.pos[i] - (10.0 + s.pos[i])) < 1e-6);
+    sss_mesh_free(&far);
+    sss_mesh_free(&near);
+    sss_mesh_free(&s);
+}
+
+static void importRejectsTruncatedAsciiFilesNamingElement(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err;
+    char text[2048];
+    cube_ascii_ply(text, sizeof text, "property list uchar int vertex_indices");
+    /* ascii PLY cut inside the faces, and inside the vertices */
+    text[strlen(text) - 6] = '\0';
+    assert_int_equal(import(write_text("cut.ply", text), &m, NULL, &err), SSS_ERR_CORRUPT);
+    assert_non_null(strstr(err.msg, "cut.ply: element face: file ends inside face 5 of 6 (truncated)"));
+    assert_int_equal(import(write_text("cut_v.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                                    "property float y\nproperty float z\nelement face 1\n"
+                                                    "property list uchar int vertex_indices\nend_header\n"
+                                                    "0 0 0\n1 0 0\n0 1 0\n3 0 1\n"), &m, NULL, &err), SSS_ERR_CORRUPT);
+    assert_non_null(strstr(err.msg, "cut_v.ply: element face: file ends inside face 0 of 1"));
+    /* OFF */
+    assert_int_equal(import(write_text("cut.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1\n"), &m, NULL, &err),
+                     SSS_ERR_CORRUPT);
+    assert_non_null(strstr(err.msg, "cut.off: element face: file ends inside face 1 of 2 (truncated)"));
+    assert_int_equal(import(write_text("cut_v.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0    0         \n"), &m, NULL, &err),
+                     SSS_ERR_CORRUPT);
+    assert_non_null(strstr(err.msg, "cut_v.off: element vertex: file ends inside vertex 3 of 4 (truncated)"));
+    /* shorter still: caught by the size check, naming the faces */
+    assert_int_equal(import(write_text("cut_s.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0\n"), &m, NULL, &err), SSS_ERR_CORRUPT);
+    assert_non_null(strstr(err.msg, "cut_s.off: element face: declares 1 faces but the file has only"));
+    /* OBJ: a vertex line cut short */
+    assert_int_equal(import(write_text("cut.obj", "v 0 0 0\nv 1 0 0\nv 0 1"), &m, NULL, &err), SSS_ERR_CORRUPT);
+    assert_non_null(strstr(err.msg, "cut.obj: vertex 2 (line 3): fewer than 3 coordinates"));
+    /* ascii STL: a facet cut inside its loop */
+    assert_int_equal(import(write_text("cut.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"),
+                            &m, NULL, &err), SSS_ERR_CORRUPT);
+    assert_non_null(strstr(err.msg, "cut.stl: triangle 0: expected 'vertex x y z'"));
+}
+
+static void importRejectsNanInStlAndHugeCountInOff(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err;
+    assert_int_equal(import(write_text("nan.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                                  "vertex 0 nan 0\nendloop\nendfacet\nendsolid s\n"), &m, NULL, &err),
+                     SSS_ERR_MESH);
+    assert_non_null(strstr(err.msg, "nan.stl: triangle 0: vertex 2: coordinate is not finite ('nan', line 6)"));
+    bytes B = {0};
+    cube_binary_stl(&B, 12);
+    float inf = INFINITY;
+    memcpy(B.b + 84 + 50 * 1 + 12 + 4 * 4, &inf, 4); /* triangle 1, vertex 1, y */
+    assert_int_equal(import(write_file("inf.stl", B.b, B.n), &m, NULL, &err), SSS_ERR_MESH);
+    assert_non_null(strstr(err.msg, "inf.stl: triangle 1: vertex 1: coordinate is not finite"));
+    free(B.b);
+    /* 2^31 vertices declared in a ~40-byte OFF: refused before allocating */
+    clock_t t0 = clock();
+    assert_int_equal(import(write_text("huge.off", "OFF\n2147483648 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), &m, NULL, &err),
+                     SSS_ERR_CORRUPT);
+    assert_true((double)(clock() - t0) / CLOCKS_PER_SEC < 0.5);
+    assert_non_null(strstr(err.msg, "huge.off: element vertex: declares 2147483648 vertices but the file has only"));
+    assert_null(m.pos);
+}
+
+static void printRepairsAndWarningsNameTheNewCounters(void **state)
+{
+    (void)state;
+    sss_import_report rep;
+    memset(&rep, 0, sizeof rep);
+    rep.polygons_triangulated = 2;
+    rep.polygons_ear_clipped = 1;
+    rep.faces_flipped = 12;
+    rep.surfaces_inside_out = 1;
+    rep.recentred = 1;
+    rep.offset[0] = rep.offset[1] = rep.offset[2] = 1e6;
+    rep.polygons_unclipped = 1;
+    assert_int_equal(sss_import_repairs(&rep), 2 + 12 + 1);
+    FILE *f = tmpfile();
+    assert_non_null(f);
+    sss_import_print_repairs(&rep, "t", f);
+    sss_import_print_warnings(&rep, "t", f);
+    rewind(f);
+    char buf[2048];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    assert_non_null(strstr(buf, "t: repaired: 1 non-convex polygon ear-clipped in its plane instead"));
+    assert_non_null(strstr(buf, "t: repaired: 12 triangles of closed surfaces flipped to face outward consistently\n"));
+    assert_non_null(strstr(buf, "t: repaired: 1 closed surface was inside out as a whole\n"));
+    assert_non_null(strstr(buf, "t: repaired: mesh recentred: (1000000, 1000000, 1000000) subtracted"));
+    assert_non_null(strstr(buf, "t: warning: 1 non-convex polygon could not be ear-clipped"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -743,6 +1175,17 @@ int main(void)
         cmocka_unit_test(importRejectsNonPlyContentWithPlyExtension),
         cmocka_unit_test(exportPlyThenImportRoundTripIsExact),
         cmocka_unit_test(printRepairsWritesOneLinePerNonZeroCounter),
+        cmocka_unit_test(importTurnsInsideOutCubeOutward),
+        cmocka_unit_test(importMakesFlippedTrianglesOfSphereConsistent),
+        cmocka_unit_test(importOpenSurfaceTakesItsMajorityWinding),
+        cmocka_unit_test(importLeavesCavityInsideClosedSurfaceAlone),
+        cmocka_unit_test(importWarnsOnNonOrientableStrip),
+        cmocka_unit_test(importDropsDuplicateTrianglesInEitherWinding),
+        cmocka_unit_test(importEarClipsNonConvexPolygons),
+        cmocka_unit_test(importRecentresFarMeshInDoubleBeforeFloat),
+        cmocka_unit_test(importRejectsTruncatedAsciiFilesNamingElement),
+        cmocka_unit_test(importRejectsNanInStlAndHugeCountInOff),
+        cmocka_unit_test(printRepairsAndWarningsNameTheNewCounters),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }

@@ -7,10 +7,18 @@
  *    unrecognised file; declared counts that cannot fit in the file's size
  *    (checked before any allocation); NaN/Inf coordinates; a face index out of
  *    range; no triangles left after repair.
- *  - repaired and counted: polygons with more than 3 vertices (fan
- *    triangulated), faces with fewer than 3 vertices or a repeated vertex
- *    index (dropped), zero-area faces (dropped), vertices no face references
- *    (removed, the rest renumbered in order).
+ *  - repaired and counted: polygons with more than 3 vertices (convex ones
+ *    fan triangulated, non-convex ones ear-clipped in their plane), faces
+ *    with fewer than 3 vertices or a repeated vertex index (dropped),
+ *    zero-area faces (dropped), triangles repeating an earlier one's three
+ *    vertices (dropped), vertices no face references (removed, the rest
+ *    renumbered in order), triangles whose winding disagrees with their
+ *    surface or turns a closed surface inside out (flipped), a mesh whose
+ *    centre lies far from the origin compared with its size (recentred in
+ *    double before the positions become float32).
+ *  - warned: polygons that could not be ear-clipped, manifold edges left with
+ *    inconsistent orientation (non-orientable surfaces).
+ * docs/robustness.md lists each case with its test.
  */
 #ifndef SSS_IMPORT_H
 #define SSS_IMPORT_H
@@ -30,7 +38,24 @@ typedef struct sss_import_report {
     uint64_t faces_repeated_index;   /* faces using one vertex twice, dropped */
     uint64_t faces_zero_area;        /* triangles of zero area, dropped */
     uint64_t vertices_unreferenced;  /* vertices used by no face, removed */
+    /* Added for issue 6 (docs/robustness.md B5-B7): */
+    uint64_t polygons_ear_clipped;   /* of polygons_triangulated: non-convex, ear-clipped instead of fanned */
+    uint64_t polygons_unclipped;     /* warning: non-convex polygons left fanned (self-intersecting,
+                                      * more than SSS_IMPORT_EAR_MAX vertices, or past 2^28 steps of
+                                      * ear clipping in the whole mesh) */
+    uint64_t faces_duplicate;        /* triangles with the same three vertices as an earlier one, dropped */
+    uint64_t faces_flipped;          /* triangles of closed surfaces flipped: consistent and outward */
+    uint64_t surfaces_inside_out;    /* of those: closed surfaces that were inside out as a whole */
+    uint64_t open_faces_flipped;     /* triangles of open surfaces flipped to agree with the majority */
+    uint64_t orientation_conflicts;  /* warning: manifold edges whose triangles still disagree
+                                      * (non-orientable surface, e.g. a Moebius strip) */
+    uint64_t recentred;              /* 1 when offset[] was subtracted from every position */
+    double offset[3];                /* what was subtracted (file units), else 0 */
 } sss_import_report;
+
+/* Polygons with more vertices than this are fanned even when non-convex
+ * (ear clipping is cubic in the polygon's size at worst). */
+#define SSS_IMPORT_EAR_MAX 4096
 
 /* Reads the mesh at path into *out (pos and tri set; nrm/area computed too).
  * The format is chosen from the extension (.ply .obj .off .stl, any case).
@@ -38,13 +63,20 @@ typedef struct sss_import_report {
  * and err says "FILE: ELEMENT: problem". */
 sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *rep, sss_error *err);
 
-/* Number of repairs in rep (sum of the repair counters). */
+/* Number of repairs in rep (sum of the repair counters; the subsets
+ * polygons_ear_clipped and surfaces_inside_out and the warnings are not
+ * added). */
 uint64_t sss_import_repairs(const sss_import_report *rep);
 
 /* Writes one line per non-zero repair counter to stream (a FILE*), each
  * prefixed with prefix, e.g. "sss-bake: bunny.ply: repaired: 12 polygons
  * with more than 3 vertices fan-triangulated". */
 void sss_import_print_repairs(const sss_import_report *rep, const char *prefix, void *stream);
+
+/* Writes one line per non-zero warning counter (polygons_unclipped,
+ * orientation_conflicts): "PREFIX: warning: ...". Meant to be printed even
+ * when the repairs are not (sss-bake -q). */
+void sss_import_print_warnings(const sss_import_report *rep, const char *prefix, void *stream);
 
 /* Writes m as a binary little-endian PLY (float x y z; uchar-count int
  * vertex_indices). Used by the data tools and tests. */
