@@ -1,0 +1,110 @@
+/* sss/gather.h: the hierarchical gather of the bake. It computes the same
+ * integrals as sss_nbhd_build + sss_integrate,
+ *   q_c(x_o, ω_j) = Σ_{i: ‖x_i − x_o‖ ≤ R} w_c(o, i) G[i, j]
+ * (Hao–Varshney 2004 §3.1, w_c = (1/π) R_d,c(r) ΔA(x_i), self term and
+ * near disks as in nbhd.c), without visiting every (x_o, x_i) pair:
+ *
+ * - Far field (gather_tree.c): an octree over the source vertices in Morton
+ *   order. Each node stores per direction its aggregated flux
+ *   Φ_j = Σ G[i, j] ΔA_i and the first and second moments of that flux
+ *   about the node's area centroid. A node far from a block of receivers
+ *   (node radius < θ × distance) contributes (1/π) times the Taylor
+ *   expansion of R_d about the centroid to second order, applied to the
+ *   moments: the octree of Jensen & Buhler 2002 §4 (their nodes keep total
+ *   irradiance and an irradiance-weighted centre, i.e. the monopole), one
+ *   order further so that θ = 0.5 meets a 10⁻³ relative error. The paper
+ *   itself (seed 001 §3.1) points to that octree for O(N log N).
+ * - Near field (gather_near.c): receivers are grouped in Morton blocks; a
+ *   block's near sources and the rows of its far nodes form one dense
+ *   weight matrix W (channels × receivers by rows), multiplied by the stacked
+ *   flux rows (rows × directions) with one sgemm per block (OpenBLAS).
+ *
+ * Cutoff: a source farther than R from x_o contributes nothing, as in the
+ * direct sum; near sources are tested one by one (exactly nbhd.c's test),
+ * a far node by its centroid (a node straddling the sphere is included for
+ * the receivers whose distance to its centroid is ≤ R; errors of either sign
+ * along the sphere, where R_d has fallen to ε of its energy, measured in
+ * docs/benchmarks.md).
+ *
+ * Determinism: each block is computed by one thread with single-threaded
+ * OpenBLAS in a fixed order, so q does not depend on the thread count or,
+ * under MPI, on the number of ranks.
+ */
+#ifndef SSS_GATHER_H
+#define SSS_GATHER_H
+
+#include <stdint.h>
+#include "sss/dipole.h"
+#include "sss/mesh.h"
+#include "sss/result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Default opening threshold θ: a node of radius r_n at distance d from a
+ * receiver block (minus the block's radius) is far when r_n < θ d. */
+#define SSS_GATHER_THETA_DEFAULT 0.4
+
+/* Rows of flux moments stored per node and direction: Φ, M1 (x, y, z),
+ * M2 (xx, yy, zz, xy, xz, yz). */
+#define SSS_GATHER_MOMENTS 10
+
+typedef struct sss_gather_params {
+    double theta;        /* opening threshold in (0, 1) (default SSS_GATHER_THETA_DEFAULT) */
+    uint32_t leaf_size;  /* most sources in a leaf (default 32) */
+    uint32_t block_size; /* most receivers in a block (default 64) */
+} sss_gather_params;
+
+/* What the gather measured. */
+typedef struct sss_gather_stats {
+    uint32_t nodes, leaves, blocks;
+    uint64_t near_pairs;      /* Σ over blocks of receivers × near sources */
+    uint64_t far_pairs;       /* Σ over blocks of receivers × far nodes */
+    double rows_mean;         /* mean rows (near sources + 10 per far node) per block */
+    double flops;             /* 2 · C · B · rows · D summed over the sgemm calls */
+    double t_build;           /* Morton order, nodes, moments (s) */
+    double t_lists;           /* interaction lists (thread-seconds) */
+    double t_weights;         /* weight matrices (thread-seconds) */
+    double t_sgemm;           /* inside sgemm (thread-seconds) */
+    double t_scatter;         /* copying rows in and results out (thread-seconds) */
+} sss_gather_stats;
+
+/* The source hierarchy with its per-direction flux moments. */
+typedef struct sss_gather_tree sss_gather_tree;
+
+/* Builds the hierarchy over all vertices of mesh (areas computed) in mm
+ * (positions × mm_per_unit) and its moments from G (nv × n_dirs, the
+ * transfer table of sss_transfer_compute). The tree keeps its own copy of
+ * G in Morton order (near rows are read from it): the caller may free G. */
+sss_result sss_gather_tree_build(const sss_mesh *mesh, double mm_per_unit, const float *G, uint32_t n_dirs,
+                                 const sss_gather_params *p, sss_gather_tree **out, sss_error *err);
+void sss_gather_tree_destroy(sss_gather_tree *t);
+
+/* Receiver blocks (Morton order) and the vertices of block b. */
+uint32_t sss_gather_tree_blocks(const sss_gather_tree *t);
+/* Receivers of blocks [b0, b1): their count, and (if vertices != NULL)
+ * their vertex indices in block order. */
+uint32_t sss_gather_tree_block_vertices(const sss_gather_tree *t, uint32_t b0, uint32_t b1, uint32_t *vertices);
+
+/* Bytes the tree takes for nv vertices and n_dirs directions (an upper
+ * bound, for the memory estimate before the bake). */
+uint64_t sss_gather_tree_bytes(uint32_t nv, uint32_t n_dirs, const sss_gather_params *p);
+
+/* q for the receivers of blocks [b0, b1): out[(k · n_dirs + j) · C + c]
+ * for the k-th receiver in block order (sss_gather_tree_block_vertices),
+ * or, when out_q_full is set, q[(j · nv + v) · C + c] for its vertex v
+ * (the layout of sss_integrate and the file). radius_mm is the cutoff R,
+ * dip[c] the channel models. Progress ticks once per receiver. */
+sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const sss_dipole *dip, uint32_t channels,
+                          double radius_mm, uint32_t b0, uint32_t b1, float *out, int out_q_full,
+                          sss_gather_stats *stats, sss_error *err);
+
+/* Bytes of per-thread work space of sss_gather_run (an estimate). */
+uint64_t sss_gather_workspace_bytes(uint32_t nv, uint32_t n_dirs, uint32_t channels, const sss_gather_params *p,
+                                    int threads);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,99 @@
+/* gather_internal.h: the hierarchy shared by gather_tree.c (build, moments,
+ * interaction lists, far-field weights) and gather_near.c (near-field
+ * weights, the dense block product). Not a public header. */
+#ifndef SSS_GATHER_INTERNAL_H
+#define SSS_GATHER_INTERNAL_H
+
+#include <stdint.h>
+#include <string.h>
+#include "sss/gather.h"
+
+/* One octree node: a contiguous range of the Morton order. */
+typedef struct sss_gnode {
+    double c[3];     /* area-weighted centroid of its sources, mm */
+    double r;        /* largest distance of a source from c, mm (bounding sphere) */
+    double rho_max;  /* largest area-disk radius sqrt(ΔA/π) of a source, mm */
+    uint32_t lo, hi; /* sources perm[lo .. hi) */
+    uint32_t child;  /* first child (children are consecutive); 0 for a leaf */
+    uint32_t nchild;
+    uint32_t depth;
+} sss_gnode;
+
+struct sss_gather_tree {
+    uint32_t nv, D;
+    double s;              /* mm per mesh unit */
+    sss_gather_params p;
+    uint32_t *perm;        /* Morton position → vertex */
+    double *pmm;           /* vertex positions in mm, 3 per vertex */
+    double *group_area;    /* per vertex: Σ area (mesh units²) of the vertices at its exact position, in index order */
+    sss_gnode *node;
+    uint32_t nnodes, nleaves;
+    float *mom;            /* SSS_GATHER_MOMENTS × D floats per node (mm² flux moments about c) */
+    uint32_t *block;       /* node index of each receiver block, Morton order */
+    uint32_t nblocks;
+    float *Gm;             /* nv × D transfer table in Morton order (row m is vertex perm[m]) */
+};
+
+/* Interaction list of one receiver block. */
+typedef struct sss_glist {
+    uint32_t *near;  /* leaf nodes whose sources are summed one by one */
+    uint32_t nnear, cap_near;
+    uint32_t *far;   /* nodes taken through their moments */
+    uint32_t nfar, cap_far;
+    uint32_t near_sources; /* Σ sources over near leaves */
+} sss_glist;
+
+/* Fills l for block node b: every node whose sources may lie within
+ * radius_mm of a receiver of b is either far (θ criterion) or a near leaf.
+ * Returns 0 on allocation failure. */
+int sss_gather_lists(const sss_gather_tree *t, uint32_t b, double radius_mm, sss_glist *l);
+
+/* Per-channel constants of the float profile kernels. */
+typedef struct sss_gkernel {
+    float sigma, z_r, z_v, zr2, zv2, coef; /* coef = α′/(4π) · 1/π */
+} sss_gkernel;
+void sss_gkernel_init(sss_gkernel *k, const sss_dipole *d);
+
+/* Far-field weights of one receiver at x_o (mm) against far nodes
+ * far[0 .. nfar): for channel c, the 10 moment weights of node f go to
+ * W[c * ldc + 10 f + m]. Zero where the centroid is beyond radius_mm.
+ * scratch: 10 · nfar floats. */
+void sss_gather_far_weights(const sss_gather_tree *t, const double x_o[3], const uint32_t *far, uint32_t nfar,
+                            const sss_gkernel *k, uint32_t channels, double radius_mm, float *scratch, float *W,
+                            uint64_t ldc);
+
+/* e^x for x ≤ 0 in float, vectorisable (no libm call, no float
+ * compare-select, which gcc does not vectorise here): Cody–Waite range
+ * reduction and a degree-6 polynomial, relative error < 2e-7; 0 below
+ * e^-87. Without FMA contraction (ISO C mode) every vector width gives the
+ * same bits. */
+static inline float sss_gexpf(float x)
+{
+    int32_t ki = (int32_t)(x * 1.44269504f - 0.5f); /* ≈ round(x / ln 2) for x ≤ 0 */
+    const float keep = (float)(ki > -126);
+    ki = ki < -126 ? -126 : ki;
+    const float k = (float)ki;
+    float f = x - k * 0.693145752f;
+    f = f - k * 1.42860677e-6f;
+    float p = 1.0f / 720.0f;
+    p = p * f + 1.0f / 120.0f;
+    p = p * f + 1.0f / 24.0f;
+    p = p * f + 1.0f / 6.0f;
+    p = p * f + 0.5f;
+    p = p * f + 1.0f;
+    p = p * f + 1.0f;
+    int32_t bits = (ki + 127) << 23;
+    float sc;
+    memcpy(&sc, &bits, sizeof sc);
+    return p * sc * keep;
+}
+
+/* Vector-width clones of the weight kernels (AVX-512 on the machines the
+ * benchmarks ran on); the default clone is plain SSE2. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SSS_GATHER_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define SSS_GATHER_CLONES
+#endif
+
+#endif
