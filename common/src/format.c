@@ -38,16 +38,20 @@ static uint64_t header_size(uint64_t nsec) { return HDR_FIXED + ENTRY_SIZE * nse
 
 #include "format_bytes.h"
 #include "format_compressed.h"
+#include "format_effects.h"
 
 /* ---- sections known to format 1 -------------------------------------- */
 
-enum { S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_PARM, S_REFS, S_SHC, S_KNOWN };
-static const char *const known_tag[S_KNOWN] = {"GEOM", "MATL", "DIRS", "QFLT", "QL8 ", "PARM", "REFS", "SHC "};
+enum { S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_PARM, S_REFS, S_SHC, S_EFCT, S_QDIR, S_ENVT, S_PSHL, S_KNOWN };
+static const char *const known_tag[S_KNOWN] = {"GEOM", "MATL", "DIRS", "QFLT", "QL8 ", "PARM",
+                                               "REFS", "SHC ", "EFCT", "QDIR", "ENVT", "PSHL"};
 /* Flag bit 0 as written: PARM is provenance only, a reader may skip it.
  * REFS and SHC (1.1) are required, so a 1.0 reader refuses a compressed file
  * by naming the section instead of misreading it. */
 static const uint32_t known_flags[S_KNOWN] = {FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED,
-                                              FLAG_REQUIRED, 0, FLAG_REQUIRED, FLAG_REQUIRED};
+                                              FLAG_REQUIRED, 0, FLAG_REQUIRED, FLAG_REQUIRED,
+                                              /* 1.2, scene bakes: all required (format_effects.c) */
+                                              FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED};
 
 static int known_index(const char tag[4])
 {
@@ -178,8 +182,16 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
                         name, m->nv, m->nf);
     if (!m->pos || !m->nrm || !m->tri)
         return sss_fail(err, A, "%s: section GEOM: positions, normals or triangles missing", name);
-    if (ds->n == 0 || !ds->dir)
+    /* A scene bake (fx.mask != 0, format 1.2) stores DIRS only for the
+     * effects that use a direction set, and a q section only for the
+     * direction-set effect (docs/format.md §5.10). */
+    const uint32_t fxm = f->fx.mask;
+    const int want_dirs = !fxm || (fxm & (SSS_FX_DIR_SET | SSS_FX_POINT_SHELLS));
+    const int want_q = !fxm || (fxm & SSS_FX_DIR_SET);
+    if (want_dirs && (ds->n == 0 || !ds->dir))
         return sss_fail(err, A, "%s: section DIRS: no directions", name);
+    if (!want_dirs && ds->n)
+        return sss_fail(err, A, "%s: section DIRS: directions given but no effect uses a direction set", name);
     if (ds->ntri != dirs_ntri(ds->n))
         return sss_fail(err, A, "%s: section DIRS: %u triangles for %u directions, expected %llu", name, ds->ntri,
                         ds->n, (unsigned long long)dirs_ntri(ds->n));
@@ -188,7 +200,9 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
     if (f->quant != SSS_QUANT_FLOAT && f->quant != SSS_QUANT_LLOYD8 && f->quant != SSS_QUANT_SH &&
         f->quant != SSS_QUANT_REFS)
         return sss_fail(err, A, "%s: unknown quantisation mode %d", name, (int)f->quant);
-    if (f->quant == SSS_QUANT_FLOAT && !f->q)
+    if (!want_q && (f->q || f->qidx || f->sh.code || f->quant != SSS_QUANT_FLOAT))
+        return sss_fail(err, A, "%s: integrals over a direction set given but effect direction-set is not set", name);
+    if (want_q && f->quant == SSS_QUANT_FLOAT && !f->q)
         return sss_fail(err, A, "%s: section QFLT: values missing", name);
     if (f->quant == SSS_QUANT_LLOYD8 && (!f->levels || !f->qidx))
         return sss_fail(err, A, "%s: section QL8 : levels or indices missing", name);
@@ -197,12 +211,15 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
     sss_result r;
     if ((r = check_material(&f->material, f->mm_per_unit, f->channels, name, A, err)) != SSS_OK) return r;
     if ((r = check_mesh(m, name, A, err)) != SSS_OK) return r;
-    if ((r = check_dirs(ds, name, A, err)) != SSS_OK) return r;
+    if (want_dirs && (r = check_dirs(ds, name, A, err)) != SSS_OK) return r;
+    if (fxm && (r = sss_fmt_check_effects(f, name, A, err)) != SSS_OK) return r;
     uint64_t nq;
     if (!mul_u64((uint64_t)ds->n * m->nv, f->channels, &nq))
         return sss_fail(err, SSS_ERR_NOMEM, "%s: %u directions x %u vertices x %u channels overflows", name, ds->n,
                         m->nv, f->channels);
-    if (f->quant == SSS_QUANT_FLOAT) {
+    if (!want_q) {
+        /* no direction-set integrals */
+    } else if (f->quant == SSS_QUANT_FLOAT) {
         if ((r = check_q(f->q, nq, name, A, err)) != SSS_OK) return r;
     } else if (f->quant == SSS_QUANT_LLOYD8) {
         if ((r = check_levels(f->levels, f->channels, name, A, err)) != SSS_OK) return r;
@@ -215,15 +232,22 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
 
     /* Sizes, in writing order (docs/format.md §3: float arrays stay 4-byte
      * aligned because PARM, the only section of arbitrary length, is last). */
-    int order[6] = {S_GEOM, S_MATL, S_DIRS, S_QFLT, S_PARM, S_PARM};
-    uint32_t nsec = 5;
-    if (f->quant == SSS_QUANT_LLOYD8) order[3] = S_QL8;
-    if (f->quant == SSS_QUANT_SH) order[3] = S_SHC;
-    if (f->quant == SSS_QUANT_REFS) {
-        order[3] = S_REFS;
-        order[4] = S_SHC;
-        nsec = 6;
+    int order[S_KNOWN];
+    uint32_t nsec = 0;
+    order[nsec++] = S_GEOM;
+    order[nsec++] = S_MATL;
+    if (fxm) order[nsec++] = S_EFCT;
+    if (want_dirs) order[nsec++] = S_DIRS;
+    if (want_q) {
+        if (f->quant == SSS_QUANT_FLOAT) order[nsec++] = S_QFLT;
+        if (f->quant == SSS_QUANT_LLOYD8) order[nsec++] = S_QL8;
+        if (f->quant == SSS_QUANT_REFS) order[nsec++] = S_REFS;
+        if (f->quant == SSS_QUANT_SH || f->quant == SSS_QUANT_REFS) order[nsec++] = S_SHC;
     }
+    if (fxm & SSS_FX_DIR_EXACT) order[nsec++] = S_QDIR;
+    if (fxm & SSS_FX_ENV_SH) order[nsec++] = S_ENVT;
+    if (fxm & SSS_FX_POINT_SHELLS) order[nsec++] = S_PSHL;
+    order[nsec++] = S_PARM;
     uint64_t size[S_KNOWN] = {0}, count[S_KNOWN] = {0};
     size[S_GEOM] = geom_size(m->nv, m->nf);
     count[S_GEOM] = m->nv;
@@ -232,7 +256,21 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
     size[S_DIRS] = dirs_size(ds->n, ds->ntri);
     count[S_DIRS] = ds->n;
     int ok = 1;
-    if (f->quant == SSS_QUANT_FLOAT) {
+    if (fxm) {
+        size[S_EFCT] = sss_fmt_efct_size(f);
+        count[S_EFCT] = 1;
+        size[S_QDIR] = sss_fmt_qdir_size(f);
+        count[S_QDIR] = f->fx.nexact;
+        size[S_ENVT] = sss_fmt_envt_size(f);
+        count[S_ENVT] = f->mesh.nv;
+        size[S_PSHL] = sss_fmt_pshl_size(f);
+        count[S_PSHL] = f->fx.nshells;
+        ok = (!(fxm & SSS_FX_DIR_EXACT) || size[S_QDIR]) && (!(fxm & SSS_FX_ENV_SH) || size[S_ENVT]) &&
+             (!(fxm & SSS_FX_POINT_SHELLS) || size[S_PSHL]);
+    }
+    if (!want_q) {
+        /* nothing */
+    } else if (f->quant == SSS_QUANT_FLOAT) {
         ok = mul_u64(nq, 4, &size[S_QFLT]);
         count[S_QFLT] = nq;
     } else if (f->quant == SSS_QUANT_LLOYD8) {
@@ -263,7 +301,7 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
     put_u16(buf + 8, SSS_FORMAT_MAJOR);
     /* Files that only use 1.0 sections say 1.0, so 1.0 readers keep reading
      * them; the compressed forms need 1.1. */
-    put_u16(buf + 10, f->quant == SSS_QUANT_FLOAT || f->quant == SSS_QUANT_LLOYD8 ? 0 : SSS_FORMAT_MINOR);
+    put_u16(buf + 10, fxm ? 2 : f->quant == SSS_QUANT_FLOAT || f->quant == SSS_QUANT_LLOYD8 ? 0 : 1);
     put_u32(buf + 12, nsec);
     put_u64(buf + 16, total);
 
@@ -315,6 +353,10 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
         case S_SHC:
             sss_fmt_pack_shc(f, p);
             break;
+        case S_EFCT: sss_fmt_pack_efct(f, p); break;
+        case S_QDIR: sss_fmt_pack_qdir(f, p); break;
+        case S_ENVT: sss_fmt_pack_envt(f, p); break;
+        case S_PSHL: sss_fmt_pack_pshl(f, p); break;
         }
         uint8_t *e = buf + HDR_FIXED + (size_t)ENTRY_SIZE * i;
         memcpy(e, known_tag[s], 4);
@@ -505,6 +547,24 @@ static sss_result parse_shc(const uint8_t *p, const sss_section_info *si, const 
     return sss_fmt_parse_shc(p, si->size, si->count, name, f, err);
 }
 
+static sss_result parse_qdir(const uint8_t *p, const sss_section_info *si, const char *name, sss_bake_file *f,
+                             sss_error *err)
+{
+    return sss_fmt_parse_qdir(p, si->size, si->count, name, f, err);
+}
+
+static sss_result parse_envt(const uint8_t *p, const sss_section_info *si, const char *name, sss_bake_file *f,
+                             sss_error *err)
+{
+    return sss_fmt_parse_envt(p, si->size, si->count, name, f, err);
+}
+
+static sss_result parse_pshl(const uint8_t *p, const sss_section_info *si, const char *name, sss_bake_file *f,
+                             sss_error *err)
+{
+    return sss_fmt_parse_pshl(p, si->size, si->count, name, f, err);
+}
+
 static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, sss_bake_file *f, sss_error *err)
 {
     /* Bytes 0-11 (magic and version) mean the same in every major version;
@@ -605,12 +665,41 @@ static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, ss
             return sss_fail(err, CORRUPT, "%s: section %s appears more than once", name, si->tag);
         where[k] = (int)i;
     }
-    static const int must[] = {S_GEOM, S_MATL, S_DIRS, S_PARM};
+    static const int must[] = {S_GEOM, S_MATL, S_PARM};
     for (size_t i = 0; i < sizeof must / sizeof must[0]; i++)
         if (where[must[i]] < 0)
             return sss_fail(err, CORRUPT, "%s: missing required section %s", name, known_tag[must[i]]);
+    /* 1.2: EFCT says which sections the effects need (docs/format.md §5.10);
+     * read first because the presence rules below depend on it. */
+    uint32_t fxm = 0;
+    if (where[S_EFCT] >= 0) {
+        const sss_section_info *si = &f->sections[where[S_EFCT]];
+        sss_result r = sss_fmt_parse_efct(b + si->offset, si->size, si->count, name, f, err);
+        if (r != SSS_OK) return r;
+        fxm = f->fx.mask;
+        if (!fxm) return sss_fail(err, CORRUPT, "%s: section EFCT: empty effect set", name);
+    }
+    const int need_dirs = !fxm || (fxm & (SSS_FX_DIR_SET | SSS_FX_POINT_SHELLS));
+    const int need_q = !fxm || (fxm & SSS_FX_DIR_SET);
+    {
+        const struct { int sec, need; const char *effect; } rule[] = {
+            {S_DIRS, need_dirs, "direction-set or point-shells"},
+            {S_QDIR, !!(fxm & SSS_FX_DIR_EXACT), "directional-exact"},
+            {S_ENVT, !!(fxm & SSS_FX_ENV_SH), "environment-sh"},
+            {S_PSHL, !!(fxm & SSS_FX_POINT_SHELLS), "point-shells"}};
+        for (size_t i = 0; i < sizeof rule / sizeof rule[0]; i++) {
+            if (rule[i].need && where[rule[i].sec] < 0)
+                return sss_fail(err, CORRUPT, "%s: missing required section %s", name, known_tag[rule[i].sec]);
+            if (!rule[i].need && where[rule[i].sec] >= 0)
+                return sss_fail(err, CORRUPT, "%s: section %s without %s", name, known_tag[rule[i].sec],
+                                fxm ? "the effect that uses it" : "section EFCT");
+            (void)rule[i].effect;
+        }
+    }
     int nq_sections = (where[S_QFLT] >= 0) + (where[S_QL8] >= 0) + (where[S_SHC] >= 0);
-    if (nq_sections == 0)
+    if (!need_q && nq_sections)
+        return sss_fail(err, CORRUPT, "%s: integrals over a direction set without effect direction-set", name);
+    if (need_q && nq_sections == 0)
         return sss_fail(err, CORRUPT, "%s: missing required section QFLT, QL8 or SHC (one is needed)", name);
     if (nq_sections > 1)
         return sss_fail(err, CORRUPT, "%s: more than one of sections QFLT, QL8 and SHC (exactly one is allowed)",
@@ -620,11 +709,11 @@ static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, ss
 
     /* Contents, in dependency order: the q sections' sizes follow from GEOM
      * (nv), DIRS (n) and MATL (channels). */
-    static const int order[] = {S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_REFS, S_SHC, S_PARM};
+    static const int order[] = {S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_REFS, S_SHC, S_QDIR, S_ENVT, S_PSHL, S_PARM};
     typedef sss_result (*parser)(const uint8_t *, const sss_section_info *, const char *, sss_bake_file *,
                                  sss_error *);
-    static const parser parse[S_KNOWN] = {parse_geom, parse_matl, parse_dirs, parse_qflt,
-                                          parse_ql8,  parse_parm, parse_refs, parse_shc};
+    static const parser parse[S_KNOWN] = {parse_geom, parse_matl, parse_dirs, parse_qflt, parse_ql8,  parse_parm,
+                                          parse_refs, parse_shc,  NULL,       parse_qdir, parse_envt, parse_pshl};
     for (size_t i = 0; i < sizeof order / sizeof order[0]; i++) {
         int k = order[i];
         if (where[k] < 0) continue;
@@ -632,6 +721,7 @@ static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, ss
         sss_result r = parse[k](b + si->offset, si, name, f, err);
         if (r != SSS_OK) return r;
     }
+    if (fxm) return sss_fmt_check_effects(f, name, CORRUPT, err);
     return SSS_OK;
 }
 
@@ -658,6 +748,7 @@ void sss_file_free(sss_bake_file *f)
     free(f->qidx);
     free(f->params_json);
     sss_fmt_free_compressed(f);
+    sss_fmt_free_effects(f);
     memset(f, 0, sizeof *f);
 }
 
@@ -810,6 +901,11 @@ sss_result sss_file_read(const char *path, sss_bake_file *f, sss_error *err)
 double sss_file_integral_bytes_per_vertex(const sss_bake_file *f)
 {
     if (!f->mesh.nv) return 0.0;
+    if (f->fx.mask) { /* scene bake (1.2): every effect's data */
+        sss_storage s;
+        sss_file_storage(f, &s);
+        return (double)s.scattering / f->mesh.nv;
+    }
     const double values = (double)f->dirs.n * f->channels;
     if (f->quant == SSS_QUANT_LLOYD8) return values + 256.0 * sizeof(float) * f->channels / f->mesh.nv;
     if (f->quant == SSS_QUANT_SH || f->quant == SSS_QUANT_REFS) {
@@ -825,8 +921,11 @@ void sss_file_storage(const sss_bake_file *f, sss_storage *s)
     memset(s, 0, sizeof *s);
     if (!f) return;
     const uint64_t C = f->channels, nd = f->dirs.n, nv = f->mesh.nv;
-    s->dirs = dirs_size(f->dirs.n, f->dirs.ntri);
-    switch (f->quant) {
+    s->dirs = f->dirs.n ? dirs_size(f->dirs.n, f->dirs.ntri) : 0;
+    const int set = !f->fx.mask || (f->fx.mask & SSS_FX_DIR_SET); /* 1.2: direction-set integrals present */
+    switch (set ? f->quant : (sss_quant)-1) {
+    default:
+        break;
     case SSS_QUANT_FLOAT:
         s->values = nd * nv * C * 4;
         break;
@@ -856,7 +955,11 @@ void sss_file_storage(const sss_bake_file *f, sss_storage *s)
         break;
     }
     }
-    s->scattering = s->values + s->lloyd_tables + s->section_headers + s->ref_vertex + s->ref_tri + s->vertex_tri +
+    if (f->fx.mask)
+        s->effects = sss_fmt_efct_size(f) + (f->fx.mask & SSS_FX_DIR_EXACT ? sss_fmt_qdir_size(f) : 0) +
+                     (f->fx.mask & SSS_FX_ENV_SH ? sss_fmt_envt_size(f) : 0) +
+                     (f->fx.mask & SSS_FX_POINT_SHELLS ? sss_fmt_pshl_size(f) : 0);
+    s->scattering = s->effects + s->values + s->lloyd_tables + s->section_headers + s->ref_vertex + s->ref_tri + s->vertex_tri +
                     s->weights + s->ref_values + s->sh_tables + s->sh_codes;
     s->total = s->scattering + s->dirs;
 }

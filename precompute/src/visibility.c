@@ -20,7 +20,27 @@ struct sss_vis {
     float delta; /* origin offset, mesh units */
 };
 
-sss_result sss_vis_create(const sss_mesh *mesh, sss_vis **out, sss_error *err)
+/* Adds one mesh to the Embree scene (Embree copies into its own buffers; it
+ * may read 16 bytes past the last vertex, which its own allocation pads for). */
+static int add_mesh(sss_vis *vis, const sss_mesh *mesh)
+{
+    RTCGeometry g = rtcNewGeometry(vis->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh->nv);
+    unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh->nf);
+    if (!vb || !ib) {
+        rtcReleaseGeometry(g);
+        return 0;
+    }
+    memcpy(vb, mesh->pos, (size_t)mesh->nv * 3 * sizeof(float));
+    memcpy(ib, mesh->tri, (size_t)mesh->nf * 3 * sizeof(unsigned));
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(vis->scene, g);
+    rtcReleaseGeometry(g);
+    return 1;
+}
+
+sss_result sss_vis_create_scene(const sss_mesh *mesh, int self, const sss_mesh *const *occ, uint32_t nocc,
+                                sss_vis **out, sss_error *err)
 {
     *out = NULL;
     if (!mesh->nrm || mesh->nf == 0) return sss_fail(err, SSS_ERR_ARG, "visibility: mesh without normals or triangles");
@@ -33,31 +53,29 @@ sss_result sss_vis_create(const sss_mesh *mesh, sss_vis **out, sss_error *err)
     }
     vis->scene = rtcNewScene(vis->device);
     rtcSetSceneBuildQuality(vis->scene, RTC_BUILD_QUALITY_HIGH);
-    RTCGeometry g = rtcNewGeometry(vis->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    /* Embree copies into its own buffers (it may read 16 bytes past the last
-     * vertex, which its own allocation pads for). */
-    float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh->nv);
-    unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh->nf);
-    if (!vb || !ib) {
-        rtcReleaseGeometry(g);
+    int ok = !self || add_mesh(vis, mesh);
+    for (uint32_t k = 0; k < nocc && ok; k++) ok = occ[k]->nf == 0 || add_mesh(vis, occ[k]);
+    if (!ok) {
         sss_vis_destroy(vis);
         return sss_fail(err, SSS_ERR_NOMEM, "visibility: Embree buffers for %u triangles", mesh->nf);
     }
-    memcpy(vb, mesh->pos, (size_t)mesh->nv * 3 * sizeof(float));
-    memcpy(ib, mesh->tri, (size_t)mesh->nf * 3 * sizeof(unsigned));
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(vis->scene, g);
-    rtcReleaseGeometry(g);
     rtcCommitScene(vis->scene);
     if (rtcGetDeviceError(vis->device) != RTC_ERROR_NONE) {
         sss_vis_destroy(vis);
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "visibility: Embree scene build failed");
     }
+    /* the offset depends on the object whose vertices cast the rays only,
+     * so adding occluders does not move the origins */
     double lo[3], hi[3];
     vis->delta = (float)(1e-5 * sss_mesh_bounds(mesh, lo, hi));
     vis->mesh = mesh;
     *out = vis;
     return SSS_OK;
+}
+
+sss_result sss_vis_create(const sss_mesh *mesh, sss_vis **out, sss_error *err)
+{
+    return sss_vis_create_scene(mesh, 1, NULL, 0, out, err);
 }
 
 void sss_vis_destroy(sss_vis *vis)
@@ -70,6 +88,11 @@ void sss_vis_destroy(sss_vis *vis)
 
 int sss_vis_occluded(const sss_vis *vis, uint32_t v, const double d[3])
 {
+    return sss_vis_occluded_upto(vis, v, d, INFINITY);
+}
+
+int sss_vis_occluded_upto(const sss_vis *vis, uint32_t v, const double d[3], double tfar)
+{
     const float *p = &vis->mesh->pos[3 * (size_t)v], *n = &vis->mesh->nrm[3 * (size_t)v];
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -81,7 +104,7 @@ int sss_vis_occluded(const sss_vis *vis, uint32_t v, const double d[3])
     ray.dir_y = (float)d[1];
     ray.dir_z = (float)d[2];
     ray.tnear = vis->delta;
-    ray.tfar = INFINITY;
+    ray.tfar = (float)tfar;
     ray.time = 0.0f;
     ray.mask = 0xFFFFFFFFu;
     ray.id = 0;

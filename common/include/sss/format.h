@@ -1,5 +1,6 @@
 /* sss/format.h: the .sss baked-scattering file, format version 1 (minor 1
- * adds the compressed forms of Hao–Varshney 2004 §4).
+ * adds the compressed forms of Hao–Varshney 2004 §4, minor 2 the effect
+ * sections of scene bakes, docs/scenes.md).
  * Spec: docs/format.md. Little-endian, magic + version, a section table with
  * 64-bit offsets and sizes and a CRC-32 per section; written atomically.
  */
@@ -18,7 +19,10 @@ extern "C" {
 #endif
 
 #define SSS_FORMAT_MAJOR 1
-#define SSS_FORMAT_MINOR 1
+#define SSS_FORMAT_MINOR 2
+/* The minor version plain bakes record in PARM ("format"), kept at 1 so
+ * that their bytes do not change with 1.2, which only scene bakes use. */
+#define SSS_FORMAT_MINOR_PLAIN 1
 #define SSS_MAX_SECTIONS 32
 
 typedef enum sss_quant {
@@ -73,6 +77,43 @@ typedef struct sss_refcode {
     uint32_t *coded_vertex;/* derived by the reader: the ncoded non-reference vertices, increasing; owned */
 } sss_refcode;
 
+/* (1.2) The effect set of a scene bake (docs/scenes.md, docs/format.md
+ * §5.10): which passes the planner ran, and the data of the light
+ * parameterisations other than the direction set. mask 0 means a plain bake
+ * (no section EFCT; DIRS and one of QFLT / QL8 / SHC hold the direction
+ * set). */
+#define SSS_FX_RGB          (1u << 0) /* three colour channels (else one: grey material) */
+#define SSS_FX_SELF_SHADOW  (1u << 1) /* visibility rays against the object itself were traced */
+#define SSS_FX_SCENE_SHADOW (1u << 2) /* other static objects of the scene occlude (baked in) */
+#define SSS_FX_DIR_EXACT    (1u << 3) /* static directional lights: one exact value each (QDIR) */
+#define SSS_FX_DIR_SET      (1u << 4) /* moving directional light: DIRS + QFLT / QL8 / SHC (§3.2) */
+#define SSS_FX_POINT_SHELLS (1u << 5) /* near point light: DIRS x distance shells (PSHL, §3.3) */
+#define SSS_FX_ENV_SH       (1u << 6) /* environment: SH transfer (ENVT) */
+#define SSS_FX_KNOWN        0x7Fu
+#define SSS_FX_COUNT        7
+
+typedef struct sss_effects {
+    uint32_t mask;           /* SSS_FX_* */
+    /* QDIR: static directional lights, each baked exactly for its direction */
+    uint32_t nexact;
+    double *exact_dir;       /* 3 * nexact unit vectors towards the lights; owned */
+    float *exact_q;          /* q(x_v, ω_l) at ((l * nv + v) * channels + c); owned */
+    /* ENVT: per-vertex SH transfer T_i(x_v) = ∫ q(x_v, ω) y_i(ω) dω */
+    uint32_t env_order;      /* 1 … 8; ncoef = order² */
+    float env_probe[3 * 64]; /* the probe's radiance SH L_i per RGB channel at c * ncoef + i (bake time) */
+    float *env_t;            /* (v * channels + c) * ncoef + i; owned */
+    /* PSHL: point light at centre + r_s ω_j: stored value is r_s² · q_pt
+     * (the 1/r² falloff of the shell taken out so shells interpolate
+     * linearly); directions ω_j are DIRS */
+    uint32_t nshells;
+    double shell_centre[3];  /* world units */
+    double *shell_radius;    /* nshells radii, strictly increasing, > 0; owned */
+    float *shell_q;          /* ((s * n + j) * nv + v) * channels + c; owned */
+} sss_effects;
+
+/* Name of effect bit k (0 … SSS_FX_COUNT-1): "rgb", "self-shadow", … */
+const char *sss_effect_name(uint32_t bit);
+
 /* One entry of the section table, as found in a file. */
 typedef struct sss_section_info {
     char tag[5];        /* four ASCII characters + NUL */
@@ -102,6 +143,7 @@ typedef struct sss_bake_file {
     sss_shcode sh;            /* SSS_QUANT_SH and SSS_QUANT_REFS */
     sss_refcode ref;          /* SSS_QUANT_REFS */
     char *params_json;        /* bake parameters as JSON text (provenance), NUL-terminated, owned */
+    sss_effects fx;           /* (1.2) effect set of a scene bake; mask 0 for a plain bake */
     /* Filled by the reader (ignored by the writer): */
     uint64_t file_size;
     uint32_t nsections;
@@ -148,6 +190,7 @@ typedef struct sss_storage {
     uint64_t sh_codes;      /* SHC: coefficient codes */
     uint64_t scattering;    /* the integrals: everything above except dirs */
     uint64_t total;         /* scattering + dirs */
+    uint64_t effects;       /* (1.2) sections EFCT, QDIR, ENVT, PSHL (included in scattering) */
 } sss_storage;
 void sss_file_storage(const sss_bake_file *f, sss_storage *s);
 

@@ -1,0 +1,101 @@
+/* sss/scene.h: scene files (JSON, schema in docs/scenes.md): the objects,
+ * lights and camera a bake is for. The planner (sss/planner.h) turns a scene
+ * into the effects to bake (design.md "Effects").
+ *
+ * Errors are one line naming the file and the JSON path (RFC 6901) of the
+ * element at fault: `scene.json: /lights/2/direction: expected 3 numbers`.
+ * Paths inside the scene (meshes, probes) are relative to the scene file's
+ * directory; the parser resolves them but does not open them.
+ */
+#ifndef SSS_SCENE_H
+#define SSS_SCENE_H
+
+#include <stdint.h>
+#include "sss/dipole.h"
+#include "sss/mesh.h"
+#include "sss/result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SSS_SCENE_PATH_MAX 1024
+#define SSS_SCENE_NAME_MAX 64
+
+typedef enum sss_light_kind {
+    SSS_LIGHT_DIRECTIONAL = 0, /* parallel light of irradiance `intensity` from `direction` */
+    SSS_LIGHT_POINT = 1,       /* isotropic point light of intensity `intensity` (per sr) at `position` */
+    SSS_LIGHT_ENVIRONMENT = 2  /* distant radiance from an OpenEXR lat-long probe, scaled by `intensity` */
+} sss_light_kind;
+
+typedef struct sss_scene_light {
+    sss_light_kind kind;
+    int moving;              /* 0: static for the whole animation; 1: may move (or rotate) at run time */
+    double direction[3];     /* directional: unit, towards the light (world) */
+    double position[3];      /* point: world units */
+    double intensity;        /* ≥ 0 */
+    double colour[3];        /* linear RGB, ≥ 0 (default 1,1,1) */
+    double rotation_deg;     /* environment: rotation about world +z (degrees) */
+    char probe[SSS_SCENE_PATH_MAX]; /* environment: resolved path of the .exr */
+} sss_scene_light;
+
+typedef struct sss_scene_object {
+    char name[SSS_SCENE_NAME_MAX];  /* default "object<i>" */
+    char mesh[SSS_SCENE_PATH_MAX];  /* resolved path */
+    sss_material material;
+    double mm_per_unit;             /* millimetres per unit of the mesh file (default 1) */
+    /* object → world: x_world = scale · R(rotate_deg) · x + translate;
+     * rotation about x, then y, then z (degrees). Uniform scale keeps the
+     * dipole distances isotropic. */
+    double translate[3], rotate_deg[3], scale;
+    int moving;                     /* 1: moves relative to the others (cannot cast baked shadows) */
+} sss_scene_object;
+
+typedef struct sss_scene_camera {
+    int present;
+    double position[3], target[3], up[3];
+    double fov_deg;                 /* vertical field of view (default 40) */
+} sss_scene_camera;
+
+/* Bake settings a scene may override (0 = the bake's default). */
+typedef struct sss_scene_bake {
+    uint32_t dirs;       /* direction set size for moving directional lights / point shells */
+    double eps;
+    uint32_t sh_order;   /* environment transfer order (default 4) */
+    uint32_t shells;     /* point-light distance shells (default 4) */
+    double near_factor;  /* a point light is "near" below near_factor × object size (default 5) */
+} sss_scene_bake;
+
+typedef struct sss_scene {
+    char path[SSS_SCENE_PATH_MAX];  /* the file as given (used in messages) */
+    uint32_t nobjects, nlights;
+    sss_scene_object *objects;      /* owned */
+    sss_scene_light *lights;        /* owned */
+    sss_scene_camera camera;
+    sss_scene_bake bake;
+} sss_scene;
+
+/* Parses the JSON text `text` as if read from `path` (for messages and
+ * relative paths). On failure *out is zeroed and err holds
+ * "PATH: /json/path: problem". */
+sss_result sss_scene_parse(const char *text, const char *path, sss_scene *out, sss_error *err);
+
+/* Reads and parses the file at path. */
+sss_result sss_scene_load(const char *path, sss_scene *out, sss_error *err);
+
+/* NULL-safe. */
+void sss_scene_free(sss_scene *s);
+
+/* Object i's mesh in world units: positions transformed, normals and areas
+ * recomputed. mesh is the imported object-space mesh. */
+sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mesh, sss_mesh *out, sss_error *err);
+
+/* millimetres per world unit for object o: mm_per_unit / scale. */
+double sss_scene_object_mm_per_world_unit(const sss_scene_object *o);
+
+const char *sss_light_kind_name(sss_light_kind k);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,473 @@
+/* scene.c: scene files (docs/scenes.md) parsed with cJSON into sss_scene.
+ * Every check reports the JSON path of the element at fault (RFC 6901
+ * pointer syntax), so a user can find it in a long file: design.md
+ * "Effects" makes the scene the input that decides what gets baked, so a
+ * misread scene would silently bake the wrong effects.
+ *
+ * Unknown keys are refused, not ignored: a misspelt "moving" would
+ * otherwise turn a moving light into a static one and bake a single exact
+ * direction where the scene needs the direction set.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "sss/scene.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* A JSON path under construction plus where to report. */
+typedef struct ctx {
+    const char *file;
+    char dir[SSS_SCENE_PATH_MAX]; /* directory of the file, with trailing '/', or "" */
+    sss_error *err;
+} ctx;
+
+static sss_result fail_at(const ctx *c, const char *jpath, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+static sss_result fail_at(const ctx *c, const char *jpath, const char *fmt, ...)
+{
+    char msg[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    sss_result r = sss_fail(c->err, SSS_ERR_ARG, "%s: %s: %s", c->file, jpath[0] ? jpath : "/", msg);
+    /* Keys and strings from the file are echoed in the message: a control
+     * character there (a newline, found by fuzz_scene) would break the
+     * one-line contract of design.md, so it is shown as '?'. */
+    if (c->err)
+        for (char *q = c->err->msg; *q; q++)
+            if ((unsigned char)*q < 0x20 || *q == 0x7f) *q = '?';
+    return r;
+}
+
+/* child path "parent/key" (RFC 6901 escapes ~ and /). */
+static void join(char *out, size_t n, const char *parent, const char *key)
+{
+    size_t k = (size_t)snprintf(out, n, "%s/", parent);
+    for (const char *p = key; *p && k + 3 < n; p++) {
+        if (*p == '~') { out[k++] = '~'; out[k++] = '0'; }
+        else if (*p == '/') { out[k++] = '~'; out[k++] = '1'; }
+        else out[k++] = *p;
+    }
+    out[k < n ? k : n - 1] = 0;
+}
+
+static void join_index(char *out, size_t n, const char *parent, int i) { snprintf(out, n, "%s/%d", parent, i); }
+
+/* Refuses keys of obj not in `allowed` (NULL-terminated). */
+static sss_result only_keys(const ctx *c, const cJSON *obj, const char *jpath, const char *const *allowed)
+{
+    for (const cJSON *it = obj->child; it; it = it->next) {
+        int ok = 0;
+        for (const char *const *a = allowed; *a && !ok; a++) ok = !strcmp(*a, it->string);
+        if (!ok) {
+            char p[512];
+            join(p, sizeof p, jpath, it->string);
+            char list[300] = "";
+            size_t k = 0;
+            for (const char *const *a = allowed; *a; a++)
+                k += (size_t)snprintf(list + k, k < sizeof list ? sizeof list - k : 0, "%s%s", a == allowed ? "" : ", ", *a);
+            return fail_at(c, p, "unknown key (expected one of: %s)", list);
+        }
+    }
+    return SSS_OK;
+}
+
+static sss_result get_number(const ctx *c, const cJSON *obj, const char *jpath, const char *key, int required,
+                             double lo, double hi, double *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    char p[512];
+    join(p, sizeof p, jpath, key);
+    if (!v) return required ? fail_at(c, p, "missing (expected a number)") : SSS_OK;
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble)) return fail_at(c, p, "expected a number");
+    if (!(v->valuedouble >= lo && v->valuedouble <= hi))
+        return fail_at(c, p, "%g is out of range [%g, %g]", v->valuedouble, lo, hi);
+    *out = v->valuedouble;
+    return SSS_OK;
+}
+
+static sss_result get_u32(const ctx *c, const cJSON *obj, const char *jpath, const char *key, uint32_t lo, uint32_t hi,
+                          uint32_t *out)
+{
+    double d = 0;
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v) return SSS_OK;
+    sss_result r = get_number(c, obj, jpath, key, 1, lo, hi, &d);
+    if (r != SSS_OK) return r;
+    if (d != floor(d)) {
+        char p[512];
+        join(p, sizeof p, jpath, key);
+        return fail_at(c, p, "expected an integer");
+    }
+    *out = (uint32_t)d;
+    return SSS_OK;
+}
+
+static sss_result get_bool(const ctx *c, const cJSON *obj, const char *jpath, const char *key, int *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v) return SSS_OK;
+    if (!cJSON_IsBool(v)) {
+        char p[512];
+        join(p, sizeof p, jpath, key);
+        return fail_at(c, p, "expected true or false");
+    }
+    *out = cJSON_IsTrue(v);
+    return SSS_OK;
+}
+
+/* Array of exactly 3 finite numbers, each in [lo, hi]. */
+static sss_result get_vec3(const ctx *c, const cJSON *obj, const char *jpath, const char *key, int required,
+                           double lo, double hi, double out[3])
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    char p[512];
+    join(p, sizeof p, jpath, key);
+    if (!v) return required ? fail_at(c, p, "missing (expected 3 numbers)") : SSS_OK;
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 3) return fail_at(c, p, "expected 3 numbers");
+    double t[3];
+    for (int i = 0; i < 3; i++) {
+        const cJSON *e = cJSON_GetArrayItem(v, i);
+        char pi[520];
+        join_index(pi, sizeof pi, p, i);
+        if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble)) return fail_at(c, p, "expected 3 numbers");
+        if (!(e->valuedouble >= lo && e->valuedouble <= hi))
+            return fail_at(c, pi, "%g is out of range [%g, %g]", e->valuedouble, lo, hi);
+        t[i] = e->valuedouble;
+    }
+    memcpy(out, t, sizeof t);
+    return SSS_OK;
+}
+
+/* A path relative to the scene file's directory (absolute ones as given). */
+static sss_result get_path(const ctx *c, const cJSON *obj, const char *jpath, const char *key, char *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    char p[512];
+    join(p, sizeof p, jpath, key);
+    if (!v) return fail_at(c, p, "missing (expected a file name)");
+    if (!cJSON_IsString(v) || !v->valuestring[0]) return fail_at(c, p, "expected a non-empty file name");
+    const char *s = v->valuestring;
+    int n = s[0] == '/' ? snprintf(out, SSS_SCENE_PATH_MAX, "%s", s)
+                        : snprintf(out, SSS_SCENE_PATH_MAX, "%s%s", c->dir, s);
+    if (n < 0 || n >= SSS_SCENE_PATH_MAX) return fail_at(c, p, "file name too long");
+    return SSS_OK;
+}
+
+static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath, sss_material *out)
+{
+    sss_error e2 = {{0}};
+    if (!m) return fail_at(c, jpath, "missing (expected a preset name or {sigma_a, sigmap_s, eta})");
+    if (cJSON_IsString(m)) {
+        if (sss_material_preset(m->valuestring, out, &e2) != SSS_OK)
+            return fail_at(c, jpath, "unknown material preset '%s'", m->valuestring);
+        return SSS_OK;
+    }
+    if (!cJSON_IsObject(m)) return fail_at(c, jpath, "expected a preset name or an object");
+    static const char *const keys[] = {"preset", "sigma_a", "sigmap_s", "eta", NULL};
+    sss_result r = only_keys(c, m, jpath, keys);
+    if (r != SSS_OK) return r;
+    memset(out, 0, sizeof *out);
+    const cJSON *pr = cJSON_GetObjectItemCaseSensitive(m, "preset");
+    if (pr) {
+        char p[512];
+        join(p, sizeof p, jpath, "preset");
+        if (!cJSON_IsString(pr) || sss_material_preset(pr->valuestring, out, &e2) != SSS_OK)
+            return fail_at(c, p, "unknown material preset");
+    } else {
+        snprintf(out->name, sizeof out->name, "custom");
+        out->eta = 1.3;
+    }
+    if ((r = get_vec3(c, m, jpath, "sigma_a", !pr, 0.0, SSS_SIGMA_MAX, out->sigma_a)) != SSS_OK) return r;
+    if ((r = get_vec3(c, m, jpath, "sigmap_s", !pr, 0.0, SSS_SIGMA_MAX, out->sigmap_s)) != SSS_OK) return r;
+    if ((r = get_number(c, m, jpath, "eta", 0, SSS_ETA_MIN, SSS_ETA_MAX, &out->eta)) != SSS_OK) return r;
+    if (pr && (cJSON_GetObjectItemCaseSensitive(m, "sigma_a") || cJSON_GetObjectItemCaseSensitive(m, "sigmap_s")))
+        snprintf(out->name, sizeof out->name, "custom");
+    if (sss_material_validate(out, &e2) != SSS_OK) return fail_at(c, jpath, "%s", e2.msg);
+    return SSS_OK;
+}
+
+static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, int index, sss_scene_object *out)
+{
+    if (!cJSON_IsObject(o)) return fail_at(c, jpath, "expected an object");
+    static const char *const keys[] = {"name", "mesh", "material", "mm_per_unit", "transform", "moving", NULL};
+    sss_result r = only_keys(c, o, jpath, keys);
+    if (r != SSS_OK) return r;
+    memset(out, 0, sizeof *out);
+    out->scale = 1.0;
+    out->mm_per_unit = 1.0;
+    snprintf(out->name, sizeof out->name, "object%d", index);
+    const cJSON *nm = cJSON_GetObjectItemCaseSensitive(o, "name");
+    if (nm) {
+        char p[512];
+        join(p, sizeof p, jpath, "name");
+        if (!cJSON_IsString(nm) || !nm->valuestring[0] || strlen(nm->valuestring) >= SSS_SCENE_NAME_MAX)
+            return fail_at(c, p, "expected a non-empty string of at most %d characters", SSS_SCENE_NAME_MAX - 1);
+        /* the name becomes part of an output file name (docs/scenes.md) */
+        for (const char *s = nm->valuestring; *s; s++)
+            if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') || *s == '-' ||
+                  *s == '_' || *s == '.'))
+                return fail_at(c, p, "'%s': only letters, digits, '-', '_' and '.' are allowed", nm->valuestring);
+        snprintf(out->name, sizeof out->name, "%s", nm->valuestring);
+    }
+    if ((r = get_path(c, o, jpath, "mesh", out->mesh)) != SSS_OK) return r;
+    char p[512];
+    join(p, sizeof p, jpath, "material");
+    if ((r = parse_material(c, cJSON_GetObjectItemCaseSensitive(o, "material"), p, &out->material)) != SSS_OK)
+        return r;
+    if ((r = get_number(c, o, jpath, "mm_per_unit", 0, 1e-12, 1e12, &out->mm_per_unit)) != SSS_OK) return r;
+    if (!(out->mm_per_unit > 0)) {
+        join(p, sizeof p, jpath, "mm_per_unit");
+        return fail_at(c, p, "must be > 0");
+    }
+    if ((r = get_bool(c, o, jpath, "moving", &out->moving)) != SSS_OK) return r;
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(o, "transform");
+    if (t) {
+        join(p, sizeof p, jpath, "transform");
+        if (!cJSON_IsObject(t)) return fail_at(c, p, "expected an object {translate, rotate_deg, scale}");
+        static const char *const tk[] = {"translate", "rotate_deg", "scale", NULL};
+        if ((r = only_keys(c, t, p, tk)) != SSS_OK) return r;
+        if ((r = get_vec3(c, t, p, "translate", 0, -1e12, 1e12, out->translate)) != SSS_OK) return r;
+        if ((r = get_vec3(c, t, p, "rotate_deg", 0, -1e6, 1e6, out->rotate_deg)) != SSS_OK) return r;
+        if ((r = get_number(c, t, p, "scale", 0, 1e-12, 1e12, &out->scale)) != SSS_OK) return r;
+    }
+    return SSS_OK;
+}
+
+static sss_result parse_light(const ctx *c, const cJSON *l, const char *jpath, sss_scene_light *out)
+{
+    if (!cJSON_IsObject(l)) return fail_at(c, jpath, "expected an object");
+    memset(out, 0, sizeof *out);
+    out->intensity = 1.0;
+    out->colour[0] = out->colour[1] = out->colour[2] = 1.0;
+    const cJSON *ty = cJSON_GetObjectItemCaseSensitive(l, "type");
+    char p[512];
+    join(p, sizeof p, jpath, "type");
+    if (!ty) return fail_at(c, p, "missing (expected \"directional\", \"point\" or \"environment\")");
+    if (!cJSON_IsString(ty)) return fail_at(c, p, "expected \"directional\", \"point\" or \"environment\"");
+    sss_result r;
+    if (!strcmp(ty->valuestring, "directional")) {
+        static const char *const k[] = {"type", "direction", "intensity", "colour", "moving", NULL};
+        if ((r = only_keys(c, l, jpath, k)) != SSS_OK) return r;
+        out->kind = SSS_LIGHT_DIRECTIONAL;
+        if ((r = get_vec3(c, l, jpath, "direction", 1, -1e12, 1e12, out->direction)) != SSS_OK) return r;
+        double n = sqrt(out->direction[0] * out->direction[0] + out->direction[1] * out->direction[1] +
+                        out->direction[2] * out->direction[2]);
+        join(p, sizeof p, jpath, "direction");
+        if (!(n > 1e-12) || !isfinite(n)) return fail_at(c, p, "must be a non-zero vector");
+        for (int k2 = 0; k2 < 3; k2++) out->direction[k2] /= n;
+    } else if (!strcmp(ty->valuestring, "point")) {
+        static const char *const k[] = {"type", "position", "intensity", "colour", "moving", NULL};
+        if ((r = only_keys(c, l, jpath, k)) != SSS_OK) return r;
+        out->kind = SSS_LIGHT_POINT;
+        if ((r = get_vec3(c, l, jpath, "position", 1, -1e12, 1e12, out->position)) != SSS_OK) return r;
+    } else if (!strcmp(ty->valuestring, "environment")) {
+        static const char *const k[] = {"type", "probe", "intensity", "colour", "moving", "rotation_deg", NULL};
+        if ((r = only_keys(c, l, jpath, k)) != SSS_OK) return r;
+        out->kind = SSS_LIGHT_ENVIRONMENT;
+        if ((r = get_path(c, l, jpath, "probe", out->probe)) != SSS_OK) return r;
+        if ((r = get_number(c, l, jpath, "rotation_deg", 0, -1e6, 1e6, &out->rotation_deg)) != SSS_OK) return r;
+    } else {
+        return fail_at(c, p, "'%s' is not \"directional\", \"point\" or \"environment\"", ty->valuestring);
+    }
+    if ((r = get_number(c, l, jpath, "intensity", 0, 0.0, 1e12, &out->intensity)) != SSS_OK) return r;
+    if ((r = get_vec3(c, l, jpath, "colour", 0, 0.0, 1e12, out->colour)) != SSS_OK) return r;
+    if ((r = get_bool(c, l, jpath, "moving", &out->moving)) != SSS_OK) return r;
+    return SSS_OK;
+}
+
+static sss_result parse_camera(const ctx *c, const cJSON *o, sss_scene_camera *out)
+{
+    const char *jp = "/camera";
+    if (!cJSON_IsObject(o)) return fail_at(c, jp, "expected an object");
+    static const char *const k[] = {"position", "target", "up", "fov_deg", NULL};
+    sss_result r = only_keys(c, o, jp, k);
+    if (r != SSS_OK) return r;
+    out->present = 1;
+    out->up[1] = 1.0;
+    out->fov_deg = 40.0;
+    if ((r = get_vec3(c, o, jp, "position", 1, -1e12, 1e12, out->position)) != SSS_OK) return r;
+    if ((r = get_vec3(c, o, jp, "target", 0, -1e12, 1e12, out->target)) != SSS_OK) return r;
+    if ((r = get_vec3(c, o, jp, "up", 0, -1e12, 1e12, out->up)) != SSS_OK) return r;
+    if ((r = get_number(c, o, jp, "fov_deg", 0, 1.0, 179.0, &out->fov_deg)) != SSS_OK) return r;
+    double d[3] = {out->target[0] - out->position[0], out->target[1] - out->position[1], out->target[2] - out->position[2]};
+    if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 0)) return fail_at(c, "/camera/target", "equals the position");
+    return SSS_OK;
+}
+
+static sss_result parse_bake(const ctx *c, const cJSON *o, sss_scene_bake *out)
+{
+    const char *jp = "/bake";
+    if (!cJSON_IsObject(o)) return fail_at(c, jp, "expected an object");
+    static const char *const k[] = {"dirs", "eps", "sh_order", "shells", "near_factor", NULL};
+    sss_result r = only_keys(c, o, jp, k);
+    if (r != SSS_OK) return r;
+    if ((r = get_u32(c, o, jp, "dirs", 4, 100000, &out->dirs)) != SSS_OK) return r;
+    if ((r = get_number(c, o, jp, "eps", 0, 1e-12, 0.5, &out->eps)) != SSS_OK) return r;
+    if ((r = get_u32(c, o, jp, "sh_order", 1, 8, &out->sh_order)) != SSS_OK) return r;
+    if ((r = get_u32(c, o, jp, "shells", 2, 64, &out->shells)) != SSS_OK) return r;
+    if ((r = get_number(c, o, jp, "near_factor", 0, 0.0, 1e6, &out->near_factor)) != SSS_OK) return r;
+    return SSS_OK;
+}
+
+sss_result sss_scene_parse(const char *text, const char *path, sss_scene *out, sss_error *err)
+{
+    memset(out, 0, sizeof *out);
+    ctx c = {path ? path : "scene", "", err};
+    snprintf(out->path, sizeof out->path, "%s", c.file);
+    const char *slash = strrchr(c.file, '/');
+    if (slash) {
+        size_t n = (size_t)(slash - c.file) + 1;
+        if (n >= sizeof c.dir) return sss_fail(err, SSS_ERR_ARG, "%s: path too long", c.file);
+        memcpy(c.dir, c.file, n);
+        c.dir[n] = 0;
+    }
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
+    if (!root) {
+        /* line of the syntax error, counted from the parser's stop point */
+        int line = 1;
+        const char *stop = end ? end : cJSON_GetErrorPtr();
+        for (const char *p = text; stop && p < stop && *p; p++) line += *p == '\n';
+        return sss_fail(err, SSS_ERR_ARG, "%s: line %d: not valid JSON", c.file, line);
+    }
+    sss_result r = SSS_OK;
+    if (!cJSON_IsObject(root)) { r = fail_at(&c, "", "expected a JSON object"); goto done; }
+    static const char *const keys[] = {"objects", "lights", "camera", "bake", "comment", NULL};
+    if ((r = only_keys(&c, root, "", keys)) != SSS_OK) goto done;
+    const cJSON *objs = cJSON_GetObjectItemCaseSensitive(root, "objects");
+    if (!objs) { r = fail_at(&c, "/objects", "missing (expected an array of objects)"); goto done; }
+    if (!cJSON_IsArray(objs) || cJSON_GetArraySize(objs) < 1) {
+        r = fail_at(&c, "/objects", "expected a non-empty array");
+        goto done;
+    }
+    int no = cJSON_GetArraySize(objs);
+    out->objects = calloc((size_t)no, sizeof *out->objects);
+    if (!out->objects) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", c.file); goto done; }
+    out->nobjects = (uint32_t)no;
+    for (int i = 0; i < no; i++) {
+        char p[64];
+        join_index(p, sizeof p, "/objects", i);
+        if ((r = parse_object(&c, cJSON_GetArrayItem(objs, i), p, i, &out->objects[i])) != SSS_OK) goto done;
+        for (int j = 0; j < i; j++)
+            if (!strcmp(out->objects[j].name, out->objects[i].name)) {
+                char pn[80];
+                join(pn, sizeof pn, p, "name");
+                r = fail_at(&c, pn, "'%s' is also the name of /objects/%d (names must differ: one .sss per object)",
+                            out->objects[i].name, j);
+                goto done;
+            }
+    }
+    const cJSON *ls = cJSON_GetObjectItemCaseSensitive(root, "lights");
+    if (ls) {
+        if (!cJSON_IsArray(ls)) { r = fail_at(&c, "/lights", "expected an array"); goto done; }
+        int nl = cJSON_GetArraySize(ls);
+        out->lights = calloc((size_t)nl + 1, sizeof *out->lights);
+        if (!out->lights) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", c.file); goto done; }
+        out->nlights = (uint32_t)nl;
+        for (int i = 0; i < nl; i++) {
+            char p[64];
+            join_index(p, sizeof p, "/lights", i);
+            if ((r = parse_light(&c, cJSON_GetArrayItem(ls, i), p, &out->lights[i])) != SSS_OK) goto done;
+        }
+    }
+    const cJSON *cam = cJSON_GetObjectItemCaseSensitive(root, "camera");
+    if (cam && (r = parse_camera(&c, cam, &out->camera)) != SSS_OK) goto done;
+    const cJSON *bk = cJSON_GetObjectItemCaseSensitive(root, "bake");
+    if (bk && (r = parse_bake(&c, bk, &out->bake)) != SSS_OK) goto done;
+done:
+    cJSON_Delete(root);
+    if (r != SSS_OK) sss_scene_free(out);
+    return r;
+}
+
+sss_result sss_scene_load(const char *path, sss_scene *out, sss_error *err)
+{
+    memset(out, 0, sizeof *out);
+    FILE *f = fopen(path, "rb");
+    if (!f) return sss_fail(err, SSS_ERR_IO, "%s: cannot open scene file", path);
+    char *buf = NULL;
+    size_t len = 0, cap = 0;
+    for (;;) {
+        if (len + 4096 + 1 > cap) {
+            if (cap > ((size_t)64 << 20)) {
+                free(buf);
+                fclose(f);
+                return sss_fail(err, SSS_ERR_ARG, "%s: scene file larger than 64 MiB", path);
+            }
+            cap = cap ? 2 * cap : 8192;
+            char *nb = realloc(buf, cap);
+            if (!nb) { free(buf); fclose(f); return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", path); }
+            buf = nb;
+        }
+        size_t k = fread(buf + len, 1, cap - len - 1, f);
+        len += k;
+        if (k == 0) break;
+    }
+    int bad = ferror(f);
+    fclose(f);
+    if (bad) { free(buf); return sss_fail(err, SSS_ERR_IO, "%s: read error", path); }
+    buf[len] = 0;
+    if (strlen(buf) != len) { free(buf); return sss_fail(err, SSS_ERR_ARG, "%s: contains a NUL byte (not JSON text)", path); }
+    sss_result r = sss_scene_parse(buf, path, out, err);
+    free(buf);
+    return r;
+}
+
+void sss_scene_free(sss_scene *s)
+{
+    if (!s) return;
+    free(s->objects);
+    free(s->lights);
+    memset(s, 0, sizeof *s);
+}
+
+double sss_scene_object_mm_per_world_unit(const sss_scene_object *o) { return o->mm_per_unit / o->scale; }
+
+sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mesh, sss_mesh *out, sss_error *err)
+{
+    const sss_mesh geom = {mesh->nv, mesh->nf, mesh->pos, NULL, mesh->tri, NULL};
+    sss_result r = sss_mesh_copy(&geom, out, err);
+    if (r != SSS_OK) return r;
+    /* R = Rz · Ry · Rx (x first), in double, rounded once per coordinate */
+    double a[3];
+    for (int k = 0; k < 3; k++) a[k] = o->rotate_deg[k] * (M_PI / 180.0);
+    const double cx = cos(a[0]), sx = sin(a[0]), cy = cos(a[1]), sy = sin(a[1]), cz = cos(a[2]), sz = sin(a[2]);
+    const double R[9] = {cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx,
+                         sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx,
+                         -sy,     cy * sx,                cy * cx};
+    const int identity = o->rotate_deg[0] == 0 && o->rotate_deg[1] == 0 && o->rotate_deg[2] == 0 && o->scale == 1.0 &&
+                         o->translate[0] == 0 && o->translate[1] == 0 && o->translate[2] == 0;
+    if (!identity)
+        for (uint32_t v = 0; v < out->nv; v++) {
+            const float *p = &mesh->pos[3 * (size_t)v];
+            for (int k = 0; k < 3; k++)
+                out->pos[3 * (size_t)v + k] =
+                    (float)(o->scale * (R[3 * k] * p[0] + R[3 * k + 1] * p[1] + R[3 * k + 2] * p[2]) + o->translate[k]);
+        }
+    r = sss_mesh_compute_normals_areas(out, o->name, err);
+    if (r != SSS_OK) sss_mesh_free(out);
+    return r;
+}
+
+const char *sss_light_kind_name(sss_light_kind k)
+{
+    switch (k) {
+    case SSS_LIGHT_DIRECTIONAL: return "directional";
+    case SSS_LIGHT_POINT: return "point";
+    case SSS_LIGHT_ENVIRONMENT: return "environment";
+    }
+    return "?";
+}

@@ -1,0 +1,87 @@
+/* sss/planner.h: scene → effect set (design.md "Effects"). For every
+ * object the planner decides, with a reason per decision, how many colour
+ * channels to bake, whether visibility rays are traced against the object
+ * itself and against the other objects, and which light parameterisation
+ * each light gets; the bake then runs one pass per parameterisation and the
+ * file records the set (sss_effects, docs/format.md §5.10).
+ *
+ * The planner is a table of rules (planner.c) run in order over each object;
+ * a rule reads the scene and the geometry facts and appends decisions and
+ * passes. A later effect (seed 002's single scattering, heterogeneous
+ * density, deformation) is one more rule and one more pass kind.
+ */
+#ifndef SSS_PLANNER_H
+#define SSS_PLANNER_H
+
+#include <stdint.h>
+#include <stdio.h>
+#include "sss/format.h"
+#include "sss/mesh.h"
+#include "sss/scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum sss_pass_kind {
+    SSS_PASS_DIR_EXACT = 0,  /* static directional light: q for its one direction (§3.1, no §3.2 interpolation) */
+    SSS_PASS_DIR_SET = 1,    /* moving directional light: the direction set of §3.2 */
+    SSS_PASS_POINT_SHELLS = 2, /* near point light: directions × distance shells (§3.3) */
+    SSS_PASS_ENV_SH = 3,     /* environment probe: SH transfer of q */
+    SSS_PASS_KINDS = 4
+} sss_pass_kind;
+
+#define SSS_PLAN_MAX_DECISIONS 64
+
+typedef struct sss_decision {
+    char effect[32];    /* "channels", "self-shadow", "scene-shadow", "light 2", … */
+    char choice[48];    /* "1 channel", "off", "directional-exact", … */
+    char reason[320];
+} sss_decision;
+
+typedef struct sss_object_plan {
+    uint32_t object;              /* index into the scene */
+    uint32_t effects;             /* SSS_FX_* bits the file will carry */
+    uint32_t channels;            /* 1 or 3 */
+    int self_shadow;              /* trace rays against the object itself */
+    int scene_shadow;             /* trace rays against the occluders below */
+    uint32_t noccluders;
+    uint32_t *occluders;          /* object indices whose geometry occludes this one; owned */
+    int convex;                   /* geometry fact used by the self-shadow rule */
+    double size;                  /* bounding-box diagonal, world units */
+    double centre[3];             /* bounding-box centre, world units */
+    uint32_t pass_lights[SSS_PASS_KINDS]; /* per pass kind: how many lights use it (0: pass not run) */
+    uint32_t *light_pass;         /* per scene light: its sss_pass_kind, or UINT32_MAX if it adds nothing; owned */
+    uint32_t ndecisions;
+    sss_decision decisions[SSS_PLAN_MAX_DECISIONS];
+} sss_object_plan;
+
+typedef struct sss_plan {
+    uint32_t nobjects;
+    sss_object_plan *obj;         /* owned */
+} sss_plan;
+
+/* Plans every object of scene. world[i] is object i's mesh in world units
+ * (sss_scene_object_world). Fails (SSS_ERR_ARG, naming the scene file and
+ * JSON path) when the scene has no light. */
+sss_result sss_plan_scene(const sss_scene *scene, const sss_mesh *world, sss_plan *out, sss_error *err);
+
+void sss_plan_free(sss_plan *p);
+
+/* Whether a closed mesh is convex: every edge shared by two triangles
+ * with a convex (or flat) dihedral, and every vertex on the inner side of
+ * every triangle's plane (tolerance 1e-6 of the diagonal; sampled planes for
+ * large meshes). An open mesh is reported not convex. */
+int sss_mesh_is_convex(const sss_mesh *m);
+
+/* The plan as text (one block per object, one line per decision), or as
+ * one JSON object (effects, passes and decisions per object). */
+void sss_plan_print(const sss_scene *scene, const sss_plan *p, FILE *out);
+char *sss_plan_json(const sss_scene *scene, const sss_plan *p); /* malloc'ed; NULL on no memory */
+
+const char *sss_pass_name(sss_pass_kind k);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

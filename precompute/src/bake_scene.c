@@ -1,0 +1,223 @@
+/* bake_scene.c: one object of a planned scene (docs/scenes.md). The
+ * neighbourhoods and weights of §3.1 are built once and shared by every
+ * pass; the passes differ only in how the light enters G(x_i, ·):
+ *   directional-exact  one direction per static light, q stored as is;
+ *   direction-set      the §3.2 set, interpolated at run time;
+ *   point-shells       §3.3, bake_point.c;
+ *   environment-sh     SH transfer, bake_env.c.
+ * Visibility is traced against what the plan names (the object itself
+ * unless it is convex, and the static occluders), and not at all when that
+ * is nothing: a convex object alone pays no ray.
+ */
+#include "sss/bake_scene.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "bake_pass.h"
+#include "progress.h"
+#include "transfer.h"
+
+void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, float *G, uint64_t *rays_out)
+{
+    uint64_t rays = 0;
+    /* vertex-outer: one parallel region for all directions */
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : rays)
+    for (int64_t i = 0; i < (int64_t)c->mesh->nv; i++)
+        for (uint32_t j = 0; j < n; j++) {
+            int traced = 0;
+            G[(size_t)i * n + j] = sss_transfer_one(c->mesh, c->vis, (uint32_t)i, &dirs[3 * (size_t)j], c->eta, &traced, NULL);
+            rays += (uint64_t)(traced && c->vis);
+        }
+    if (rays_out) *rays_out += rays;
+}
+
+/* Static directional lights (and far static point lights, taken from the
+ * object's centre): q(x_o, ω_l) of §3.1 for exactly ω_l. */
+static sss_result pass_dir_exact(const sss_pass_ctx *c, sss_error *err)
+{
+    const sss_scene *s = c->scene;
+    const uint32_t nv = c->mesh->nv, nl = c->plan->pass_lights[SSS_PASS_DIR_EXACT];
+    sss_effects *fx = &c->out->fx;
+    fx->exact_dir = malloc(3 * (size_t)nl * sizeof(double));
+    fx->exact_q = malloc((size_t)nl * nv * c->C * sizeof(float) + 1);
+    float *G = malloc((size_t)nv * sizeof(float) + 1);
+    if (!fx->exact_dir || !fx->exact_q || !G) {
+        free(G);
+        return sss_fail(err, SSS_ERR_NOMEM, "directional-exact pass: out of memory");
+    }
+    uint32_t k = 0;
+    for (uint32_t l = 0; l < s->nlights; l++) {
+        if (c->plan->light_pass[l] != SSS_PASS_DIR_EXACT) continue;
+        const sss_scene_light *L = &s->lights[l];
+        double d[3];
+        if (L->kind == SSS_LIGHT_DIRECTIONAL) {
+            memcpy(d, L->direction, sizeof d);
+        } else {
+            double n = 0;
+            for (int a = 0; a < 3; a++) d[a] = L->position[a] - c->plan->centre[a], n += d[a] * d[a];
+            n = sqrt(n);
+            for (int a = 0; a < 3; a++) d[a] /= n;
+        }
+        memcpy(&fx->exact_dir[3 * (size_t)k], d, sizeof d);
+        sss_pass_transfer(c, d, 1, G, &c->st->rays);
+        sss_integrate(c->nb, G, 1, &fx->exact_q[(size_t)k * nv * c->C]);
+        k++;
+    }
+    fx->nexact = k;
+    free(G);
+    return SSS_OK;
+}
+
+/* Moving directional lights: the direction set of §3.2 (what sss_bake
+ * stores), float values. */
+static sss_result pass_dir_set(const sss_pass_ctx *c, sss_error *err)
+{
+    sss_bake_file *o = c->out;
+    if (!o->dirs.n) {
+        sss_result r = sss_dirset_fibonacci(&o->dirs, c->n_dirs, err);
+        if (r != SSS_OK) return r;
+    }
+    const uint32_t nv = c->mesh->nv, n = o->dirs.n;
+    float *G = malloc((size_t)nv * n * sizeof(float) + 1);
+    o->q = malloc((size_t)n * nv * c->C * sizeof(float) + 1);
+    if (!G || !o->q) {
+        free(G);
+        return sss_fail(err, SSS_ERR_NOMEM, "direction-set pass: out of memory for %u x %u values", nv, n);
+    }
+    sss_pass_transfer(c, o->dirs.dir, n, G, &c->st->rays);
+    sss_integrate(c->nb, G, n, o->q);
+    free(G);
+    o->quant = SSS_QUANT_FLOAT;
+    return SSS_OK;
+}
+
+typedef sss_result (*pass_fn)(const sss_pass_ctx *, sss_error *);
+static const pass_fn passes[SSS_PASS_KINDS] = {pass_dir_exact, pass_dir_set, sss_pass_point_shells, sss_pass_env_sh};
+
+static char *params(const sss_scene *s, const sss_object_plan *p, const sss_pass_ctx *c, double eps,
+                    const double *radius)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (!o) return NULL;
+    const sss_scene_object *ob = &s->objects[p->object];
+    cJSON_AddStringToObject(o, "generator", "sss-bake 0.1.0 --scene");
+    cJSON_AddStringToObject(o, "format", "1.2");
+    cJSON_AddStringToObject(o, "scene", s->path);
+    cJSON_AddStringToObject(o, "object", ob->name);
+    cJSON_AddStringToObject(o, "mesh", ob->mesh);
+    cJSON_AddStringToObject(o, "material", ob->material.name);
+    cJSON_AddNumberToObject(o, "eps", eps);
+    cJSON_AddNumberToObject(o, "mm_per_unit", c->out->mm_per_unit);
+    cJSON_AddItemToObject(o, "radius_mm", cJSON_CreateDoubleArray(radius, (int)c->C));
+    cJSON *fx = cJSON_AddArrayToObject(o, "effects");
+    for (uint32_t b = 0; b < SSS_FX_COUNT; b++)
+        if (p->effects >> b & 1u) cJSON_AddItemToArray(fx, cJSON_CreateString(sss_effect_name(b)));
+    cJSON *ds = cJSON_AddArrayToObject(o, "decisions");
+    for (uint32_t d = 0; d < p->ndecisions; d++) {
+        cJSON *jd = cJSON_CreateObject();
+        cJSON_AddStringToObject(jd, "effect", p->decisions[d].effect);
+        cJSON_AddStringToObject(jd, "choice", p->decisions[d].choice);
+        cJSON_AddStringToObject(jd, "reason", p->decisions[d].reason);
+        cJSON_AddItemToArray(ds, jd);
+    }
+    if (p->effects & SSS_FX_DIR_SET) cJSON_AddNumberToObject(o, "dirs", c->n_dirs);
+    if (p->effects & SSS_FX_POINT_SHELLS) {
+        cJSON_AddNumberToObject(o, "dirs", c->n_dirs);
+        cJSON_AddNumberToObject(o, "shells", c->shells);
+    }
+    if (p->effects & SSS_FX_ENV_SH) cJSON_AddNumberToObject(o, "sh_order", c->sh_order);
+    char *txt = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    return txt;
+}
+
+sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const sss_mesh *world, uint32_t obj,
+                           const sss_bake_options *opt, sss_bake_file *out, sss_bake_stats *st_out, sss_error *err)
+{
+    memset(out, 0, sizeof *out);
+    sss_bake_stats st;
+    memset(&st, 0, sizeof st);
+    if (obj >= scene->nobjects || obj >= plan->nobjects) return sss_fail(err, SSS_ERR_ARG, "no object %u", obj);
+    const sss_object_plan *p = &plan->obj[obj];
+    const sss_scene_object *ob = &scene->objects[obj];
+    const double eps = scene->bake.eps > 0 ? scene->bake.eps : opt->eps > 0 ? opt->eps : 1e-3;
+#ifdef _OPENMP
+    if (opt->threads > 0) omp_set_num_threads(opt->threads);
+#endif
+    sss_pass_ctx c;
+    memset(&c, 0, sizeof c);
+    c.scene = scene;
+    c.plan = p;
+    c.eta = ob->material.eta;
+    c.C = p->channels;
+    c.n_dirs = scene->bake.dirs ? scene->bake.dirs : opt->n_dirs ? opt->n_dirs : 200;
+    c.sh_order = scene->bake.sh_order ? scene->bake.sh_order : 4;
+    c.shells = scene->bake.shells ? scene->bake.shells : 4;
+    c.near_factor = scene->bake.near_factor > 0 ? scene->bake.near_factor : 5.0;
+    c.out = out;
+    c.st = &st;
+
+    sss_result r = sss_mesh_copy(&world[obj], &out->mesh, err);
+    if (r != SSS_OK) return r;
+    c.mesh = &out->mesh;
+    out->material = ob->material;
+    out->mm_per_unit = sss_scene_object_mm_per_world_unit(ob);
+    out->channels = c.C;
+    out->quant = SSS_QUANT_FLOAT;
+    out->fx.mask = p->effects;
+
+    sss_dipole dip[SSS_MAX_CHANNELS];
+    for (uint32_t k = 0; k < c.C; k++) sss_dipole_init(&dip[k], ob->material.sigma_a[k], ob->material.sigmap_s[k], c.eta);
+    /* the radius rule of bake.c, so the exact evaluator (which recomputes
+     * it from the file) finds the same neighbourhoods */
+    double lo[3], hi[3];
+    const double diag_mm = sss_mesh_bounds(c.mesh, lo, hi) * out->mm_per_unit;
+    for (uint32_t k = 0; k < c.C; k++) {
+        st.radius_mm[k] = sss_rd_radius(&dip[k], eps, diag_mm);
+        if (st.radius_mm[k] > st.search_radius_mm) st.search_radius_mm = st.radius_mm[k];
+    }
+    sss_nbhd nb = {0};
+    sss_vis *vis = NULL;
+    const sss_mesh **occ = NULL;
+    double t = sss_now();
+    r = sss_nbhd_build(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0, 0, &nb, err);
+    if (r != SSS_OK) goto fail;
+    st.t_neighbourhoods = sss_now() - t;
+    st.neighbours_total = nb.start[nb.nrows];
+    st.neighbours_mean = (double)st.neighbours_total / nb.nrows;
+    c.nb = &nb;
+    t = sss_now();
+    if (p->self_shadow || p->noccluders) {
+        occ = malloc((p->noccluders + 1) * sizeof *occ);
+        if (!occ) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto fail; }
+        for (uint32_t k = 0; k < p->noccluders; k++) occ[k] = &world[p->occluders[k]];
+        r = sss_vis_create_scene(c.mesh, p->self_shadow, occ, p->noccluders, &vis, err);
+        if (r != SSS_OK) goto fail;
+    }
+    c.vis = vis;
+    for (int k = 0; k < SSS_PASS_KINDS; k++) {
+        if (!p->pass_lights[k]) continue;
+        r = passes[k](&c, err);
+        if (r != SSS_OK) goto fail;
+    }
+    st.t_integrals = sss_now() - t;
+    out->params_json = params(scene, p, &c, eps, st.radius_mm);
+    if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto fail; }
+    sss_vis_destroy(vis);
+    free(occ);
+    sss_nbhd_free(&nb);
+    if (st_out) *st_out = st;
+    return SSS_OK;
+fail:
+    sss_vis_destroy(vis);
+    free(occ);
+    sss_nbhd_free(&nb);
+    sss_file_free(out);
+    return r;
+}

@@ -1,0 +1,370 @@
+/* planner.c: scene → effect set with a reason per decision (design.md
+ * "Effects"; docs/scenes.md lists the rules and their tests).
+ *
+ * The rules run in table order over each object. Each one reads the scene
+ * and the geometry facts computed once per object (size, centre,
+ * convexity) and appends decisions; the light rule also chooses the pass of
+ * each light. Adding an effect is adding a rule here and a pass in
+ * bake_scene.c, not changing the others.
+ */
+#include "sss/planner.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct plan_in {
+    const sss_scene *scene;
+    const sss_mesh *world;
+} plan_in;
+
+static void decide(sss_object_plan *p, const char *effect, const char *choice, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+static void decide(sss_object_plan *p, const char *effect, const char *choice, const char *fmt, ...)
+{
+    if (p->ndecisions >= SSS_PLAN_MAX_DECISIONS) return;
+    sss_decision *d = &p->decisions[p->ndecisions++];
+    snprintf(d->effect, sizeof d->effect, "%s", effect);
+    snprintf(d->choice, sizeof d->choice, "%s", choice);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(d->reason, sizeof d->reason, fmt, ap);
+    va_end(ap);
+}
+
+/* ---- geometry facts --------------------------------------------------- */
+
+typedef struct edge { uint32_t a, b, t; } edge;
+static int edge_cmp(const void *x, const void *y)
+{
+    const edge *e = x, *f = y;
+    if (e->a != f->a) return e->a < f->a ? -1 : 1;
+    if (e->b != f->b) return e->b < f->b ? -1 : 1;
+    return e->t < f->t ? -1 : e->t > f->t;
+}
+
+static void face_plane(const sss_mesh *m, uint32_t t, double n[3], double *d)
+{
+    const float *a = &m->pos[3 * (size_t)m->tri[3 * (size_t)t]], *b = &m->pos[3 * (size_t)m->tri[3 * (size_t)t + 1]],
+                *c = &m->pos[3 * (size_t)m->tri[3 * (size_t)t + 2]];
+    double u[3], v[3];
+    for (int k = 0; k < 3; k++) u[k] = (double)b[k] - a[k], v[k] = (double)c[k] - a[k];
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (l > 0) for (int k = 0; k < 3; k++) n[k] /= l;
+    *d = n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
+}
+
+int sss_mesh_is_convex(const sss_mesh *m)
+{
+    if (!m || m->nf < 4) return 0;
+    double lo[3], hi[3];
+    const double tol = 1e-6 * sss_mesh_bounds(m, lo, hi);
+    /* closed and locally convex: each undirected edge in exactly two
+     * triangles, the far vertex of the neighbour behind this face's plane */
+    const size_t ne = 3 * (size_t)m->nf;
+    edge *e = malloc(ne * sizeof *e);
+    if (!e) return 0;
+    for (uint32_t t = 0; t < m->nf; t++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t a = m->tri[3 * (size_t)t + k], b = m->tri[3 * (size_t)t + (k + 1) % 3];
+            e[3 * (size_t)t + k] = (edge){a < b ? a : b, a < b ? b : a, t};
+        }
+    qsort(e, ne, sizeof *e, edge_cmp);
+    int ok = 1;
+    for (size_t i = 0; i < ne && ok; i += 2) {
+        if (i + 1 >= ne || e[i + 1].a != e[i].a || e[i + 1].b != e[i].b || (i + 2 < ne && e[i + 2].a == e[i].a &&
+                                                                          e[i + 2].b == e[i].b)) {
+            ok = 0;
+            break;
+        }
+        for (int s = 0; s < 2 && ok; s++) {
+            const uint32_t t = e[i + s].t, o = e[i + 1 - s].t;
+            double n[3], d;
+            face_plane(m, t, n, &d);
+            for (int k = 0; k < 3; k++) {
+                const float *p = &m->pos[3 * (size_t)m->tri[3 * (size_t)o + k]];
+                if (n[0] * p[0] + n[1] * p[1] + n[2] * p[2] - d > tol) ok = 0;
+            }
+        }
+    }
+    free(e);
+    /* globally: every vertex behind every (sampled) face plane, which rules
+     * out locally convex surfaces that wrap around twice */
+    const uint64_t budget = 50000000u;
+    uint32_t stride = (uint64_t)m->nv * m->nf > budget ? (uint32_t)((uint64_t)m->nv * m->nf / budget) + 1 : 1;
+    for (uint32_t t = 0; t < m->nf && ok; t += stride) {
+        double n[3], d;
+        face_plane(m, t, n, &d);
+        for (uint32_t v = 0; v < m->nv && ok; v++) {
+            const float *p = &m->pos[3 * (size_t)v];
+            if (n[0] * p[0] + n[1] * p[1] + n[2] * p[2] - d > tol) ok = 0;
+        }
+    }
+    return ok;
+}
+
+/* ---- rules ------------------------------------------------------------ */
+
+/* Colour channels: the three dipole profiles are equal when σa and σ′s are
+ * equal across channels, so one channel carries all the information
+ * (Hao–Varshney 2004 §3.1 bakes per channel). */
+static void rule_channels(const plan_in *in, sss_object_plan *p)
+{
+    const sss_material *m = &in->scene->objects[p->object].material;
+    const int grey = m->sigma_a[0] == m->sigma_a[1] && m->sigma_a[1] == m->sigma_a[2] &&
+                     m->sigmap_s[0] == m->sigmap_s[1] && m->sigmap_s[1] == m->sigmap_s[2];
+    p->channels = grey ? 1 : 3;
+    if (!grey) p->effects |= SSS_FX_RGB;
+    if (grey)
+        decide(p, "channels", "1 channel", "material '%s' has equal sigma_a and sigma'_s in R, G and B: one dipole "
+               "profile serves all three", m->name);
+    else
+        decide(p, "channels", "3 channels", "material '%s' differs across channels (sigma_a %g/%g/%g, sigma'_s "
+               "%g/%g/%g)", m->name, m->sigma_a[0], m->sigma_a[1], m->sigma_a[2], m->sigmap_s[0], m->sigmap_s[1],
+               m->sigmap_s[2]);
+}
+
+/* Self-shadowing: V(x_i, ω) of §3.1 is 1 whenever n_i·ω > 0 on a convex
+ * object (the supporting plane at x_i separates the ray from the object),
+ * so the visibility pass against the object itself changes nothing. */
+static void rule_self_shadow(const plan_in *in, sss_object_plan *p)
+{
+    (void)in;
+    p->self_shadow = !p->convex;
+    if (p->self_shadow) p->effects |= SSS_FX_SELF_SHADOW;
+    if (p->convex)
+        decide(p, "self-shadow", "off", "the mesh is closed and convex: every vertex sees every light above its "
+               "tangent plane, so no visibility rays against itself are needed");
+    else
+        decide(p, "self-shadow", "on", "the mesh is not convex (or not closed): parts of it can shadow others");
+}
+
+/* Shadows from the other objects: baked only when neither the object nor
+ * the occluder moves, since a baked shadow is fixed to the geometry. */
+static void rule_scene_shadow(const plan_in *in, sss_object_plan *p)
+{
+    const sss_scene *s = in->scene;
+    const sss_scene_object *o = &s->objects[p->object];
+    uint32_t n = 0, moving = 0;
+    for (uint32_t k = 0; k < s->nobjects; k++) {
+        if (k == p->object) continue;
+        if (o->moving || s->objects[k].moving) { moving++; continue; }
+        p->occluders[n++] = k;
+    }
+    p->noccluders = n;
+    p->scene_shadow = n > 0;
+    if (p->scene_shadow) p->effects |= SSS_FX_SCENE_SHADOW;
+    if (s->nobjects == 1)
+        decide(p, "scene-shadow", "off", "the object is alone in the scene");
+    else if (n == 0)
+        decide(p, "scene-shadow", "off", "%s moves: shadows from the other objects are not fixed and are not baked",
+               o->moving ? "the object" : "every other object");
+    else {
+        char list[200] = "";
+        size_t k = 0;
+        for (uint32_t i = 0; i < n && k < sizeof list - 40; i++)
+            k += (size_t)snprintf(list + k, sizeof list - k, "%s'%s'", i ? ", " : "", s->objects[p->occluders[i]].name);
+        decide(p, "scene-shadow", "on", "static scene: %s cast%s shadows onto it (rays traced against %u other "
+               "object%s)%s", list, n == 1 ? "s" : "", n, n == 1 ? "" : "s",
+               moving ? "; moving objects are left out" : "");
+    }
+}
+
+/* Light parameterisation, per light; several lights add up at run time.
+ *  - static directional: q for that one direction, exactly (§3.1 without
+ *    the §3.2 direction set and its interpolation error);
+ *  - moving directional: the direction set (§3.2);
+ *  - point light within near_factor object sizes: directions × distance
+ *    shells, interpolated trilinearly (§3.3); farther: its direction from
+ *    the object's centre, as a directional light (the falloff varies by
+ *    less than 2/near_factor across the object);
+ *  - environment: SH transfer of q, dotted with the probe's SH. */
+static void rule_lights(const plan_in *in, sss_object_plan *p)
+{
+    const sss_scene *s = in->scene;
+    const double near = s->bake.near_factor > 0 ? s->bake.near_factor : 5.0;
+    for (uint32_t l = 0; l < s->nlights; l++) {
+        const sss_scene_light *L = &s->lights[l];
+        char eff[32];
+        snprintf(eff, sizeof eff, "light %u", l);
+        sss_pass_kind k;
+        if (L->intensity == 0.0 || (L->colour[0] == 0 && L->colour[1] == 0 && L->colour[2] == 0)) {
+            p->light_pass[l] = UINT32_MAX;
+            decide(p, eff, "none", "%s light of zero intensity adds nothing", sss_light_kind_name(L->kind));
+            continue;
+        }
+        if (L->kind == SSS_LIGHT_DIRECTIONAL) {
+            k = L->moving ? SSS_PASS_DIR_SET : SSS_PASS_DIR_EXACT;
+            if (L->moving)
+                decide(p, eff, "direction-set", "moving directional light: q baked over a set of directions and "
+                       "interpolated at run time (Hao-Varshney 2004 sec. 3.2)");
+            else
+                decide(p, eff, "directional-exact", "static directional light: q baked exactly for direction "
+                       "(%.4g, %.4g, %.4g), one value per vertex and channel, no interpolation", L->direction[0],
+                       L->direction[1], L->direction[2]);
+        } else if (L->kind == SSS_LIGHT_POINT) {
+            double d2 = 0;
+            for (int c = 0; c < 3; c++) d2 += (L->position[c] - p->centre[c]) * (L->position[c] - p->centre[c]);
+            const double dist = sqrt(d2), ratio = p->size > 0 ? dist / p->size : INFINITY;
+            if (ratio < near || L->moving) {
+                k = SSS_PASS_POINT_SHELLS;
+                if (ratio < near)
+                    decide(p, eff, "point-shells", "point light %.3g object sizes from the centre (< %g): the "
+                           "direction and 1/r^2 falloff vary across the object, so q is baked over directions x "
+                           "distance shells and interpolated trilinearly (sec. 3.3)", ratio, near);
+                else
+                    decide(p, eff, "point-shells", "moving point light (now %.3g object sizes away) may come near: "
+                           "directions x distance shells (sec. 3.3)", ratio);
+            } else {
+                k = SSS_PASS_DIR_EXACT;
+                decide(p, eff, "directional-exact", "static point light %.3g object sizes away (>= %g): treated as "
+                       "a directional light from the object's centre, baked exactly", ratio, near);
+            }
+        } else {
+            k = SSS_PASS_ENV_SH;
+            decide(p, eff, "environment-sh", "environment probe: q projected onto SH per vertex and dotted with the "
+                   "probe's SH at run time%s", L->moving ? " (rotating the probe rotates its coefficients)" : "");
+        }
+        p->light_pass[l] = (uint32_t)k;
+        p->pass_lights[k]++;
+    }
+    static const uint32_t bit[SSS_PASS_KINDS] = {SSS_FX_DIR_EXACT, SSS_FX_DIR_SET, SSS_FX_POINT_SHELLS,
+                                                 SSS_FX_ENV_SH};
+    for (int k = 0; k < SSS_PASS_KINDS; k++)
+        if (p->pass_lights[k]) p->effects |= bit[k];
+}
+
+typedef void (*rule_fn)(const plan_in *, sss_object_plan *);
+static const rule_fn rules[] = {rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights};
+
+sss_result sss_plan_scene(const sss_scene *scene, const sss_mesh *world, sss_plan *out, sss_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (scene->nlights == 0)
+        return sss_fail(err, SSS_ERR_ARG, "%s: /lights: no light: nothing would be visible", scene->path);
+    out->obj = calloc(scene->nobjects, sizeof *out->obj);
+    if (!out->obj) return sss_fail(err, SSS_ERR_NOMEM, "planner: out of memory");
+    out->nobjects = scene->nobjects;
+    const plan_in in = {scene, world};
+    for (uint32_t i = 0; i < scene->nobjects; i++) {
+        sss_object_plan *p = &out->obj[i];
+        p->object = i;
+        p->occluders = calloc(scene->nobjects, sizeof *p->occluders);
+        p->light_pass = calloc(scene->nlights, sizeof *p->light_pass);
+        if (!p->occluders || !p->light_pass) {
+            sss_plan_free(out);
+            return sss_fail(err, SSS_ERR_NOMEM, "planner: out of memory");
+        }
+        double lo[3], hi[3];
+        p->size = sss_mesh_bounds(&world[i], lo, hi);
+        for (int k = 0; k < 3; k++) p->centre[k] = 0.5 * (lo[k] + hi[k]);
+        p->convex = sss_mesh_is_convex(&world[i]);
+        for (size_t r = 0; r < sizeof rules / sizeof rules[0]; r++) rules[r](&in, p);
+        if (!(p->effects & (SSS_FX_DIR_EXACT | SSS_FX_DIR_SET | SSS_FX_POINT_SHELLS | SSS_FX_ENV_SH))) {
+            sss_plan_free(out);
+            return sss_fail(err, SSS_ERR_ARG, "%s: /lights: every light has zero intensity: nothing would be visible",
+                            scene->path);
+        }
+    }
+    return SSS_OK;
+}
+
+void sss_plan_free(sss_plan *p)
+{
+    if (!p) return;
+    for (uint32_t i = 0; i < p->nobjects; i++) {
+        free(p->obj[i].occluders);
+        free(p->obj[i].light_pass);
+    }
+    free(p->obj);
+    memset(p, 0, sizeof *p);
+}
+
+const char *sss_pass_name(sss_pass_kind k)
+{
+    static const char *const n[SSS_PASS_KINDS] = {"directional-exact", "direction-set", "point-shells",
+                                                  "environment-sh"};
+    return (unsigned)k < SSS_PASS_KINDS ? n[k] : "?";
+}
+
+static void effects_text(uint32_t m, char *buf, size_t n)
+{
+    size_t k = 0;
+    buf[0] = 0;
+    for (uint32_t b = 0; b < SSS_FX_COUNT; b++)
+        if (m >> b & 1u) k += (size_t)snprintf(buf + k, k < n ? n - k : 0, "%s%s", k ? " " : "", sss_effect_name(b));
+}
+
+void sss_plan_print(const sss_scene *scene, const sss_plan *p, FILE *out)
+{
+    for (uint32_t i = 0; i < p->nobjects; i++) {
+        const sss_object_plan *o = &p->obj[i];
+        char fx[200];
+        effects_text(o->effects, fx, sizeof fx);
+        fprintf(out, "object %u '%s' (%s): effects: %s\n", i, scene->objects[i].name, scene->objects[i].mesh, fx);
+        for (uint32_t d = 0; d < o->ndecisions; d++)
+            fprintf(out, "  %-13s %-18s %s\n", o->decisions[d].effect, o->decisions[d].choice, o->decisions[d].reason);
+        fprintf(out, "  passes:");
+        int any = 0;
+        for (int k = 0; k < SSS_PASS_KINDS; k++)
+            if (o->pass_lights[k]) {
+                fprintf(out, " %s (%u light%s)", sss_pass_name((sss_pass_kind)k), o->pass_lights[k],
+                        o->pass_lights[k] == 1 ? "" : "s");
+                any = 1;
+            }
+        fprintf(out, "%s\n", any ? "" : " none");
+    }
+}
+
+char *sss_plan_json(const sss_scene *scene, const sss_plan *p)
+{
+    cJSON *root = cJSON_CreateObject();
+    if (!root) return NULL;
+    cJSON_AddStringToObject(root, "scene", scene->path);
+    cJSON *objs = cJSON_AddArrayToObject(root, "objects");
+    for (uint32_t i = 0; objs && i < p->nobjects; i++) {
+        const sss_object_plan *o = &p->obj[i];
+        cJSON *jo = cJSON_CreateObject();
+        cJSON_AddItemToArray(objs, jo);
+        cJSON_AddStringToObject(jo, "name", scene->objects[i].name);
+        cJSON_AddStringToObject(jo, "mesh", scene->objects[i].mesh);
+        cJSON *fx = cJSON_AddArrayToObject(jo, "effects");
+        for (uint32_t b = 0; b < SSS_FX_COUNT; b++)
+            if (o->effects >> b & 1u) cJSON_AddItemToArray(fx, cJSON_CreateString(sss_effect_name(b)));
+        cJSON_AddNumberToObject(jo, "channels", o->channels);
+        cJSON_AddBoolToObject(jo, "convex", o->convex);
+        cJSON_AddBoolToObject(jo, "self_shadow", o->self_shadow);
+        cJSON *occ = cJSON_AddArrayToObject(jo, "occluders");
+        for (uint32_t k = 0; k < o->noccluders; k++)
+            cJSON_AddItemToArray(occ, cJSON_CreateString(scene->objects[o->occluders[k]].name));
+        cJSON *ps = cJSON_AddArrayToObject(jo, "passes");
+        for (int k = 0; k < SSS_PASS_KINDS; k++)
+            if (o->pass_lights[k]) {
+                cJSON *jp = cJSON_CreateObject();
+                cJSON_AddStringToObject(jp, "pass", sss_pass_name((sss_pass_kind)k));
+                cJSON *ls = cJSON_AddArrayToObject(jp, "lights");
+                for (uint32_t l = 0; l < scene->nlights; l++)
+                    if (o->light_pass[l] == (uint32_t)k) cJSON_AddItemToArray(ls, cJSON_CreateNumber(l));
+                cJSON_AddItemToArray(ps, jp);
+            }
+        cJSON *ds = cJSON_AddArrayToObject(jo, "decisions");
+        for (uint32_t d = 0; d < o->ndecisions; d++) {
+            cJSON *jd = cJSON_CreateObject();
+            cJSON_AddStringToObject(jd, "effect", o->decisions[d].effect);
+            cJSON_AddStringToObject(jd, "choice", o->decisions[d].choice);
+            cJSON_AddStringToObject(jd, "reason", o->decisions[d].reason);
+            cJSON_AddItemToArray(ds, jd);
+        }
+    }
+    char *s = cJSON_Print(root);
+    cJSON_Delete(root);
+    return s;
+}

@@ -1,0 +1,52 @@
+# sss-bake --scene (docs/scenes.md): --plan as text and JSON with a reason
+# per decision; invalid scenes fail with the file and JSON path; one
+# DIR/NAME.sss per object; a failing bake leaves no file; the bytes do not
+# depend on the thread count.
+. "$(dirname "$0")/lib.sh"
+expect_ok "$SSS_GENMESH" blob 2 "$TMP/blob.ply"
+expect_ok "$SSS_GENMESH" sphere 2 "$TMP/sphere.ply"
+cat > "$TMP/s.json" <<'J'
+{"objects": [
+  {"name": "blob", "mesh": "blob.ply", "material": "marble", "mm_per_unit": 10},
+  {"name": "ball", "mesh": "sphere.ply", "material": {"sigma_a": [0.02, 0.02, 0.02], "sigmap_s": [1, 1, 1]},
+   "transform": {"translate": [3, 0, 0]}}],
+ "lights": [{"type": "directional", "direction": [1, 0, 1]},
+            {"type": "point", "position": [0, 3, 0], "moving": true}],
+ "bake": {"dirs": 50, "shells": 3}}
+J
+expect_ok "$SSS_BAKE" --scene "$TMP/s.json" --plan
+for pat in "object 0 'blob'" "object 1 'ball'" 'channels      1 channel' 'self-shadow   off' 'the mesh is closed and convex' \
+           "scene-shadow  on .*'blob' casts" 'light 0       directional-exact' 'light 1       point-shells'; do
+  grep -q -- "$pat" "$TMP/out" || { cat "$TMP/out" >&2; fail "--plan should print '$pat'"; }
+done
+expect_ok "$SSS_BAKE" --scene "$TMP/s.json" --plan --json
+for pat in '"effects":' '"decisions":' '"reason":' '"passes":' '"pass":	"point-shells"' '"convex":	true'; do
+  contains "$TMP/out" "$pat"
+done
+# invalid scenes: file and JSON path in a one-line message, exit 2
+sed 's/"direction": \[1, 0, 1\]/"direction": [1, 0]/' "$TMP/s.json" > "$TMP/bad1.json"
+expect_fail "bad1.json: /lights/0/direction: expected 3 numbers" "$SSS_BAKE" --scene "$TMP/bad1.json" --plan
+sed 's/"moving": true/"moving": 1/' "$TMP/s.json" > "$TMP/bad2.json"
+expect_fail "bad2.json: /lights/1/moving: expected true or false" "$SSS_BAKE" --scene "$TMP/bad2.json" --plan
+[ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "message should be one line"
+expect_fail "missing.json: cannot open" "$SSS_BAKE" --scene "$TMP/missing.json" --plan
+# bake: one file per object, named after it
+mkdir -p "$TMP/o1" "$TMP/o2" "$TMP/o3"
+expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/o1" --threads 1 -q
+expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/o2" --threads 2 -q --json
+contains "$TMP/out" '"rays":'
+for n in blob ball; do
+  [ -s "$TMP/o1/$n.sss" ] || fail "no $n.sss"
+  cmp -s "$TMP/o1/$n.sss" "$TMP/o2/$n.sss" || fail "$n.sss differs between 1 and 2 threads"
+done
+expect_ok "$SSS_STAT" "$TMP/o1/ball.sss"
+contains "$TMP/out" 'format 1.2'
+contains "$TMP/out" 'EFCT'
+# a scene whose second object cannot be baked (probe missing) writes nothing half-done
+sed 's/"lights": \[/"lights": [{"type": "environment", "probe": "nope.exr"}, /' "$TMP/s.json" > "$TMP/bad3.json"
+expect_fail "nope.exr" "$SSS_BAKE" --scene "$TMP/bad3.json" -o "$TMP/o3" -q
+[ -z "$(ls -A "$TMP/o3" | grep -v '^blob.sss$\|^ball.sss$' )" ] || fail "temporary files left: $(ls "$TMP/o3")"
+[ ! -e "$TMP/o3/blob.sss" ] || fail "blob.sss written although its bake failed"
+expect_fail "must be an existing directory" "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/nodir"
+expect_fail "needs --scene" "$SSS_BAKE" --plan
+echo "cli_scene: ok"

@@ -1,0 +1,59 @@
+# sss-view --scene (docs/scenes.md): the scene's lights, summed from the
+# effects the file records, drawn offscreen with the shading program only;
+# a light the file has no data for is refused by its JSON path.
+. "$(dirname "$0")/lib.sh"
+VIEW() { if [ -n "${SSS_VIEW_PRELOAD:-}" ]; then LD_PRELOAD="$SSS_VIEW_PRELOAD" "$SSS_VIEW" "$@"; else "$SSS_VIEW" "$@"; fi; }
+expect_ok "$SSS_GENMESH" blob 2 "$TMP/blob.ply"
+cat > "$TMP/sun.json" <<'J'
+{"objects": [{"name": "blob", "mesh": "blob.ply", "material": "skin1", "mm_per_unit": 10}],
+ "lights": [{"type": "directional", "direction": [0, 0, 1], "intensity": 2}],
+ "camera": {"position": [0, -3, 1], "target": [0, 0, 0], "fov_deg": 40}}
+J
+sed 's/"intensity": 2}/"intensity": 2}, {"type": "point", "position": [0, 0, 2], "moving": true}/' "$TMP/sun.json" > "$TMP/both.json"
+expect_ok "$SSS_BAKE" --scene "$TMP/sun.json" -o "$TMP" -q
+expect_ok VIEW "$TMP/blob.sss" --scene "$TMP/sun.json" --offscreen --out "$TMP/sun.png" --size 96x72
+contains "$TMP/err" 'scene .*sun.json: directional-exact$'
+read -r W H MEAN SD NONBG < <("$SSS_PNGSTATS" "$TMP/sun.png")
+awk -v m="$MEAN" -v n="$NONBG" 'BEGIN { exit !(m > 5 && n > 0.1) }' || fail "sun.png is empty (mean $MEAN, lit $NONBG)"
+expect_ok VIEW "$TMP/blob.sss" --scene "$TMP/sun.json" --offscreen --bench 3 --size 64x48
+contains "$TMP/out" '"paths":"directional-exact"'
+# summed on the GPU with the row program only: no shell or environment program
+contains "$TMP/out" '"eval":"gpu","gpu_programs":"rows"'
+# the file has no shells: a scene with a moving point light is refused by path
+expect_fail 'both.json: /lights/1: the file has no data for this moving point light' \
+  VIEW "$TMP/blob.sss" --scene "$TMP/both.json" --offscreen --out "$TMP/x.png"
+expect_ok "$SSS_BAKE" --scene "$TMP/both.json" -o "$TMP" -q
+expect_ok VIEW "$TMP/blob.sss" --scene "$TMP/both.json" --offscreen --out "$TMP/both.png" --size 96x72
+contains "$TMP/err" 'directional-exact + point-shells'
+contains "$TMP/err" 'summed on the gpu (programs: rows + shells)'
+# the CPU sum (--cpu) draws the same image
+expect_ok VIEW "$TMP/blob.sss" --scene "$TMP/both.json" --offscreen --out "$TMP/both_cpu.png" --size 96x72 --cpu
+contains "$TMP/err" 'summed on the cpu'
+cmp -s "$TMP/both.png" "$TMP/both_cpu.png" || fail "GPU and CPU scene sums draw different images"
+# brighter with the second light
+read -r W H MEAN2 SD NONBG < <("$SSS_PNGSTATS" "$TMP/both.png")
+awk -v a="$MEAN" -v b="$MEAN2" 'BEGIN { exit !(b > a) }' || fail "adding a light did not brighten ($MEAN -> $MEAN2)"
+# window mode (when Xvfb and xdotool are there): the scene's lights every
+# frame; a screenshot (P) is lit and the viewer quits on q
+if command -v xvfb-run >/dev/null && command -v xdotool >/dev/null && command -v xauth >/dev/null; then
+  cat > "$TMP/driver.sh" <<'D'
+set -u
+if [ -n "${SSS_VIEW_PRELOAD:-}" ]; then export LD_PRELOAD=$SSS_VIEW_PRELOAD; fi
+"$SSS_VIEW" "$T/blob.sss" --scene "$T/both.json" --size 320x240 --screenshot "$T/win.png" 2>"$T/win.err" &
+pid=$!
+unset LD_PRELOAD
+wid=$(timeout 30 xdotool search --sync --onlyvisible --name '^sss-view' | head -n 1)
+[ -n "$wid" ] || { cat "$T/win.err" >&2; echo "no window" >&2; kill $pid; exit 1; }
+sleep 0.5
+xdotool key h key p
+for i in $(seq 300); do [ -e "$T/win.png" ] && break; sleep 0.05; done
+xdotool key q
+wait $pid
+D
+  T="$TMP" timeout 120 xvfb-run -a -s "-screen 0 640x480x24 -nolisten tcp" env T="$TMP" bash "$TMP/driver.sh" ||
+    fail "window mode with --scene failed: $(cat "$TMP/win.err")"
+  [ -e "$TMP/win.png" ] || fail "no screenshot from the window"
+  read -r W H MEANW SD NONBG < <("$SSS_PNGSTATS" "$TMP/win.png")
+  awk -v m="$MEANW" 'BEGIN { exit !(m > 5) }' || fail "window screenshot is dark (mean $MEANW)"
+fi
+echo "view_scene: ok"
