@@ -1,6 +1,7 @@
 /* decode.c: q(x_v, ω) for an arbitrary light direction from a decoded .sss
  * file (Hao–Varshney 2004 §3.2; interpolation inside the spherical Delaunay
- * triangle of the direction samples, see sss/dirset.h).
+ * triangle of the direction samples, see sss/dirset.h; the paper's own
+ * 4-nearest blend is kept beside it for the accuracy study, issue 5).
  *
  * The per-frame work is one weighted sum of three direction rows, each a
  * contiguous block of nv * channels values (format.h's direction-major
@@ -36,9 +37,49 @@ float sss_decode_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t
  * saves. */
 #define PAR_MIN 65536
 
-static void decode_compressed(const sss_bake_file *f, const double d[3], float *out);
+static void decode_compressed(const sss_bake_file *f, const double d[3], sss_interp interp, float *out);
+
+/* The paper's 4-nearest blend of the stored rows (SSS_INTERP_NEAREST4) for
+ * float and lloyd8 files: per value Σ_k w_k · q_k, the terms formed as the
+ * barycentric path forms them (float products; lloyd8 folded tables). */
+static void decode_nearest4(const sss_bake_file *f, const double d[3], float *out)
+{
+    const size_t ch = f->channels, row = (size_t)f->mesh.nv * ch;
+    uint32_t idx[4];
+    double w[4];
+    sss_dirset_nearest4(&f->dirs, d, idx, w);
+    const ptrdiff_t nrow = (ptrdiff_t)row;
+    if (f->quant == SSS_QUANT_LLOYD8) {
+        float T[4][SSS_MAX_CHANNELS][256];
+        for (size_t t = 0; t < 4; t++)
+            for (size_t k = 0; k < ch; k++)
+                for (int x = 0; x < 256; x++) T[t][k][x] = (float)(w[t] * f->levels[256 * k + (size_t)x]);
+        const uint8_t *r[4];
+        for (int t = 0; t < 4; t++) r[t] = f->qidx + (size_t)idx[t] * row;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (nrow >= PAR_MIN)
+#endif
+        for (ptrdiff_t i = 0; i < nrow; i++) {
+            const size_t k = (size_t)i % ch;
+            out[i] = T[0][k][r[0][i]] + T[1][k][r[1][i]] + T[2][k][r[2][i]] + T[3][k][r[3][i]];
+        }
+        return;
+    }
+    const float *r[4];
+    float fw[4];
+    for (int t = 0; t < 4; t++) r[t] = f->q + (size_t)idx[t] * row, fw[t] = (float)w[t];
+#ifdef _OPENMP
+#pragma omp parallel for simd schedule(static) if (nrow >= PAR_MIN)
+#endif
+    for (ptrdiff_t i = 0; i < nrow; i++) out[i] = fw[0] * r[0][i] + fw[1] * r[1][i] + fw[2] * r[2][i] + fw[3] * r[3][i];
+}
 
 void sss_decode_all(const sss_bake_file *f, const double light[3], float *out)
+{
+    sss_decode_all_interp(f, light, SSS_INTERP_TRIANGLE, out);
+}
+
+void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_interp interp, float *out)
 {
     const size_t ch = f->channels, nv = f->mesh.nv, row = nv * ch;
     double len = sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
@@ -49,7 +90,11 @@ void sss_decode_all(const sss_bake_file *f, const double light[3], float *out)
     }
     const double d[3] = {light[0] / len, light[1] / len, light[2] / len};
     if (f->quant == SSS_QUANT_SH || f->quant == SSS_QUANT_REFS) {
-        decode_compressed(f, d, out);
+        decode_compressed(f, d, interp, out);
+        return;
+    }
+    if (interp == SSS_INTERP_NEAREST4) {
+        decode_nearest4(f, d, out);
         return;
     }
     uint32_t idx[3];
@@ -163,12 +208,28 @@ static float sh_sum(const sss_shcode *s, const float *T, size_t C, size_t k, siz
 
 /* Reference values at d: R[k·C + c] for every reference k (lloyd8
  * interpolation between the three direction rows). */
-static void ref_values(const sss_bake_file *f, const double d[3], float *R)
+static void ref_values(const sss_bake_file *f, const double d[3], sss_interp interp, float *R)
 {
     const sss_refcode *r = &f->ref;
     const size_t C = f->channels, row = (size_t)r->nref * C;
     uint32_t idx[3];
     double w[3];
+    if (interp == SSS_INTERP_NEAREST4) {
+        /* the paper's four nearest rows (§3.2), for the study only */
+        uint32_t i4[4];
+        double w4[4];
+        sss_dirset_nearest4(&f->dirs, d, i4, w4);
+        float T4[4][SSS_MAX_CHANNELS][256];
+        for (size_t t = 0; t < 4; t++)
+            for (size_t k = 0; k < C; k++)
+                for (int x = 0; x < 256; x++) T4[t][k][x] = (float)(w4[t] * r->levels[256 * k + (size_t)x]);
+        for (size_t i = 0; i < row; i++) {
+            const size_t k = i % C;
+            R[i] = T4[0][k][r->idx[i4[0] * row + i]] + T4[1][k][r->idx[i4[1] * row + i]] +
+                   T4[2][k][r->idx[i4[2] * row + i]] + T4[3][k][r->idx[i4[3] * row + i]];
+        }
+        return;
+    }
     sss_dirset_lookup(&f->dirs, d, idx, w);
     const uint8_t *a = r->idx + idx[0] * row, *b = r->idx + idx[1] * row, *c = r->idx + idx[2] * row;
     float T[3][SSS_MAX_CHANNELS][256];
@@ -208,7 +269,7 @@ static void coded_values(const sss_bake_file *f, const float *R, const float *T,
     }
 }
 
-static void decode_compressed(const sss_bake_file *f, const double d[3], float *out)
+static void decode_compressed(const sss_bake_file *f, const double d[3], sss_interp interp, float *out)
 {
     const size_t C = f->channels, nv = f->mesh.nv;
     float *R = NULL, *T = NULL;
@@ -216,7 +277,7 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], float *
     if (f->quant == SSS_QUANT_REFS) {
         const sss_refcode *r = &f->ref;
         if (!(R = malloc(((size_t)r->nref * C + 1) * sizeof *R))) goto oom;
-        ref_values(f, d, R);
+        ref_values(f, d, interp, R);
         for (size_t k = 0; k < r->nref; k++)
             for (size_t c = 0; c < C; c++) out[(size_t)r->ref_vertex[k] * C + c] = R[k * C + c];
         const ptrdiff_t ncod = (ptrdiff_t)f->sh.ncoded;

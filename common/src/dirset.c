@@ -670,3 +670,49 @@ void sss_dirset_free(sss_dirset *s)
     free(s->tri);
     memset(s, 0, sizeof *s);
 }
+
+int sss_dirset_nearest4(const sss_dirset *s, const double d[3], uint32_t idx[4], double w[4])
+{
+    for (int k = 0; k < 4; k++) idx[k] = 0, w[k] = 0.0;
+    w[0] = 1.0;
+    if (!s || s->n == 0 || !s->dir || !d) return 0;
+    double mx = fmax(fabs(d[0]), fmax(fabs(d[1]), fabs(d[2])));
+    if (!(mx > 0.0) || !isfinite(mx) || isnan(d[0]) || isnan(d[1]) || isnan(d[2])) return 0;
+    double dn[3] = {d[0] / mx, d[1] / mx, d[2] / mx};
+    double len = sqrt(dot3(dn, dn));
+    for (int k = 0; k < 3; k++) dn[k] /= len;
+    /* the four largest cosines, kept sorted (ties to the lower index) */
+    double best[4] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    const int m = s->n < 4 ? (int)s->n : 4;
+    for (uint32_t j = 0; j < s->n; j++) {
+        double c = dot3(dn, s->dir + 3 * (size_t)j);
+        if (!(c > best[m - 1])) continue;
+        int k = m - 1;
+        while (k > 0 && c > best[k - 1]) {
+            best[k] = best[k - 1];
+            idx[k] = idx[k - 1];
+            k--;
+        }
+        best[k] = c;
+        idx[k] = j;
+    }
+    /* θ from the chord length (accurate near 0, where acos is not) */
+    double inv[4], sum = 0.0;
+    for (int k = 0; k < m; k++) {
+        const double *v = s->dir + 3 * (size_t)idx[k];
+        double e[3] = {dn[0] - v[0], dn[1] - v[1], dn[2] - v[2]};
+        double theta = 2.0 * asin(fmin(1.0, 0.5 * sqrt(dot3(e, e))));
+        if (theta < 1e-9) {
+            for (int t = 0; t < 4; t++) w[t] = 0.0;
+            w[0] = 1.0;
+            idx[0] = idx[k];
+            for (int t = 1; t < 4; t++) idx[t] = idx[0];
+            return 1;
+        }
+        inv[k] = 1.0 / theta;
+        sum += inv[k];
+    }
+    for (int k = 0; k < 4; k++) w[k] = k < m ? inv[k] / sum : 0.0;
+    for (int k = m; k < 4; k++) idx[k] = idx[0];
+    return m;
+}

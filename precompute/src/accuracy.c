@@ -13,7 +13,7 @@
 
 /* A random unit direction not within 1e-6 rad of a direction sample (at a
  * sample the interpolation error vanishes, which would flatter the file). */
-static void draw_direction(const sss_dirset *s, uint64_t *state, double d[3])
+void sss_accuracy_draw_direction(const sss_dirset *s, uint64_t *state, double d[3])
 {
     for (;;) {
         sss_rng_direction(state, d);
@@ -28,6 +28,12 @@ static void draw_direction(const sss_dirset *s, uint64_t *state, double d[3])
 
 sss_result sss_vertex_error_vs_exact(const sss_bake_file *f, const sss_exact *e, uint32_t ndirs, uint64_t seed,
                                      sss_vertex_error *out, sss_error *err)
+{
+    return sss_vertex_error_vs_exact_interp(f, e, ndirs, seed, SSS_INTERP_TRIANGLE, out, err);
+}
+
+sss_result sss_vertex_error_vs_exact_interp(const sss_bake_file *f, const sss_exact *e, uint32_t ndirs, uint64_t seed,
+                                            sss_interp interp, sss_vertex_error *out, sss_error *err)
 {
     if (out) memset(out, 0, sizeof *out);
     if (!f || !e || !out) return sss_fail(err, SSS_ERR_ARG, "vertex error: NULL argument");
@@ -50,9 +56,9 @@ sss_result sss_vertex_error_vs_exact(const sss_bake_file *f, const sss_exact *e,
     uint64_t state = seed;
     for (uint32_t t = 0; t < ndirs; t++) {
         double d[3];
-        draw_direction(&f->dirs, &state, d);
+        sss_accuracy_draw_direction(&f->dirs, &state, d);
         sss_exact_eval(e, d, x);
-        sss_decode_all(f, d, r);
+        sss_decode_all_interp(f, d, interp, r);
         sss_err_accum_add(&acc, area, r, x, (uint32_t)nv);
     }
     out->channels = (uint32_t)C;

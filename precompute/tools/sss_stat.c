@@ -1,6 +1,8 @@
 /* sss-stat: what a .sss file holds and where its bytes go; with --query,
  * the exact q at one vertex for one light direction next to what the stored
- * data reconstruct there (Hao–Varshney 2004 §3.1 against §3.2 / §4). */
+ * data reconstruct there (Hao–Varshney 2004 §3.1 against §3.2 / §4); with
+ * --error, the per-vertex and the image-space error of the whole file
+ * against the exact evaluator (§3.3's protocol; image_error.h). */
 #include <cjson/cJSON.h>
 #include <ctype.h>
 #include <errno.h>
@@ -10,6 +12,7 @@
 #include <string.h>
 
 #include "cli_util.h"
+#include "image_error.h"
 #include "sss/decode.h"
 #include "sss/accuracy.h"
 #include "sss/exact.h"
@@ -21,7 +24,9 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: sss-stat FILE.sss [--json]\n"
                "       sss-stat FILE.sss --query VERTEX --light X,Y,Z [--json]\n"
-               "       sss-stat FILE.sss --error [--views N] [--seed S] [--json]\n"
+               "       sss-stat FILE.sss --error [--views N] [--seed S] [--json] [--image-views N]\n"
+               "                [--image-size N] [--exposure E] [--error-images DIR] [--no-image]\n"
+               "                [--interp triangle|nearest4]\n"
                "Prints vertex count, channels, directions, storage, material, the bytes of every\n"
                "section, and every part of the scattering data (directions, reference indices,\n"
                "triangles, weights, tables, codes) in total and per vertex, with the compression\n"
@@ -39,6 +44,16 @@ static void usage(FILE *f)
                "random light directions (--views, default 100; --seed, default 1), none on a\n"
                "direction sample: area-weighted RMS, relative RMS and max |difference| per\n"
                "channel and over all channels, with the RMS of q itself for scale.\n"
+               "Then the image-space error of Hao-Varshney 2004 section 3.3: the viewer's renderer\n"
+               "(EGL offscreen; Mesa llvmpipe without a GPU) draws the subsurface term with the exact q\n"
+               "and with the file's q at --image-views random view and light directions (default: the\n"
+               "--views value), --image-size N x N pixels (default 256), clamped to [0,1] at one fixed\n"
+               "--exposure (default: 1 / the 99.9th percentile of the exact q at the six axis lights);\n"
+               "the RMS over the pixels of each image, the maximum (the paper's representative), mean\n"
+               "and median. --error-images DIR writes the worst view's exact, approx and error images\n"
+               "(PNG and EXR). Without OpenGL the image error is reported unavailable (one line) and\n"
+               "the per-vertex error still printed; --no-image skips it. --interp nearest4 uses the\n"
+               "paper's 4-nearest-direction interpolation instead of the stored triangle's (study only).\n"
                "\n"
                "Exit status: 0 success, 1 unreadable or unusable file, 2 bad arguments.\n");
 }
@@ -183,8 +198,21 @@ static int query(const char *path, const sss_bake_file *f, const char *vs, const
 }
 
 /* --error: the file's reconstruction against the exact evaluator. */
-static int error_report(const char *path, const sss_bake_file *f, uint32_t views, uint64_t seed, int json)
+typedef struct error_args {
+    uint32_t views, image_views; /* image_views 0: views */
+    uint64_t seed;
+    int image_size;              /* 0: default */
+    double exposure;             /* 0: automatic */
+    const char *images_dir;
+    int no_image;
+    sss_interp interp;
+} error_args;
+
+static int error_report(const char *path, const sss_bake_file *f, const error_args *a, int json)
 {
+    const uint32_t views = a->views;
+    const uint64_t seed = a->seed;
+
     sss_exact *e;
     sss_error err = {{0}};
     if (sss_exact_create(f, &e, &err) != SSS_OK) {
@@ -192,12 +220,36 @@ static int error_report(const char *path, const sss_bake_file *f, uint32_t views
         return 1;
     }
     sss_vertex_error ve;
-    sss_result r = sss_vertex_error_vs_exact(f, e, views, seed, &ve, &err);
-    sss_exact_destroy(e);
+    sss_result r = sss_vertex_error_vs_exact_interp(f, e, views, seed, a->interp, &ve, &err);
     if (r != SSS_OK) {
+        sss_exact_destroy(e);
         fprintf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
         return 1;
     }
+    /* image-space error (§3.3): unavailable without OpenGL, which is said
+     * in one line; the per-vertex figures are reported either way */
+    sss_image_error ie;
+    memset(&ie, 0, sizeof ie);
+    char image_status[600] = "skipped (--no-image)";
+    int have_image = 0;
+    if (!a->no_image) {
+        sss_image_error_opts io = {a->image_views ? a->image_views : views, seed, a->image_size, a->image_size,
+                                   a->exposure, a->interp, a->images_dir};
+        sss_error ierr = {{0}};
+        r = sss_image_error_measure(f, e, &io, &ie, &ierr);
+        if (r == SSS_OK) {
+            have_image = 1;
+            snprintf(image_status, sizeof image_status, "ok");
+        } else if (r == SSS_ERR_UNSUPPORTED) {
+            snprintf(image_status, sizeof image_status, "unavailable: %s", ierr.msg);
+            fprintf(stderr, "%s: %s: image error unavailable (no OpenGL 4.3 context): %s\n", TOOL, path, ierr.msg);
+        } else {
+            sss_exact_destroy(e);
+            fprintf(stderr, "%s: %s: image error: %s\n", TOOL, path, ierr.msg);
+            return 1;
+        }
+    }
+    sss_exact_destroy(e);
     const uint32_t C = f->channels;
     static const char *const rgb[3] = {"R", "G", "B"};
     if (json) {
@@ -218,6 +270,31 @@ static int error_report(const char *path, const sss_bake_file *f, uint32_t views
         cJSON_AddNumberToObject(v, "rms_all", ve.rms[C]);
         cJSON_AddNumberToObject(v, "rel_rms_all", ve.rel_rms[C]);
         cJSON_AddNumberToObject(v, "max_abs_all", ve.max_abs[C]);
+        cJSON_AddStringToObject(o, "interp", a->interp == SSS_INTERP_NEAREST4 ? "nearest4" : "triangle");
+        cJSON_AddStringToObject(o, "image_error_status", image_status);
+        if (have_image) {
+            cJSON *im = cJSON_AddObjectToObject(o, "image_error");
+            cJSON_AddNumberToObject(im, "views", ie.views);
+            cJSON_AddNumberToObject(im, "width", ie.width);
+            cJSON_AddNumberToObject(im, "height", ie.height);
+            cJSON_AddNumberToObject(im, "exposure", ie.exposure);
+            cJSON_AddNumberToObject(im, "rms_max", ie.rms_max);
+            cJSON_AddNumberToObject(im, "rms_mean", ie.rms_mean);
+            cJSON_AddNumberToObject(im, "rms_median", ie.rms_median);
+            cJSON_AddNumberToObject(im, "rms_max_covered", ie.rms_max_covered);
+            cJSON_AddNumberToObject(im, "coverage_mean", ie.coverage_mean);
+            cJSON *w = cJSON_AddObjectToObject(im, "worst_view");
+            cJSON_AddNumberToObject(w, "index", ie.worst);
+            cJSON_AddItemToObject(w, "light", cJSON_CreateDoubleArray(ie.worst_light, 3));
+            cJSON_AddItemToObject(w, "view", cJSON_CreateDoubleArray(ie.worst_view, 3));
+            if (a->images_dir) {
+                cJSON_AddStringToObject(im, "images_dir", a->images_dir);
+                cJSON_AddNumberToObject(im, "error_map_gain", ie.error_map_gain);
+            }
+            cJSON_AddStringToObject(im, "gl_renderer", ie.gl_renderer);
+        } else {
+            cJSON_AddNullToObject(o, "image_error");
+        }
         char *s = cJSON_PrintUnformatted(o);
         puts(s);
         free(s);
@@ -230,6 +307,16 @@ static int error_report(const char *path, const sss_bake_file *f, uint32_t views
         for (uint32_t c = 0; c <= C; c++)
             printf("  %-8s %12.4g %12.4g %12.4g %12.4g\n", c == C ? "all" : C == 1 ? "grey" : rgb[c], ve.rms[c],
                    ve.rel_rms[c], ve.max_abs[c], ve.rms_exact[c]);
+        if (have_image) {
+            printf("  image RMS (section 3.3) over %u views, %dx%d, exposure %.4g: max %.4g, mean %.4g, median %.4g"
+                   " (worst view %u; over its covered pixels %.4g; %s)\n", ie.views, ie.width, ie.height,
+                   ie.exposure, ie.rms_max, ie.rms_mean, ie.rms_median, ie.worst, ie.rms_max_covered, ie.gl_renderer);
+            if (a->images_dir)
+                printf("  worst view's images in %s: exact, approx, error (x %.4g) as .png and .exr\n", a->images_dir,
+                       ie.error_map_gain);
+        } else {
+            printf("  image RMS: %s\n", image_status);
+        }
     }
     return 0;
 }
@@ -240,6 +327,8 @@ int main(int argc, char **argv)
     int json = 0, want_error = 0;
     uint32_t views = 100;
     uint64_t seed = 1;
+    error_args ea = {0};
+    int image_opt = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--json")) json = 1;
         else if (!strcmp(argv[i], "--query") || !strcmp(argv[i], "--light")) {
@@ -255,6 +344,39 @@ int main(int argc, char **argv)
             if (argv[i][2] == 'v') views = x;
             else seed = x;
             i++;
+        }
+        else if (!strcmp(argv[i], "--image-views") || !strcmp(argv[i], "--image-size")) {
+            uint32_t x;
+            if (i + 1 >= argc) { fprintf(stderr, "%s: %s needs a value (see --help)\n", TOOL, argv[i]); return 2; }
+            int sz = argv[i][8] == 's';
+            if (!cli_parse_u32(TOOL, argv[i], argv[i + 1], sz ? 16 : 1, sz ? 4096 : 100000, &x)) return 2;
+            if (sz) ea.image_size = (int)x;
+            else ea.image_views = x;
+            image_opt = 1;
+            i++;
+        }
+        else if (!strcmp(argv[i], "--exposure")) {
+            if (i + 1 >= argc) { fprintf(stderr, "%s: --exposure needs a value (see --help)\n", TOOL); return 2; }
+            char *end;
+            ea.exposure = strtod(argv[++i], &end);
+            if (end == argv[i] || *end || !isfinite(ea.exposure) || !(ea.exposure > 0.0)) {
+                fprintf(stderr, "%s: --exposure '%s' must be a positive number\n", TOOL, argv[i]);
+                return 2;
+            }
+            image_opt = 1;
+        }
+        else if (!strcmp(argv[i], "--error-images")) {
+            if (i + 1 >= argc || !argv[i + 1][0]) { fprintf(stderr, "%s: --error-images needs a directory (see --help)\n", TOOL); return 2; }
+            ea.images_dir = argv[++i];
+            image_opt = 1;
+        }
+        else if (!strcmp(argv[i], "--no-image")) ea.no_image = 1;
+        else if (!strcmp(argv[i], "--interp")) {
+            if (i + 1 >= argc) { fprintf(stderr, "%s: --interp needs a value (see --help)\n", TOOL); return 2; }
+            i++;
+            if (!strcmp(argv[i], "triangle")) ea.interp = SSS_INTERP_TRIANGLE;
+            else if (!strcmp(argv[i], "nearest4")) ea.interp = SSS_INTERP_NEAREST4;
+            else { fprintf(stderr, "%s: --interp '%s' must be triangle or nearest4\n", TOOL, argv[i]); return 2; }
         }
         else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) { usage(stdout); return 0; }
         else if (argv[i][0] == '-' && argv[i][1]) { fprintf(stderr, "%s: unknown option '%s' (see --help)\n", TOOL, argv[i]); return 2; }
@@ -273,6 +395,16 @@ int main(int argc, char **argv)
         fprintf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
+    if ((image_opt || ea.no_image || ea.interp) && !want_error) {
+        fprintf(stderr, "%s: --image-views, --image-size, --exposure, --error-images, --no-image and --interp go with --error\n", TOOL);
+        sss_file_free(&f);
+        return 2;
+    }
+    if (ea.no_image && image_opt) {
+        fprintf(stderr, "%s: --no-image excludes the image options\n", TOOL);
+        sss_file_free(&f);
+        return 2;
+    }
     if (qvertex && want_error) {
         fprintf(stderr, "%s: --query and --error exclude each other\n", TOOL);
         sss_file_free(&f);
@@ -284,7 +416,9 @@ int main(int argc, char **argv)
         return rc;
     }
     if (want_error) {
-        int rc = error_report(path, &f, views, seed, json);
+        ea.views = views;
+        ea.seed = seed;
+        int rc = error_report(path, &f, &ea, json);
         sss_file_free(&f);
         return rc;
     }

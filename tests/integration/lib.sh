@@ -14,3 +14,11 @@ expect_fail() {
   grep -q -- "$pat" "$TMP/err" || { cat "$TMP/err" >&2; fail "message should match '$pat': $*"; }
 }
 contains() { grep -q -- "$2" "$1" || { cat "$1" >&2; fail "$1 should contain '$2'"; }; }
+# Sanitizer builds: sss-stat --error creates an EGL context, so it runs with
+# Mesa's driver preloaded (SSS_GL_PRELOAD, see tests/CMakeLists.txt);
+# "$SSS_STAT" then names this function.
+if [ -n "${SSS_GL_PRELOAD:-}" ] && [ -n "${SSS_STAT:-}" ]; then
+  SSS_STAT_BIN=$SSS_STAT
+  sss_stat_preloaded() { LD_PRELOAD=$SSS_GL_PRELOAD "$SSS_STAT_BIN" "$@"; }
+  SSS_STAT=sss_stat_preloaded
+fi

@@ -22,6 +22,21 @@ float sss_decode_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t
  * the result is clamped at 0. */
 void sss_decode_all(const sss_bake_file *f, const double light[3], float *out);
 
+/* How q at a light direction is formed from the direction samples. */
+typedef enum sss_interp {
+    SSS_INTERP_TRIANGLE = 0, /* barycentric in the spherical Delaunay triangle (the default; sss/dirset.h) */
+    SSS_INTERP_NEAREST4 = 1  /* the paper's 4 nearest samples, inverse-angle weights (sss_dirset_nearest4) */
+} sss_interp;
+
+/* sss_decode_all with a choice of direction interpolation (issue 5: the
+ * accuracy study compares the two). SSS_INTERP_TRIANGLE is sss_decode_all
+ * to the bit. With SSS_INTERP_NEAREST4 the rows of float and lloyd8 files
+ * and the reference rows of SSS_QUANT_REFS files are blended over the four
+ * nearest samples instead (the SH part, which has no direction samples, is
+ * unchanged). Only the CPU decoder has the NEAREST4 form; the file format
+ * and the viewer stay barycentric. */
+void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_interp interp, float *out);
+
 /* q(x_v, ω) for one vertex into out[0 … channels−1], the same value
  * sss_decode_all writes for it (same arithmetic, same rounding). Any
  * storage form. v out of range, or a zero or non-finite light, gives 0. */

@@ -49,6 +49,18 @@ sss_result sss_dirset_triangulate(sss_dirset *s, sss_error *err);
  * thread-safe. */
 int32_t sss_dirset_lookup(const sss_dirset *s, const double d[3], uint32_t idx[3], double w[3]);
 
+/* The paper's interpolation (Hao–Varshney 2004 §3.2, Fig. 3 and the
+ * Find-Outgoing-Radiance pseudo-code: "find 4 nearest matches q_j ...
+ * interpolate the 4 matched values"), kept for comparison (issue 5): the
+ * four samples nearest to d by angle θ_k and inverse-angle weights
+ * w_k = (1/θ_k) / Σ 1/θ_m (the paper does not give its weights; this is
+ * the plain Shepard choice). d on a sample (θ < 1e−9 rad) gives weight 1
+ * there. Discontinuous where the set of four nearest changes. n < 4 uses
+ * the n samples (the other weights 0, indices repeated). Returns the number
+ * of samples used (0 for a zero or non-finite d: index 0, weight 1). Pure
+ * and thread-safe, O(n). */
+int sss_dirset_nearest4(const sss_dirset *s, const double d[3], uint32_t idx[4], double w[4]);
+
 /* Frees owned arrays and zeroes the struct. NULL-safe. */
 void sss_dirset_free(sss_dirset *s);
 

@@ -4,6 +4,8 @@
 #ifndef SSS_ACCURACY_H
 #define SSS_ACCURACY_H
 #include <stdint.h>
+#include "sss/decode.h"
+#include "sss/dirset.h"
 #include "sss/exact.h"
 #include "sss/format.h"
 #ifdef __cplusplus
@@ -28,6 +30,14 @@ typedef struct sss_vertex_error {
  * SSS_ERR_ARG (NULL, ndirs 0, e not from a file like f), SSS_ERR_NOMEM. */
 sss_result sss_vertex_error_vs_exact(const sss_bake_file *f, const sss_exact *e, uint32_t ndirs, uint64_t seed,
                                      sss_vertex_error *out, sss_error *err);
+
+/* The same with a choice of direction interpolation (sss_decode_all_interp). */
+sss_result sss_vertex_error_vs_exact_interp(const sss_bake_file *f, const sss_exact *e, uint32_t ndirs, uint64_t seed,
+                                            sss_interp interp, sss_vertex_error *out, sss_error *err);
+
+/* The random light directions of both error measures: sss_rng_direction
+ * from *state, redrawn while within 1e-6 rad of a sample of s. */
+void sss_accuracy_draw_direction(const sss_dirset *s, uint64_t *state, double d[3]);
 
 #ifdef __cplusplus
 }

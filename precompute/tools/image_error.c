@@ -1,0 +1,230 @@
+/* image_error.c: image-space error against the exact evaluator
+ * (image_error.h; Hao–Varshney 2004 §3.3, the protocol behind Fig. 5):
+ *
+ *   e_rms = [ 1/(M N) Σ_x Σ_y (f̂(x, y) − f(x, y))² ]^½,  f, f̂ in [0, 1],
+ *
+ * f the image drawn with the exact q, f̂ with the file's reconstruction, per
+ * colour channel as well (the mean over the 3 channels of M·N pixels), for
+ * `views` random view directions, each with its own random light direction;
+ * the maximum over the views is the paper's representative figure.
+ *
+ * Conventions (docs/accuracy.md):
+ *  - the subsurface term alone (L = E q F_t, §3.2): the specular term is
+ *    the same in both images and would only hide error where it clips;
+ *  - clamp tone mapping (the measurement convention of renderer.h), black
+ *    background, every pixel counted (as the paper's formula does);
+ *  - one exposure for every image: given, or automatic = 1 / P99.9, the
+ *    99.9th percentile of the positive exact q over all vertices and
+ *    channels pooled over the six axis light directions, so that the
+ *    brightest 0.1 % of lit values reach 1;
+ *  - light directions never on a direction sample (sss_accuracy_draw_direction).
+ *
+ * The renderer is given a geometry-only view of the file (no direction
+ * rows): q is always supplied per vertex (sss_renderer_upload_q), so the
+ * scattering data need not be uploaded, whatever its size.
+ */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime, mkdir under -std=c11 */
+#include "image_error.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "image_io.h"
+#include "offscreen.h"
+#include "renderer.h"
+#include "sss/accuracy.h"
+#include "sss/random.h"
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Automatic exposure (see the top of this file). */
+static double auto_exposure(const sss_exact *e, size_t n, float *q)
+{
+    static const double axis[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    float *pos = malloc(6 * n * sizeof *pos);
+    if (!pos) return 1.0;
+    size_t m = 0;
+    for (int a = 0; a < 6; a++) {
+        sss_exact_eval(e, axis[a], q);
+        for (size_t i = 0; i < n; i++)
+            if (q[i] > 0.0f && isfinite(q[i])) pos[m++] = q[i];
+    }
+    double s = 0.0;
+    if (m) {
+        qsort(pos, m, sizeof *pos, cmp_float);
+        s = pos[(size_t)floor(0.999 * (double)(m - 1))];
+    }
+    free(pos);
+    return s > 0.0 && isfinite(s) ? 1.0 / s : 1.0;
+}
+
+static sss_result write_pair(const char *dir, const char *name, const float *ldr, const float *hdr, int w, int h,
+                             sss_error *err)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s.png", dir, name);
+    sss_result r = sss_write_png(path, ldr, w, h, err);
+    if (r != SSS_OK) return r;
+    snprintf(path, sizeof path, "%s/%s.exr", dir, name);
+    return sss_write_exr(path, hdr, w, h, err);
+}
+
+sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, const sss_image_error_opts *o,
+                                   sss_image_error *out, sss_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!f || !e || !o) return sss_fail(err, SSS_ERR_ARG, "image error: NULL argument");
+    const double t0 = now_s();
+    const uint32_t views = o->views ? o->views : 100;
+    const int W = o->width > 0 ? o->width : 256, H = o->height > 0 ? o->height : 256;
+    const size_t nv = f->mesh.nv, C = f->channels, npx = (size_t)W * H;
+    if (o->images_dir && mkdir(o->images_dir, 0777) != 0 && errno != EEXIST)
+        return sss_fail(err, SSS_ERR_IO, "%s: cannot create the image directory: %s", o->images_dir, strerror(errno));
+
+    sss_offscreen *ctx = NULL;
+    sss_result res = sss_offscreen_create(&ctx, err);
+    if (res != SSS_OK) return SSS_ERR_UNSUPPORTED;
+    snprintf(out->gl_renderer, sizeof out->gl_renderer, "%s", sss_gl_renderer_name());
+    /* geometry only: q comes from outside (see the top of this file) */
+    sss_bake_file g = *f;
+    g.quant = SSS_QUANT_FLOAT;
+    g.dirs.n = 0;
+    g.q = NULL;
+    sss_renderer *ren = NULL;
+    res = sss_renderer_create(&g, &ren, err);
+    if (res != SSS_OK) {
+        sss_offscreen_destroy(ctx);
+        return res == SSS_ERR_NOMEM ? res : SSS_ERR_UNSUPPORTED;
+    }
+
+    float *qx = malloc(nv * C * sizeof *qx), *qa = malloc(nv * C * sizeof *qa);
+    double *rms = malloc(views * sizeof *rms);
+    float *worst[4] = {NULL, NULL, NULL, NULL}; /* exact ldr, exact hdr, approx ldr, approx hdr */
+    if (!qx || !qa || !rms) {
+        res = sss_fail(err, SSS_ERR_NOMEM, "image error: out of memory for %zu vertices", nv);
+        goto done;
+    }
+    out->exposure = o->exposure > 0.0 ? o->exposure : auto_exposure(e, nv * C, qx);
+    out->views = views;
+    out->width = W;
+    out->height = H;
+
+    sss_view_params p;
+    sss_view_params_default(&p);
+    p.specular = 0;
+    p.exposure = out->exposure;
+    p.tonemap = SSS_TONEMAP_CLAMP;
+    /* a stream of its own, so that the per-vertex measure's directions
+     * (same seed) are not these */
+    uint64_t state = o->seed ^ 0x696d616765657272ull; /* "imageerr" */
+    double cover_sum = 0.0;
+    out->rms_max = -1.0;
+    for (uint32_t v = 0; v < views; v++) {
+        double view[3], light[3];
+        sss_rng_direction(&state, view);
+        sss_accuracy_draw_direction(&f->dirs, &state, light);
+        for (int k = 0; k < 3; k++) p.view[k] = view[k], p.light[k] = light[k];
+        sss_exact_eval(e, light, qx);
+        sss_decode_all_interp(f, light, o->interp, qa);
+        float *ex = NULL, *exh = NULL, *ap = NULL, *aph = NULL;
+        res = sss_renderer_render_q_image(ren, &p, qx, W, H, &ex, &exh, err);
+        if (res == SSS_OK) res = sss_renderer_render_q_image(ren, &p, qa, W, H, &ap, &aph, err);
+        if (res != SSS_OK) {
+            free(ex); free(exh); free(ap); free(aph);
+            goto done;
+        }
+        double s = 0.0, sc = 0.0;
+        size_t covered = 0;
+        for (size_t i = 0; i < npx; i++) {
+            double d2 = 0.0;
+            int cov = 0;
+            for (int c = 0; c < 3; c++) {
+                double d = (double)ap[3 * i + c] - (double)ex[3 * i + c];
+                d2 += d * d;
+                /* covered: a mesh pixel lit in either image (an unlit mesh
+                 * pixel is black like the background and has no error) */
+                cov |= ex[3 * i + c] > 0.0f || ap[3 * i + c] > 0.0f;
+            }
+            s += d2;
+            if (cov) sc += d2, covered++;
+        }
+        rms[v] = sqrt(s / (3.0 * (double)npx));
+        cover_sum += (double)covered / (double)npx;
+        if (rms[v] > out->rms_max) {
+            out->rms_max = rms[v];
+            out->rms_max_covered = covered ? sqrt(sc / (3.0 * (double)covered)) : 0.0;
+            out->worst = v;
+            for (int k = 0; k < 3; k++) out->worst_light[k] = light[k], out->worst_view[k] = view[k];
+            if (o->images_dir) {
+                for (int k = 0; k < 4; k++) free(worst[k]);
+                worst[0] = ex, worst[1] = exh, worst[2] = ap, worst[3] = aph;
+                ex = exh = ap = aph = NULL;
+            }
+        }
+        free(ex); free(exh); free(ap); free(aph);
+    }
+    {
+        double sum = 0.0;
+        for (uint32_t v = 0; v < views; v++) sum += rms[v];
+        out->rms_mean = sum / views;
+        qsort(rms, views, sizeof *rms, cmp_double);
+        out->rms_median = views % 2 ? rms[views / 2] : 0.5 * (rms[views / 2 - 1] + rms[views / 2]);
+        out->coverage_mean = cover_sum / views;
+    }
+    if (o->images_dir && worst[0]) {
+        /* error map: |approx − exact| per channel, scaled so the largest
+         * difference is 1 (the gain is reported); the EXR holds the raw
+         * signed difference approx − exact of the tone-mapped images */
+        float *em = malloc(npx * 3 * sizeof *em), *ed = malloc(npx * 3 * sizeof *ed);
+        if (!em || !ed) {
+            free(em); free(ed);
+            res = sss_fail(err, SSS_ERR_NOMEM, "image error: out of memory for the error map");
+            goto done;
+        }
+        double mx = 0.0;
+        for (size_t i = 0; i < 3 * npx; i++) {
+            ed[i] = worst[2][i] - worst[0][i];
+            mx = fmax(mx, fabs(ed[i]));
+        }
+        out->error_map_gain = mx > 0.0 ? 1.0 / mx : 0.0;
+        for (size_t i = 0; i < 3 * npx; i++) em[i] = (float)(fabs(ed[i]) * out->error_map_gain);
+        res = write_pair(o->images_dir, "exact", worst[0], worst[1], W, H, err);
+        if (res == SSS_OK) res = write_pair(o->images_dir, "approx", worst[2], worst[3], W, H, err);
+        if (res == SSS_OK) res = write_pair(o->images_dir, "error", em, ed, W, H, err);
+        free(em);
+        free(ed);
+        if (res != SSS_OK) goto done;
+    }
+    res = SSS_OK;
+done:
+    for (int k = 0; k < 4; k++) free(worst[k]);
+    free(qx);
+    free(qa);
+    free(rms);
+    sss_renderer_destroy(ren);
+    sss_offscreen_destroy(ctx);
+    out->seconds = now_s() - t0;
+    return res;
+}

@@ -1,0 +1,55 @@
+/* image_error.h: image-space error of a .sss file's reconstruction against
+ * the exact evaluator, following Hao–Varshney 2004 §3.3: images in [0, 1]
+ * at one fixed exposure, ~100 random view and light directions, the RMS
+ * over the pixels of each image, the maximum reported as the
+ * representative (the mean and median too). Both images of a view are
+ * drawn by the viewer's renderer (runtime/src/renderer.h, EGL offscreen)
+ * from per-vertex q supplied from outside: the exact q (sss/exact.h) and
+ * the file's reconstruction (sss_decode_all_interp, bit for bit what the
+ * viewer's GPU path computes for the default interpolation).
+ *
+ * This module belongs to the sss-stat tool, not to libsss_bake: it is the
+ * one place where the precompute side draws with the runtime renderer
+ * (docs/accuracy.md, "Why sss-stat links the renderer").
+ */
+#ifndef SSS_IMAGE_ERROR_H
+#define SSS_IMAGE_ERROR_H
+
+#include <stdint.h>
+#include "sss/decode.h"
+#include "sss/exact.h"
+#include "sss/format.h"
+
+typedef struct sss_image_error_opts {
+    uint32_t views;         /* random (view, light) pairs; 0: 100 */
+    uint64_t seed;          /* the pairs are drawn from this seed (a stream of their own) */
+    int width, height;      /* image size; 0: 256 × 256 */
+    double exposure;        /* fixed for every image; 0: automatic (see image_error.c) */
+    sss_interp interp;      /* direction interpolation of the approximate image */
+    const char *images_dir; /* if set: the worst view's exact, approx and error images go here */
+} sss_image_error_opts;
+
+typedef struct sss_image_error {
+    uint32_t views;
+    int width, height;
+    double exposure;        /* the one used */
+    double rms_max;         /* max over views of the per-image RMS: the paper's representative figure */
+    double rms_mean, rms_median;
+    double rms_max_covered; /* the worst image's RMS over the pixels the mesh covers only */
+    double coverage_mean;   /* mean fraction of pixels covered by the mesh */
+    uint32_t worst;         /* index of the worst view */
+    double worst_light[3], worst_view[3];
+    double error_map_gain;  /* error image = |approx − exact| × gain (the worst difference maps to 1) */
+    char gl_renderer[128];  /* GL_RENDERER of the context used */
+    double seconds;         /* wall time of the measurement */
+} sss_image_error;
+
+/* Measures f against e (built from f). Errors: SSS_ERR_UNSUPPORTED when no
+ * OpenGL ≥ 4.3 context can be had (err says why: callers report the image
+ * error as unavailable and go on), SSS_ERR_IO when an image cannot be
+ * written (err names the path), SSS_ERR_NOMEM, SSS_ERR_ARG. Deterministic
+ * for a given renderer (llvmpipe gives the same images on every run). */
+sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, const sss_image_error_opts *o,
+                                   sss_image_error *out, sss_error *err);
+
+#endif

@@ -1,0 +1,177 @@
+# accuracy_report.sh: plots and docs/accuracy.md from
+# docs/data/accuracy/results.jsonl. Sourced by accuracy_study.sh (which sets
+# DATA, DOC, OUT, FULL, VIEWS); not run on its own. gnuplot for the plots,
+# jq and awk for the tables.
+R="$DATA/results.jsonl"
+P="$OUT/plot"   # gnuplot inputs: scratch, not part of the docs
+mkdir -p "$P"
+q() { jq -r -s "$@" "$R"; }
+# median of the numbers on stdin
+median() { sort -g | awk '{a[NR]=$1} END { if (NR) print (NR % 2 ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])); }'; }
+fmt() { awk -v x="$1" 'BEGIN { if (x == "" || x == "null") print "—"; else printf("%.2e", x) }' | sed 's/e-0/e-/; s/e+0/e+/'; }
+
+# ---- data files for gnuplot
+for m in bunny teapot d23 d100 d437 sphere; do
+  for ip in triangle nearest4; do
+    q --arg m "$m" --arg ip "$ip" 'map(select(.mesh==$m and .study=="dirs" and .interp==$ip)) | sort_by(.directions) | .[] |
+      [.directions, .image.rms_max, .image.rms_mean, .vertex_rel_rms, .bytes_per_vertex, .bake_s.total] | @tsv' > "$P/fig5_${m}_${ip}.dat"
+  done
+done
+for o in 3 6; do
+  q --argjson o "$o" 'map(select(.mesh=="d23" and (.study=="refs") and .sh_order==$o)) | sort_by(.refs) | .[] |
+    [.refs, .image.rms_max, .image.rms_mean, .vertex_rel_rms, .bytes_per_vertex] | @tsv' > "$P/fig9_o$o.dat"
+done
+# Pareto fronts over every d23 configuration (triangle interpolation):
+# points, then the front (sorted by cost, keeping each point that lowers the error)
+q 'map(select(.mesh=="d23" and .interp=="triangle")) | .[] | [.bytes_per_vertex, .bake_s.total, .cpu_scatter_ms, .image.rms_max, .id, .image.rms_mean] | @tsv' > "$P/pareto_d23.dat"
+# front COST-COLUMN ERROR-COLUMN: cost, error, id of each point that lowers the error
+front() { sort -g -k"$1","$1" "$P/pareto_d23.dat" | awk -v c="$1" -v e="$2" -F'\t' 'BEGIN{b=1e30} $e < b { b=$e; print $c "\t" $e "\t" $5 }'; }
+front 1 4 > "$P/front_bytes.dat"; front 2 4 > "$P/front_bake.dat"; front 3 4 > "$P/front_frame.dat"
+front 1 6 > "$P/front_bytes_mean.dat"; front 2 6 > "$P/front_bake_mean.dat"; front 3 6 > "$P/front_frame_mean.dat"
+
+plot() { # name, gnuplot body (after the terminal and output lines)
+  for t in png svg; do
+    if [ $t = png ]; then term="pngcairo size 900,600 font 'Sans,11'"; else term="svg size 900,600 font 'Sans,11'"; fi
+    gnuplot 2>"$P/$1.log" <<GP || echo "accuracy_report: plot $1 ($t) failed (no data yet?): $(tail -1 "$P/$1.log")" >&2
+set terminal $term
+set output "$DATA/$1.$t"
+set grid
+set key top right
+$2
+GP
+  done
+}
+plot fig5_error_vs_directions "
+set logscale xy
+set title 'Image RMS (max over $VIEWS views, as Hao-Varshney 2004 Fig. 5) vs number of light directions'
+set xlabel 'light directions'
+set ylabel 'image RMS error'
+set xtics (25,50,100,200,400,800)
+set xrange [20:1000]
+set key bottom left
+plot '$P/fig5_bunny_triangle.dat' u 1:2 w lp lw 2 t 'bunny, triangle', \
+     '$P/fig5_teapot_triangle.dat' u 1:2 w lp lw 2 t 'teapot, triangle', \
+     '$P/fig5_d23_triangle.dat' u 1:2 w lp lw 2 t 'dragon 23K, triangle', \
+     '$P/fig5_d23_nearest4.dat' u 1:2 w lp dt 2 lw 2 t 'dragon 23K, 4 nearest (paper)', \
+     '$P/fig5_teapot_nearest4.dat' u 1:2 w lp dt 2 lw 2 t 'teapot, 4 nearest (paper)', \
+     '$P/fig5_d100_triangle.dat' u 1:2 w lp lw 2 t 'dragon 100K (lloyd8), triangle', \
+     '$P/fig5_sphere_triangle.dat' u 1:2 w lp lw 2 lc rgb 'black' t 'sphere (no self-shadowing), triangle', \
+     '$P/fig5_sphere_nearest4.dat' u 1:2 w lp dt 2 lw 2 lc rgb 'gray40' t 'sphere, 4 nearest (paper)', \
+     3e-3 w l lc rgb 'red' dt 3 t 'paper: 3e-3 at 200 directions'"
+plot fig5_mean_vs_directions "
+set logscale xy
+set title 'Image RMS (mean over $VIEWS views) and per-vertex relative RMS vs light directions'
+set xlabel 'light directions'
+set ylabel 'error'
+set xtics (25,50,100,200,400,800)
+plot '$P/fig5_bunny_triangle.dat' u 1:3 w lp lw 2 t 'bunny, image mean', \
+     '$P/fig5_teapot_triangle.dat' u 1:3 w lp lw 2 t 'teapot, image mean', \
+     '$P/fig5_d23_triangle.dat' u 1:3 w lp lw 2 t 'dragon 23K, image mean', \
+     '$P/fig5_d23_triangle.dat' u 1:4 w lp dt 2 lw 2 t 'dragon 23K, per-vertex rel. RMS', \
+     '$P/fig5_d23_nearest4.dat' u 1:3 w lp dt 3 lw 2 t 'dragon 23K, image mean, 4 nearest', \
+     '$P/fig5_sphere_triangle.dat' u 1:3 w lp lw 2 lc rgb 'black' t 'sphere, image mean', \
+     '$P/fig5_sphere_triangle.dat' u 1:4 w lp dt 2 lw 2 lc rgb 'black' t 'sphere, per-vertex rel. RMS'"
+F200MAX=$(q 'map(select(.id=="d23_dirs200_float" and .interp=="triangle")) | .[0].image.rms_max // 0')
+F200MEAN=$(q 'map(select(.id=="d23_dirs200_float" and .interp=="triangle")) | .[0].image.rms_mean // 0')
+plot fig9_error_vs_references "
+set logscale xy
+set title 'Image RMS vs number of reference points (Hao-Varshney 2004 Fig. 9), dragon 23K, 200 directions'
+set xlabel 'reference points'
+set ylabel 'image RMS error'
+set xrange [80:6000]
+set key outside bottom center horizontal maxrows 3
+plot '$P/fig9_o3.dat' u 1:2 w lp lw 2 t '9 coefficients (order 3), max', \
+     '$P/fig9_o6.dat' u 1:2 w lp lw 2 t '36 coefficients (order 6), max', \
+     '$P/fig9_o3.dat' u 1:3 w lp dt 2 lw 2 t '9 coefficients, mean', \
+     '$P/fig9_o6.dat' u 1:3 w lp dt 2 lw 2 t '36 coefficients, mean', \
+     $F200MAX w l lc rgb 'black' dt 3 t 'uncompressed float, max', \
+     $F200MEAN w l lc rgb 'gray40' dt 4 t 'uncompressed float, mean'"
+plot pareto_error_bytes "
+set logscale xy
+set title 'Error vs storage, dragon 23K: every configuration and the Pareto front'
+set xlabel 'scattering bytes per vertex (everything counted)'
+set ylabel 'image RMS'
+plot '$P/pareto_d23.dat' u 1:4 w p pt 7 ps 0.8 t 'max over views', '$P/front_bytes.dat' u 1:2 w steps lw 2 t 'front (max)', \\
+     '$P/pareto_d23.dat' u 1:6 w p pt 6 ps 0.8 t 'mean over views', '$P/front_bytes_mean.dat' u 1:2 w steps lw 2 dt 2 t 'front (mean)'"
+plot pareto_error_bake_time "
+set logscale xy
+set title 'Error vs bake time, dragon 23K (2 shared cores)'
+set xlabel 'bake seconds (total)'
+set ylabel 'image RMS'
+plot '$P/pareto_d23.dat' u 2:4 w p pt 7 ps 0.8 t 'max over views', '$P/front_bake.dat' u 1:2 w steps lw 2 t 'front (max)', \\
+     '$P/pareto_d23.dat' u 2:6 w p pt 6 ps 0.8 t 'mean over views', '$P/front_bake_mean.dat' u 1:2 w steps lw 2 dt 2 t 'front (mean)'"
+plot pareto_error_frame_time "
+set logscale xy
+set title 'Error vs per-frame evaluation time (CPU decode, median of 10), dragon 23K'
+set xlabel 'CPU scatter ms per frame'
+set ylabel 'image RMS'
+plot '$P/pareto_d23.dat' u 3:4 w p pt 7 ps 0.8 t 'max over views', '$P/front_frame.dat' u 1:2 w steps lw 2 t 'front (max)', \\
+     '$P/pareto_d23.dat' u 3:6 w p pt 6 ps 0.8 t 'mean over views', '$P/front_frame_mean.dat' u 1:2 w steps lw 2 dt 2 t 'front (mean)'"
+
+# ---- tables
+row() { awk -F'\t' -v OFS=' | ' "$@"; }
+table_dirs() {
+  echo "| mesh | directions | interpolation | image RMS max | image RMS mean | per-vertex rel. RMS | bytes/vertex | bake s |"
+  echo "|---|---|---|---|---|---|---|---|"
+  q 'map(select(.study=="dirs")) | sort_by(.mesh, .directions, .interp) | .[] |
+     [.mesh, .vertices, .directions, .interp, .quant, .image.rms_max, .image.rms_mean, .vertex_rel_rms, .bytes_per_vertex, .bake_s.total] | @tsv' |
+  awk -F'\t' '{printf("| %s (%s v) | %d | %s | %.2e | %.2e | %.3f | %.0f (%s) | %.1f |\n", $1, $2, $3, $4, $6, $7, $8, $9, $5, $10)}'
+}
+table_generic() { # jq select expression
+  echo "| configuration | bytes/vertex | image RMS max | image RMS mean | per-vertex rel. RMS | bake s (compress s) | peak RSS MiB | CPU decode ms | GPU path ms |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+  q "map(select($1)) | .[] | [.id, .bytes_per_vertex, .image.rms_max, .image.rms_mean, .vertex_rel_rms, .bake_s.total, (.bake_s.compress // 0), .peak_rss_mib, .cpu_scatter_ms, .gpu_scatter_ms] | @tsv" |
+  awk -F'\t' '{printf("| %s | %.2f | %.2e | %.2e | %.3f | %.1f (%.1f) | %.0f | %.2f | %.2f |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9, $10)}'
+}
+table_one() {
+  echo "| model | vertices | triangles | refs | B/vertex paper preset | ratio vs 8-bit | B/vertex compact | fps CPU path (paper preset) | fps GPU path (llvmpipe) | paper: refs | paper: B/vertex | paper: ratio | paper: fps |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  for m in bunny teapot d23 d100 d437; do
+    q --arg m "$m" '(map(select(.mesh==$m and .id==($m+"_paper"))) | .[0]) as $p | (map(select(.mesh==$m and .id==($m+"_compact"))) | .[0]) as $c |
+       if $p then [$m, $p.vertices, $p.triangles, $p.refs, $p.bytes_per_vertex, $p.ratio_vs_8bit, ($c.bytes_per_vertex // 0), $p.cpu_fps, $p.gpu_fps] | @tsv else empty end' |
+    awk -F'\t' '{printf("| %s | %s | %s | %s | %.1f | %.1f | %.1f | %.1f | %.1f | | | | |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9)}'
+  done
+  echo "| *paper:* Horse | 14,521 | 29,054 | | | | | | | 1,034 | 27 | 7.4 | 79.1 |"
+  echo "| *paper:* Teapot | 150,510 | 292,168 | | | | | | | 5,176 | 20 | 10.0 | 8.6 |"
+  echo "| *paper:* Dragon | 437,645 | 871,414 | | | | | | | 10,285 | 18 | 11.1 | 2.7 |"
+}
+# cheapest configuration of a mesh (triangle interpolation) whose image RMS
+# (max over views) is at most T, by storage and by bake time
+choose() { # mesh target key [criterion: rms_max (default) | rms_mean]
+  q --arg m "$1" --argjson t "$2" --arg k "$3" --arg c "${4:-rms_max}" 'map(select(.mesh==$m and .interp=="triangle" and .image[$c] <= $t)) |
+     (if $k=="bytes" then sort_by(.bytes_per_vertex) else sort_by(.bake_s.total) end) | .[0] //empty |
+     [.id, .bytes_per_vertex, .bake_s.total, .cpu_scatter_ms, .image[$c], .bake_args] | @tsv' |
+  awk -F'\t' '{printf("`%s`: %.1f B/vertex, bake %.1f s, CPU decode %.2f ms, RMS %.2e", $6, $2, $3, $4, $5)}'
+}
+best() { # mesh [criterion]: the lowest error measured
+  q --arg m "$1" --arg c "${2:-rms_max}" 'map(select(.mesh==$m and .interp=="triangle")) | sort_by(.image[$c]) | .[0] |
+     [.id, .image[$c], .bytes_per_vertex] | @tsv' | awk -F'\t' '{printf("none; lowest %.2e (%s, %.0f B/vertex)", $2, $1, $3)}'
+}
+table_choose() { # criterion
+  echo "| mesh | target | cheapest in bytes | cheapest in bake time |"
+  echo "|---|---|---|---|"
+  for m in d23 d100 bunny teapot sphere; do for t in 1e-2 3e-3 1e-3; do
+    b=$(choose $m $t bytes "$1"); k=$(choose $m $t bake "$1")
+    echo "| $m | $t | ${b:-$(best $m "$1")} | ${k:-—} |"
+  done; done
+}
+get() { q --arg id "$1" --arg ip "${3:-triangle}" "map(select(.id==\$id and .interp==\$ip)) | .[0] | $2 // empty"; }
+
+# least-squares exponent b of err ∝ N^b over the directions sweep (column c of fig5 data)
+slope() { awk -v c="$2" '$c > 0 { x=log($1); y=log($c); n++; sx+=x; sy+=y; sxx+=x*x; sxy+=x*y }
+  END { if (n >= 3) printf("%.2f", (n*sxy - sx*sy) / (n*sxx - sx*sx)); else printf("—") }' "$P/fig5_$1.dat"; }
+table_slopes() {
+  echo "| mesh | interpolation | image RMS max ∝ N^b | image RMS mean ∝ N^b | per-vertex rel. RMS ∝ N^b |"
+  echo "|---|---|---|---|---|"
+  for m in bunny teapot d23 d100 sphere; do for ip in triangle nearest4; do
+    [ -s "$P/fig5_${m}_${ip}.dat" ] || continue
+    echo "| $m | $ip | $(slope ${m}_$ip 2) | $(slope ${m}_$ip 3) | $(slope ${m}_$ip 4) |"
+  done; done
+}
+GL=$(q '.[0].gl_renderer // "unknown"')
+CPU=$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')
+NOW=$(date -u +%Y-%m-%d)
+REV=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+N_CFG=$(q 'length')
+
+. "$(dirname "${BASH_SOURCE[0]}")/accuracy_doc.sh" > "$DOC"
