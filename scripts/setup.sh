@@ -8,7 +8,9 @@ PKGS=(build-essential cmake pkg-config git ca-certificates
       libopenmesh-dev libflann-dev liblz4-dev libembree-dev
       libcjson-dev libcmocka-dev libpng-dev libcgal-dev
       libglfw3-dev libepoxy-dev libegl-dev libgl-dev libopenexr-dev libgl1-mesa-dri libegl-mesa0
-      xvfb xauth xdotool clang libomp-dev)
+      xvfb xauth xdotool clang libomp-dev
+      libopenblas-dev openmpi-bin libopenmpi-dev  # issue 8: sgemm blocks, mpirun -np K sss-bake
+      gnuplot-nox jq)  # gnuplot-nox, jq: tests/bench/accuracy_study.sh (plots, JSON fields)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

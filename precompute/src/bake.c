@@ -13,7 +13,9 @@
 #include <omp.h>
 #endif
 
+#include "bake_gather.h"
 #include "progress.h"
+#include "thickness.h"
 
 volatile int sss_bake_interrupted;
 
@@ -87,9 +89,14 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
              "\"channels\":%u,\"quant\":\"%s\",\"radius_mm\":[%.9g,%.9g,%.9g],\"search_radius_mm\":%.9g,"
              "\"normalisation\":\"q = sum F_t(eta,n_i.w) (1/pi) R_d(r) max(0,n_i.w) V dA; self term (1/pi) disk integral\","
              "\"visibility\":\"embree occlusion rays, origin offset 1e-5 of bbox diagonal along the normal\"}",
-             SSS_FORMAT_MAJOR, SSS_FORMAT_MINOR, esc, m->name, m->sigma_a[0], m->sigma_a[1], m->sigma_a[2],
+             SSS_FORMAT_MAJOR, SSS_FORMAT_MINOR_PLAIN, esc, m->name, m->sigma_a[0], m->sigma_a[1], m->sigma_a[2],
              m->sigmap_s[0], m->sigmap_s[1], m->sigmap_s[2], m->eta, o->mm_per_unit, o->n_dirs, o->eps, channels,
              o->quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float", radius[0], radius[1], radius[2], search);
+    if (o->gather == SSS_GATHER_TREE) { /* issue 8: which gather made q (the direct bake's text is unchanged) */
+        const size_t L = strlen(buf);
+        if (L > 0 && L + 64 < sizeof buf)
+            snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"gather\":\"tree\",\"theta\":%.17g}", o->theta);
+    }
     char *s = malloc(strlen(buf) + 1);
     if (s) strcpy(s, buf);
     return s;
@@ -176,12 +183,28 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
         st.longest_edge_mm = longest * o.mm_per_unit;
         free(coarse);
     }
+    /* Thin parts (docs/robustness.md B8): where the object is thinner than
+     * the range 1/σtr, the semi-infinite dipole counts the light gathered
+     * through the part twice (a 4 mm slab with σa = 0 gives 1.7x the
+     * incident light). The model stays (Hao–Varshney 2004 §3.1); the count
+     * makes the tool warn. */
+    st.thin_limit_mm = st.range_mm;
+    r = sss_thin_count(mesh, st.range_mm / o.mm_per_unit, &st.thin_vertices, &st.thinnest_mm, err);
+    if (r != SSS_OK) goto fail;
+    st.thinnest_mm *= o.mm_per_unit;
 
     /* Say so before starting when the bake cannot fit in memory: the
      * transfer table G and the integrals are sized by the input; the
      * neighbourhood rows are counted before they are allocated. */
     uint64_t avail = memory_available();
     uint64_t fixed = (uint64_t)mesh->nv * o.n_dirs * (4u + 4u * C + (o.quant == SSS_QUANT_LLOYD8 ? C : 0u));
+    st.gather = o.gather = sss_bake_choose_gather(&o, mesh->nv);
+    st.theta = o.theta = o.theta > 0 ? o.theta : SSS_GATHER_THETA_DEFAULT;
+    if (st.gather == SSS_GATHER_TREE) {
+        r = sss_bake_tree(mesh, mat, &o, dip, C, avail, fixed, out, &st, err);
+        if (r != SSS_OK) goto fail;
+        goto quantise;
+    }
     if (avail && fixed > avail) {
         r = sss_fail(err, SSS_ERR_NOMEM, "the bake needs at least %.2f GiB for %u vertices x %u directions but %.2f GiB "
                      "is available (estimate before starting; SSS_MEMORY_LIMIT_MB lowers the limit): use fewer --dirs", fixed / 1073741824.0, mesh->nv, o.n_dirs, avail / 1073741824.0);
@@ -226,8 +249,17 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     st.t_integrals = sss_now() - t;
     free(G);
     G = NULL;
+    if (st.t_integrals > 0) st.gather_gflops = 2.0 * (double)st.neighbours_total * o.n_dirs * C / st.t_integrals * 1e-9;
+    st.predicted_peak_bytes = fixed + st.neighbours_total * (4u + 4u * C);
     sss_nbhd_free(&nb);
     if (sss_bake_interrupted) { r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals"); goto fail; }
+
+quantise:
+    nq = (size_t)o.n_dirs * mesh->nv * C;
+    if (o.nranks > 1 && o.rank != 0) { /* under MPI only rank 0 has q and writes the file */
+        if (st_out) *st_out = st;
+        return SSS_OK;
+    }
 
     if (o.quant == SSS_QUANT_LLOYD8) {
         t = sss_now();

@@ -9,10 +9,12 @@
 #include <string.h>
 #include <time.h>
 
+#include "bake_mpi.h"
 #include "cli_util.h"
 #include "sss/bake.h"
 #include "sss/compress.h"
 #include "sss/import.h"
+#include "scene_cli.h"
 
 static const char *TOOL = "sss-bake";
 
@@ -20,6 +22,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
         "usage: sss-bake MESH -o OUT.sss [options]\n"
+        "       sss-bake --scene SCENE.json (--plan [--json] | -o DIR)   (docs/scenes.md)\n"
         "Bakes per-vertex subsurface-scattering integrals q(x, w_j) for a set of light\n"
         "directions (Hao & Varshney 2004) into OUT.sss.\n\n"
         "  MESH                 .ply (ascii/binary), .obj, .off or .stl\n"
@@ -46,6 +49,12 @@ static void usage(FILE *f)
         "  --weight-bits B      8 or 16 bits per stored weight (default 16)\n"
         "  --ls-weights         least-squares weights instead of barycentrics\n"
         "  --illum-refs W       illumination-aware references, feature weight W > 0\n"
+        "  --gather direct|tree how the integrals are summed: every neighbour, or far sources\n"
+        "                       through an octree of flux moments and the near ones as dense\n"
+        "                       sgemm blocks (default tree; docs/benchmarks.md)\n"
+        "  --theta T            tree opening threshold in (0, 1): smaller is more accurate (default 0.4)\n"
+        "  --scene S.json       bake the effects a scene calls for: one DIR/NAME.sss per object\n"
+        "  --plan               with --scene: print the effect set and the reason for each decision\n"
         "  --threads T          worker threads (default: all cores); output does not depend on it\n"
         "  --json               print one JSON object with statistics on stdout\n"
         "  -q, --quiet          no progress bar or summary on stderr\n"
@@ -69,7 +78,8 @@ int main(int argc, char **argv)
 {
     const char *in = NULL, *outp = NULL, *preset = NULL;
     double sa[3], ss[3], eta = 1.3;
-    int have_sa = 0, have_ss = 0, have_eta = 0, json = 0, quiet = 0;
+    int have_sa = 0, have_ss = 0, have_eta = 0, json = 0, quiet = 0, plan_only = 0;
+    const char *scene = NULL;
     sss_bake_options opt;
     memset(&opt, 0, sizeof opt);
     sss_compress_opts co;
@@ -124,13 +134,34 @@ int main(int argc, char **argv)
         }
         else if (!strcmp(a, "--ls-weights")) { co.ls_weights = 1; compress = 1; set_ls = 1; }
         else if (!strcmp(a, "--illum-refs")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-9, 1e9, &co.illum_weight)) return 2; compress = 1; set_illum = 1; }
+        else if (!strcmp(a, "--gather")) {
+            NEED();
+            if (!strcmp(v, "direct")) opt.gather = SSS_GATHER_DIRECT;
+            else if (!strcmp(v, "tree")) opt.gather = SSS_GATHER_TREE;
+            else { fprintf(stderr, "%s: --gather: '%s' must be direct or tree\n", TOOL, v); return 2; }
+        }
+        else if (!strcmp(a, "--theta")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-3, 0.95, &opt.theta)) return 2; }
         else if (!strcmp(a, "--threads")) { uint32_t t; NEED(); if (!cli_parse_u32(TOOL, a, v, 1, 1024, &t)) return 2; opt.threads = (int)t; }
+        else if (!strcmp(a, "--scene")) { NEED(); scene = v; }
+        else if (!strcmp(a, "--plan")) plan_only = 1;
         else if (!strcmp(a, "--json")) json = 1;
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
         else if (a[0] == '-' && a[1]) { fprintf(stderr, "%s: unknown option '%s' (see --help)\n", TOOL, a); return 2; }
         else if (!in) in = a;
         else { fprintf(stderr, "%s: unexpected argument '%s' (one MESH only)\n", TOOL, a); return 2; }
 #undef NEED
+    }
+    if (plan_only && !scene) {
+        fprintf(stderr, "%s: --plan needs --scene S.json\n", TOOL);
+        return 2;
+    }
+    if (scene) {
+        if (in) {
+            fprintf(stderr, "%s: --scene and a MESH argument exclude each other (the scene names the meshes)\n", TOOL);
+            return 2;
+        }
+        opt.progress = 0;
+        return scene_main(TOOL, scene, outp, plan_only, json, quiet, &opt);
     }
     if (compress && have_quant) {
         fprintf(stderr, "%s: --quant and the compression options (--sh-order, --refs, ...) exclude each other\n",
@@ -172,6 +203,15 @@ int main(int argc, char **argv)
         return 2;
     }
     opt.progress = !quiet;
+    /* under mpirun: split the receivers, rank 0 alone speaks and writes */
+    int mpi_rank = 0, mpi_n = 1;
+    sss_mpi_start(&argc, &argv, &mpi_rank, &mpi_n);
+    if (mpi_n > 1) {
+        opt.rank = mpi_rank;
+        opt.nranks = mpi_n;
+        opt.comm = sss_mpi_comm();
+        if (mpi_rank != 0) { opt.progress = 0; quiet = 1; json = 0; }
+    }
     signal(SIGINT, on_sigint);
     signal(SIGTERM, on_sigint);
 
@@ -183,10 +223,11 @@ int main(int argc, char **argv)
         return 1;
     }
     double t_import = now_s() - t0;
-    if (!quiet) {
+    {
         char prefix[600];
         snprintf(prefix, sizeof prefix, "%s: %s", TOOL, in);
-        sss_import_print_repairs(&rep, prefix, stderr);
+        if (!quiet) sss_import_print_repairs(&rep, prefix, stderr);
+        sss_import_print_warnings(&rep, prefix, stderr); /* also with -q, like the bake's warnings */
     }
 
     sss_bake_file f;
@@ -194,7 +235,31 @@ int main(int argc, char **argv)
     if (sss_bake(&mesh, cli_basename(in), &mat, &opt, &f, &st, &err) != SSS_OK) {
         fprintf(stderr, "%s: %s: %s\n", TOOL, in, err.msg);
         sss_mesh_free(&mesh);
+        sss_mpi_abort(sss_bake_interrupted ? 130 : 1); /* the other ranks wait in a collective */
         return sss_bake_interrupted ? 130 : 1;
+    }
+    if (mpi_n > 1 && mpi_rank != 0) { /* its part went to rank 0 */
+        sss_file_free(&f);
+        sss_mesh_free(&mesh);
+        sss_mpi_stop();
+        return 0;
+    }
+    if (rep.recentred && f.params_json) {
+        /* provenance (docs/robustness.md B6): GEOM holds the recentred
+         * positions; the file's own coordinates are these plus the offset */
+        cJSON *pj = cJSON_Parse(f.params_json);
+        if (pj) {
+            cJSON_AddItemToObject(pj, "import_offset", cJSON_CreateDoubleArray(rep.offset, 3));
+            char *txt = cJSON_PrintUnformatted(pj);
+            char *copy = txt ? malloc(strlen(txt) + 1) : NULL;
+            if (copy) {
+                memcpy(copy, txt, strlen(txt) + 1);
+                free(f.params_json);
+                f.params_json = copy;
+            }
+            free(txt);
+            cJSON_Delete(pj);
+        }
     }
     double t_compress = 0.0;
     if (compress && compact) {
@@ -258,7 +323,7 @@ int main(int argc, char **argv)
     if (fp) { fseek(fp, 0, SEEK_END); fsize = ftell(fp); fclose(fp); }
     const uint32_t nv = f.mesh.nv, C = f.channels, N = f.dirs.n;
     double q_bytes = sss_file_integral_bytes_per_vertex(&f);
-    double total = t_import + st.t_neighbourhoods + st.t_visibility + st.t_integrals + st.t_quantise + t_compress +
+    double total = t_import + st.t_neighbourhoods + st.t_tree + st.t_visibility + st.t_integrals + st.t_quantise + t_compress +
                    t_write;
     if (!quiet)
         fprintf(stderr,
@@ -271,6 +336,16 @@ int main(int argc, char **argv)
                 st.radius_mm[1], st.radius_mm[2], st.neighbours_mean, st.neighbours_max, (unsigned long long)st.rays,
                 100.0 * st.occluded_fraction, "", t_import, st.t_neighbourhoods, st.t_visibility, st.t_integrals,
                 st.t_quantise, t_compress, t_write, outp, fsize, (double)fsize / nv, q_bytes);
+    if (st.thin_vertices)
+        fprintf(stderr, "%s: %s: warning: %u vertices lie on parts thinner than the scattering length 1/sigma_tr = %.3g mm "
+                "(thinnest %.3g mm): the semi-infinite dipole counts light gathered through them twice, so q there comes "
+                "out too large (docs/robustness.md B8)\n", TOOL, in, st.thin_vertices, st.thin_limit_mm, st.thinnest_mm);
+    if (!quiet)
+        fprintf(stderr, "  gather %s%s: tree %.3fs, %.1f GFLOP/s%s; memory predicted %.0f MiB, peak RSS %.0f MiB%s\n",
+                st.gather == SSS_GATHER_TREE ? "tree" : "direct",
+                st.gather == SSS_GATHER_TREE ? "" : " (every neighbour)", st.t_tree, st.gather_gflops,
+                st.gather == SSS_GATHER_TREE ? " in sgemm" : " multiply-adds x 2", st.predicted_peak_bytes / 1048576.0,
+                cli_peak_rss_mib(), mpi_n > 1 ? " (rank 0)" : "");
     if (st.coarse_vertices)
         fprintf(stderr, "%s: %s: warning: %u vertices have an edge longer than %.3g mm, twice the scattering length "
                 "1/sigma_tr = %.3g mm (longest edge %.3g mm): the per-vertex sum does not resolve the profile there "
@@ -307,8 +382,19 @@ int main(int argc, char **argv)
         cJSON_AddNumberToObject(rp, "faces_repeated_index", (double)rep.faces_repeated_index);
         cJSON_AddNumberToObject(rp, "faces_zero_area", (double)rep.faces_zero_area);
         cJSON_AddNumberToObject(rp, "vertices_unreferenced", (double)rep.vertices_unreferenced);
+        cJSON_AddNumberToObject(rp, "polygons_ear_clipped", (double)rep.polygons_ear_clipped);
+        cJSON_AddNumberToObject(rp, "polygons_unclipped", (double)rep.polygons_unclipped);
+        cJSON_AddNumberToObject(rp, "faces_duplicate", (double)rep.faces_duplicate);
+        cJSON_AddNumberToObject(rp, "faces_flipped", (double)rep.faces_flipped);
+        cJSON_AddNumberToObject(rp, "surfaces_inside_out", (double)rep.surfaces_inside_out);
+        cJSON_AddNumberToObject(rp, "open_faces_flipped", (double)rep.open_faces_flipped);
+        cJSON_AddNumberToObject(rp, "orientation_conflicts", (double)rep.orientation_conflicts);
+        cJSON_AddNumberToObject(rp, "recentred", (double)rep.recentred);
+        if (rep.recentred) cJSON_AddItemToObject(rp, "offset", cJSON_CreateDoubleArray(rep.offset, 3));
         cJSON_AddItemToObject(o, "radius_mm", cJSON_CreateDoubleArray(st.radius_mm, 3));
         cJSON_AddNumberToObject(o, "coarse_vertices", st.coarse_vertices);
+        cJSON_AddNumberToObject(o, "thin_vertices", st.thin_vertices);
+        if (isfinite(st.thinnest_mm)) cJSON_AddNumberToObject(o, "thinnest_mm", st.thinnest_mm);
         cJSON_AddNumberToObject(o, "longest_edge_mm", st.longest_edge_mm);
         cJSON_AddNumberToObject(o, "scattering_length_mm", st.range_mm);
         cJSON_AddNumberToObject(o, "neighbours_mean", st.neighbours_mean);
@@ -325,6 +411,20 @@ int main(int argc, char **argv)
         cJSON_AddNumberToObject(tm, "write", t_write);
         cJSON_AddNumberToObject(tm, "total", total);
         cJSON_AddNumberToObject(o, "peak_rss_mib", cli_peak_rss_mib());
+        /* issue 8: the gather, its sgemm rate and the memory predicted before starting */
+        cJSON_AddStringToObject(o, "gather", st.gather == SSS_GATHER_TREE ? "tree" : "direct");
+        if (st.gather == SSS_GATHER_TREE) {
+            cJSON_AddNumberToObject(o, "theta", st.theta);
+            cJSON_AddNumberToObject(o, "tree_nodes", st.tree_nodes);
+            cJSON_AddNumberToObject(o, "tree_blocks", st.tree_blocks);
+            cJSON_AddNumberToObject(o, "rows_per_block", st.rows_mean);
+            cJSON_AddNumberToObject(o, "far_nodes_per_vertex", st.far_pairs / (double)nv);
+            cJSON_AddNumberToObject(o, "sgemm_fraction", st.sgemm_fraction);
+            cJSON_AddNumberToObject(tm, "tree", st.t_tree);
+        }
+        cJSON_AddNumberToObject(o, "gather_gflops", st.gather_gflops);
+        cJSON_AddNumberToObject(o, "predicted_peak_mib", st.predicted_peak_bytes / 1048576.0);
+        cJSON_AddNumberToObject(o, "mpi_ranks", mpi_n);
         cJSON_AddNumberToObject(o, "file_bytes", (double)fsize);
         cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)fsize / nv);
         cJSON_AddNumberToObject(o, "integral_bytes_per_vertex", q_bytes);
@@ -339,5 +439,6 @@ int main(int argc, char **argv)
     }
     sss_file_free(&f);
     sss_mesh_free(&mesh);
+    sss_mpi_stop();
     return 0;
 }

@@ -54,6 +54,7 @@ typedef struct app {
     sss_text *text;
     const sss_bake_file *f;
     const sss_app_options *opt;
+    const char *scene_desc; /* the GPU scene sum's line for the overlay, or NULL */
     sss_view_params p, initial;
     drag_mode drag;
     int drag_button;
@@ -346,13 +347,15 @@ static void draw_overlay(app *a, int fw, int fh)
              "material %.31s  eta %.3f\n"
              "exposure %.3g  intensity %.3g  tonemap %s\n"
              "light (%.2f, %.2f, %.2f)\n"
+             "%s%.100s%s"
              "%s%s\n"
              "H: help/overlay  P: screenshot",
              base, fw, fh, a->frame_ms > 0 ? 1e3 / a->frame_ms : 0.0, a->frame_ms, a->scatter_ms,
              a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU", a->draw_ms, f->mesh.nv, f->channels, f->dirs.n,
              sss_renderer_bytes_per_vertex(a->r), storage,
              f->material.name, f->material.eta, a->p.exposure, a->p.light_rgb[0],
-             a->p.tonemap == SSS_TONEMAP_REINHARD ? "reinhard" : "clamp", l[0], l[1], l[2], terms,
+             a->p.tonemap == SSS_TONEMAP_REINHARD ? "reinhard" : "clamp", l[0], l[1], l[2],
+             a->scene_desc ? "scene: " : "", a->scene_desc ? a->scene_desc : "", a->scene_desc ? "\n" : "", terms,
              a->p.wireframe ? "  wireframe" : "");
     int lines = 1;
     for (const char *c = buf; *c; c++) lines += *c == '\n';
@@ -462,6 +465,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
     glfwSetCursorPosCallback(win, on_cursor);
     glfwSetScrollCallback(win, on_scroll);
     glfwGetCursorPos(win, &a.mx, &a.my);
+    float *scene_q = opt->frame_q ? malloc((size_t)f->mesh.nv * f->channels * sizeof(float) + 1) : NULL;
 
     while (!glfwWindowShouldClose(win)) {
         int fw, fh;
@@ -485,7 +489,14 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
             a.draw_ms = smooth(a.draw_ms, ft.draw_ms, a.frames == 1);
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        sss_renderer_evaluate(a.r, &a.p);
+        if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, a.r, t)) != NULL) {
+            /* the scene's lights summed on the GPU, straight into q */
+        } else if (scene_q) {
+            opt->frame_q(opt->user, t, scene_q);
+            sss_renderer_upload_q(a.r, scene_q);
+        } else {
+            sss_renderer_evaluate(a.r, &a.p);
+        }
         sss_renderer_draw(a.r, &a.p, fw, fh);
         if (a.overlay) draw_overlay(&a, fw, fh);
         if (a.want_shot) {
@@ -497,6 +508,8 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
         glfwPollEvents();
     }
 
+    free(scene_q);
+    if (opt->frame_gpu) opt->frame_gpu(opt->user, NULL, 0.0);
     sss_text_destroy(a.text);
     sss_renderer_destroy(a.r);
     glfwDestroyWindow(win);

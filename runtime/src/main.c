@@ -10,9 +10,11 @@
 #include <time.h>
 
 #include "app.h"
+#include "fx_gpu.h"
 #include "image_io.h"
 #include "offscreen.h"
 #include "renderer.h"
+#include "scene_view.h"
 #include "sss/format.h"
 
 static const char *TOOL = "sss-view";
@@ -35,11 +37,13 @@ static void usage(FILE *f)
         "  --exposure E         radiance multiplier before tone mapping (default 1)\n"
         "  --intensity I        light irradiance E (default 1)\n"
         "  --tonemap clamp|reinhard   (default clamp: values in [0,1], the measurement convention)\n"
-        "  --cpu                evaluate on the CPU (C decoder) instead of the GPU\n"
+        "  --cpu                evaluate on the CPU (C decoder; with --scene, the CPU sum of the lights)\n"
         "  --no-scatter, --no-specular   drop one of the two terms\n"
         "  --wireframe          draw edges over the surface\n"
         "  --screenshot FILE    where the P key saves a PNG (window mode)\n"
         "  --bench N            offscreen: time N frames and print JSON timings on stdout\n"
+        "  --scene S.json       the scene's lights (summed, each from the effect the file records)\n"
+        "                       and camera instead of --light/--view (docs/scenes.md)\n"
         "  -h, --help           this text\n\n"
         "window controls:\n%s",
         sss_app_controls_help);
@@ -143,9 +147,176 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
     free(frame);
 }
 
+/* --scene: the scene's lights summed from the file's effects, on the GPU
+ * (fx_gpu.c: only the programs the file's sections need) or, with --cpu or
+ * when the GPU path cannot be built, on the CPU (scene_view.c), then drawn
+ * with the shading program; --bench times the evaluation of every light
+ * and the draw. */
+static int scene_offscreen(const sss_bake_file *f, const char *path, const char *scene_path, sss_view_params *p,
+                           const char *out, int w, int h, int nbench)
+{
+    sss_error err = {{0}};
+    sss_scene sc;
+    if (sss_scene_load(scene_path, &sc, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 2;
+    }
+    sss_scene_eval *ev = NULL;
+    if (sss_scene_eval_create(f, &sc, &ev, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_scene_free(&sc);
+        return 2;
+    }
+    sss_scene_camera_params(&sc, f, p);
+    for (int k = 0; k < 3; k++) p->light_rgb[k] = 1.0; /* folded into q */
+    sss_offscreen *ctx = NULL;
+    sss_renderer *r = NULL;
+    float *q = malloc((size_t)f->mesh.nv * f->channels * sizeof(float));
+    int rc = 1;
+    if (!q) { fprintf(stderr, "%s: out of memory\n", TOOL); goto done; }
+    if (sss_offscreen_create(&ctx, &err) != SSS_OK || sss_renderer_create(f, &r, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
+        goto done;
+    }
+    rc = 0;
+    sss_fx_gpu *g = NULL;
+    if (p->path != SSS_EVAL_CPU && sss_fx_gpu_create(f, ev, r, &g, &err) != SSS_OK)
+        fprintf(stderr, "%s: %s: the scene's lights are summed on the CPU (%s)\n", TOOL, path, err.msg);
+    char evals[96];
+    snprintf(evals, sizeof evals, g ? "gpu (programs: %s)" : "cpu%s", g ? sss_fx_gpu_describe(g) : "");
+    if (nbench) {
+        double *ev_ms = malloc(sizeof(double) * (size_t)nbench), *draw = malloc(sizeof(double) * (size_t)nbench),
+               *frame = malloc(sizeof(double) * (size_t)nbench);
+        float *rgb, *hdr;
+        sss_scene_eval_frame(ev, 0.0, q);
+        if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) == SSS_OK) { free(rgb); free(hdr); }
+        sss_renderer_bind_offscreen(r, w, h, &err);
+        for (int i = 0; ev_ms && draw && frame && i < nbench; i++) {
+            glFinish();
+            double t0 = now_ms();
+            if (g) {
+                sss_fx_gpu_frame(g, 0.05 * i);
+            } else {
+                sss_scene_eval_frame(ev, 0.05 * i, q);
+                sss_renderer_upload_q(r, q);
+            }
+            glFinish();
+            double t1 = now_ms();
+            sss_renderer_draw(r, p, w, h);
+            glFinish();
+            double t2 = now_ms();
+            ev_ms[i] = t1 - t0;
+            draw[i] = t2 - t1;
+            frame[i] = t2 - t0;
+        }
+        if (ev_ms && draw && frame)
+            printf("{\"vertices\":%u,\"channels\":%u,\"paths\":\"%s\",\"eval\":\"%s\",\"gpu_programs\":\"%s\","
+                   "\"renderer\":\"%s\",\"frames\":%d,\"width\":%d,"
+                   "\"height\":%d,\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,\"frame_ms_median\":%.4f,"
+                   "\"bytes_per_vertex\":%.3f}\n", f->mesh.nv, f->channels, sss_scene_eval_paths(ev),
+                   g ? "gpu" : "cpu", g ? sss_fx_gpu_describe(g) : "none", sss_gl_renderer_name(), nbench, w, h, median(ev_ms, nbench), median(draw, nbench),
+                   median(frame, nbench), sss_file_integral_bytes_per_vertex(f));
+        free(ev_ms);
+        free(draw);
+        free(frame);
+    }
+    if (out) {
+        float *rgb, *hdr;
+        if (g) {
+            /* the GPU sum, read back so that the one image path draws it */
+            sss_fx_gpu_frame(g, 0.0);
+            sss_renderer_read_q(r, q);
+        } else {
+            sss_scene_eval_frame(ev, 0.0, q);
+        }
+        if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) != SSS_OK ||
+            sss_write_image(out, rgb, hdr, w, h, &err) != SSS_OK) {
+            fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+            rc = 1;
+        } else {
+            fprintf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, out, w, h,
+                    sss_gl_renderer_name(), evals, scene_path, sss_scene_eval_paths(ev));
+            free(rgb);
+            free(hdr);
+        }
+    }
+    sss_fx_gpu_destroy(g);
+done:
+    free(q);
+    sss_renderer_destroy(r);
+    sss_offscreen_destroy(ctx);
+    sss_scene_eval_destroy(ev);
+    sss_scene_free(&sc);
+    return rc;
+}
+
+/* --scene in the window: the scene's lights every frame (moving ones turn
+ * about +z at 0.3 rad/s), the scene's camera as the start view; summed on
+ * the GPU (built on the first frame, in the window's context) unless --cpu
+ * or the GPU path cannot be built. */
+typedef struct scene_win {
+    const sss_bake_file *f;
+    sss_scene_eval *ev;
+    sss_fx_gpu *g;
+    int cpu;
+    char desc[192];
+} scene_win;
+
+static void scene_frame(void *user, double t, float *q) { sss_scene_eval_frame(((scene_win *)user)->ev, 0.3 * t, q); }
+
+static const char *scene_frame_gpu(void *user, sss_renderer *r, double t)
+{
+    scene_win *s = user;
+    if (!r) {
+        sss_fx_gpu_destroy(s->g);
+        s->g = NULL;
+        return NULL;
+    }
+    if (s->cpu) return NULL;
+    if (!s->g) {
+        sss_error err = {{0}};
+        if (sss_fx_gpu_create(s->f, s->ev, r, &s->g, &err) != SSS_OK) {
+            fprintf(stderr, "%s: the scene's lights are summed on the CPU (%s)\n", TOOL, err.msg);
+            s->cpu = 1;
+            return NULL;
+        }
+        snprintf(s->desc, sizeof s->desc, "%s on the GPU (programs: %s)", sss_scene_eval_paths(s->ev),
+                 sss_fx_gpu_describe(s->g));
+        fprintf(stderr, "%s: scene lights: %s\n", TOOL, s->desc);
+    }
+    sss_fx_gpu_frame(s->g, 0.3 * t);
+    return s->desc;
+}
+
+static int scene_window(const sss_bake_file *f, const char *path, const char *scene_path, sss_view_params *p, int w,
+                        int h, const char *shot)
+{
+    sss_error err = {{0}};
+    sss_scene sc;
+    if (sss_scene_load(scene_path, &sc, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 2;
+    }
+    sss_scene_eval *ev = NULL;
+    if (sss_scene_eval_create(f, &sc, &ev, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_scene_free(&sc);
+        return 2;
+    }
+    sss_scene_camera_params(&sc, f, p);
+    for (int k = 0; k < 3; k++) p->light_rgb[k] = 1.0; /* folded into q */
+    p->background[0] = p->background[1] = p->background[2] = 0.02f;
+    scene_win sw = {f, ev, NULL, p->path == SSS_EVAL_CPU, ""};
+    sss_app_options ao = {path, w, h, shot, scene_frame, &sw, scene_frame_gpu};
+    int rc = sss_app_run(f, p, &ao);
+    sss_scene_eval_destroy(ev);
+    sss_scene_free(&sc);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
-    const char *path = NULL, *out = NULL, *shot = NULL;
+    const char *path = NULL, *out = NULL, *shot = NULL, *scene_path = NULL;
     int offscreen = 0, w = 800, h = 600, nbench = 0;
     double intensity = 1.0;
     sss_view_params p;
@@ -177,6 +348,7 @@ int main(int argc, char **argv)
             else { fprintf(stderr, "%s: --tonemap: '%s' must be clamp or reinhard\n", TOOL, v); return 2; }
         }
         else if (!strcmp(a, "--cpu")) p.path = SSS_EVAL_CPU;
+        else if (!strcmp(a, "--scene")) { NEED(); scene_path = v; }
         else if (!strcmp(a, "--no-scatter")) p.scatter = 0;
         else if (!strcmp(a, "--no-specular")) p.specular = 0;
         else if (!strcmp(a, "--wireframe")) p.wireframe = 1;
@@ -202,8 +374,18 @@ int main(int argc, char **argv)
         fprintf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
+    if (scene_path && !offscreen) {
+        int rc = scene_window(&f, path, scene_path, &p, w, h, shot);
+        sss_file_free(&f);
+        return rc;
+    }
+    if (scene_path) {
+        int rc = scene_offscreen(&f, path, scene_path, &p, out, w, h, nbench);
+        sss_file_free(&f);
+        return rc;
+    }
     if (!offscreen) {
-        sss_app_options ao = {path, w, h, shot};
+        sss_app_options ao = {path, w, h, shot, NULL, NULL, NULL};
         p.background[0] = p.background[1] = p.background[2] = 0.02f;
         int rc = sss_app_run(&f, &p, &ao);
         sss_file_free(&f);

@@ -161,7 +161,12 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
     /* Programs: the row interpolation (float, lloyd8, and pass 1 of the
      * reference form), the coded-vertex pass (compressed forms), shading. */
     int ok = 1;
-    if (!sh) {
+    /* A scene bake without the direction-set effect (format 1.2,
+     * docs/scenes.md) has no rows to interpolate: only the shading program
+     * is built, and the per-vertex values come from the effect evaluation
+     * (sss_renderer_upload_q, runtime/src/scene_view.c). */
+    const int no_set = f->fx.mask && !(f->fx.mask & SSS_FX_DIR_SET);
+    if (!sh && !no_set) {
         GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, refs ? "#define LLOYD8 1\n#define REFS 1\n" : l8 ? "#define LLOYD8 1\n" : "",
                                    sss_glsl_scatter_cs, err);
         ok = cs && (r->prog_cs = sss_gl_link(cs, 0, err)) != 0;
@@ -218,7 +223,7 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
 
     /* Direction rows, each padded to the SSBO offset alignment: the
      * vertices' rows (float, lloyd8) or the references' (§4.2). */
-    if (!sh) {
+    if (!sh && !no_set) {
         GLint align = 16;
         glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
         if (align < 4) align = 4;
@@ -548,6 +553,8 @@ sss_frame_times sss_renderer_times(const sss_renderer *r)
     return t;
 }
 
+unsigned sss_renderer_q_buffer(const sss_renderer *r) { return r->qbuf; }
+
 double sss_renderer_bytes_per_vertex(const sss_renderer *r) { return sss_file_integral_bytes_per_vertex(r->f); }
 
 void sss_storage_describe(const sss_bake_file *f, char *buf, size_t n)
@@ -600,8 +607,34 @@ sss_result sss_renderer_bind_offscreen(sss_renderer *r, int width, int height, s
     return SSS_OK;
 }
 
+void sss_renderer_upload_q(sss_renderer *r, const float *q)
+{
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->qbuf);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)r->nv * r->C * sizeof(float), q);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+static sss_result render_image(sss_renderer *r, const sss_view_params *p, const float *q, int width, int height,
+                               float **rgb, float **hdr, sss_error *err);
+
 sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, int width, int height, float **rgb,
                                      float **hdr, sss_error *err)
+{
+    return render_image(r, p, NULL, width, height, rgb, hdr, err);
+}
+
+sss_result sss_renderer_render_q_image(sss_renderer *r, const sss_view_params *p, const float *q, int width,
+                                       int height, float **rgb, float **hdr, sss_error *err)
+{
+    if (!q) return sss_fail(err, SSS_ERR_ARG, "render: no per-vertex values given");
+    return render_image(r, p, q, width, height, rgb, hdr, err);
+}
+
+/* One offscreen frame: q from the renderer's own evaluation (q NULL) or
+ * supplied per vertex. */
+static sss_result render_image(sss_renderer *r, const sss_view_params *p, const float *q, int width, int height,
+                               float **rgb, float **hdr, sss_error *err)
 {
     *rgb = NULL;
     if (hdr) *hdr = NULL;
@@ -619,7 +652,8 @@ sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, 
         return sss_fail(err, SSS_ERR_NOMEM, "out of memory for a %dx%d image", width, height);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
-    sss_renderer_evaluate(r, p);
+    if (q) sss_renderer_upload_q(r, q);
+    else sss_renderer_evaluate(r, p);
     sss_renderer_draw(r, p, width, height);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, px);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -85,9 +85,25 @@ sss_frame_times sss_renderer_times(const sss_renderer *r);
 sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, int width, int height, float **rgb,
                                      float **hdr, sss_error *err);
 
+/* Replaces the per-vertex q buffer with q[v * channels + c] (nv × channels
+ * floats, the layout sss_decode_all writes): values computed elsewhere (the
+ * exact evaluator, another interpolation) are then drawn exactly as the
+ * viewer draws its own (sss-stat --error's image error, issue 5). */
+void sss_renderer_upload_q(sss_renderer *r, const float *q);
+
+/* sss_renderer_render_image with the per-vertex q supplied (uploaded with
+ * sss_renderer_upload_q) instead of evaluated from the file. */
+sss_result sss_renderer_render_q_image(sss_renderer *r, const sss_view_params *p, const float *q, int width,
+                                       int height, float **rgb, float **hdr, sss_error *err);
+
 /* Creates (or resizes) the internal float framebuffer and binds it, so that
  * sss_renderer_draw renders linear radiance × exposure into it. */
 sss_result sss_renderer_bind_offscreen(sss_renderer *r, int width, int height, sss_error *err);
+
+/* The GL name of the per-vertex q buffer (nv·channels floats, SSBO
+ * binding 3 of the draw), for evaluators that write it on the GPU
+ * (fx_gpu.c: the scene's lights). */
+unsigned sss_renderer_q_buffer(const sss_renderer *r);
 
 /* Bytes per vertex of the scattering data as stored in the file (for the overlay). */
 double sss_renderer_bytes_per_vertex(const sss_renderer *r);

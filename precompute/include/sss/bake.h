@@ -27,7 +27,32 @@ typedef struct sss_bake_options {
     sss_quant quant;     /* SSS_QUANT_FLOAT (default) or SSS_QUANT_LLOYD8 */
     int threads;         /* OpenMP threads (default: OpenMP's own) */
     int progress;        /* non-zero: progress bar with ETA on stderr when it is a terminal */
+    /* Integrals (issue 8, sss/gather.h): SSS_GATHER_DIRECT sums every
+     * neighbour (nbhd.c + sss_integrate); SSS_GATHER_TREE takes far sources
+     * through an octree of flux moments and the rest as dense sgemm blocks.
+     * SSS_GATHER_AUTO (0, default): the tree (measured: docs/benchmarks.md). */
+    int gather;
+    double theta;        /* tree opening threshold (default SSS_GATHER_THETA_DEFAULT) */
+    /* MPI (sss-bake under mpirun): this process is rank `rank` of `nranks`
+     * (0/0: alone); the tree gather splits its receiver blocks across ranks
+     * and `exchange` (set by the tool) moves the pieces; rank 0 gets all. */
+    int rank, nranks;
+    const struct sss_bake_comm *comm;
 } sss_bake_options;
+
+enum { SSS_GATHER_AUTO = 0, SSS_GATHER_DIRECT = 1, SSS_GATHER_TREE = 2 };
+
+/* Collective operations the bake needs under MPI, supplied by the tool (so
+ * that libsss_bake does not link MPI). */
+typedef struct sss_bake_comm {
+    /* every rank passes its part [my_off, my_off + my_len) of buf (bytes);
+     * afterwards every rank holds all of buf (parts in rank order) */
+    int (*allgather)(void *buf, const uint64_t *offs, const uint64_t *lens, void *ctx);
+    /* every rank sends its part (lens[rank] bytes); rank 0 receives all of
+     * them into full (parts at offs[r]; full is NULL on the other ranks) */
+    int (*gather0)(const void *part, void *full, const uint64_t *offs, const uint64_t *lens, void *ctx);
+    void *ctx;
+} sss_bake_comm;
 
 /* What a bake measured (seconds are wall-clock). */
 typedef struct sss_bake_stats {
@@ -49,6 +74,23 @@ typedef struct sss_bake_stats {
     uint32_t coarse_vertices;
     double longest_edge_mm;              /* the longest edge of the mesh */
     double range_mm;                     /* 1/σtr of that channel (∞ for σa = 0 is reported as the radius) */
+    /* Vertices whose thickness (from the vertex along −n to the next
+     * surface) is below thin_limit_mm = range_mm: the semi-infinite dipole
+     * counts light through such parts twice (docs/robustness.md B8). The
+     * tool warns with this count. */
+    uint32_t thin_vertices;
+    double thin_limit_mm;
+    double thinnest_mm;                  /* smallest thickness found (∞: no ray hit) */
+    /* Issue 8: the gather used, its measurements and the memory. */
+    int gather;                          /* SSS_GATHER_DIRECT or SSS_GATHER_TREE */
+    double theta;
+    double t_tree;                       /* tree build (Morton order, nodes, moments) */
+    double gather_gflops;                /* sgemm GFLOP/s (tree) or multiply-adds × 2 / s (direct) */
+    double sgemm_fraction;               /* share of the integrals' thread time spent in sgemm */
+    double rows_mean;                    /* tree: dense rows per receiver block */
+    uint32_t tree_nodes, tree_blocks;
+    uint64_t near_pairs, far_pairs;      /* tree: receiver × near source, receiver × far node */
+    uint64_t predicted_peak_bytes;       /* estimate made before starting */
 } sss_bake_stats;
 
 /* Scattering neighbourhoods N(x_o) in compressed-row form with the per-channel
@@ -81,6 +123,15 @@ sss_result sss_vis_create(const sss_mesh *mesh, sss_vis **out, sss_error *err);
 void sss_vis_destroy(sss_vis *vis);
 /* Is vertex v's light from direction d (unit, towards the light) blocked? */
 int sss_vis_occluded(const sss_vis *vis, uint32_t v, const double d[3]);
+/* Visibility for a scene (docs/scenes.md): rays start at mesh's vertices
+ * (offset as above, from mesh's own diagonal) and are tested against mesh
+ * itself when self != 0 and against the nocc occluder meshes (same world
+ * units). sss_vis_create(m) is sss_vis_create_scene(m, 1, NULL, 0). */
+sss_result sss_vis_create_scene(const sss_mesh *mesh, int self, const sss_mesh *const *occ, uint32_t nocc,
+                                sss_vis **out, sss_error *err);
+/* The same test with the ray ending at distance tfar (mesh units): a point
+ * light's shadow ends at the light. */
+int sss_vis_occluded_upto(const sss_vis *vis, uint32_t v, const double d[3], double tfar);
 
 /* Per-vertex light transport towards each direction, independent of x_o:
  * G[i * n + j] = F_t(η, n_i·ω_j) · max(0, n_i·ω_j) · V(x_i, ω_j)
