@@ -17,5 +17,5 @@ ctest --test-dir build-asan --output-on-failure -j2
 echo "== bounded fuzz runs (libFuzzer, ASan + UBSan) ==" >&2
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSS_SANITIZE=ON -DSSS_FUZZ=ON \
   -DSSS_FUZZ_SECONDS="${SSS_FUZZ_SECONDS:-60}" >/dev/null
-cmake --build build-fuzz -j"$(nproc)" --target fuzz_sss fuzz_mesh
+cmake --build build-fuzz -j"$(nproc)" --target fuzz_sss fuzz_mesh fuzz_scene
 ctest --test-dir build-fuzz --output-on-failure -L fuzz
