@@ -33,8 +33,14 @@
 #endif
 
 #define MORTON_BITS 21
-/* fewest sources in a far node */
-#define SSS_GATHER_FAR_MIN 48
+/* Fewest sources in a far node. A far node costs 10 moment rows of the
+ * block product, a near one a row per source. 48 before; 32 lets full
+ * leaves be far and cut the rows per block from 3,400 to 2,900 on the 437K
+ * dragon. 10 (where far rows start to cost less than near columns) cut them
+ * to 2,400 but moved test_exact's blob 1e-3 of its largest q away from the
+ * direct sum (that test holds the bake to 1e-5); 32 keeps it at 7e-7
+ * (docs/benchmarks.md "Bake at scale"). */
+#define SSS_GATHER_FAR_MIN 32
 
 static uint64_t spread3(uint64_t x)
 {
@@ -423,6 +429,10 @@ int sss_gather_lists(const sss_gather_tree *t, uint32_t b, double radius_mm, sss
          * than as 10 moment rows, and summing it exactly keeps the far
          * field out of the range where R_d is largest. */
         if (gap > n->rho_max && n->r < theta * (dist - rb->r) && n->hi - n->lo >= SSS_GATHER_FAR_MIN) {
+            /* a far node counts only where its centroid is within the
+             * cutoff (sss_gather_far_weights): beyond it for every
+             * receiver of the block, its 10 rows would be zero columns */
+            if (dist - rb->r > R) continue;
             if (!push(&l->far, &l->nfar, &l->cap_far, id)) return 0;
         } else if (!n->nchild) {
             if (!push(&l->near, &l->nnear, &l->cap_near, id)) return 0;
