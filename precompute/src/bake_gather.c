@@ -30,30 +30,6 @@ int sss_bake_choose_gather(const sss_bake_options *o, uint32_t nv)
     return SSS_GATHER_TREE;
 }
 
-/* Rows [v0, v1) of G (the part of sss_transfer_compute one rank does). */
-static sss_result transfer_rows(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
-                                uint32_t v0, uint32_t v1, float *G, uint64_t *rays_out, uint64_t *occ_out,
-                                sss_error *err)
-{
-    uint64_t rays = 0, occ = 0;
-    int stop = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : rays, occ)
-    for (int64_t i = v0; i < (int64_t)v1; i++) {
-        if (stop) continue;
-        if (sss_bake_interrupted) { stop = 1; continue; }
-        for (uint32_t j = 0; j < n; j++) {
-            int traced, blocked;
-            G[(size_t)i * n + j] = sss_transfer_one(mesh, vis, (uint32_t)i, &dirs[3 * (size_t)j], eta, &traced, &blocked);
-            rays += (uint64_t)traced;
-            occ += (uint64_t)blocked;
-        }
-        sss_progress_tick(1);
-    }
-    if (stop) return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during visibility");
-    *rays_out = rays;
-    *occ_out = occ;
-    return SSS_OK;
-}
 
 sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
                          const sss_dipole *dip, uint32_t C, uint64_t avail, uint64_t fixed, sss_bake_file *out,
@@ -109,7 +85,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
         const uint32_t v0 = (uint32_t)((uint64_t)nv * rank / nranks), v1 = (uint32_t)((uint64_t)nv * (rank + 1) / nranks);
         uint64_t occ = 0;
         sss_progress_begin("visibility", v1 - v0);
-        r = transfer_rows(mesh, vis, out->dirs.dir, D, mat->eta, v0, v1, G, &st->rays, &occ, err);
+        r = sss_transfer_rows(mesh, vis, out->dirs.dir, D, mat->eta, v0, v1, G, &st->rays, &occ, err);
         sss_progress_end();
         sss_vis_destroy(vis);
         vis = NULL;

@@ -27,14 +27,14 @@ float sss_transfer_one(const sss_mesh *mesh, const sss_vis *vis, uint32_t i, con
     return g;
 }
 
-sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
-                                float *G, uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
+sss_result sss_transfer_rows(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
+                             uint32_t v0, uint32_t v1, float *G, uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
 {
     if (!mesh->nrm) return sss_fail(err, SSS_ERR_ARG, "transfer: mesh has no normals");
     uint64_t rays = 0, occ = 0;
     int stop = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : rays, occ)
-    for (int64_t i = 0; i < (int64_t)mesh->nv; i++) {
+    for (int64_t i = v0; i < (int64_t)v1; i++) {
         if (stop) continue;
         if (sss_bake_interrupted) { stop = 1; continue; }
         for (uint32_t j = 0; j < n; j++) {
@@ -49,6 +49,12 @@ sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const 
     if (rays_out) *rays_out = rays;
     if (occ_out) *occ_out = occ;
     return SSS_OK;
+}
+
+sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
+                                float *G, uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
+{
+    return sss_transfer_rows(mesh, vis, dirs, n, eta, 0, mesh->nv, G, rays_out, occ_out, err);
 }
 
 void sss_integrate(const sss_nbhd *nb, const float *G, uint32_t n, float *q)

@@ -147,6 +147,26 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
     free(frame);
 }
 
+/* Loads the scene, prepares its light sum for file f and takes its camera;
+ * the lights' colours are folded into q. Non-zero (message printed) on failure. */
+static int scene_open(const sss_bake_file *f, const char *scene_path, sss_view_params *p, sss_scene *sc,
+                      sss_scene_eval **ev)
+{
+    sss_error err = {{0}};
+    if (sss_scene_load(scene_path, sc, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    if (sss_scene_eval_create(f, sc, ev, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_scene_free(sc);
+        return 1;
+    }
+    sss_scene_camera_params(sc, f, p);
+    for (int k = 0; k < 3; k++) p->light_rgb[k] = 1.0;
+    return 0;
+}
+
 /* --scene: the scene's lights summed from the file's effects, on the GPU
  * (fx_gpu.c: only the programs the file's sections need) or, with --cpu or
  * when the GPU path cannot be built, on the CPU (scene_view.c), then drawn
@@ -157,18 +177,8 @@ static int scene_offscreen(const sss_bake_file *f, const char *path, const char 
 {
     sss_error err = {{0}};
     sss_scene sc;
-    if (sss_scene_load(scene_path, &sc, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-        return 2;
-    }
     sss_scene_eval *ev = NULL;
-    if (sss_scene_eval_create(f, &sc, &ev, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-        sss_scene_free(&sc);
-        return 2;
-    }
-    sss_scene_camera_params(&sc, f, p);
-    for (int k = 0; k < 3; k++) p->light_rgb[k] = 1.0; /* folded into q */
+    if (scene_open(f, scene_path, p, &sc, &ev) != 0) return 2;
     sss_offscreen *ctx = NULL;
     sss_renderer *r = NULL;
     float *q = malloc((size_t)f->mesh.nv * f->channels * sizeof(float));
@@ -291,20 +301,9 @@ static const char *scene_frame_gpu(void *user, sss_renderer *r, double t)
 static int scene_window(const sss_bake_file *f, const char *path, const char *scene_path, sss_view_params *p, int w,
                         int h, const char *shot)
 {
-    sss_error err = {{0}};
     sss_scene sc;
-    if (sss_scene_load(scene_path, &sc, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-        return 2;
-    }
     sss_scene_eval *ev = NULL;
-    if (sss_scene_eval_create(f, &sc, &ev, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-        sss_scene_free(&sc);
-        return 2;
-    }
-    sss_scene_camera_params(&sc, f, p);
-    for (int k = 0; k < 3; k++) p->light_rgb[k] = 1.0; /* folded into q */
+    if (scene_open(f, scene_path, p, &sc, &ev) != 0) return 2;
     p->background[0] = p->background[1] = p->background[2] = 0.02f;
     scene_win sw = {f, ev, NULL, p->path == SSS_EVAL_CPU, ""};
     sss_app_options ao = {path, w, h, shot, scene_frame, &sw, scene_frame_gpu};
