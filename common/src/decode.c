@@ -39,32 +39,46 @@ float sss_decode_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t
 
 static void decode_compressed(const sss_bake_file *f, const double d[3], sss_interp interp, float *out);
 
+/* The paper's 4-nearest blend of lloyd8 rows of `row` codes each (rows j at
+ * codes + j·row, channel i mod ch): out[i] = Σ_t w_t · levels_k[code_t[i]],
+ * the weights folded into the level tables as the barycentric path does.
+ * Shared by lloyd8 files and the reference values of refs files. */
+static void nearest4_lloyd8(const sss_dirset *ds, const double d[3], const float *levels, const uint8_t *codes,
+                            size_t row, size_t ch, float *out)
+{
+    uint32_t idx[4];
+    double w[4];
+    sss_dirset_nearest4(ds, d, idx, w);
+    float T[4][SSS_MAX_CHANNELS][256];
+    for (size_t t = 0; t < 4; t++)
+        for (size_t k = 0; k < ch; k++)
+            for (int x = 0; x < 256; x++) T[t][k][x] = (float)(w[t] * levels[256 * k + (size_t)x]);
+    const uint8_t *r[4];
+    for (int t = 0; t < 4; t++) r[t] = codes + (size_t)idx[t] * row;
+    const ptrdiff_t nrow = (ptrdiff_t)row;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (nrow >= PAR_MIN)
+#endif
+    for (ptrdiff_t i = 0; i < nrow; i++) {
+        const size_t k = (size_t)i % ch;
+        out[i] = T[0][k][r[0][i]] + T[1][k][r[1][i]] + T[2][k][r[2][i]] + T[3][k][r[3][i]];
+    }
+}
+
 /* The paper's 4-nearest blend of the stored rows (SSS_INTERP_NEAREST4) for
  * float and lloyd8 files: per value Σ_k w_k · q_k, the terms formed as the
  * barycentric path forms them (float products; lloyd8 folded tables). */
 static void decode_nearest4(const sss_bake_file *f, const double d[3], float *out)
 {
     const size_t ch = f->channels, row = (size_t)f->mesh.nv * ch;
+    if (f->quant == SSS_QUANT_LLOYD8) {
+        nearest4_lloyd8(&f->dirs, d, f->levels, f->qidx, row, ch, out);
+        return;
+    }
     uint32_t idx[4];
     double w[4];
     sss_dirset_nearest4(&f->dirs, d, idx, w);
     const ptrdiff_t nrow = (ptrdiff_t)row;
-    if (f->quant == SSS_QUANT_LLOYD8) {
-        float T[4][SSS_MAX_CHANNELS][256];
-        for (size_t t = 0; t < 4; t++)
-            for (size_t k = 0; k < ch; k++)
-                for (int x = 0; x < 256; x++) T[t][k][x] = (float)(w[t] * f->levels[256 * k + (size_t)x]);
-        const uint8_t *r[4];
-        for (int t = 0; t < 4; t++) r[t] = f->qidx + (size_t)idx[t] * row;
-#ifdef _OPENMP
-#pragma omp parallel for schedule(static) if (nrow >= PAR_MIN)
-#endif
-        for (ptrdiff_t i = 0; i < nrow; i++) {
-            const size_t k = (size_t)i % ch;
-            out[i] = T[0][k][r[0][i]] + T[1][k][r[1][i]] + T[2][k][r[2][i]] + T[3][k][r[3][i]];
-        }
-        return;
-    }
     const float *r[4];
     float fw[4];
     for (int t = 0; t < 4; t++) r[t] = f->q + (size_t)idx[t] * row, fw[t] = (float)w[t];
@@ -176,19 +190,24 @@ static void coded_weights(const sss_refcode *r, size_t k, double w[3])
     w[2] = 1.0 - w[0] - w[1];
 }
 
-/* Folded SH tables for direction d: ys[(c·ncoef + i)·L + x]. */
-static float *fold_sh(const sss_bake_file *f, const double d[3])
+void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
 {
     const sss_shcode *s = &f->sh;
     const size_t L = sss_shq_levels(s->kind), ntab = (size_t)f->channels * s->ncoef;
-    float *T = malloc((ntab * L + 1) * sizeof *T);
-    if (!T) return NULL;
     double y[SSS_SH_MAX_COUNT];
     sss_sh_eval(s->order, d, y);
     for (size_t t = 0; t < ntab; t++) {
         const double yi = y[t % s->ncoef];
         for (size_t x = 0; x < L; x++) T[t * L + x] = (float)(s->table[t * L + x] * yi);
     }
+}
+
+/* Folded SH tables for direction d, allocated (NULL when out of memory). */
+static float *fold_sh(const sss_bake_file *f, const double d[3])
+{
+    const size_t L = sss_shq_levels(f->sh.kind), ntab = (size_t)f->channels * f->sh.ncoef;
+    float *T = malloc((ntab * L + 1) * sizeof *T);
+    if (T) sss_decode_fold_sh(f, d, T);
     return T;
 }
 
@@ -216,18 +235,7 @@ static void ref_values(const sss_bake_file *f, const double d[3], sss_interp int
     double w[3];
     if (interp == SSS_INTERP_NEAREST4) {
         /* the paper's four nearest rows (§3.2), for the study only */
-        uint32_t i4[4];
-        double w4[4];
-        sss_dirset_nearest4(&f->dirs, d, i4, w4);
-        float T4[4][SSS_MAX_CHANNELS][256];
-        for (size_t t = 0; t < 4; t++)
-            for (size_t k = 0; k < C; k++)
-                for (int x = 0; x < 256; x++) T4[t][k][x] = (float)(w4[t] * r->levels[256 * k + (size_t)x]);
-        for (size_t i = 0; i < row; i++) {
-            const size_t k = i % C;
-            R[i] = T4[0][k][r->idx[i4[0] * row + i]] + T4[1][k][r->idx[i4[1] * row + i]] +
-                   T4[2][k][r->idx[i4[2] * row + i]] + T4[3][k][r->idx[i4[3] * row + i]];
-        }
+        nearest4_lloyd8(&f->dirs, d, r->levels, r->idx, row, C, R);
         return;
     }
     sss_dirset_lookup(&f->dirs, d, idx, w);

@@ -60,6 +60,12 @@ static int known_index(const char tag[4])
     return -1;
 }
 
+/* Which 1.0/1.1 sections an effect mask implies (docs/format.md §5.10): a
+ * plain bake (mask 0) has both; a scene bake has DIRS only for the effects
+ * that use a direction set, and a q section only for direction-set. */
+static int fx_uses_dirs(uint32_t m) { return !m || (m & (SSS_FX_DIR_SET | SSS_FX_POINT_SHELLS)); }
+static int fx_uses_q(uint32_t m) { return !m || (m & SSS_FX_DIR_SET); }
+
 static uint64_t geom_size(uint32_t nv, uint32_t nf) { return 8u + 24u * (uint64_t)nv + 12u * (uint64_t)nf; }
 static uint64_t dirs_size(uint32_t n, uint32_t ntri) { return 8u + 24u * (uint64_t)n + 12u * (uint64_t)ntri; }
 /* 2n - 4 triangles (Euler, closed triangulated sphere); in 64 bits, as a hostile
@@ -182,12 +188,8 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
                         name, m->nv, m->nf);
     if (!m->pos || !m->nrm || !m->tri)
         return sss_fail(err, A, "%s: section GEOM: positions, normals or triangles missing", name);
-    /* A scene bake (fx.mask != 0, format 1.2) stores DIRS only for the
-     * effects that use a direction set, and a q section only for the
-     * direction-set effect (docs/format.md §5.10). */
     const uint32_t fxm = f->fx.mask;
-    const int want_dirs = !fxm || (fxm & (SSS_FX_DIR_SET | SSS_FX_POINT_SHELLS));
-    const int want_q = !fxm || (fxm & SSS_FX_DIR_SET);
+    const int want_dirs = fx_uses_dirs(fxm), want_q = fx_uses_q(fxm);
     if (want_dirs && (ds->n == 0 || !ds->dir))
         return sss_fail(err, A, "%s: section DIRS: no directions", name);
     if (!want_dirs && ds->n)
@@ -679,21 +681,18 @@ static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, ss
         fxm = f->fx.mask;
         if (!fxm) return sss_fail(err, CORRUPT, "%s: section EFCT: empty effect set", name);
     }
-    const int need_dirs = !fxm || (fxm & (SSS_FX_DIR_SET | SSS_FX_POINT_SHELLS));
-    const int need_q = !fxm || (fxm & SSS_FX_DIR_SET);
+    const int need_dirs = fx_uses_dirs(fxm), need_q = fx_uses_q(fxm);
     {
-        const struct { int sec, need; const char *effect; } rule[] = {
-            {S_DIRS, need_dirs, "direction-set or point-shells"},
-            {S_QDIR, !!(fxm & SSS_FX_DIR_EXACT), "directional-exact"},
-            {S_ENVT, !!(fxm & SSS_FX_ENV_SH), "environment-sh"},
-            {S_PSHL, !!(fxm & SSS_FX_POINT_SHELLS), "point-shells"}};
+        const struct { int sec, need; } rule[] = {{S_DIRS, need_dirs},
+                                                   {S_QDIR, !!(fxm & SSS_FX_DIR_EXACT)},
+                                                   {S_ENVT, !!(fxm & SSS_FX_ENV_SH)},
+                                                   {S_PSHL, !!(fxm & SSS_FX_POINT_SHELLS)}};
         for (size_t i = 0; i < sizeof rule / sizeof rule[0]; i++) {
             if (rule[i].need && where[rule[i].sec] < 0)
                 return sss_fail(err, CORRUPT, "%s: missing required section %s", name, known_tag[rule[i].sec]);
             if (!rule[i].need && where[rule[i].sec] >= 0)
                 return sss_fail(err, CORRUPT, "%s: section %s without %s", name, known_tag[rule[i].sec],
                                 fxm ? "the effect that uses it" : "section EFCT");
-            (void)rule[i].effect;
         }
     }
     int nq_sections = (where[S_QFLT] >= 0) + (where[S_QL8] >= 0) + (where[S_SHC] >= 0);
@@ -922,8 +921,7 @@ void sss_file_storage(const sss_bake_file *f, sss_storage *s)
     if (!f) return;
     const uint64_t C = f->channels, nd = f->dirs.n, nv = f->mesh.nv;
     s->dirs = f->dirs.n ? dirs_size(f->dirs.n, f->dirs.ntri) : 0;
-    const int set = !f->fx.mask || (f->fx.mask & SSS_FX_DIR_SET); /* 1.2: direction-set integrals present */
-    switch (set ? f->quant : (sss_quant)-1) {
+    switch (fx_uses_q(f->fx.mask) ? f->quant : (sss_quant)-1) {
     default:
         break;
     case SSS_QUANT_FLOAT:

@@ -62,17 +62,23 @@ static sss_result check_floats(const float *x, uint64_t n, int nonneg, const cha
     return SSS_OK;
 }
 
+/* Fails with `code`, naming the lowest bit of mask this reader does not know;
+ * SSS_OK when every bit is known. */
+static sss_result check_known(uint32_t mask, const char *name, sss_result code, sss_error *err)
+{
+    const uint32_t unknown = mask & ~SSS_FX_KNOWN;
+    if (!unknown) return SSS_OK;
+    uint32_t b = 0;
+    while (!(unknown >> b & 1u)) b++;
+    return sss_fail(err, code, "%s: section EFCT: effect bit %u is unknown to this reader (format %d.%d)", name, b,
+                    SSS_FORMAT_MAJOR, SSS_FORMAT_MINOR);
+}
+
 sss_result sss_fmt_check_effects(const sss_bake_file *f, const char *name, sss_result code, sss_error *err)
 {
     const sss_effects *x = &f->fx;
     const uint32_t m = x->mask;
-    if (m & ~SSS_FX_KNOWN) {
-        uint32_t b = 0;
-        while (!((m & ~SSS_FX_KNOWN) >> b & 1u)) b++;
-        return sss_fail(err, code == SSS_ERR_CORRUPT ? SSS_ERR_UNSUPPORTED : code,
-                        "%s: section EFCT: effect bit %u is unknown to this reader (format %d.%d)", name, b,
-                        SSS_FORMAT_MAJOR, SSS_FORMAT_MINOR);
-    }
+    if (m & ~SSS_FX_KNOWN) return check_known(m, name, code == SSS_ERR_CORRUPT ? SSS_ERR_UNSUPPORTED : code, err);
     if (!(m & (SSS_FX_DIR_EXACT | SSS_FX_DIR_SET | SSS_FX_POINT_SHELLS | SSS_FX_ENV_SH)))
         return sss_fail(err, code, "%s: section EFCT: no light effect (directional-exact, direction-set, "
                         "point-shells or environment-sh) is set", name);
@@ -190,13 +196,7 @@ sss_result sss_fmt_parse_efct(const uint8_t *p, uint64_t size, uint64_t count, c
     if (count != 1) return sss_fail(err, CORRUPT, "%s: section EFCT: count %llu, expected 1", name, (unsigned long long)count);
     f->fx.mask = get_u32(p);
     if (get_u32(p + 4) != 0) return sss_fail(err, CORRUPT, "%s: section EFCT: reserved field is not 0", name);
-    if (f->fx.mask & ~SSS_FX_KNOWN) {
-        uint32_t b = 0;
-        while (!((f->fx.mask & ~SSS_FX_KNOWN) >> b & 1u)) b++;
-        return sss_fail(err, SSS_ERR_UNSUPPORTED, "%s: section EFCT: effect bit %u is unknown to this reader "
-                        "(format %d.%d)", name, b, SSS_FORMAT_MAJOR, SSS_FORMAT_MINOR);
-    }
-    return SSS_OK;
+    return check_known(f->fx.mask, name, SSS_ERR_UNSUPPORTED, err);
 }
 
 sss_result sss_fmt_parse_qdir(const uint8_t *p, uint64_t size, uint64_t count, const char *name, sss_bake_file *f,
@@ -232,7 +232,7 @@ sss_result sss_fmt_parse_envt(const uint8_t *p, uint64_t size, uint64_t count, c
     if (!want || size != want) { f->fx.env_order = 0; return size_mismatch(err, name, "ENVT", size, want); }
     if (count != f->mesh.nv)
         return sss_fail(err, CORRUPT, "%s: section ENVT: count %llu, expected %u vertices", name, (unsigned long long)count, f->mesh.nv);
-    const uint32_t K = order * order;
+    const uint32_t K = ncoef(order);
     const size_t n = (size_t)f->mesh.nv * f->channels * K;
     f->fx.env_t = malloc(n * sizeof(float) + 1);
     if (!f->fx.env_t) return sss_fail(err, SSS_ERR_NOMEM, "%s: section ENVT: out of memory", name);

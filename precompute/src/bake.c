@@ -132,7 +132,6 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     for (uint32_t c = 0; c < C; c++) sss_dipole_init(&dip[c], mat->sigma_a[c], mat->sigmap_s[c], mat->eta);
 
     sss_nbhd nb = {0};
-    sss_vis *vis = NULL;
     float *G = NULL;
     r = copy_mesh(mesh_in, &out->mesh, err);
     if (r != SSS_OK) goto fail;
@@ -198,7 +197,9 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
      * neighbourhood rows are counted before they are allocated. */
     uint64_t avail = memory_available();
     uint64_t fixed = (uint64_t)mesh->nv * o.n_dirs * (4u + 4u * C + (o.quant == SSS_QUANT_LLOYD8 ? C : 0u));
-    st.gather = o.gather = sss_bake_choose_gather(&o, mesh->nv);
+    const size_t nq = (size_t)o.n_dirs * mesh->nv * C;
+    double t;
+    st.gather = o.gather = sss_bake_choose_gather(&o);
     st.theta = o.theta = o.theta > 0 ? o.theta : SSS_GATHER_THETA_DEFAULT;
     if (st.gather == SSS_GATHER_TREE) {
         r = sss_bake_tree(mesh, mat, &o, dip, C, avail, fixed, out, &st, err);
@@ -210,7 +211,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
                      "is available (estimate before starting; SSS_MEMORY_LIMIT_MB lowers the limit): use fewer --dirs", fixed / 1073741824.0, mesh->nv, o.n_dirs, avail / 1073741824.0);
         goto fail;
     }
-    double t = sss_now();
+    t = sss_now();
     sss_progress_begin("neighbourhoods", 2 * (uint64_t)mesh->nv); /* count pass + fill pass */
     r = sss_nbhd_build(mesh, o.mm_per_unit, dip, C, st.search_radius_mm, NULL, 0, avail ? (avail - fixed) / 10 * 9 : 0,
                        &nb, err);
@@ -227,20 +228,11 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     t = sss_now();
     G = malloc((size_t)mesh->nv * o.n_dirs * sizeof(float) + 1);
     if (!G) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u transfer values", mesh->nv, o.n_dirs); goto fail; }
-    r = sss_vis_create(mesh, &vis, err);
+    r = sss_bake_visibility(mesh, mat->eta, out->dirs.dir, o.n_dirs, 0, mesh->nv, G, &st, err);
     if (r != SSS_OK) goto fail;
-    uint64_t occ = 0;
-    sss_progress_begin("visibility", mesh->nv);
-    r = sss_transfer_compute(mesh, vis, out->dirs.dir, o.n_dirs, mat->eta, G, &st.rays, &occ, err);
-    sss_progress_end();
-    sss_vis_destroy(vis);
-    vis = NULL;
-    if (r != SSS_OK) goto fail;
-    st.occluded_fraction = st.rays ? (double)occ / (double)st.rays : 0.0;
     st.t_visibility = sss_now() - t;
 
     t = sss_now();
-    size_t nq = (size_t)o.n_dirs * mesh->nv * C;
     out->q = malloc(nq * sizeof(float) + 1);
     if (!out->q) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %zu integrals", nq); goto fail; }
     sss_progress_begin("integrals", mesh->nv);
@@ -255,7 +247,6 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     if (sss_bake_interrupted) { r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals"); goto fail; }
 
 quantise:
-    nq = (size_t)o.n_dirs * mesh->nv * C;
     if (o.nranks > 1 && o.rank != 0) { /* under MPI only rank 0 has q and writes the file */
         if (st_out) *st_out = st;
         return SSS_OK;
@@ -286,7 +277,6 @@ quantise:
     return SSS_OK;
 
 fail:
-    sss_vis_destroy(vis);
     free(G);
     sss_nbhd_free(&nb);
     sss_file_free(out);

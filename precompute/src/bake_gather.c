@@ -17,7 +17,7 @@
 #include "sss/gather.h"
 #include "transfer.h"
 
-int sss_bake_choose_gather(const sss_bake_options *o, uint32_t nv)
+int sss_bake_choose_gather(const sss_bake_options *o)
 {
     if (o->gather == SSS_GATHER_DIRECT || o->gather == SSS_GATHER_TREE) return o->gather;
     /* The tree by default: within 10⁻³ (per-vertex RMS) of the direct sum
@@ -26,10 +26,27 @@ int sss_bake_choose_gather(const sss_bake_options *o, uint32_t nv)
      * meshes with a handful of neighbours per vertex the direct sum is
      * faster (docs/robustness.md, a million-vertex plane), but not by
      * enough to switch on a guess of the neighbour count. */
-    (void)nv;
     return SSS_GATHER_TREE;
 }
 
+sss_result sss_bake_visibility(const sss_mesh *mesh, double eta, const double *dirs, uint32_t D, uint32_t v0,
+                               uint32_t v1, float *G, sss_bake_stats *st, sss_error *err)
+{
+    sss_vis *vis = NULL;
+    sss_result r = sss_vis_create(mesh, &vis, err);
+    if (r != SSS_OK) return r;
+    uint64_t occ = 0;
+    sss_progress_begin("visibility", v1 - v0);
+    r = sss_transfer_rows(mesh, vis, dirs, D, eta, v0, v1, G, &st->rays, &occ, err);
+    sss_progress_end();
+    sss_vis_destroy(vis);
+    if (r != SSS_OK) return r;
+    st->occluded_fraction = st->rays ? (double)occ / (double)st->rays : 0.0;
+    return SSS_OK;
+}
+
+/* First of the n items that rank k of nranks owns (k = nranks: n). */
+static uint32_t share_start(uint32_t n, int k, int nranks) { return (uint32_t)((uint64_t)n * k / nranks); }
 
 sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
                          const sss_dipole *dip, uint32_t C, uint64_t avail, uint64_t fixed, sss_bake_file *out,
@@ -61,7 +78,6 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
                         need / 1073741824.0, nv, D, C, avail / 1073741824.0);
 
     sss_result r = SSS_OK;
-    sss_vis *vis = NULL;
     sss_gather_tree *tree = NULL;
     float *G = NULL, *part = NULL, *full = NULL;
     uint32_t *verts = NULL;
@@ -72,25 +88,17 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     offs = calloc((size_t)nranks + 1, sizeof *offs);
     lens = calloc((size_t)nranks + 1, sizeof *lens);
     if (!G || !offs || !lens) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u transfer values", nv, D); goto done; }
-    r = sss_vis_create(mesh, &vis, err);
-    if (r != SSS_OK) goto done;
     {
         /* each rank traces the rays of its share of the vertices, then all
          * ranks exchange the rows: every rank needs all of G as sources */
         for (int k = 0; k < nranks; k++) {
-            const uint32_t a = (uint32_t)((uint64_t)nv * k / nranks), b = (uint32_t)((uint64_t)nv * (k + 1) / nranks);
+            const uint32_t a = share_start(nv, k, nranks), b = share_start(nv, k + 1, nranks);
             offs[k] = (uint64_t)a * D * sizeof(float);
             lens[k] = (uint64_t)(b - a) * D * sizeof(float);
         }
-        const uint32_t v0 = (uint32_t)((uint64_t)nv * rank / nranks), v1 = (uint32_t)((uint64_t)nv * (rank + 1) / nranks);
-        uint64_t occ = 0;
-        sss_progress_begin("visibility", v1 - v0);
-        r = sss_transfer_rows(mesh, vis, out->dirs.dir, D, mat->eta, v0, v1, G, &st->rays, &occ, err);
-        sss_progress_end();
-        sss_vis_destroy(vis);
-        vis = NULL;
+        r = sss_bake_visibility(mesh, mat->eta, out->dirs.dir, D, share_start(nv, rank, nranks),
+                                share_start(nv, rank + 1, nranks), G, st, err);
         if (r != SSS_OK) goto done;
-        st->occluded_fraction = st->rays ? (double)occ / (double)st->rays : 0.0;
         if (mpi && o->comm->allgather(G, offs, lens, o->comm->ctx) != 0) {
             r = sss_fail(err, SSS_ERR_IO, "MPI: exchanging the transfer table failed");
             goto done;
@@ -107,7 +115,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
 
     t = sss_now();
     const uint32_t nb = sss_gather_tree_blocks(tree);
-    const uint32_t b0 = (uint32_t)((uint64_t)nb * rank / nranks), b1 = (uint32_t)((uint64_t)nb * (rank + 1) / nranks);
+    const uint32_t b0 = share_start(nb, rank, nranks), b1 = share_start(nb, rank + 1, nranks);
     sss_gather_stats gs;
     memset(&gs, 0, sizeof gs);
     const size_t nq = (size_t)D * nv * C;
@@ -122,7 +130,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
         /* this rank's blocks in block order, then rank 0 collects all parts
          * (in rank order = block order) and places them by vertex */
         for (int k = 0; k < nranks; k++) {
-            const uint32_t a = (uint32_t)((uint64_t)nb * k / nranks), b = (uint32_t)((uint64_t)nb * (k + 1) / nranks);
+            const uint32_t a = share_start(nb, k, nranks), b = share_start(nb, k + 1, nranks);
             const uint32_t before = sss_gather_tree_block_vertices(tree, 0, a, NULL);
             const uint32_t mine = sss_gather_tree_block_vertices(tree, a, b, NULL);
             offs[k] = (uint64_t)before * D * C * sizeof(float);
@@ -181,7 +189,6 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
                 st->t_tree);
 
 done:
-    sss_vis_destroy(vis);
     sss_gather_tree_destroy(tree);
     free(G);
     free(part);

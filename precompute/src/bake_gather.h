@@ -6,8 +6,14 @@
 #include "sss/bake.h"
 #include "sss/gather.h"
 
-/* SSS_GATHER_DIRECT or SSS_GATHER_TREE for these options and mesh size. */
-int sss_bake_choose_gather(const sss_bake_options *o, uint32_t nv);
+/* SSS_GATHER_DIRECT or SSS_GATHER_TREE for these options. */
+int sss_bake_choose_gather(const sss_bake_options *o);
+
+/* Visibility of rows [v0, v1) of the transfer table G (nv x D, indexed as
+ * sss_transfer_compute's) with its progress bar; sets st->rays and
+ * st->occluded_fraction. */
+sss_result sss_bake_visibility(const sss_mesh *mesh, double eta, const double *dirs, uint32_t D, uint32_t v0,
+                               uint32_t v1, float *G, sss_bake_stats *st, sss_error *err);
 
 /* Visibility, tree and gather: fills out->q (rank 0 only under MPI) and the
  * stats' timings. avail: bytes that may be used (0: unknown); fixed: the

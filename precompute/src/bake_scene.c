@@ -118,14 +118,7 @@ static char *params(const sss_scene *s, const sss_object_plan *p, const sss_pass
     cJSON *fx = cJSON_AddArrayToObject(o, "effects");
     for (uint32_t b = 0; b < SSS_FX_COUNT; b++)
         if (p->effects >> b & 1u) cJSON_AddItemToArray(fx, cJSON_CreateString(sss_effect_name(b)));
-    cJSON *ds = cJSON_AddArrayToObject(o, "decisions");
-    for (uint32_t d = 0; d < p->ndecisions; d++) {
-        cJSON *jd = cJSON_CreateObject();
-        cJSON_AddStringToObject(jd, "effect", p->decisions[d].effect);
-        cJSON_AddStringToObject(jd, "choice", p->decisions[d].choice);
-        cJSON_AddStringToObject(jd, "reason", p->decisions[d].reason);
-        cJSON_AddItemToArray(ds, jd);
-    }
+    sss_plan_add_decisions_json(p, o);
     if (p->effects & SSS_FX_DIR_SET) cJSON_AddNumberToObject(o, "dirs", c->n_dirs);
     if (p->effects & SSS_FX_POINT_SHELLS) {
         cJSON_AddNumberToObject(o, "dirs", c->n_dirs);
@@ -187,7 +180,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     const sss_mesh **occ = NULL;
     double t = sss_now();
     r = sss_nbhd_build(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0, 0, &nb, err);
-    if (r != SSS_OK) goto fail;
+    if (r != SSS_OK) goto done;
     st.t_neighbourhoods = sss_now() - t;
     st.neighbours_total = nb.start[nb.nrows];
     st.neighbours_mean = (double)st.neighbours_total / nb.nrows;
@@ -195,29 +188,25 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     t = sss_now();
     if (p->self_shadow || p->noccluders) {
         occ = malloc((p->noccluders + 1) * sizeof *occ);
-        if (!occ) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto fail; }
+        if (!occ) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto done; }
         for (uint32_t k = 0; k < p->noccluders; k++) occ[k] = &world[p->occluders[k]];
         r = sss_vis_create_scene(c.mesh, p->self_shadow, occ, p->noccluders, &vis, err);
-        if (r != SSS_OK) goto fail;
+        if (r != SSS_OK) goto done;
     }
     c.vis = vis;
     for (int k = 0; k < SSS_PASS_KINDS; k++) {
         if (!p->pass_lights[k]) continue;
         r = passes[k](&c, err);
-        if (r != SSS_OK) goto fail;
+        if (r != SSS_OK) goto done;
     }
     st.t_integrals = sss_now() - t;
     out->params_json = params(scene, p, &c, eps, st.radius_mm);
-    if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto fail; }
-    sss_vis_destroy(vis);
-    free(occ);
-    sss_nbhd_free(&nb);
+    if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto done; }
     if (st_out) *st_out = st;
-    return SSS_OK;
-fail:
+done:
     sss_vis_destroy(vis);
     free(occ);
     sss_nbhd_free(&nb);
-    sss_file_free(out);
+    if (r != SSS_OK) sss_file_free(out);
     return r;
 }

@@ -246,15 +246,16 @@ sss_result sss_gather_tree_build(const sss_mesh *mesh, double s, const float *G,
     }
     if (!t || !kv || !b.code || !t->perm || !t->pmm || !t->group_area) goto nomem;
 
-    /* Morton order of the vertices in their bounding box (ties by index). */
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t v = 0; v < nv; v++)
-        for (int a = 0; a < 3; a++) {
-            const double x = (double)mesh->pos[3 * (size_t)v + a] * s;
-            t->pmm[3 * (size_t)v + a] = x;
-            lo[a] = fmin(lo[a], x);
-            hi[a] = fmax(hi[a], x);
-        }
+    /* Morton order of the vertices in their bounding box (ties by index);
+     * scaling by s > 0 keeps the extremes, so the box in mm is the mesh's
+     * box times s. */
+    for (size_t e = 0; e < (size_t)nv * 3; e++) t->pmm[e] = (double)mesh->pos[e] * s;
+    double lo[3], hi[3];
+    sss_mesh_bounds(mesh, lo, hi);
+    for (int a = 0; a < 3; a++) {
+        lo[a] *= s;
+        hi[a] *= s;
+    }
     double ext = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
     if (!(ext > 0)) ext = 1.0;
     const double scale = ((1u << MORTON_BITS) - 1) / ext;

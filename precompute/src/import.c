@@ -839,7 +839,7 @@ static sss_result prepare_ply(src *s, expect *ex, sss_error *err)
     if (r == SSS_OK) {
         /* Double positions where the file holds more than float32. */
         int wide = h->format == PLY_ASCII;
-        for (int i = 0; r == SSS_OK && i < h->elems[h->iv].nprops; i++)
+        for (int i = 0; i < h->elems[h->iv].nprops; i++)
             wide |= h->elems[h->iv].props[i].role != ROLE_OTHER && h->elems[h->iv].props[i].type == PT_F64;
         if (wide && !(ex->dpos = alloc_dpos(s, h->elems[h->iv].count, err))) r = SSS_ERR_NOMEM;
     }
@@ -1336,22 +1336,15 @@ static int has_repeat(const int32_t *v, uint32_t n, sll *scratch)
 #define M_PI 3.14159265358979323846
 #endif
 
-static sss_result recentre(const char *name, sss_om_soup *s, const expect *ex, sss_import_report *rep, sss_error *err)
+/* used[v] != UINT32_MAX marks the vertices that faces of 3 or more corners
+ * use; only those decide the box and move: they lie within h of c, so the
+ * result is finite; the others are removed later anyway. */
+static void recentre(sss_om_soup *s, const expect *ex, const uint32_t *used, sss_import_report *rep)
 {
     ull nv = s->nv;
-    unsigned char *used = calloc((size_t)nv + 1, 1);
-    if (!used) return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %llu vertices", name, nv);
-    /* The vertices faces use (indices are in range: checked before). */
-    ull off = 0;
-    for (ull f = 0; f < s->nf; f++) {
-        uint32_t n = s->fsize[f];
-        if (n >= 3)
-            for (uint32_t i = 0; i < n; i++) used[s->idx[off + i]] = 1;
-        off += n;
-    }
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (ull v = 0; v < nv; v++) {
-        if (!used[v]) continue;
+        if (used[v] == UINT32_MAX) continue;
         for (int k = 0; k < 3; k++) {
             double x = ex->dpos ? ex->dpos[3 * v + (ull)k] : (double)s->pos[3 * v + (ull)k];
             if (x < lo[k]) lo[k] = x;
@@ -1360,26 +1353,22 @@ static sss_result recentre(const char *name, sss_om_soup *s, const expect *ex, s
     }
     double c[3], h = 0.0, cmax = 0.0;
     for (int k = 0; k < 3; k++) {
-        if (!(lo[k] <= hi[k])) { free(used); return SSS_OK; } /* no face uses a vertex */
+        if (!(lo[k] <= hi[k])) return; /* no face uses a vertex */
         double half = 0.5 * (hi[k] - lo[k]);
         c[k] = lo[k] + half;
         if (half > h) h = half;
         if (fabs(c[k]) > cmax) cmax = fabs(c[k]);
     }
-    if (!(h > 0.0) || cmax <= RECENTRE_RATIO * h) { free(used); return SSS_OK; }
-    /* Only used vertices are moved: they lie within h of c, so the result
-     * is finite; the others are removed later anyway. */
+    if (!(h > 0.0) || cmax <= RECENTRE_RATIO * h) return;
     for (ull v = 0; v < nv; v++) {
-        if (!used[v]) continue;
+        if (used[v] == UINT32_MAX) continue;
         for (int k = 0; k < 3; k++) {
             double x = ex->dpos ? ex->dpos[3 * v + (ull)k] : (double)s->pos[3 * v + (ull)k];
             s->pos[3 * v + (ull)k] = (float)(x - c[k]);
         }
     }
-    free(used);
     rep->recentred = 1;
     for (int k = 0; k < 3; k++) rep->offset[k] = c[k];
-    return SSS_OK;
 }
 
 /* ---------------------------------------------------------------------------
@@ -1820,22 +1809,16 @@ static sss_result orient(const char *name, sss_mesh *m, sss_import_report *rep, 
         ncomp++;
     }
 
-    /* Faces of each surface, for the containment test. */
-    {
-        int any_negative = 0;
-        for (size_t i = 0; i < ncomp; i++) any_negative |= ci[i].closed && ci[i].volume < 0.0;
-        if (any_negative) {
-            cstart = calloc(ncomp + 2, sizeof *cstart);
-            if (!cstart) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for the surfaces", name); goto done; }
-            for (uint32_t f = 0; f < nf; f++) cstart[comp[f] + 2]++;
-            for (size_t i = 2; i < ncomp + 2; i++) cstart[i] += cstart[i - 1];
-            for (uint32_t f = 0; f < nf; f++) cface[cstart[comp[f] + 1]++] = f;
-        }
-    }
-    uint64_t nclosed = 0, nneg = 0;
-    for (size_t i = 0; i < ncomp; i++) {
-        nclosed += ci[i].closed != 0;
-        nneg += ci[i].closed && ci[i].volume < 0.0;
+    /* Closed surfaces facing inward; the faces of each surface, for their
+     * containment test. */
+    uint64_t nneg = 0;
+    for (size_t i = 0; i < ncomp; i++) nneg += ci[i].closed && ci[i].volume < 0.0;
+    if (nneg) {
+        cstart = calloc(ncomp + 2, sizeof *cstart);
+        if (!cstart) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for the surfaces", name); goto done; }
+        for (uint32_t f = 0; f < nf; f++) cstart[comp[f] + 2]++;
+        for (size_t i = 2; i < ncomp + 2; i++) cstart[i] += cstart[i - 1];
+        for (uint32_t f = 0; f < nf; f++) cface[cstart[comp[f] + 1]++] = f;
     }
     /* The containment test costs a bounding-box check per pair of
      * surfaces and a ray test per triangle of each candidate container:
@@ -1932,6 +1915,11 @@ static sss_result build_mesh(const char *name, sss_om_soup *s, const expect *ex,
         for (int k = 0; k < 3; k++)
             if (!isfinite(s->pos[3 * v + (ull)k]))
                 return sss_fail(err, SSS_ERR_MESH, "%s: vertex %llu: coordinate is not finite", name, v);
+    /* remap first marks (0) the vertices faces of 3 or more corners use,
+     * for recentre; pass 1 below marks the ones kept. */
+    uint32_t *remap = malloc(((size_t)nv + 1) * sizeof *remap);
+    if (!remap) return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %llu vertices", name, nv);
+    for (ull v = 0; v < nv; v++) remap[v] = UINT32_MAX;
     uint32_t maxn = 0;
     {
         ull off = 0;
@@ -1940,20 +1928,21 @@ static sss_result build_mesh(const char *name, sss_om_soup *s, const expect *ex,
             if (n > maxn) maxn = n;
             for (uint32_t i = 0; i < n; i++) {
                 int32_t v = s->idx[off + i];
-                if (v < 0 || (ull)v >= nv)
+                if (v < 0 || (ull)v >= nv) {
+                    free(remap);
                     return sss_fail(err, SSS_ERR_MESH, "%s: face %llu: vertex index %d out of range [0, %llu)", name, f, v, nv);
+                }
+                if (n >= 3) remap[v] = 0;
             }
             off += n;
         }
     }
-    sss_result r = recentre(name, s, ex, rep, err);
-    if (r != SSS_OK) return r;
+    recentre(s, ex, remap, rep);
     sll *scratch = maxn > 32 ? malloc((size_t)maxn * sizeof *scratch) : NULL;
-    uint32_t *remap = malloc(((size_t)nv + 1) * sizeof *remap);
     uint32_t *ptri = maxn > 3 ? malloc(3 * ((size_t)maxn - 2) * sizeof *ptri) : NULL;
     poly_scratch ps;
     int ps_ok = poly_scratch_alloc(&ps, maxn);
-    if ((maxn > 32 && !scratch) || !remap || (maxn > 3 && !ptri) || !ps_ok) {
+    if ((maxn > 32 && !scratch) || (maxn > 3 && !ptri) || !ps_ok) {
         free(scratch); free(remap); free(ptri); poly_scratch_free(&ps);
         return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %llu vertices", name, nv);
     }
@@ -2004,7 +1993,7 @@ static sss_result build_mesh(const char *name, sss_om_soup *s, const expect *ex,
         if (remap[v] == 0) remap[v] = nv2++;
     rep->vertices_unreferenced = nv - nv2;
 
-    r = sss_mesh_alloc(out, nv2, (uint32_t)ntri, err);
+    sss_result r = sss_mesh_alloc(out, nv2, (uint32_t)ntri, err);
     if (r != SSS_OK) {
         free(scratch); free(remap); free(ptri); poly_scratch_free(&ps);
         return r;

@@ -324,6 +324,18 @@ void sss_plan_print(const sss_scene *scene, const sss_plan *p, FILE *out)
     }
 }
 
+void sss_plan_add_decisions_json(const sss_object_plan *o, struct cJSON *parent)
+{
+    cJSON *ds = cJSON_AddArrayToObject(parent, "decisions");
+    for (uint32_t d = 0; d < o->ndecisions; d++) {
+        cJSON *jd = cJSON_CreateObject();
+        cJSON_AddStringToObject(jd, "effect", o->decisions[d].effect);
+        cJSON_AddStringToObject(jd, "choice", o->decisions[d].choice);
+        cJSON_AddStringToObject(jd, "reason", o->decisions[d].reason);
+        cJSON_AddItemToArray(ds, jd);
+    }
+}
+
 char *sss_plan_json(const sss_scene *scene, const sss_plan *p)
 {
     cJSON *root = cJSON_CreateObject();
@@ -355,14 +367,7 @@ char *sss_plan_json(const sss_scene *scene, const sss_plan *p)
                     if (o->light_pass[l] == (uint32_t)k) cJSON_AddItemToArray(ls, cJSON_CreateNumber(l));
                 cJSON_AddItemToArray(ps, jp);
             }
-        cJSON *ds = cJSON_AddArrayToObject(jo, "decisions");
-        for (uint32_t d = 0; d < o->ndecisions; d++) {
-            cJSON *jd = cJSON_CreateObject();
-            cJSON_AddStringToObject(jd, "effect", o->decisions[d].effect);
-            cJSON_AddStringToObject(jd, "choice", o->decisions[d].choice);
-            cJSON_AddStringToObject(jd, "reason", o->decisions[d].reason);
-            cJSON_AddItemToArray(ds, jd);
-        }
+        sss_plan_add_decisions_json(o, jo);
     }
     char *s = cJSON_Print(root);
     cJSON_Delete(root);

@@ -53,7 +53,7 @@ sss_result sss_probe_read(const char *path, sss_probe *out, sss_error *err)
         r = sss_fail(err, SSS_ERR_FORMAT, "%s: probe size %lld x %lld out of range", path, (long long)w, (long long)h);
         goto done;
     }
-    float *buf = calloc((size_t)(4 * w * h), sizeof(float)); /* R, G, B, scratch */
+    float *buf = calloc((size_t)(3 * w * h), sizeof(float)); /* R, G, B planes */
     if (!buf) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", path); goto done; }
     int32_t lines = 1;
     exr_get_scanlines_per_chunk(f, 0, &lines);
@@ -70,12 +70,12 @@ sss_result sss_probe_read(const char *path, sss_probe *out, sss_error *err)
             const char *nm = dec.channels[c].channel_name;
             int k = !strcmp(nm, "R") || !strcmp(nm, "Y") ? 0 : !strcmp(nm, "G") ? 1 : !strcmp(nm, "B") ? 2 : 3;
             if (k < 3) have[k] = 1;
-            dec.channels[c].decode_to_ptr = (uint8_t *)(buf + (size_t)k * w * h + (size_t)(ci.start_y - dw.min.y) * w);
+            dec.channels[c].decode_to_ptr = /* other channels: NULL, skipped */
+                k < 3 ? (uint8_t *)(buf + (size_t)k * w * h + (size_t)(ci.start_y - dw.min.y) * w) : NULL;
             dec.channels[c].user_pixel_stride = sizeof(float);
             dec.channels[c].user_line_stride = (int32_t)(w * sizeof(float));
             dec.channels[c].user_data_type = EXR_PIXEL_FLOAT;
             dec.channels[c].user_bytes_per_element = sizeof(float);
-            if (k == 3) dec.channels[c].decode_to_ptr = NULL; /* skipped */
         }
         rv = exr_decoding_choose_default_routines(f, 0, &dec);
         if (rv == EXR_ERR_SUCCESS) rv = exr_decoding_run(f, 0, &dec);

@@ -14,16 +14,18 @@ static int active;
 
 #define CHUNK ((uint64_t)1 << 30)
 
+/* Bytes of the chunk at offset o of a part of len bytes. */
+static int chunk(uint64_t len, uint64_t o) { return (int)(len - o < CHUNK ? len - o : CHUNK); }
+
 static int allgather(void *buf, const uint64_t *offs, const uint64_t *lens, void *ctx)
 {
     (void)ctx;
     int n;
     MPI_Comm_size(MPI_COMM_WORLD, &n);
     for (int r = 0; r < n; r++)
-        for (uint64_t o = 0; o < lens[r]; o += CHUNK) {
-            const uint64_t len = lens[r] - o < CHUNK ? lens[r] - o : CHUNK;
-            if (MPI_Bcast((char *)buf + offs[r] + o, (int)len, MPI_BYTE, r, MPI_COMM_WORLD) != MPI_SUCCESS) return -1;
-        }
+        for (uint64_t o = 0; o < lens[r]; o += CHUNK)
+            if (MPI_Bcast((char *)buf + offs[r] + o, chunk(lens[r], o), MPI_BYTE, r, MPI_COMM_WORLD) != MPI_SUCCESS)
+                return -1;
     return 0;
 }
 
@@ -34,20 +36,17 @@ static int gather0(const void *part, void *full, const uint64_t *offs, const uin
     MPI_Comm_size(MPI_COMM_WORLD, &n);
     MPI_Comm_rank(MPI_COMM_WORLD, &me);
     if (me != 0) {
-        for (uint64_t o = 0; o < lens[me]; o += CHUNK) {
-            const uint64_t len = lens[me] - o < CHUNK ? lens[me] - o : CHUNK;
-            if (MPI_Send((const char *)part + o, (int)len, MPI_BYTE, 0, 8, MPI_COMM_WORLD) != MPI_SUCCESS) return -1;
-        }
+        for (uint64_t o = 0; o < lens[me]; o += CHUNK)
+            if (MPI_Send((const char *)part + o, chunk(lens[me], o), MPI_BYTE, 0, 8, MPI_COMM_WORLD) != MPI_SUCCESS)
+                return -1;
         return 0;
     }
     if (lens[0]) memcpy((char *)full + offs[0], part, lens[0]);
     for (int r = 1; r < n; r++)
-        for (uint64_t o = 0; o < lens[r]; o += CHUNK) {
-            const uint64_t len = lens[r] - o < CHUNK ? lens[r] - o : CHUNK;
-            if (MPI_Recv((char *)full + offs[r] + o, (int)len, MPI_BYTE, r, 8, MPI_COMM_WORLD, MPI_STATUS_IGNORE) !=
-                MPI_SUCCESS)
+        for (uint64_t o = 0; o < lens[r]; o += CHUNK)
+            if (MPI_Recv((char *)full + offs[r] + o, chunk(lens[r], o), MPI_BYTE, r, 8, MPI_COMM_WORLD,
+                         MPI_STATUS_IGNORE) != MPI_SUCCESS)
                 return -1;
-        }
     return 0;
 }
 

@@ -74,6 +74,21 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* Replaces *params_json by pj printed (kept as it was if printing fails)
+ * and deletes pj. */
+static void set_params_json(char **params_json, cJSON *pj)
+{
+    char *txt = cJSON_PrintUnformatted(pj);
+    char *copy = txt ? malloc(strlen(txt) + 1) : NULL;
+    if (copy) {
+        memcpy(copy, txt, strlen(txt) + 1);
+        free(*params_json);
+        *params_json = copy;
+    }
+    free(txt);
+    cJSON_Delete(pj);
+}
+
 int main(int argc, char **argv)
 {
     const char *in = NULL, *outp = NULL, *preset = NULL;
@@ -250,15 +265,7 @@ int main(int argc, char **argv)
         cJSON *pj = cJSON_Parse(f.params_json);
         if (pj) {
             cJSON_AddItemToObject(pj, "import_offset", cJSON_CreateDoubleArray(rep.offset, 3));
-            char *txt = cJSON_PrintUnformatted(pj);
-            char *copy = txt ? malloc(strlen(txt) + 1) : NULL;
-            if (copy) {
-                memcpy(copy, txt, strlen(txt) + 1);
-                free(f.params_json);
-                f.params_json = copy;
-            }
-            free(txt);
-            cJSON_Delete(pj);
+            set_params_json(&f.params_json, pj);
         }
     }
     double t_compress = 0.0;
@@ -294,15 +301,7 @@ int main(int argc, char **argv)
             cJSON_AddNumberToObject(c, "weight_bits", co.wbits);
             cJSON_AddBoolToObject(c, "ls_weights", co.ls_weights);
             cJSON_AddNumberToObject(c, "illum_refs", co.illum_weight);
-            char *txt = cJSON_PrintUnformatted(pj);
-            char *copy = txt ? malloc(strlen(txt) + 1) : NULL;
-            if (copy) {
-                memcpy(copy, txt, strlen(txt) + 1);
-                free(cf.params_json);
-                cf.params_json = copy;
-            }
-            free(txt);
-            cJSON_Delete(pj);
+            set_params_json(&cf.params_json, pj);
         }
         sss_file_free(&f);
         f = cf;

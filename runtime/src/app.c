@@ -55,6 +55,7 @@ typedef struct app {
     const sss_bake_file *f;
     const sss_app_options *opt;
     const char *scene_desc; /* the GPU scene sum's line for the overlay, or NULL */
+    char storage[128];      /* sss_storage_describe of f, for the overlay */
     sss_view_params p, initial;
     drag_mode drag;
     int drag_button;
@@ -336,8 +337,7 @@ static void draw_overlay(app *a, int fw, int fh)
                                                       : "none";
     const char *base = strrchr(a->opt->file_path, '/');
     base = base ? base + 1 : a->opt->file_path;
-    char buf[1536], storage[128];
-    sss_storage_describe(f, storage, sizeof storage);
+    char buf[1536];
     snprintf(buf, sizeof buf,
              "%.60s  %dx%d\n"
              "%.1f fps  %.2f ms/frame\n"
@@ -352,7 +352,7 @@ static void draw_overlay(app *a, int fw, int fh)
              "H: help/overlay  P: screenshot",
              base, fw, fh, a->frame_ms > 0 ? 1e3 / a->frame_ms : 0.0, a->frame_ms, a->scatter_ms,
              a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU", a->draw_ms, f->mesh.nv, f->channels, f->dirs.n,
-             sss_renderer_bytes_per_vertex(a->r), storage,
+             sss_renderer_bytes_per_vertex(a->r), a->storage,
              f->material.name, f->material.eta, a->p.exposure, a->p.light_rgb[0],
              a->p.tonemap == SSS_TONEMAP_REINHARD ? "reinhard" : "clamp", l[0], l[1], l[2],
              a->scene_desc ? "scene: " : "", a->scene_desc ? a->scene_desc : "", a->scene_desc ? "\n" : "", terms,
@@ -429,6 +429,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
     a.win = win;
     a.f = f;
     a.opt = opt;
+    sss_storage_describe(f, a.storage, sizeof a.storage);
     a.p = *initial;
     if (!(a.p.distance > 0)) a.p.distance = 2.8;
     if (!(a.p.exposure > 0)) a.p.exposure = 1.0;

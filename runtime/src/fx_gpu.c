@@ -53,31 +53,6 @@ static GLuint build(const char *defines, uint32_t C, uint32_t ncoef, sss_error *
     return cs ? sss_gl_link(cs, 0, err) : 0;
 }
 
-/* nrows rows of row_bytes from src into one buffer, each at a multiple of
- * row_stride. */
-static GLuint upload_rows(const float *src, size_t nrows, GLsizeiptr row_bytes, GLsizeiptr stride)
-{
-    GLuint b = 0;
-    glGenBuffers(1, &b);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, stride * (GLsizeiptr)(nrows ? nrows : 1), NULL, GL_STATIC_DRAW);
-    for (size_t j = 0; j < nrows; j++)
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, stride * (GLsizeiptr)j, row_bytes,
-                        (const char *)src + (size_t)row_bytes * j);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-    return b;
-}
-
-static GLuint make_buffer(GLsizeiptr n, const void *data)
-{
-    GLuint b = 0;
-    glGenBuffers(1, &b);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, n >= 4 ? n : 4, n >= 4 ? data : NULL, GL_STATIC_DRAW);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-    return b;
-}
-
 sss_result sss_fx_gpu_create(const sss_bake_file *f, const sss_scene_eval *ev, sss_renderer *r, sss_fx_gpu **out,
                              sss_error *err)
 {
@@ -99,13 +74,10 @@ sss_result sss_fx_gpu_create(const sss_bake_file *f, const sss_scene_eval *ev, s
         g->nset += lf.kind == 1;
     }
 
-    GLint align = 16;
-    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
-    if (align < 4) align = 4;
     GLint64 max_block = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
     g->row_bytes = (GLsizeiptr)g->nv * g->C * (GLsizeiptr)sizeof(float);
-    g->row_stride = (g->row_bytes + align - 1) / align * align;
+    g->row_stride = sss_gl_row_stride(g->row_bytes);
     const uint32_t K = f->fx.env_order * f->fx.env_order;
     g->k4 = (K + 3) / 4 * 4;
     const uint64_t env_bytes = (uint64_t)g->nv * g->C * g->k4 * sizeof(float);
@@ -125,9 +97,9 @@ sss_result sss_fx_gpu_create(const sss_bake_file *f, const sss_scene_eval *ev, s
         sss_fx_gpu_destroy(g);
         return SSS_ERR_UNSUPPORTED;
     }
-    if (m & SSS_FX_DIR_EXACT) g->exact_rows = upload_rows(f->fx.exact_q, f->fx.nexact, g->row_bytes, g->row_stride);
+    if (m & SSS_FX_DIR_EXACT) g->exact_rows = sss_gl_rows(f->fx.exact_q, f->fx.nexact, g->row_bytes, g->row_stride);
     if (m & SSS_FX_POINT_SHELLS)
-        g->shell_rows = upload_rows(f->fx.shell_q, (size_t)f->fx.nshells * f->dirs.n, g->row_bytes, g->row_stride);
+        g->shell_rows = sss_gl_rows(f->fx.shell_q, (size_t)f->fx.nshells * f->dirs.n, g->row_bytes, g->row_stride);
     if (m & SSS_FX_ENV_SH) {
         /* each (vertex, channel)'s K coefficients padded with zeros to a
          * multiple of 4: the kernel loads them as vec4 */
@@ -135,11 +107,12 @@ sss_result sss_fx_gpu_create(const sss_bake_file *f, const sss_scene_eval *ev, s
         float *pad = calloc(nvc * g->k4 + 1, sizeof *pad);
         if (pad) {
             for (size_t e = 0; e < nvc; e++) memcpy(pad + e * g->k4, f->fx.env_t + e * K, K * sizeof *pad);
-            g->env_t = make_buffer((GLsizeiptr)(env_bytes), pad);
+            g->env_t = sss_gl_ssbo((GLsizeiptr)env_bytes, pad, GL_STATIC_DRAW);
             free(pad);
         }
     }
-    if (g->nset) g->acc = make_buffer(g->row_bytes, NULL);
+    if (g->nset) g->acc = sss_gl_ssbo(g->row_bytes, NULL, GL_STATIC_DRAW);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     if (glGetError() == GL_OUT_OF_MEMORY || ((m & SSS_FX_ENV_SH) && !g->env_t)) {
         sss_fx_gpu_destroy(g);
         return sss_fail(err, SSS_ERR_NOMEM, "scene effects: the GPU is out of memory for the effect data");
@@ -192,6 +165,7 @@ void sss_fx_gpu_frame(sss_fx_gpu *g, double angle)
     for (uint32_t i = 0; i < sss_scene_eval_count(g->ev); i++) {
         sss_scene_light_frame lf;
         sss_scene_eval_light(g->ev, i, angle, &lf);
+        GLuint count = nvc; /* invocations: one per value */
         if (lf.kind == 0 && g->prog_rows && g->exact_rows && lf.exact < f->fx.nexact) {
             /* directional-exact: the stored row (no interpolation) */
             common_uniforms(g->prog_rows, nvc, first, lf.w);
@@ -225,16 +199,12 @@ void sss_fx_gpu_frame(sss_fx_gpu *g, double angle)
             common_uniforms(g->prog_env, g->nv, first, lf.w);
             glUniform4fv(glGetUniformLocation(g->prog_env, "u_L"), (GLsizei)(3 * g->k4 / 4), L);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g->env_t);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, target);
-            glDispatchCompute((g->nv + 255) / 256, 1, 1);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-            first = 0;
-            continue;
+            count = g->nv; /* one invocation per vertex, all channels */
         } else {
             continue; /* no data: sss_scene_eval_create has refused such a light */
         }
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, target);
-        glDispatchCompute((nvc + 255) / 256, 1, 1);
+        glDispatchCompute((count + 255) / 256, 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         first = 0;
     }

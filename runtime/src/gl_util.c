@@ -45,3 +45,34 @@ GLuint sss_gl_link(GLuint a, GLuint b, sss_error *err)
     return p;
 }
 
+
+GLuint sss_gl_ssbo(GLsizeiptr n, const void *data, GLenum usage)
+{
+    GLuint b = 0;
+    glGenBuffers(1, &b);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, n >= 4 ? n : 4, n >= 4 ? data : NULL, usage);
+    if (n > 0 && n < 4 && data) glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, n, data);
+    return b;
+}
+
+GLsizeiptr sss_gl_row_stride(GLsizeiptr row_bytes)
+{
+    GLint align = 16;
+    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+    if (align < 4) align = 4;
+    return (row_bytes + align - 1) / align * align;
+}
+
+GLuint sss_gl_rows(const void *src, size_t nrows, GLsizeiptr row_bytes, GLsizeiptr stride)
+{
+    GLuint b = 0;
+    glGenBuffers(1, &b);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, stride * (GLsizeiptr)(nrows ? nrows : 1), NULL, GL_STATIC_DRAW);
+    for (size_t j = 0; j < nrows && row_bytes > 0; j++)
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, stride * (GLsizeiptr)j, row_bytes,
+                        (const char *)src + (size_t)row_bytes * j);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    return b;
+}

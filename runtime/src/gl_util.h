@@ -13,4 +13,17 @@ GLuint sss_gl_compile(GLenum type, const char *prefix, const char *src, sss_erro
  * returns 0 and fills err on failure. */
 GLuint sss_gl_link(GLuint a, GLuint b, sss_error *err);
 
+/* A shader storage buffer of n bytes holding data (NULL: undefined),
+ * left bound to GL_SHADER_STORAGE_BUFFER. At least 4 bytes, so that
+ * binding it is valid even when it is empty. */
+GLuint sss_gl_ssbo(GLsizeiptr n, const void *data, GLenum usage);
+
+/* row_bytes rounded up to GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT (at
+ * least 4), so that each row of a table can be bound with glBindBufferRange. */
+GLsizeiptr sss_gl_row_stride(GLsizeiptr row_bytes);
+
+/* A static storage buffer of nrows rows of row_bytes from src, row j at
+ * j·stride (stride from sss_gl_row_stride); leaves nothing bound. */
+GLuint sss_gl_rows(const void *src, size_t nrows, GLsizeiptr row_bytes, GLsizeiptr stride);
+
 #endif

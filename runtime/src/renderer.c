@@ -31,7 +31,6 @@
 #include "gl_util.h"
 #include "shaders.h"
 #include "sss/decode.h"
-#include "sss/sh.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -96,17 +95,21 @@ float sss_tonemap_apply(sss_tonemap t, float x)
     return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
 }
 
-/* A shader storage buffer of n bytes holding data (NULL: undefined),
- * left bound to GL_SHADER_STORAGE_BUFFER. At least 4 bytes, so that
- * binding it is valid even when it is empty. */
-static GLuint make_ssbo(GLsizeiptr n, const void *data, GLenum usage)
+double sss_view_bounds(const sss_mesh *m, double centre[3])
 {
-    GLuint b = 0;
-    glGenBuffers(1, &b);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, n >= 4 ? n : 4, n >= 4 ? data : NULL, usage);
-    if (n > 0 && n < 4 && data) glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, n, data);
-    return b;
+    double lo[3], hi[3];
+    sss_mesh_bounds(m, lo, hi);
+    for (int k = 0; k < 3; k++) centre[k] = 0.5 * (lo[k] + hi[k]);
+    double r2 = 0;
+    for (uint32_t v = 0; v < m->nv; v++) {
+        double d2 = 0;
+        for (int k = 0; k < 3; k++) {
+            double d = m->pos[3 * (size_t)v + k] - centre[k];
+            d2 += d * d;
+        }
+        if (d2 > r2) r2 = d2;
+    }
+    return r2 > 0 ? sqrt(r2) : 1.0;
 }
 
 sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err)
@@ -124,19 +127,7 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
     r->cpu_q = malloc((size_t)r->nv * r->C * sizeof(float));
     if (!r->cpu_q) { free(r); return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory"); }
 
-    double lo[3], hi[3];
-    sss_mesh_bounds(&f->mesh, lo, hi);
-    for (int k = 0; k < 3; k++) r->centre[k] = 0.5 * (lo[k] + hi[k]);
-    r->radius = 0;
-    for (uint32_t v = 0; v < r->nv; v++) {
-        double d2 = 0;
-        for (int k = 0; k < 3; k++) {
-            double d = f->mesh.pos[3 * (size_t)v + k] - r->centre[k];
-            d2 += d * d;
-        }
-        if (d2 > r->radius) r->radius = d2;
-    }
-    r->radius = r->radius > 0 ? sqrt(r->radius) : 1.0;
+    r->radius = sss_view_bounds(&f->mesh, r->centre);
 
     const sss_quant qt = f->quant;
     const int l8 = qt == SSS_QUANT_LLOYD8, refs = qt == SSS_QUANT_REFS, sh = qt == SSS_QUANT_SH;
@@ -224,24 +215,16 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
     /* Direction rows, each padded to the SSBO offset alignment: the
      * vertices' rows (float, lloyd8) or the references' (§4.2). */
     if (!sh && !no_set) {
-        GLint align = 16;
-        glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
-        if (align < 4) align = 4;
         r->row_n = refs ? f->ref.nref : r->nv;
         r->row_bytes = (GLsizeiptr)r->row_n * r->C * (l8 || refs ? 1 : 4);
-        r->row_stride = (r->row_bytes + align - 1) / align * align;
-        glGenBuffers(1, &r->rows);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->rows);
-        glBufferData(GL_SHADER_STORAGE_BUFFER, r->row_stride * (GLsizeiptr)f->dirs.n, NULL, GL_STATIC_DRAW);
-        const uint8_t *src = refs ? f->ref.idx : l8 ? f->qidx : (const uint8_t *)f->q;
-        for (uint32_t j = 0; j < f->dirs.n && r->row_bytes > 0; j++)
-            glBufferSubData(GL_SHADER_STORAGE_BUFFER, r->row_stride * (GLsizeiptr)j, r->row_bytes,
-                            src + (size_t)r->row_bytes * j);
+        r->row_stride = sss_gl_row_stride(r->row_bytes);
+        const void *src = refs ? (const void *)f->ref.idx : l8 ? (const void *)f->qidx : (const void *)f->q;
+        r->rows = sss_gl_rows(src, f->dirs.n, r->row_bytes, r->row_stride);
     }
     if (l8 || refs) {
         r->lvl = refs ? f->ref.levels : f->levels;
         r->fold_l = malloc((size_t)3 * r->C * 256 * sizeof(float));
-        r->levels = make_ssbo((GLsizeiptr)3 * r->C * 256 * sizeof(float), NULL, GL_DYNAMIC_DRAW);
+        r->levels = sss_gl_ssbo((GLsizeiptr)3 * r->C * 256 * sizeof(float), NULL, GL_DYNAMIC_DRAW);
     }
     if (shc->ncoef && (sh || refs)) {
         /* The codes as stored, but each vertex's C·ncoef codes starting on
@@ -255,18 +238,18 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
                 for (uint32_t b = 0; b < ncv; b++)
                     words[k * vwords + b / per_word] |= sss_shq_code(shc->code, shc->kind, (uint64_t)k * ncv + b)
                                                         << (b % per_word * bits);
-            r->sh_codes = make_ssbo((GLsizeiptr)code_bytes, words, GL_STATIC_DRAW);
+            r->sh_codes = sss_gl_ssbo((GLsizeiptr)code_bytes, words, GL_STATIC_DRAW);
             free(words);
         }
         size_t ntab = (size_t)r->C * shc->ncoef * r->sh_levels;
         r->fold_sh = malloc(ntab * sizeof(float));
-        r->sh_tab = make_ssbo((GLsizeiptr)(ntab * sizeof(float)), NULL, GL_DYNAMIC_DRAW);
+        r->sh_tab = sss_gl_ssbo((GLsizeiptr)(ntab * sizeof(float)), NULL, GL_DYNAMIC_DRAW);
     }
     if (refs) {
         const sss_refcode *rf = &f->ref;
-        r->ref_q = make_ssbo((GLsizeiptr)rf->nref * r->C * sizeof(float), NULL, GL_DYNAMIC_COPY);
-        r->ref_vertex = make_ssbo((GLsizeiptr)rf->nref * sizeof(uint32_t), rf->ref_vertex, GL_STATIC_DRAW);
-        r->ref_tri = make_ssbo((GLsizeiptr)rf->nrt * 3 * sizeof(uint32_t), rf->ref_tri, GL_STATIC_DRAW);
+        r->ref_q = sss_gl_ssbo((GLsizeiptr)rf->nref * r->C * sizeof(float), NULL, GL_DYNAMIC_COPY);
+        r->ref_vertex = sss_gl_ssbo((GLsizeiptr)rf->nref * sizeof(uint32_t), rf->ref_vertex, GL_STATIC_DRAW);
+        r->ref_tri = sss_gl_ssbo((GLsizeiptr)rf->nrt * 3 * sizeof(uint32_t), rf->ref_tri, GL_STATIC_DRAW);
         /* one record per coded vertex: its vertex, its reference triangle,
          * its two weight codes packed in one word (≤ 16 bits each) */
         uint32_t *rec = malloc(((size_t)r->ncoded * 3 + 1) * sizeof *rec);
@@ -283,8 +266,8 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
             }
             const double span = (double)rf->w_hi - rf->w_lo, wmax = rf->wbits == 16 ? 65535.0 : 255.0;
             for (uint32_t x = 0; x < nw; x++) wt[x] = rf->w_lo + span * ((double)x / wmax);
-            r->coded_rec = make_ssbo((GLsizeiptr)r->ncoded * 3 * sizeof(uint32_t), rec, GL_STATIC_DRAW);
-            r->wtab = make_ssbo((GLsizeiptr)nw * sizeof(double), wt, GL_STATIC_DRAW);
+            r->coded_rec = sss_gl_ssbo((GLsizeiptr)r->ncoded * 3 * sizeof(uint32_t), rec, GL_STATIC_DRAW);
+            r->wtab = sss_gl_ssbo((GLsizeiptr)nw * sizeof(double), wt, GL_STATIC_DRAW);
         }
         free(rec);
         free(wt);
@@ -399,16 +382,10 @@ void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
     if (r->fold_sh) {
         /* T_c,i[x] = table_c,i[x] · y_i(ω): q̃ = Σ_i c_i y_i(ω) (§4.1) becomes
          * one table load per coefficient */
-        const sss_shcode *s = &f->sh;
-        const size_t L = r->sh_levels, ntab = (size_t)r->C * s->ncoef;
-        double y[SSS_SH_MAX_COUNT];
-        sss_sh_eval(s->order, l, y);
-        for (size_t t = 0; t < ntab; t++) {
-            const double yi = y[t % s->ncoef];
-            for (size_t x = 0; x < L; x++) r->fold_sh[t * L + x] = (float)(s->table[t * L + x] * yi);
-        }
+        const size_t n = (size_t)r->C * f->sh.ncoef * r->sh_levels;
+        sss_decode_fold_sh(f, l, r->fold_sh);
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->sh_tab);
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(ntab * L * sizeof(float)), r->fold_sh);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(n * sizeof(float)), r->fold_sh);
     }
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     glBeginQuery(GL_TIME_ELAPSED, r->queries[0]);

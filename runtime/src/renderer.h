@@ -58,6 +58,11 @@ typedef struct sss_frame_times {
     double draw_ms;    /* the shading draw */
 } sss_frame_times;
 
+/* The frame sss_view_params is measured in: the centre of m's bounding box
+ * into centre, and returns the bounding radius about it (1 when m has no
+ * extent). */
+double sss_view_bounds(const sss_mesh *m, double centre[3]);
+
 /* Uploads geometry and scattering data of f (which must stay alive as long
  * as the renderer: the CPU path decodes from it). Fails with a message if GL
  * is too old or a buffer cannot be allocated. */

@@ -209,14 +209,8 @@ void sss_scene_eval_frame(sss_scene_eval *e, double angle, float *q)
 void sss_scene_camera_params(const sss_scene *sc, const sss_bake_file *f, sss_view_params *p)
 {
     if (!sc->camera.present) return;
-    double c[3], rad = 0;
-    centre_of(f, c);
-    for (uint32_t v = 0; v < f->mesh.nv; v++) {
-        double d2 = 0;
-        for (int k = 0; k < 3; k++) d2 += (f->mesh.pos[3 * (size_t)v + k] - c[k]) * (f->mesh.pos[3 * (size_t)v + k] - c[k]);
-        if (d2 > rad) rad = d2;
-    }
-    rad = rad > 0 ? sqrt(rad) : 1.0;
+    double c[3];
+    const double rad = sss_view_bounds(&f->mesh, c);
     double d[3];
     for (int k = 0; k < 3; k++) d[k] = sc->camera.position[k] - c[k];
     const double dist = norm3(d);

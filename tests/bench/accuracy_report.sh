@@ -86,27 +86,20 @@ plot '$P/fig9_o3.dat' u 1:2 w lp lw 2 t '9 coefficients (order 3), max', \
      '$P/fig9_o6.dat' u 1:3 w lp dt 2 lw 2 t '36 coefficients, mean', \
      $F200MAX w l lc rgb 'black' dt 3 t 'uncompressed float, max', \
      $F200MEAN w l lc rgb 'gray40' dt 4 t 'uncompressed float, mean'"
-plot pareto_error_bytes "
+pareto_plot() { # name, title, x label, x column of pareto_d23.dat, front_<stem>.dat
+  plot "$1" "
 set logscale xy
-set title 'Error vs storage, dragon 23K: every configuration and the Pareto front'
-set xlabel 'scattering bytes per vertex (everything counted)'
+set title '$2'
+set xlabel '$3'
 set ylabel 'image RMS'
-plot '$P/pareto_d23.dat' u 1:4 w p pt 7 ps 0.8 t 'max over views', '$P/front_bytes.dat' u 1:2 w steps lw 2 t 'front (max)', \\
-     '$P/pareto_d23.dat' u 1:6 w p pt 6 ps 0.8 t 'mean over views', '$P/front_bytes_mean.dat' u 1:2 w steps lw 2 dt 2 t 'front (mean)'"
-plot pareto_error_bake_time "
-set logscale xy
-set title 'Error vs bake time, dragon 23K (2 shared cores)'
-set xlabel 'bake seconds (total)'
-set ylabel 'image RMS'
-plot '$P/pareto_d23.dat' u 2:4 w p pt 7 ps 0.8 t 'max over views', '$P/front_bake.dat' u 1:2 w steps lw 2 t 'front (max)', \\
-     '$P/pareto_d23.dat' u 2:6 w p pt 6 ps 0.8 t 'mean over views', '$P/front_bake_mean.dat' u 1:2 w steps lw 2 dt 2 t 'front (mean)'"
-plot pareto_error_frame_time "
-set logscale xy
-set title 'Error vs per-frame evaluation time (CPU decode, median of 10), dragon 23K'
-set xlabel 'CPU scatter ms per frame'
-set ylabel 'image RMS'
-plot '$P/pareto_d23.dat' u 3:4 w p pt 7 ps 0.8 t 'max over views', '$P/front_frame.dat' u 1:2 w steps lw 2 t 'front (max)', \\
-     '$P/pareto_d23.dat' u 3:6 w p pt 6 ps 0.8 t 'mean over views', '$P/front_frame_mean.dat' u 1:2 w steps lw 2 dt 2 t 'front (mean)'"
+plot '$P/pareto_d23.dat' u $4:4 w p pt 7 ps 0.8 t 'max over views', '$P/front_$5.dat' u 1:2 w steps lw 2 t 'front (max)', \\
+     '$P/pareto_d23.dat' u $4:6 w p pt 6 ps 0.8 t 'mean over views', '$P/front_$5_mean.dat' u 1:2 w steps lw 2 dt 2 t 'front (mean)'"
+}
+pareto_plot pareto_error_bytes 'Error vs storage, dragon 23K: every configuration and the Pareto front' \
+  'scattering bytes per vertex (everything counted)' 1 bytes
+pareto_plot pareto_error_bake_time 'Error vs bake time, dragon 23K (2 shared cores)' 'bake seconds (total)' 2 bake
+pareto_plot pareto_error_frame_time 'Error vs per-frame evaluation time (CPU decode, median of 10), dragon 23K' \
+  'CPU scatter ms per frame' 3 frame
 
 # ---- tables
 row() { awk -F'\t' -v OFS=' | ' "$@"; }

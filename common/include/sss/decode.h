@@ -37,6 +37,13 @@ typedef enum sss_interp {
  * and the viewer stay barycentric. */
 void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_interp interp, float *out);
 
+/* The SH tables of f's compressed form (f->sh) folded with the basis at
+ * unit direction d: T[(c·ncoef + i)·L + x] = table[(c·ncoef + i)·L + x] ·
+ * y_i(d), L = sss_shq_levels(f->sh.kind); T holds channels·ncoef·L floats.
+ * Per frame, these make q̃ = Σ_i c_i y_i(d) (§4.1) one table load per
+ * coefficient: the C decoder's and the GPU path's terms, to the bit. */
+void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T);
+
 /* q(x_v, ω) for one vertex into out[0 … channels−1], the same value
  * sss_decode_all writes for it (same arithmetic, same rounding). Any
  * storage form. v out of range, or a zero or non-finite light, gives 0. */

@@ -35,7 +35,7 @@ typedef struct sss_bake_options {
     double theta;        /* tree opening threshold (default SSS_GATHER_THETA_DEFAULT) */
     /* MPI (sss-bake under mpirun): this process is rank `rank` of `nranks`
      * (0/0: alone); the tree gather splits its receiver blocks across ranks
-     * and `exchange` (set by the tool) moves the pieces; rank 0 gets all. */
+     * and `comm` (set by the tool) moves the pieces; rank 0 gets all. */
     int rank, nranks;
     const struct sss_bake_comm *comm;
 } sss_bake_options;

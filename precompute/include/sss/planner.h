@@ -78,6 +78,11 @@ int sss_mesh_is_convex(const sss_mesh *m);
  * one JSON object (effects, passes and decisions per object). */
 void sss_plan_print(const sss_scene *scene, const sss_plan *p, FILE *out);
 char *sss_plan_json(const sss_scene *scene, const sss_plan *p); /* malloc'ed; NULL on no memory */
+/* Adds o's decisions to the cJSON object parent as its "decisions" array
+ * ({effect, choice, reason} each): the form sss_plan_json and a scene
+ * bake's params share. */
+struct cJSON;
+void sss_plan_add_decisions_json(const sss_object_plan *o, struct cJSON *parent);
 
 const char *sss_pass_name(sss_pass_kind k);
 
