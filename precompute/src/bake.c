@@ -145,12 +145,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
 
     /* Neighbourhood radius per channel: the disk that holds 1−ε of the total
      * diffuse reflectance, clamped to the object's size (α′ → 1). */
-    double lo[3], hi[3];
-    double diag_mm = sss_mesh_bounds(mesh, lo, hi) * o.mm_per_unit;
-    for (uint32_t c = 0; c < C; c++) {
-        st.radius_mm[c] = sss_rd_radius(&dip[c], o.eps, diag_mm);
-        if (st.radius_mm[c] > st.search_radius_mm) st.search_radius_mm = st.radius_mm[c];
-    }
+    st.search_radius_mm = sss_nbhd_radii(mesh, o.mm_per_unit, dip, C, o.eps, st.radius_mm);
     /* Resolution check (docs/robustness.md B3): the smoothest profile has
      * scale 1/σtr of the channel with the smallest σtr (a vanishing σa means
      * an unbounded range: the radius stands in for it). An edge longer than

@@ -99,9 +99,7 @@ sss_result sss_point_exact(const sss_bake_file *f, int self_shadow, const double
     m.area = malloc((size_t)m.nv * sizeof(double));
     if (!m.area) { sss_mesh_free(&m); return sss_fail(err, SSS_ERR_NOMEM, "out of memory"); }
     sss_mesh_vertex_areas(&m, m.area);
-    double lo[3], hi[3], R = 0;
-    const double diag_mm = sss_mesh_bounds(&m, lo, hi) * f->mm_per_unit;
-    for (uint32_t k = 0; k < C; k++) R = fmax(R, sss_rd_radius(&dip[k], eps, diag_mm));
+    const double R = sss_nbhd_radii(&m, f->mm_per_unit, dip, C, eps, NULL);
     sss_nbhd nb = {0};
     sss_vis *vis = NULL;
     float *G = malloc((size_t)m.nv * sizeof(float) + 1);

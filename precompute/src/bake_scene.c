@@ -169,12 +169,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     for (uint32_t k = 0; k < c.C; k++) sss_dipole_init(&dip[k], ob->material.sigma_a[k], ob->material.sigmap_s[k], c.eta);
     /* the radius rule of bake.c, so the exact evaluator (which recomputes
      * it from the file) finds the same neighbourhoods */
-    double lo[3], hi[3];
-    const double diag_mm = sss_mesh_bounds(c.mesh, lo, hi) * out->mm_per_unit;
-    for (uint32_t k = 0; k < c.C; k++) {
-        st.radius_mm[k] = sss_rd_radius(&dip[k], eps, diag_mm);
-        if (st.radius_mm[k] > st.search_radius_mm) st.search_radius_mm = st.radius_mm[k];
-    }
+    st.search_radius_mm = sss_nbhd_radii(c.mesh, out->mm_per_unit, dip, c.C, eps, st.radius_mm);
     sss_nbhd nb = {0};
     sss_vis *vis = NULL;
     const sss_mesh **occ = NULL;

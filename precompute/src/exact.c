@@ -105,12 +105,7 @@ sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *
      * R_d,total (physics sheet §2 (b)), clamped to the object's diagonal;
      * the search uses the largest. Recomputed, not read from PARM, where it
      * is rounded to 9 digits: the membership test r ≤ radius must match. */
-    double lo[3], hi[3];
-    const double diag_mm = sss_mesh_bounds(&e->mesh, lo, hi) * f->mm_per_unit;
-    for (uint32_t c = 0; c < f->channels; c++) {
-        double rc = sss_rd_radius(&dip[c], eps, diag_mm);
-        if (rc > e->search_radius_mm) e->search_radius_mm = rc;
-    }
+    e->search_radius_mm = sss_nbhd_radii(&e->mesh, f->mm_per_unit, dip, f->channels, eps, NULL);
     r = sss_nbhd_build(&e->mesh, f->mm_per_unit, dip, f->channels, e->search_radius_mm, NULL, 0, 0, &e->nb, err);
     if (r == SSS_OK) r = sss_vis_create(&e->mesh, &e->vis, err);
     if (r != SSS_OK) {

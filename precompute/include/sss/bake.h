@@ -116,6 +116,14 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double mm_per_unit, const sss_di
                           sss_nbhd *out, sss_error *err);
 void sss_nbhd_free(sss_nbhd *nb);
 
+/* The neighbourhood radius rule, shared by the bake, the exact evaluator and
+ * the scene passes so that all of them find the same neighbourhoods: per
+ * channel the disk holding 1−ε of R_d,total (physics sheet §2 (b)), clamped
+ * to the object's diagonal (α′ → 1). Fills radius_mm[c] (may be NULL) and
+ * returns the largest, the radius searched. */
+double sss_nbhd_radii(const sss_mesh *mesh, double mm_per_unit, const sss_dipole *dip, uint32_t channels, double eps,
+                      double *radius_mm);
+
 /* Visibility V(x_i, ω_j) by occlusion rays (Embree). The paper used shadow
  * maps (§3.1); rays are exact up to the origin offset. */
 typedef struct sss_vis sss_vis;
