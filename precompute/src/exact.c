@@ -26,6 +26,7 @@ struct sss_exact {
     double eps, search_radius_mm;
     sss_nbhd nb;     /* one row per vertex, rows in vertex order */
     sss_vis *vis;    /* refers to mesh */
+    int shadows;     /* 0: V ≡ 1 (sss_exact_set_shadows; diagnostics only) */
 };
 
 /* ε from the bake parameters. The bake writes every input it used into PARM
@@ -97,6 +98,7 @@ sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *
     if (!e) return sss_fail(err, SSS_ERR_NOMEM, "exact evaluator: out of memory");
     e->channels = f->channels;
     e->eta = f->material.eta;
+    e->shadows = 1;
     e->eps = eps;
     r = copy_mesh(&f->mesh, &e->mesh, err);
     if (r != SSS_OK) { free(e); return r; }
@@ -129,6 +131,7 @@ uint32_t sss_exact_vertices(const sss_exact *e) { return e->mesh.nv; }
 uint32_t sss_exact_channels(const sss_exact *e) { return e->channels; }
 double sss_exact_eps(const sss_exact *e) { return e->eps; }
 double sss_exact_search_radius_mm(const sss_exact *e) { return e->search_radius_mm; }
+void sss_exact_set_shadows(sss_exact *e, int on) { e->shadows = on != 0; }
 
 /* Unit direction towards the light, or 0 for a zero or non-finite one. A
  * light that is already unit up to rounding (every stored ω_j) is used as
@@ -162,7 +165,7 @@ static void row_sum(const sss_exact *e, uint32_t v, const double d[3], const flo
     double acc[SSS_MAX_CHANNELS] = {0};
     for (uint64_t k = e->nb.start[v]; k < e->nb.start[v + 1]; k++) {
         const uint32_t i = e->nb.idx[k];
-        const float gi = g ? g[i] : sss_transfer_one(&e->mesh, e->vis, i, d, e->eta, NULL, NULL);
+        const float gi = g ? g[i] : sss_transfer_one(&e->mesh, e->shadows ? e->vis : NULL, i, d, e->eta, NULL, NULL);
         const float *w = &e->nb.w[k * C];
         for (uint32_t c = 0; c < C; c++) {
             double wc = w[c];
@@ -197,7 +200,7 @@ void sss_exact_eval(const sss_exact *e, const double light[3], float *out)
     if (g) {
 #pragma omp parallel for schedule(dynamic, 256)
         for (int64_t i = 0; i < (int64_t)nv; i++)
-            g[i] = sss_transfer_one(&e->mesh, e->vis, (uint32_t)i, d, e->eta, NULL, NULL);
+            g[i] = sss_transfer_one(&e->mesh, e->shadows ? e->vis : NULL, (uint32_t)i, d, e->eta, NULL, NULL);
     }
 #pragma omp parallel for schedule(dynamic, 64)
     for (int64_t v = 0; v < (int64_t)nv; v++) row_sum(e, (uint32_t)v, d, g, &out[(size_t)v * C]);

@@ -61,6 +61,12 @@ uint32_t sss_exact_channels(const sss_exact *e);
 double sss_exact_eps(const sss_exact *e);
 double sss_exact_search_radius_mm(const sss_exact *e);
 
+/* Visibility on (the default, the bake's rule) or off (V ≡ 1: every
+ * front-facing source lit). Off is not the physics of any file; it lets a
+ * diagnostic separate the error the interpolation makes at cast shadows
+ * from the error at the terminator (tests/bench/error_sources.c). Not
+ * thread-safe against concurrent evaluations. */
+void sss_exact_set_shadows(sss_exact *e, int on);
 /* NULL-safe. */
 void sss_exact_destroy(sss_exact *e);
 
