@@ -42,16 +42,19 @@ static uint64_t header_size(uint64_t nsec) { return HDR_FIXED + ENTRY_SIZE * nse
 
 /* ---- sections known to format 1 -------------------------------------- */
 
-enum { S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_PARM, S_REFS, S_SHC, S_EFCT, S_QDIR, S_ENVT, S_PSHL, S_KNOWN };
+enum { S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_PARM, S_REFS, S_SHC, S_EFCT, S_QDIR, S_ENVT, S_PSHL, S_OWNT, S_KNOWN };
 static const char *const known_tag[S_KNOWN] = {"GEOM", "MATL", "DIRS", "QFLT", "QL8 ", "PARM",
-                                               "REFS", "SHC ", "EFCT", "QDIR", "ENVT", "PSHL"};
+                                               "REFS", "SHC ", "EFCT", "QDIR", "ENVT", "PSHL", "OWNT"};
 /* Flag bit 0 as written: PARM is provenance only, a reader may skip it.
  * REFS and SHC (1.1) are required, so a 1.0 reader refuses a compressed file
  * by naming the section instead of misreading it. */
 static const uint32_t known_flags[S_KNOWN] = {FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED,
                                               FLAG_REQUIRED, 0, FLAG_REQUIRED, FLAG_REQUIRED,
                                               /* 1.2, scene bakes: all required (format_effects.c) */
-                                              FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED};
+                                              FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED, FLAG_REQUIRED,
+                                              /* 1.3: OWNT changes what the q rows mean, so a reader
+                                               * that does not know it must refuse the file */
+                                              FLAG_REQUIRED};
 
 static int known_index(const char tag[4])
 {
@@ -208,6 +211,9 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
         return sss_fail(err, A, "%s: section QFLT: values missing", name);
     if (f->quant == SSS_QUANT_LLOYD8 && (!f->levels || !f->qidx))
         return sss_fail(err, A, "%s: section QL8 : levels or indices missing", name);
+    if (f->own_term && (f->own_term != SSS_OWN_TERM_RUNTIME || fxm))
+        return sss_fail(err, A, "%s: section OWNT: mode %u%s", name, f->own_term,
+                        fxm ? " in a scene bake (plain bakes only)" : " is unknown");
 
     /* Values: refuse to write what the reader would reject. */
     sss_result r;
@@ -249,6 +255,7 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
     if (fxm & SSS_FX_DIR_EXACT) order[nsec++] = S_QDIR;
     if (fxm & SSS_FX_ENV_SH) order[nsec++] = S_ENVT;
     if (fxm & SSS_FX_POINT_SHELLS) order[nsec++] = S_PSHL;
+    if (f->own_term) order[nsec++] = S_OWNT;
     order[nsec++] = S_PARM;
     uint64_t size[S_KNOWN] = {0}, count[S_KNOWN] = {0};
     size[S_GEOM] = geom_size(m->nv, m->nf);
@@ -288,6 +295,8 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
         count[S_SHC] = f->sh.ncoded;
         ok = ok && size[S_SHC] != 0;
     }
+    size[S_OWNT] = 4;
+    count[S_OWNT] = 1;
     size[S_PARM] = jlen;
     count[S_PARM] = jlen;
     uint64_t total = header_size(nsec);
@@ -303,7 +312,7 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
     put_u16(buf + 8, SSS_FORMAT_MAJOR);
     /* Files that only use 1.0 sections say 1.0, so 1.0 readers keep reading
      * them; the compressed forms need 1.1. */
-    put_u16(buf + 10, fxm ? 2 : f->quant == SSS_QUANT_FLOAT || f->quant == SSS_QUANT_LLOYD8 ? 0 : 1);
+    put_u16(buf + 10, f->own_term ? 3 : fxm ? 2 : f->quant == SSS_QUANT_FLOAT || f->quant == SSS_QUANT_LLOYD8 ? 0 : 1);
     put_u32(buf + 12, nsec);
     put_u64(buf + 16, total);
 
@@ -359,6 +368,7 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
         case S_QDIR: sss_fmt_pack_qdir(f, p); break;
         case S_ENVT: sss_fmt_pack_envt(f, p); break;
         case S_PSHL: sss_fmt_pack_pshl(f, p); break;
+        case S_OWNT: put_u32(p, SSS_OWN_TERM_RUNTIME); break;
         }
         uint8_t *e = buf + HDR_FIXED + (size_t)ENTRY_SIZE * i;
         memcpy(e, known_tag[s], 4);
@@ -537,6 +547,21 @@ static sss_result parse_parm(const uint8_t *p, const sss_section_info *si, const
     return SSS_OK;
 }
 
+/* OWNT (1.3): one u32, the mode; 1 = the q rows hold q minus the own term
+ * (sss/ownterm.h, docs/format.md §5.14). */
+static sss_result parse_ownt(const uint8_t *p, const sss_section_info *si, const char *name, sss_bake_file *f,
+                             sss_error *err)
+{
+    if (si->size != 4 || si->count != 1)
+        return sss_fail(err, CORRUPT, "%s: section OWNT: %llu bytes, count %llu (expected 4 and 1)", name,
+                        (unsigned long long)si->size, (unsigned long long)si->count);
+    uint32_t mode = get_u32(p);
+    if (mode != SSS_OWN_TERM_RUNTIME)
+        return sss_fail(err, SSS_ERR_UNSUPPORTED, "%s: section OWNT: mode %u is unknown to this reader", name, mode);
+    f->own_term = mode;
+    return SSS_OK;
+}
+
 static sss_result parse_refs(const uint8_t *p, const sss_section_info *si, const char *name, sss_bake_file *f,
                              sss_error *err)
 {
@@ -705,14 +730,18 @@ static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, ss
                         name);
     if (where[S_REFS] >= 0 && where[S_SHC] < 0)
         return sss_fail(err, CORRUPT, "%s: section REFS without section SHC", name);
+    if (where[S_OWNT] >= 0 && (fxm || !need_q))
+        return sss_fail(err, CORRUPT, "%s: section OWNT in a scene bake (only plain bakes split off the own term)",
+                        name);
 
     /* Contents, in dependency order: the q sections' sizes follow from GEOM
      * (nv), DIRS (n) and MATL (channels). */
-    static const int order[] = {S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_REFS, S_SHC, S_QDIR, S_ENVT, S_PSHL, S_PARM};
+    static const int order[] = {S_GEOM, S_MATL, S_DIRS, S_QFLT, S_QL8, S_REFS, S_SHC, S_QDIR, S_ENVT, S_PSHL, S_OWNT, S_PARM};
     typedef sss_result (*parser)(const uint8_t *, const sss_section_info *, const char *, sss_bake_file *,
                                  sss_error *);
     static const parser parse[S_KNOWN] = {parse_geom, parse_matl, parse_dirs, parse_qflt, parse_ql8,  parse_parm,
-                                          parse_refs, parse_shc,  NULL,       parse_qdir, parse_envt, parse_pshl};
+                                          parse_refs, parse_shc,  NULL,       parse_qdir, parse_envt, parse_pshl,
+                                          parse_ownt};
     for (size_t i = 0; i < sizeof order / sizeof order[0]; i++) {
         int k = order[i];
         if (where[k] < 0) continue;

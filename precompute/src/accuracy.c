@@ -3,6 +3,7 @@
  * and no compression (§4), so this one number covers every approximation
  * the file makes. */
 #include "sss/accuracy.h"
+#include "sss/recon.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -50,6 +51,15 @@ sss_result sss_vertex_error_vs_exact_interp(const sss_bake_file *f, const sss_ex
         free(r);
         return sss_fail(err, SSS_ERR_NOMEM, "vertex error: out of memory for %zu vertices", nv);
     }
+    /* what a reader shows: the rows, plus the own term for an OWNT file */
+    sss_recon *rc = NULL;
+    sss_result res = sss_recon_create(f, &rc, err);
+    if (res != SSS_OK) {
+        free(area);
+        free(x);
+        free(r);
+        return res;
+    }
     sss_mesh_vertex_areas(&f->mesh, area);
     sss_err_accum acc;
     sss_err_accum_init(&acc, (uint32_t)C, area, (uint32_t)nv);
@@ -58,12 +68,13 @@ sss_result sss_vertex_error_vs_exact_interp(const sss_bake_file *f, const sss_ex
         double d[3];
         sss_accuracy_draw_direction(&f->dirs, &state, d);
         sss_exact_eval(e, d, x);
-        sss_decode_all_interp(f, d, interp, r);
+        sss_recon_eval(rc, d, interp, r);
         sss_err_accum_add(&acc, area, r, x, (uint32_t)nv);
     }
     out->channels = (uint32_t)C;
     out->ndirs = ndirs;
     sss_err_accum_result(&acc, out->rms, out->rel_rms, out->max_abs, out->rms_exact);
+    sss_recon_destroy(rc);
     free(area);
     free(x);
     free(r);

@@ -3,6 +3,7 @@
  * sss_bake_file. Each phase is timed for the benchmarks.
  */
 #include "sss/bake.h"
+#include "sss/ownterm.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -97,9 +98,60 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
         if (L > 0 && L + 64 < sizeof buf)
             snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"gather\":\"tree\",\"theta\":%.17g}", o->theta);
     }
+    if (o->own_term) { /* format 1.3: what the rows hold (docs/format.md §5.14) */
+        const size_t L = strlen(buf);
+        if (L > 0 && L + 160 < sizeof buf)
+            snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"own_term\":\"runtime: rows hold q - w_o F_t(eta,n_o.w) "
+                     "max(0,n_o.w) V(x_o,w), w_o the disk integral of the vertex's own area\"}");
+    }
     char *s = malloc(strlen(buf) + 1);
     if (s) strcpy(s, buf);
     return s;
+}
+
+/* Splits the own term off q in place (sss/ownterm.h): for every vertex and
+ * direction sample, q_j −= w̃_o g(n_o, ω_j) V(x_o, ω_j), with the bake's own
+ * visibility rule (one occlusion ray per front-facing pair, as
+ * sss_transfer_rows traces) and the readers' float expression for g, so
+ * that a reader adding the term back at ω_j restores q_j up to rounding
+ * (and the clamp at 0 below).
+ * Independent elements: the result does not depend on the thread count. */
+static sss_result split_own_term(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
+                                 uint32_t C, const sss_dirset *ds, float *q, uint64_t *rays, sss_error *err)
+{
+    const uint32_t nv = mesh->nv, D = ds->n;
+    float *w = malloc((size_t)nv * C * sizeof *w + 1);
+    if (!w) return sss_fail(err, SSS_ERR_NOMEM, "out of memory for the own-term weights of %u vertices", nv);
+    sss_result r = sss_own_weights(mesh, mat, o->mm_per_unit, C, w, err);
+    sss_vis *vis = NULL;
+    if (r == SSS_OK) r = sss_vis_create(mesh, &vis, err);
+    if (r != SSS_OK) {
+        free(w);
+        return r;
+    }
+    const float eta = (float)mat->eta;
+    uint64_t traced = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : traced)
+    for (int64_t v = 0; v < (int64_t)nv; v++) {
+        const float *n = mesh->nrm + 3 * (size_t)v;
+        for (uint32_t j = 0; j < D; j++) {
+            const double *d = ds->dir + 3 * (size_t)j;
+            const float df[3] = {(float)d[0], (float)d[1], (float)d[2]};
+            const float g = sss_own_transfer(eta, n, df);
+            if (g == 0.0f) continue;
+            traced++;
+            if (sss_vis_occluded(vis, (uint32_t)v, d)) continue;
+            float *qv = q + ((size_t)j * nv + (size_t)v) * C;
+            /* ≥ 0, as every stored q: the rest is a sum of non-negative
+             * terms, and only rounding (or coincident copies with split
+             * normals, whose shared disk nbhd.c divides) takes it below */
+            for (uint32_t c = 0; c < C; c++) qv[c] = fmaxf(qv[c] - w[(size_t)v * C + c] * g, 0.0f);
+        }
+    }
+    if (rays) *rays += traced;
+    sss_vis_destroy(vis);
+    free(w);
+    return SSS_OK;
 }
 
 sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_material *mat,
@@ -245,6 +297,13 @@ quantise:
     if (o.nranks > 1 && o.rank != 0) { /* under MPI only rank 0 has q and writes the file */
         if (st_out) *st_out = st;
         return SSS_OK;
+    }
+    if (o.own_term) {
+        t = sss_now();
+        r = split_own_term(mesh, mat, &o, C, &out->dirs, out->q, &st.rays, err);
+        if (r != SSS_OK) goto fail;
+        out->own_term = SSS_OWN_TERM_RUNTIME;
+        st.t_visibility += sss_now() - t;
     }
 
     if (o.quant == SSS_QUANT_LLOYD8) {

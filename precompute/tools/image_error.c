@@ -39,6 +39,7 @@
 #include "renderer.h"
 #include "sss/accuracy.h"
 #include "sss/random.h"
+#include "sss/recon.h"
 
 static double now_s(void)
 {
@@ -112,6 +113,7 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     g.quant = SSS_QUANT_FLOAT;
     g.dirs.n = 0;
     g.q = NULL;
+    g.own_term = 0; /* q is supplied whole, the own term already in it */
     sss_renderer *ren = NULL;
     res = sss_renderer_create(&g, &ren, err);
     if (res != SSS_OK) {
@@ -122,10 +124,14 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     float *qx = malloc(nv * C * sizeof *qx), *qa = malloc(nv * C * sizeof *qa);
     double *rms = malloc(views * sizeof *rms);
     float *worst[4] = {NULL, NULL, NULL, NULL}; /* exact ldr, exact hdr, approx ldr, approx hdr */
+    /* what a reader shows (sss/recon.h): the rows, plus the own term of an
+     * OWNT file with the vertex's own visibility by a ray */
+    sss_recon *rc = NULL;
     if (!qx || !qa || !rms) {
         res = sss_fail(err, SSS_ERR_NOMEM, "image error: out of memory for %zu vertices", nv);
         goto done;
     }
+    if ((res = sss_recon_create(f, &rc, err)) != SSS_OK) goto done;
     out->exposure = o->exposure > 0.0 ? o->exposure : auto_exposure(e, nv * C, qx);
     out->views = views;
     out->width = W;
@@ -147,7 +153,7 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
         sss_accuracy_draw_direction(&f->dirs, &state, light);
         for (int k = 0; k < 3; k++) p.view[k] = view[k], p.light[k] = light[k];
         sss_exact_eval(e, light, qx);
-        sss_decode_all_interp(f, light, o->interp, qa);
+        sss_recon_eval(rc, light, o->interp, qa);
         float *ex = NULL, *exh = NULL, *ap = NULL, *aph = NULL;
         res = sss_renderer_render_q_image(ren, &p, qx, W, H, &ex, &exh, err);
         if (res == SSS_OK) res = sss_renderer_render_q_image(ren, &p, qa, W, H, &ap, &aph, err);
@@ -223,6 +229,7 @@ done:
     free(qx);
     free(qa);
     free(rms);
+    sss_recon_destroy(rc);
     sss_renderer_destroy(ren);
     sss_offscreen_destroy(ctx);
     out->seconds = now_s() - t0;

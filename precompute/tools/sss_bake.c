@@ -36,6 +36,9 @@ static void usage(FILE *f)
         "  --dirs N             number of light directions (default 200)\n"
         "  --eps E              neighbourhood energy cutoff: radius holds 1-E of R_d total (default 1e-3)\n"
         "  --quant float|lloyd8 storage of the integrals (default float)\n"
+        "  --own-term M         baked: the vertex's own term stays in q (the paper); runtime:\n"
+        "                       it is split off and readers add it back with their own shadow\n"
+        "                       test (format 1.3; 7x less interpolation error: docs/accuracy.md)\n"
         "Compression (Hao & Varshney 2004 sec. 4; docs/compression.md); any of these\n"
         "stores the compressed form instead of --quant:\n"
         "  --compress P         preset: paper (3%% references, SH order 3, linear 8-bit codes,\n"
@@ -99,7 +102,7 @@ int main(int argc, char **argv)
     memset(&opt, 0, sizeof opt);
     sss_compress_opts co;
     sss_compress_opts_default(&co);
-    int compress = 0, have_quant = 0, have_refs = 0, compact = 0;
+    int compress = 0, have_quant = 0, have_refs = 0, compact = 0, own_set = 0;
     /* which compression options were given, so a preset only fills the rest */
     int set_order = 0, set_kind = 0, set_wbits = 0, set_ls = 0, set_illum = 0;
     for (int i = 1; i < argc; i++) {
@@ -155,6 +158,13 @@ int main(int argc, char **argv)
             else if (!strcmp(v, "tree")) opt.gather = SSS_GATHER_TREE;
             else { fprintf(stderr, "%s: --gather: '%s' must be direct or tree\n", TOOL, v); return 2; }
         }
+        else if (!strcmp(a, "--own-term")) {
+            NEED();
+            if (!strcmp(v, "runtime")) opt.own_term = SSS_OWN_TERM_RUNTIME;
+            else if (!strcmp(v, "baked")) opt.own_term = 0;
+            else { fprintf(stderr, "%s: --own-term: '%s' must be runtime or baked\n", TOOL, v); return 2; }
+            own_set = 1;
+        }
         else if (!strcmp(a, "--theta")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-3, 0.95, &opt.theta)) return 2; }
         else if (!strcmp(a, "--threads")) { uint32_t t; NEED(); if (!cli_parse_u32(TOOL, a, v, 1, 1024, &t)) return 2; opt.threads = (int)t; }
         else if (!strcmp(a, "--scene")) { NEED(); scene = v; }
@@ -168,6 +178,11 @@ int main(int argc, char **argv)
     }
     if (plan_only && !scene) {
         fprintf(stderr, "%s: --plan needs --scene S.json\n", TOOL);
+        return 2;
+    }
+    if (scene && own_set) {
+        fprintf(stderr, "%s: --own-term applies to plain bakes, not to --scene (scene bakes keep the own term)\n",
+                TOOL);
         return 2;
     }
     if (scene) {

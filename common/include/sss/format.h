@@ -19,11 +19,13 @@ extern "C" {
 #endif
 
 #define SSS_FORMAT_MAJOR 1
-#define SSS_FORMAT_MINOR 2
+#define SSS_FORMAT_MINOR 3
 /* The minor version plain bakes record in PARM ("format"), kept at 1 so
  * that their bytes do not change with 1.2, which only scene bakes use. */
 #define SSS_FORMAT_MINOR_PLAIN 1
 #define SSS_MAX_SECTIONS 32
+/* sss_bake_file.own_term: own term split off (section OWNT, format 1.3) */
+#define SSS_OWN_TERM_RUNTIME 1u
 
 typedef enum sss_quant {
     SSS_QUANT_FLOAT = 0,   /* q stored as float32 */
@@ -144,6 +146,9 @@ typedef struct sss_bake_file {
     sss_refcode ref;          /* SSS_QUANT_REFS */
     char *params_json;        /* bake parameters as JSON text (provenance), NUL-terminated, owned */
     sss_effects fx;           /* (1.2) effect set of a scene bake; mask 0 for a plain bake */
+    uint32_t own_term;        /* (1.3) 0, or SSS_OWN_TERM_RUNTIME: section OWNT, the q rows (any storage
+                               * form) hold q minus the vertex's own term, which the reader adds for the
+                               * actual light with its own visibility (sss/ownterm.h) */
     /* Filled by the reader (ignored by the writer): */
     uint64_t file_size;
     uint32_t nsections;

@@ -38,6 +38,11 @@ typedef struct sss_bake_options {
      * and `comm` (set by the tool) moves the pieces; rank 0 gets all. */
     int rank, nranks;
     const struct sss_bake_comm *comm;
+    /* Own term (sss/ownterm.h, docs/format.md §5.14): SSS_OWN_TERM_RUNTIME
+     * stores q minus the vertex's own term and marks the file (OWNT,
+     * format 1.3) so that readers add it back with their own shadow test;
+     * 0 (default) stores q itself, as the paper does. */
+    uint32_t own_term;
 } sss_bake_options;
 
 enum { SSS_GATHER_AUTO = 0, SSS_GATHER_DIRECT = 1, SSS_GATHER_TREE = 2 };
