@@ -36,7 +36,10 @@ typedef enum sss_om_decimate_status {
  * degenerate are left out (unless that is all of them). Non-manifold input:
  * then a triangle and its reverse on the same three vertices (a
  * zero-thickness flap) cancel and are both left out (unless that would leave
- * nothing); *left_out counts the triangles left out in these two steps. The
+ * nothing); then fins are left out, one at a time: triangles with a free
+ * edge and an edge that two or more other triangles share (a flap of which
+ * the importer kept one triangle; never all triangles). *left_out counts the
+ * triangles left out in these three steps. The
  * rest is split, never dropped: every edge is resolved into manifold pairs
  * of oppositely oriented triangles (an edge with more than two triangles is
  * paired by the angular order of the triangles around it), every vertex gets
