@@ -220,14 +220,38 @@ sss_result sss_mesh_append(sss_mesh *a, const sss_mesh *b, sss_error *err)
     return SSS_OK;
 }
 
+/* Two spheres of `subdiv` subdivisions, far apart: one of radius 250·r at
+ * the origin, one of radius r beyond it (larger coordinates, so later in
+ * Morton order). With r = 12 mm and a 32 mm scattering cutoff, every
+ * vertex of the small sphere sees all the others and one of the large
+ * sphere sees only itself: half the receivers hold almost all the work of
+ * the gather (tests/integration/cli_progress.sh). */
+static sss_result gen_pair(sss_mesh *m, double r, unsigned subdiv, sss_error *err)
+{
+    sss_mesh small;
+    sss_result res = sss_gen_sphere(m, 250.0 * r, subdiv, err);
+    if (res != SSS_OK) return res;
+    res = sss_gen_sphere(&small, r, subdiv, err);
+    if (res != SSS_OK) {
+        sss_mesh_free(m);
+        return res;
+    }
+    for (size_t i = 0; i < (size_t)small.nv * 3; i++) small.pos[i] += (float)(350.0 * r);
+    res = sss_mesh_append(m, &small, err);
+    sss_mesh_free(&small);
+    if (res != SSS_OK) sss_mesh_free(m);
+    return res;
+}
+
 sss_result sss_gen_by_name(const char *kind, unsigned res, double size, sss_mesh *m, sss_error *err)
 {
     if (!(size > 0)) size = 1.0;
+    if (!strcmp(kind, "pair")) return gen_pair(m, size, res, err);
     if (!strcmp(kind, "sphere")) return sss_gen_sphere(m, size, res, err);
     if (!strcmp(kind, "blob")) return sss_gen_blob(m, size, res, err);
     if (!strcmp(kind, "plane")) return sss_gen_plane(m, size, size, res, res, err);
     if (!strcmp(kind, "cube") || !strcmp(kind, "box")) return sss_gen_box(m, size, size, size, res, 0, err);
     if (!strcmp(kind, "slab")) return sss_gen_box(m, size, size, size / 50.0, res, 0, err);
     if (!strcmp(kind, "torus")) return sss_gen_torus(m, size, size / 3.0, 2 * res, res, err);
-    return sss_fail(err, SSS_ERR_ARG, "unknown mesh kind '%s' (sphere, blob, plane, cube, slab, torus)", kind);
+    return sss_fail(err, SSS_ERR_ARG, "unknown mesh kind '%s' (sphere, blob, plane, cube, slab, torus, pair)", kind);
 }

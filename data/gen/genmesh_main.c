@@ -9,8 +9,9 @@
 int main(int argc, char **argv)
 {
     if (argc < 4 || argc > 5) {
-        fprintf(stderr, "usage: sss-genmesh sphere|blob|plane|cube|slab|torus RES OUT.ply [SIZE]\n"
-                        "  RES: subdivisions (sphere, blob) or segments per side (others); SIZE: radius or edge, default 1\n");
+        fprintf(stderr, "usage: sss-genmesh sphere|blob|plane|cube|slab|torus|pair RES OUT.ply [SIZE]\n"
+                        "  RES: subdivisions (sphere, blob, pair) or segments per side (others); SIZE: radius or edge,\n"
+                        "  default 1 (pair: a sphere of radius SIZE and one of 250 SIZE, far apart)\n");
         return 2;
     }
     char *end;

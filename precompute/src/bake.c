@@ -249,7 +249,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     st.gather = o.gather = sss_bake_choose_gather(&o);
     st.theta = o.theta = o.theta > 0 ? o.theta : SSS_GATHER_THETA_DEFAULT;
     if (st.gather == SSS_GATHER_TREE) {
-        r = sss_bake_tree(mesh, mat, &o, dip, C, avail, fixed, out, &st, err);
+        r = sss_bake_tree(mesh, mat, &o, dip, C, avail, out, &st, err);
         if (r != SSS_OK) goto fail;
         goto quantise;
     }
@@ -282,7 +282,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     t = sss_now();
     out->q = malloc(nq * sizeof(float) + 1);
     if (!out->q) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %zu integrals", nq); goto fail; }
-    sss_progress_begin("integrals", mesh->nv);
+    sss_progress_begin("integrals", nb.start[nb.nrows]); /* ticks neighbours: the work of a row */
     sss_integrate(&nb, G, o.n_dirs, out->q);
     sss_progress_end();
     st.t_integrals = sss_now() - t;

@@ -48,125 +48,269 @@ sss_result sss_bake_visibility(const sss_mesh *mesh, double eta, const double *d
 /* First of the n items that rank k of nranks owns (k = nranks: n). */
 static uint32_t share_start(uint32_t n, int k, int nranks) { return (uint32_t)((uint64_t)n * k / nranks); }
 
+/* Memory of Embree's scene for the occlusion rays, per triangle (BVH and
+ * triangle copies; resident set grew by 72 B per triangle on the 100K
+ * dragon, 92 on a 20K-triangle blob). */
+#define VIS_BYTES_PER_TRIANGLE 112u
+/* What the process holds besides the bake's own arrays: code, shared
+ * libraries, OpenBLAS's packing buffers, threads' stacks, and freed memory
+ * malloc keeps (peak RSS of a 2,562-vertex bake: 22 MiB, of which 8 MiB
+ * its arrays). */
+#define PROCESS_BYTES ((uint64_t)20 << 20)
+
+/* Directions [c · D / n, (c + 1) · D / n) form chunk c of n: widths
+ * differ by one at most. */
+static uint32_t chunk_start(uint32_t D, uint32_t c, uint32_t n) { return (uint32_t)((uint64_t)D * c / n); }
+
 sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
-                         const sss_dipole *dip, uint32_t C, uint64_t avail, uint64_t fixed, sss_bake_file *out,
-                         sss_bake_stats *st, sss_error *err)
+                         const sss_dipole *dip, uint32_t C, uint64_t avail, sss_bake_file *out, sss_bake_stats *st,
+                         sss_error *err)
 {
     const uint32_t nv = mesh->nv, D = o->n_dirs;
     const int mpi = o->nranks > 1 && o->comm;
     const int rank = mpi ? o->rank : 0, nranks = mpi ? o->nranks : 1;
+    const int holds_q = rank == 0; /* under MPI rank 0 alone gets the integrals */
+    const double R = st->search_radius_mm;
     sss_gather_params p = {o->theta, 0, 0};
 #ifdef _OPENMP
     const int threads = omp_get_max_threads();
 #else
     const int threads = 1;
 #endif
-    /* Peak memory, predicted: G, q and the quantiser's indices (fixed),
-     * the tree with its moments, the threads' block matrices, the mesh copy
-     * and under MPI the block-ordered integrals rank 0 gathers before
-     * placing them. */
-    const uint64_t qbytes = (uint64_t)nv * D * C * sizeof(float);
-    const uint64_t mesh_bytes = (uint64_t)nv * 32 + (uint64_t)mesh->nf * 12;
-    uint64_t need = fixed + sss_gather_tree_bytes(nv, D, &p) + sss_gather_workspace_bytes(nv, D, C, &p, threads) +
-                    mesh_bytes + (mpi ? qbytes : 0);
-    st->predicted_peak_bytes = need;
-    if (avail && need > avail)
-        return sss_fail(err, SSS_ERR_NOMEM,
-                        "the bake needs at least %.2f GiB for %u vertices x %u directions x %u channels (transfer table, "
-                        "integrals, gather tree) but %.2f GiB is available (estimate before starting; "
-                        "SSS_MEMORY_LIMIT_MB lowers the limit): use fewer --dirs",
-                        need / 1073741824.0, nv, D, C, avail / 1073741824.0);
-
     sss_result r = SSS_OK;
     sss_gather_tree *tree = NULL;
-    float *G = NULL, *part = NULL, *full = NULL;
-    uint32_t *verts = NULL;
+    sss_vis *vis = NULL;
+    float *part = NULL, *full = NULL;
+    uint32_t *verts = NULL, *rows = NULL, *bsplit = NULL;
     uint64_t *offs = NULL, *lens = NULL;
 
+    /* The hierarchy first: it does not depend on the directions, takes
+     * ~100 bytes per vertex, and its exact size (nodes, blocks, the rows of
+     * each block's product) makes the memory plan below exact where it
+     * counts. Its interaction lists give each block's work: the progress
+     * weights and the MPI split. */
     double t = sss_now();
-    G = malloc((size_t)nv * D * sizeof(float) + 1);
+    r = sss_gather_tree_create(mesh, o->mm_per_unit, &p, &tree, err);
+    if (r != SSS_OK) goto done;
+    const uint32_t nb = sss_gather_tree_blocks(tree);
+    rows = malloc((size_t)nb * sizeof *rows + 1);
+    bsplit = malloc(((size_t)nranks + 1) * sizeof *bsplit);
     offs = calloc((size_t)nranks + 1, sizeof *offs);
     lens = calloc((size_t)nranks + 1, sizeof *lens);
-    if (!G || !offs || !lens) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u transfer values", nv, D); goto done; }
+    if (!rows || !bsplit || !offs || !lens) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u blocks", nb); goto done; }
+    r = sss_gather_block_rows(tree, R, 0, nb, rows, err);
+    if (r != SSS_OK) goto done;
+    /* Receiver blocks per rank: contiguous Morton ranges of equal work (not
+     * of equal block count: a block in a dense region costs 100× one in a
+     * sparse region), so that the ranks finish together and rank 0's
+     * progress, the only one shown, stands for all of them. Which rank
+     * computes a block does not change its bytes. */
     {
-        /* each rank traces the rays of its share of the vertices, then all
-         * ranks exchange the rows: every rank needs all of G as sources */
-        for (int k = 0; k < nranks; k++) {
-            const uint32_t a = share_start(nv, k, nranks), b = share_start(nv, k + 1, nranks);
-            offs[k] = (uint64_t)a * D * sizeof(float);
-            lens[k] = (uint64_t)(b - a) * D * sizeof(float);
+        uint64_t total = 0;
+        for (uint32_t b = 0; b < nb; b++) total += sss_gather_block_work(tree, b, rows[b], C, D, D);
+        bsplit[0] = 0;
+        uint64_t acc = 0;
+        uint32_t b = 0;
+        for (int k = 1; k < nranks; k++) {
+            const double target = (double)total * k / nranks;
+            while (b < nb && (double)acc < target) acc += sss_gather_block_work(tree, b, rows[b], C, D, D), b++;
+            bsplit[k] = b;
         }
-        r = sss_bake_visibility(mesh, mat->eta, out->dirs.dir, D, share_start(nv, rank, nranks),
-                                share_start(nv, rank + 1, nranks), G, st, err);
-        if (r != SSS_OK) goto done;
-        if (mpi && o->comm->allgather(G, offs, lens, o->comm->ctx) != 0) {
-            r = sss_fail(err, SSS_ERR_IO, "MPI: exchanging the transfer table failed");
+        bsplit[nranks] = nb;
+    }
+    const uint32_t b0 = bsplit[rank], b1 = bsplit[rank + 1];
+    uint32_t rows_max = 0;
+    for (uint32_t b = 0; b < nb; b++) rows_max = rows[b] > rows_max ? rows[b] : rows_max;
+    const uint32_t mine = sss_gather_tree_block_vertices(tree, b0, b1, NULL); /* this rank's receivers */
+    st->t_tree = sss_now() - t;
+
+    /* Peak memory (this rank), and the widest chunk of directions that
+     * fits. Whole during the gather: the process itself, the meshes, q
+     * (rank 0), Embree's scene, the hierarchy, the threads' block matrices
+     * (a call may be as wide as all D directions, gather_near.c
+     * call_width). Per direction loaded: the Morton-ordered transfer rows
+     * and the nodes' moments, and under MPI this rank's part of q and on
+     * rank 0 the chunk it collects. After the gather (the hierarchy gone):
+     * lloyd8 holds q, its 8-bit indices and the training sample (16 bytes
+     * per sample: keys, radix buffer, prefix sums); writing a float file
+     * holds q and the file's image, which sss_file_write builds in memory
+     * to checksum it; the threads' freed work space stays with malloc
+     * (measured: the 437K dragon's peak RSS 2,153 MiB against 2,091 without
+     * it). Chunks do not shrink those phases. */
+    const uint64_t qbytes = holds_q ? (uint64_t)nv * D * C * sizeof(float) : 0;
+    /* the bake's copy of the mesh and the caller's (sss-bake's import) */
+    const uint64_t mesh_bytes = 2 * ((uint64_t)nv * 32 + (uint64_t)mesh->nf * 12);
+    const uint64_t ws = sss_gather_workspace_rows_bytes(rows_max, D, C, &p, threads);
+    const uint64_t fixed = PROCESS_BYTES + qbytes + mesh_bytes + (uint64_t)mesh->nf * VIS_BYTES_PER_TRIANGLE +
+                           sss_gather_tree_size(tree, 0) + (uint64_t)nb * sizeof *rows + ws +
+                           (mpi && holds_q ? (uint64_t)nv * sizeof *verts : 0);
+    const uint64_t per_dir = sss_gather_tree_size(tree, 1) - sss_gather_tree_size(tree, 0) +
+                             (mpi ? (uint64_t)mine * C * sizeof(float) + (holds_q ? (uint64_t)nv * C * sizeof(float) : 0) : 0);
+    const uint64_t train = (uint64_t)nv * D < (4u << 20) ? (uint64_t)nv * D : (4u << 20); /* lloyd.c MAX_TRAIN */
+    const uint64_t after = !holds_q ? 0
+                           : PROCESS_BYTES + mesh_bytes + qbytes + ws +
+                                 (o->quant == SSS_QUANT_LLOYD8 ? qbytes / 4 + train * 16 + (1u << 19) /* lloyd.c */
+                                                               : qbytes + mesh_bytes / 2);
+    uint32_t width = D; /* widest chunk that fits; 0: not even one direction */
+    if (avail) {
+        if (after > avail || fixed + per_dir > avail) width = 0;
+        else if (fixed + (uint64_t)D * per_dir > avail) width = (uint32_t)((avail - fixed) / per_dir);
+    }
+    if (mpi) { /* the ranks must cut the directions alike: the narrowest wins */
+        uint32_t *w = calloc((size_t)nranks, sizeof *w);
+        if (!w) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto done; }
+        w[rank] = width;
+        for (int k = 0; k < nranks; k++) {
+            offs[k] = (uint64_t)k * sizeof *w;
+            lens[k] = sizeof *w;
+        }
+        if (o->comm->allgather(w, offs, lens, o->comm->ctx) != 0) {
+            free(w);
+            r = sss_fail(err, SSS_ERR_IO, "MPI: exchanging the memory plan failed");
             goto done;
         }
+        for (int k = 0; k < nranks; k++) width = w[k] < width ? w[k] : width;
+        free(w);
     }
-    st->t_visibility = sss_now() - t;
+    if (width == 0) {
+        const uint64_t need = after > fixed + per_dir ? after : fixed + per_dir;
+        r = sss_fail(err, SSS_ERR_NOMEM,
+                     "the bake needs at least %.2f GiB for %u vertices x %u directions x %u channels even one light "
+                     "direction at a time (integrals %.2f GiB, kept whole; gather tree, work space%s) but %.2f GiB is "
+                     "available%s (estimate before starting; SSS_MEMORY_LIMIT_MB lowers the limit): use fewer --dirs",
+                     need / 1073741824.0, nv, D, C, qbytes / 1073741824.0,
+                     after > fixed + per_dir ? ", quantising and writing the file" : "", avail / 1073741824.0,
+                     mpi ? " on one of the ranks" : "");
+        goto done;
+    }
+    const uint32_t nch = (D + width - 1) / width, wmax = (D + nch - 1) / nch;
+    st->direction_chunks = nch;
+    st->direction_chunk_width = wmax;
+    {
+        const uint64_t peak = fixed + (uint64_t)wmax * per_dir;
+        st->predicted_peak_bytes = peak > after ? peak : after;
+    }
+    if (nch > 1 && o->progress)
+        fprintf(stderr,
+                "gather: %.0f MiB may be used: light directions in %u chunks of at most %u (all %u at once would "
+                "need %.0f MiB); the output is the same\n",
+                avail / 1048576.0, nch, wmax, D, (fixed + (uint64_t)D * per_dir) / 1048576.0);
 
-    t = sss_now();
-    r = sss_gather_tree_build(mesh, o->mm_per_unit, G, D, &p, &tree, err);
+    /* Integrals (rank 0): whole, the output. */
+    if (holds_q) {
+        out->q = malloc((size_t)nv * D * C * sizeof(float) + 1);
+        if (!out->q) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u x %u integrals", nv, D, C); goto done; }
+    }
+    if (mpi) {
+        part = malloc((size_t)mine * wmax * C * sizeof(float) + 1);
+        if (holds_q) {
+            full = malloc((size_t)nv * wmax * C * sizeof(float) + 1);
+            verts = malloc((size_t)nv * sizeof *verts + 1);
+        }
+        if (!part || (holds_q && (!full || !verts))) {
+            r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the integrals of %u vertices", nv);
+            goto done;
+        }
+        if (holds_q) sss_gather_tree_block_vertices(tree, 0, nb, verts);
+    }
+    if (!sss_gather_tree_rows(tree, wmax)) { /* room for the widest chunk, reused by all */
+        r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u transfer values", nv, wmax);
+        goto done;
+    }
+    r = sss_vis_create(mesh, &vis, err);
     if (r != SSS_OK) goto done;
-    st->t_tree = sss_now() - t;
-    free(G); /* the tree holds its Morton-ordered copy */
-    G = NULL;
 
-    t = sss_now();
-    const uint32_t nb = sss_gather_tree_blocks(tree);
-    const uint32_t b0 = share_start(nb, rank, nranks), b1 = share_start(nb, rank + 1, nranks);
+    const uint32_t *order = sss_gather_tree_order(tree);
+    const uint32_t m0 = share_start(nv, rank, nranks), m1 = share_start(nv, rank + 1, nranks);
+    uint64_t rays = 0, occ = 0;
     sss_gather_stats gs;
     memset(&gs, 0, sizeof gs);
-    const size_t nq = (size_t)D * nv * C;
-    if (!mpi) {
-        out->q = malloc(nq * sizeof(float) + 1);
-        if (!out->q) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %zu integrals", nq); goto done; }
-        sss_progress_begin("integrals", nv);
-        r = sss_gather_run(tree, mesh, dip, C, st->search_radius_mm, 0, nb, out->q, 1, &gs, err);
+    for (uint32_t c = 0; c < nch && r == SSS_OK; c++) {
+        const uint32_t j0 = chunk_start(D, c, nch), Dc = chunk_start(D, c + 1, nch) - j0;
+        char lab[32];
+        /* Visibility of this rank's Morton range, straight into the tree's
+         * rows; then every rank gets all rows (all are sources). */
+        t = sss_now();
+        float *Gm = sss_gather_tree_rows(tree, Dc);
+        if (!Gm) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u transfer values", nv, Dc); break; }
+        if (nch > 1) snprintf(lab, sizeof lab, "visibility %u/%u", c + 1, nch);
+        sss_progress_begin(nch > 1 ? lab : "visibility", m1 - m0);
+        uint64_t ry = 0, oc = 0;
+        r = sss_transfer_rows_ordered(mesh, vis, out->dirs.dir + 3 * (size_t)j0, Dc, mat->eta, order, m0, m1, Gm, &ry,
+                                      &oc, err);
         sss_progress_end();
-        if (r != SSS_OK) goto done;
-    } else {
-        /* this rank's blocks in block order, then rank 0 collects all parts
-         * (in rank order = block order) and places them by vertex */
-        for (int k = 0; k < nranks; k++) {
-            const uint32_t a = share_start(nb, k, nranks), b = share_start(nb, k + 1, nranks);
-            const uint32_t before = sss_gather_tree_block_vertices(tree, 0, a, NULL);
-            const uint32_t mine = sss_gather_tree_block_vertices(tree, a, b, NULL);
-            offs[k] = (uint64_t)before * D * C * sizeof(float);
-            lens[k] = (uint64_t)mine * D * C * sizeof(float);
-        }
-        part = malloc(lens[rank] + 1);
-        if (!part) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %zu integrals", (size_t)(lens[rank] / 4)); goto done; }
-        sss_progress_begin("integrals", lens[rank] / (sizeof(float) * D * C));
-        r = sss_gather_run(tree, mesh, dip, C, st->search_radius_mm, b0, b1, part, 0, &gs, err);
-        sss_progress_end();
-        if (r != SSS_OK) goto done;
-        if (rank == 0) {
-            full = malloc(nq * sizeof(float) + 1);
-            verts = malloc((size_t)nv * sizeof *verts);
-            if (!full || !verts) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %zu integrals", nq); goto done; }
-        }
-        if (o->comm->gather0(part, full, offs, lens, o->comm->ctx) != 0) {
-            r = sss_fail(err, SSS_ERR_IO, "MPI: collecting the integrals failed");
-            goto done;
-        }
-        free(part);
-        part = NULL;
-        if (rank == 0) {
-            sss_gather_tree_block_vertices(tree, 0, nb, verts);
-            out->q = malloc(nq * sizeof(float) + 1);
-            if (!out->q) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %zu integrals", nq); goto done; }
-#pragma omp parallel for schedule(static)
-            for (int64_t kk = 0; kk < (int64_t)nv; kk++) {
-                const uint32_t v = verts[kk];
-                for (uint32_t j = 0; j < D; j++)
-                    for (uint32_t c = 0; c < C; c++)
-                        out->q[((size_t)j * nv + v) * C + c] = full[((size_t)kk * D + j) * C + c];
+        if (r != SSS_OK) break;
+        rays += ry;
+        occ += oc;
+        if (mpi) {
+            for (int k = 0; k < nranks; k++) {
+                offs[k] = (uint64_t)share_start(nv, k, nranks) * Dc * sizeof(float);
+                lens[k] = (uint64_t)(share_start(nv, k + 1, nranks) - share_start(nv, k, nranks)) * Dc * sizeof(float);
+            }
+            if (o->comm->allgather(Gm, offs, lens, o->comm->ctx) != 0) {
+                r = sss_fail(err, SSS_ERR_IO, "MPI: exchanging the transfer table failed");
+                break;
             }
         }
+        if (c + 1 == nch) { /* Embree's scene is not needed any more */
+            sss_vis_destroy(vis);
+            vis = NULL;
+        }
+        st->t_visibility += sss_now() - t;
+
+        t = sss_now();
+        r = sss_gather_tree_moments(tree, mesh, err);
+        if (r != SSS_OK) break;
+        st->t_tree += sss_now() - t;
+
+        /* The gather of this rank's blocks, progress weighted by work. */
+        t = sss_now();
+        uint64_t total = 0;
+        for (uint32_t b = b0; b < b1; b++) total += sss_gather_block_work(tree, b, rows[b], C, Dc, D);
+        if (nch > 1) snprintf(lab, sizeof lab, "integrals %u/%u", c + 1, nch);
+        sss_progress_begin(nch > 1 ? lab : "integrals", total);
+        sss_gather_stats g;
+        r = sss_gather_run_chunk(tree, mesh, dip, C, R, b0, b1, j0, D, mpi ? part : out->q, !mpi, &g, err);
+        sss_progress_end();
+        if (r != SSS_OK) break;
+        if (c == 0) gs = g; /* the lists are the same for every chunk */
+        else {
+            gs.t_lists += g.t_lists;
+            gs.t_weights += g.t_weights;
+            gs.t_sgemm += g.t_sgemm;
+            gs.t_scatter += g.t_scatter;
+            gs.flops += g.flops;
+            gs.flops_useful += g.flops_useful;
+        }
+        if (mpi) {
+            /* rank 0 collects the parts (rank order = block order) and
+             * places them by vertex */
+            for (int k = 0; k < nranks; k++) {
+                const uint32_t before = sss_gather_tree_block_vertices(tree, 0, bsplit[k], NULL);
+                const uint32_t n = sss_gather_tree_block_vertices(tree, bsplit[k], bsplit[k + 1], NULL);
+                offs[k] = (uint64_t)before * Dc * C * sizeof(float);
+                lens[k] = (uint64_t)n * Dc * C * sizeof(float);
+            }
+            if (o->comm->gather0(part, full, offs, lens, o->comm->ctx) != 0) {
+                r = sss_fail(err, SSS_ERR_IO, "MPI: collecting the integrals failed");
+                break;
+            }
+            if (holds_q) {
+#pragma omp parallel for schedule(static)
+                for (int64_t kk = 0; kk < (int64_t)nv; kk++) {
+                    const uint32_t v = verts[kk];
+                    for (uint32_t j = 0; j < Dc; j++)
+                        for (uint32_t ch = 0; ch < C; ch++)
+                            out->q[((size_t)(j0 + j) * nv + v) * C + ch] = full[((size_t)kk * Dc + j) * C + ch];
+                }
+            }
+        }
+        st->t_integrals += sss_now() - t;
+        if (sss_bake_interrupted) r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals");
     }
-    st->t_integrals = sss_now() - t;
+    if (r != SSS_OK) goto done;
+    st->rays = rays;
+    st->occluded_fraction = rays ? (double)occ / (double)rays : 0.0;
     st->tree_nodes = gs.nodes;
     st->tree_blocks = nb;
     st->near_pairs = gs.near_pairs;
@@ -176,6 +320,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     {
         const double tt = gs.t_lists + gs.t_weights + gs.t_sgemm + gs.t_scatter;
         st->sgemm_fraction = tt > 0 ? gs.t_sgemm / tt : 0;
+        st->near_gflops = tt > 0 ? gs.flops_useful / tt * 1e-9 : 0;
     }
     /* the neighbourhood figures of the direct sum, for the summary: sources
      * per receiver taken one by one, and the rows per receiver */
@@ -183,17 +328,19 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     st->neighbours_mean = nv ? (double)gs.near_pairs / nv : 0;
     if (getenv("SSS_GATHER_VERBOSE"))
         fprintf(stderr, "gather: %u nodes (%u leaves), %u blocks, rows/block %.0f, near pairs/receiver %.0f, far "
-                "nodes/receiver %.1f; thread-s lists %.2f weights %.2f sgemm %.2f scatter %.2f; sgemm %.1f GFLOP/s; "
-                "tree %.2fs\n", gs.nodes, gs.leaves, nb, gs.rows_mean, (double)gs.near_pairs / nv,
-                (double)gs.far_pairs / nv, gs.t_lists, gs.t_weights, gs.t_sgemm, gs.t_scatter, st->gather_gflops,
-                st->t_tree);
+                "nodes/receiver %.1f; thread-s lists %.2f weights %.2f sgemm %.2f scatter %.2f; sgemm %.1f GFLOP/s, "
+                "near field %.1f GFLOP/s; tree %.2fs; %u direction chunks\n", gs.nodes, gs.leaves, nb, gs.rows_mean,
+                (double)gs.near_pairs / nv, (double)gs.far_pairs / nv, gs.t_lists, gs.t_weights, gs.t_sgemm,
+                gs.t_scatter, st->gather_gflops, st->near_gflops, st->t_tree, nch);
 
 done:
+    sss_vis_destroy(vis);
     sss_gather_tree_destroy(tree);
-    free(G);
     free(part);
     free(full);
     free(verts);
+    free(rows);
+    free(bsplit);
     free(offs);
     free(lens);
     return r;

@@ -16,10 +16,12 @@ sss_result sss_bake_visibility(const sss_mesh *mesh, double eta, const double *d
                                uint32_t v1, float *G, sss_bake_stats *st, sss_error *err);
 
 /* Visibility, tree and gather: fills out->q (rank 0 only under MPI) and the
- * stats' timings. avail: bytes that may be used (0: unknown); fixed: the
- * bytes of G, q and the quantiser already counted by bake.c. */
+ * stats' timings. avail: bytes that may be used (0: unknown). When the
+ * transfer rows and tree moments of all directions do not fit next to q,
+ * the directions are taken in chunks (same bytes); refused only when not
+ * even one direction at a time fits. */
 sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
-                         const sss_dipole *dip, uint32_t C, uint64_t avail, uint64_t fixed, sss_bake_file *out,
-                         sss_bake_stats *st, sss_error *err);
+                         const sss_dipole *dip, uint32_t C, uint64_t avail, sss_bake_file *out, sss_bake_stats *st,
+                         sss_error *err);
 
 #endif

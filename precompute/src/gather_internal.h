@@ -4,6 +4,7 @@
 #ifndef SSS_GATHER_INTERNAL_H
 #define SSS_GATHER_INTERNAL_H
 
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 #include "sss/gather.h"
@@ -20,14 +21,16 @@ typedef struct sss_gnode {
 } sss_gnode;
 
 struct sss_gather_tree {
-    uint32_t nv, D;
+    uint32_t nv;
+    uint32_t D;            /* directions loaded in Gm and mom (a chunk of the bake's, bake_gather.c) */
+    uint32_t cap_dirs;     /* directions Gm and mom have room for */
     double s;              /* mm per mesh unit */
     sss_gather_params p;
     uint32_t *perm;        /* Morton position → vertex */
     double *pmm;           /* vertex positions in mm, 3 per vertex */
     double *group_area;    /* per vertex: Σ area (mesh units²) of the vertices at its exact position, in index order */
     sss_gnode *node;
-    uint32_t nnodes, nleaves;
+    uint32_t nnodes, nleaves, maxdepth;
     float *mom;            /* SSS_GATHER_MOMENTS × D floats per node (mm² flux moments about c) */
     uint32_t *block;       /* node index of each receiver block, Morton order */
     uint32_t nblocks;
@@ -48,6 +51,12 @@ typedef struct sss_glist {
  * Returns 0 on allocation failure. */
 int sss_gather_lists(const sss_gather_tree *t, uint32_t b, double radius_mm, sss_glist *l);
 
+/* Columns of the sgemm call for a chunk of Dc of n_total directions
+ * starting at j0, for a block of M weight rows and K product rows, and the
+ * column c0 of the call where the chunk sits (the others are zero): the
+ * rule that keeps a chunked bake's bytes those of the whole (gather_near.c). */
+uint32_t sss_gather_call_width(uint64_t M, uint64_t K, uint32_t Dc, uint32_t n_total, uint32_t j0, uint32_t *c0);
+
 /* Per-channel constants of the float profile kernels. */
 typedef struct sss_gkernel {
     float sigma, z_r, z_v, zr2, zv2, coef; /* coef = α′/(4π) · 1/π */
@@ -65,23 +74,27 @@ void sss_gather_far_weights(const sss_gather_tree *t, const double x_o[3], const
 /* e^x for x ≤ 0 in float, vectorisable (no libm call, no float
  * compare-select, which gcc does not vectorise here): Cody–Waite range
  * reduction and a degree-6 polynomial, relative error < 2e-7; 0 below
- * e^-87. Without FMA contraction (ISO C mode) every vector width gives the
- * same bits. */
+ * e^-87. The reduction and the polynomial are written as fmaf: fused
+ * multiply-adds, correctly rounded by the C standard, so every vector
+ * width gives the same bits (the AVX2 and AVX-512 clones use the
+ * instruction; a machine without it gets the same values from libm, only
+ * slower). Measured: a quarter less time per weight than separate
+ * multiplies and adds (docs/benchmarks.md, "near field"). */
 static inline float sss_gexpf(float x)
 {
     int32_t ki = (int32_t)(x * 1.44269504f - 0.5f); /* ≈ round(x / ln 2) for x ≤ 0 */
     const float keep = (float)(ki > -126);
     ki = ki < -126 ? -126 : ki;
     const float k = (float)ki;
-    float f = x - k * 0.693145752f;
-    f = f - k * 1.42860677e-6f;
+    float f = fmaf(-k, 0.693145752f, x);
+    f = fmaf(-k, 1.42860677e-6f, f);
     float p = 1.0f / 720.0f;
-    p = p * f + 1.0f / 120.0f;
-    p = p * f + 1.0f / 24.0f;
-    p = p * f + 1.0f / 6.0f;
-    p = p * f + 0.5f;
-    p = p * f + 1.0f;
-    p = p * f + 1.0f;
+    p = fmaf(p, f, 1.0f / 120.0f);
+    p = fmaf(p, f, 1.0f / 24.0f);
+    p = fmaf(p, f, 1.0f / 6.0f);
+    p = fmaf(p, f, 0.5f);
+    p = fmaf(p, f, 1.0f);
+    p = fmaf(p, f, 1.0f);
     int32_t bits = (ki + 127) << 23;
     float sc;
     memcpy(&sc, &bits, sizeof sc);
@@ -89,9 +102,10 @@ static inline float sss_gexpf(float x)
 }
 
 /* Vector-width clones of the weight kernels (AVX-512 on the machines the
- * benchmarks ran on); the default clone is plain SSE2. */
+ * benchmarks ran on); x86-64-v3 is AVX2 with FMA (plain "avx2" would leave
+ * sss_gexpf's fmaf to libm); the default clone is plain SSE2. */
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define SSS_GATHER_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#define SSS_GATHER_CLONES __attribute__((target_clones("avx512f", "arch=x86-64-v3", "default")))
 #else
 #define SSS_GATHER_CLONES
 #endif

@@ -67,20 +67,45 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem)
 
 /* (1/π) R_d(r) ΔA for S sources at squared distances r2v, zero where
  * inv[a] = 0 (beyond the cutoff): the float form of sss_rd (physics sheet
- * §2), R_d = α′/(4π) Σ_z z (1 + σd) e^{−σd} / d³. */
+ * §2), R_d = α′/(4π) Σ_z z (1 + σd) e^{−σd} / d³; channel c into
+ * w[c · ldc + a]. Three channels (RGB) in one pass over the sources: the
+ * distances are loaded once and the three rows written together (measured
+ * 10 % less time per weight than a pass per channel); the arithmetic per
+ * channel is the same either way. */
+static inline float rd_one(const sss_gkernel *kp, float rr, float in)
+{
+    const float d1 = sqrtf(rr + kp->zr2), d2 = sqrtf(rr + kp->zv2);
+    const float i1 = 1.0f / d1, i2 = 1.0f / d2;
+    /* A source beyond the cutoff (in = 0) gets e^{−σd−128} = 0 exactly:
+     * the weight is 0 either way, but a distant source's e^{−σd}/d³ can
+     * fall to a subnormal float, and every operation on one costs ~100
+     * cycles (measured: a coarse sphere's blocks 6× slower per weight).
+     * Inside (in = 1) the argument is σd itself, so the bits are the same. */
+    const float s1 = kp->sigma * d1 + (1.0f - in) * 128.0f, s2 = kp->sigma * d2 + (1.0f - in) * 128.0f;
+    const float t1 = kp->z_r * (1.0f + s1) * sss_gexpf(-s1) * i1 * i1 * i1;
+    const float t2 = kp->z_v * (1.0f + s2) * sss_gexpf(-s2) * i2 * i2 * i2;
+    return kp->coef * (t1 + t2);
+}
+
 SSS_GATHER_CLONES
 static void rd_row(const sss_gkernel *kp, const float *restrict r2v, const float *restrict dA,
                    const float *restrict inv, uint32_t S, float *restrict w)
 {
-    const float sigma = kp->sigma, coef = kp->coef, z_r = kp->z_r, z_v = kp->z_v, zr2 = kp->zr2, zv2 = kp->zv2;
+    const sss_gkernel k = *kp;
+    for (uint32_t a = 0; a < S; a++) w[a] = rd_one(&k, r2v[a], inv[a]) * dA[a] * inv[a];
+}
+
+SSS_GATHER_CLONES
+static void rd_rows3(const sss_gkernel *kp, const float *restrict r2v, const float *restrict dA,
+                     const float *restrict inv, uint32_t S, float *restrict w, uint64_t ldc)
+{
+    const sss_gkernel k0 = kp[0], k1 = kp[1], k2 = kp[2];
+    float *restrict w0 = w, *restrict w1 = w + ldc, *restrict w2 = w + 2 * ldc;
     for (uint32_t a = 0; a < S; a++) {
-        const float rr = r2v[a];
-        const float d1 = sqrtf(rr + zr2), d2 = sqrtf(rr + zv2);
-        const float i1 = 1.0f / d1, i2 = 1.0f / d2;
-        const float s1 = sigma * d1, s2 = sigma * d2;
-        const float t1 = z_r * (1.0f + s1) * sss_gexpf(-s1) * i1 * i1 * i1;
-        const float t2 = z_v * (1.0f + s2) * sss_gexpf(-s2) * i2 * i2 * i2;
-        w[a] = coef * (t1 + t2) * dA[a] * inv[a];
+        const float rr = r2v[a], da = dA[a], in = inv[a];
+        w0[a] = rd_one(&k0, rr, in) * da * in;
+        w1[a] = rd_one(&k1, rr, in) * da * in;
+        w2[a] = rd_one(&k2, rr, in) * da * in;
     }
 }
 
@@ -120,8 +145,21 @@ static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const s
     const double s = t->s, r2 = radius_mm * radius_mm, s2 = s * s;
     const float *po = mesh->pos + 3 * (size_t)o;
     near_d2(sxyz, sxyz + S, sxyz + 2 * (size_t)S, dA, S, po[0], po[1], po[2], s, r2, r2f, inv, flag);
-    for (uint32_t c = 0; c < C; c++) rd_row(&k[c], r2f, dA, inv, S, W + c * ldc);
+    if (C == 3)
+        rd_rows3(k, r2f, dA, inv, S, W, ldc);
+    else
+        for (uint32_t c = 0; c < C; c++) rd_row(&k[c], r2f, dA, inv, S, W + c * ldc);
     for (uint32_t a = 0; a < S; a++) {
+        /* flagged pairs are a handful per receiver: skip the others
+         * eight flags at a time (flag has room for S rounded up to 8) */
+        if ((a & 7) == 0) {
+            uint64_t f8;
+            memcpy(&f8, flag + a, sizeof f8);
+            if (!f8) {
+                a += 7;
+                continue;
+            }
+        }
         if (!flag[a]) continue;
         const uint32_t i = src[a];
         const float *pi = mesh->pos + 3 * (size_t)i;
@@ -148,10 +186,116 @@ static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const s
     }
 }
 
+/* Products whose m·n·k is at most this may be routed by OpenBLAS to
+ * kernels other than its blocked one; above it every call is the blocked
+ * kernel (0.3.21: "small matrix" kernels up to m·n·k = 10⁶, the SkylakeX
+ * "direct" sgemm below 28·512² = 7.3·10⁶; this bound leaves 2.3× margin). */
+#define SGEMM_BLOCKED_MNK (16.0 * 1048576.0)
+
+/* Width of the sgemm call that computes a chunk of Dc directions
+ * [j0, j0 + Dc) of n_total for a block with M = C·B weight rows and K
+ * rows of Ψ, and the column c0 of the call where the chunk sits.
+ *
+ * A bake in direction chunks (bake_gather.c) must give the bytes of the
+ * bake in one piece, whose block product is one call over all n_total
+ * columns. OpenBLAS does not promise that a column comes out with the same
+ * bits when the call has fewer columns, and measured here (OpenBLAS 0.3.21,
+ * SkylakeX kernels; tests/bench/sgemm_columns.c checks it) it does not always:
+ * products small enough for its "small matrix" or "direct" kernels are
+ * summed in another order than by the blocked kernel (which splits k into
+ * panels), and so is a call of one column. Among calls that all take the
+ * blocked kernel, every column had the same bits whatever the number of
+ * columns (2 … n_total) and wherever it sat: that kernel computes each
+ * element as the same chain of multiply-adds over the same k panels, and
+ * the panels depend on k alone. So:
+ *  - the chunk is the whole set (Dc = n_total): the reference call itself;
+ *  - both the whole call and a call of at least 16 columns lie above
+ *    SGEMM_BLOCKED_MNK: the chunk is computed in a call of
+ *    max(Dc, 16, the width that crosses the bound) columns, the chunk at
+ *    column 0 and zero columns after it;
+ *  - otherwise (cheap blocks: few rows or few receivers) the call is the
+ *    whole call, n_total columns with the chunk at its own place
+ *    [j0, j0 + Dc) and the other columns zero: the same call as the
+ *    reference, so the chunk's columns are computed the same way by
+ *    whatever kernel OpenBLAS picks.
+ * tests/integration/cli_gather_chunks.sh compares the bytes of chunked
+ * and whole bakes. */
+uint32_t sss_gather_call_width(uint64_t M, uint64_t K, uint32_t Dc, uint32_t n_total, uint32_t j0, uint32_t *c0)
+{
+    *c0 = 0;
+    if (Dc >= n_total) return Dc;
+    const double mk = (double)M * (double)K;
+    if (mk > 0 && mk * n_total > SGEMM_BLOCKED_MNK) {
+        double need = floor(SGEMM_BLOCKED_MNK / mk) + 1.0;
+        uint32_t n = Dc > 16 ? Dc : 16;
+        if (need > n) n = need < (double)n_total ? (uint32_t)need : n_total;
+        if (n < n_total) return n;
+    }
+    *c0 = j0;
+    return n_total;
+}
+
+/* Cost per element, in sgemm flops, of the parts of a block that are not
+ * the product: a weight (receiver × row × channel), a row element of Ψ
+ * copied and packed (row × column), a value of q written (receiver ×
+ * channel × direction). Fitted to per-block CPU times of the 100K dragon
+ * (200 directions) and of `sss-genmesh pair 6` (100 directions): 212 / 197,
+ * 81 / 70, 752 / 551 (docs/benchmarks.md, "Progress"). */
+#define WORK_WEIGHT 200.0
+#define WORK_ROWCOPY 75.0
+#define WORK_WRITE 650.0
+
+uint64_t sss_gather_block_work(const sss_gather_tree *t, uint32_t b, uint32_t rows, uint32_t C, uint32_t Dc,
+                               uint32_t n_total)
+{
+    const sss_gnode *n = &t->node[t->block[b]];
+    const double M = (double)C * (n->hi - n->lo);
+    uint32_t c0;
+    const double w = sss_gather_call_width((uint64_t)M, rows, Dc, n_total, 0, &c0);
+    return (uint64_t)(2.0 * M * rows * w + WORK_WEIGHT * M * rows + WORK_ROWCOPY * rows * w + WORK_WRITE * M * Dc) + 1;
+}
+
+sss_result sss_gather_block_rows(const sss_gather_tree *t, double radius_mm, uint32_t b0, uint32_t b1, uint32_t *rows,
+                                 sss_error *err)
+{
+    if (b1 > t->nblocks || b0 > b1) return sss_fail(err, SSS_ERR_ARG, "gather: invalid block range");
+    int failed = 0;
+#pragma omp parallel
+    {
+        sss_glist l;
+        memset(&l, 0, sizeof l);
+#pragma omp for schedule(dynamic, 16)
+        for (int64_t b = b0; b < (int64_t)b1; b++) {
+            if (failed) continue;
+            if (!sss_gather_lists(t, t->block[b], radius_mm, &l)) {
+#pragma omp atomic write
+                failed = 1;
+                continue;
+            }
+            rows[b - b0] = l.near_sources + SSS_GATHER_MOMENTS * l.nfar;
+        }
+        free(l.near);
+        free(l.far);
+    }
+    if (failed) return sss_fail(err, SSS_ERR_NOMEM, "gather: out of memory for the interaction lists");
+    return SSS_OK;
+}
+
+uint64_t sss_gather_workspace_rows_bytes(uint32_t max_rows, uint32_t D, uint32_t C, const sss_gather_params *pin,
+                                         int threads)
+{
+    sss_gather_params p = pin ? *pin : (sss_gather_params){0};
+    const uint64_t B = p.block_size ? p.block_size : 128, S = max_rows;
+    /* W, Ψ, Q, and per row: source index, 3 floats, 3 doubles, a flag;
+     * grow() leaves up to half again as much */
+    const uint64_t per = (C * B * S * 4 + S * D * 4 + C * B * D * 4 + S * (4 + 12 + 24 + 1)) * 3 / 2 + 64 * 1024;
+    return per * (uint64_t)(threads > 0 ? threads : 1);
+}
+
 uint64_t sss_gather_workspace_bytes(uint32_t nv, uint32_t D, uint32_t C, const sss_gather_params *pin, int threads)
 {
     sss_gather_params p = pin ? *pin : (sss_gather_params){0};
-    const uint32_t B = p.block_size ? p.block_size : 64;
+    const uint32_t B = p.block_size ? p.block_size : 128;
     /* rows per block: measured below 4000 on the dragons at θ = 0.5; allow 16000 */
     const uint64_t S = nv < 16000 ? nv + 10 * 64 : 16000;
     const uint64_t per = S * D * 4 + (uint64_t)C * B * S * 4 + (uint64_t)C * B * D * 4 + S * 12 + 64 * 1024;
@@ -162,7 +306,15 @@ sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const 
                           double radius_mm, uint32_t b0, uint32_t b1, float *out, int full, sss_gather_stats *st,
                           sss_error *err)
 {
-    if (C < 1 || C > SSS_MAX_CHANNELS || b1 > t->nblocks || b0 > b1 || mesh->nv != t->nv)
+    return sss_gather_run_chunk(t, mesh, dip, C, radius_mm, b0, b1, 0, t->D, out, full, st, err);
+}
+
+sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, const sss_dipole *dip, uint32_t C,
+                                double radius_mm, uint32_t b0, uint32_t b1, uint32_t j0, uint32_t n_total, float *out,
+                                int full, sss_gather_stats *st, sss_error *err)
+{
+    if (C < 1 || C > SSS_MAX_CHANNELS || b1 > t->nblocks || b0 > b1 || mesh->nv != t->nv || !t->Gm || t->D == 0 ||
+        (uint64_t)j0 + t->D > n_total)
         return sss_fail(err, SSS_ERR_ARG, "gather: invalid arguments");
     sss_gather_stats s0;
     memset(&s0, 0, sizeof s0);
@@ -187,7 +339,7 @@ sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const 
     {
         work wk;
         memset(&wk, 0, sizeof wk);
-        double tl = 0, tw = 0, tg = 0, ts = 0, fl = 0;
+        double tl = 0, tw = 0, tg = 0, ts = 0, fl = 0, fu = 0;
         uint64_t np = 0, fp = 0;
 #pragma omp for schedule(dynamic, 1)
         for (int64_t bi = (int64_t)b0; bi < (int64_t)b1; bi++) {
@@ -195,7 +347,7 @@ sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const 
             const uint32_t bn = t->block[bi];
             const sss_gnode *blk = &t->node[bn];
             const uint32_t B = blk->hi - blk->lo;
-            double t0 = sss_now();
+            double t0 = sss_thread_cpu();
             if (!sss_gather_lists(t, bn, radius_mm, &wk.l)) {
 #pragma omp atomic write
                 failed = 1;
@@ -203,23 +355,32 @@ sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const 
             }
             const uint32_t Sn = wk.l.near_sources, Sf = wk.l.nfar;
             const size_t S = (size_t)Sn + (size_t)SSS_GATHER_MOMENTS * Sf;
+            uint32_t c0;
+            const uint32_t Dn = sss_gather_call_width((uint64_t)C * B, S, D, n_total, j0, &c0); /* columns of this call */
             if (!grow((void **)&wk.W, &wk.capW, (size_t)C * B * S + 1, sizeof(float)) ||
-                !grow((void **)&wk.Psi, &wk.capPsi, S * D + 1, sizeof(float)) ||
-                !grow((void **)&wk.Q, &wk.capQ, (size_t)C * B * D + 1, sizeof(float)) ||
+                !grow((void **)&wk.Psi, &wk.capPsi, S * Dn + 1, sizeof(float)) ||
+                !grow((void **)&wk.Q, &wk.capQ, (size_t)C * B * Dn + 1, sizeof(float)) ||
                 !grow((void **)&wk.src, &wk.capsrc, (size_t)Sn + 1, sizeof(uint32_t)) ||
                 !grow((void **)&wk.fs, &wk.capfs, 3 * (size_t)Sn + 10 * (size_t)Sf + 1, sizeof(float)) ||
                 !grow((void **)&wk.sxyz, &wk.capxyz, 3 * (size_t)Sn + 1, sizeof(double)) ||
-                !grow((void **)&wk.flag, &wk.capflag, (size_t)Sn + 1, 1)) {
+                !grow((void **)&wk.flag, &wk.capflag, (size_t)Sn + 8, 1)) {
 #pragma omp atomic write
                 failed = 1;
                 continue;
             }
+            memset(wk.flag + Sn, 0, 8); /* near_weights reads the flags eight at a time */
             /* Ψ: near transfer rows (a leaf is a contiguous run of the
-             * Morton-ordered G), then far moment rows */
+             * Morton-ordered G), then far moment rows; a call wider than
+             * the chunk has zero columns around it (call_width) */
+            if (Dn != D) memset(wk.Psi, 0, S * Dn * sizeof(float));
             uint32_t a = 0;
             for (uint32_t e = 0; e < wk.l.nnear; e++) {
                 const sss_gnode *n = &t->node[wk.l.near[e]];
-                memcpy(wk.Psi + (size_t)a * D, t->Gm + (size_t)n->lo * D, (size_t)(n->hi - n->lo) * D * sizeof(float));
+                if (Dn == D)
+                    memcpy(wk.Psi + (size_t)a * D, t->Gm + (size_t)n->lo * D, (size_t)(n->hi - n->lo) * D * sizeof(float));
+                else
+                    for (uint32_t m = n->lo; m < n->hi; m++)
+                        memcpy(wk.Psi + (size_t)(a + m - n->lo) * Dn + c0, t->Gm + (size_t)m * D, D * sizeof(float));
                 for (uint32_t m = n->lo; m < n->hi; m++, a++) {
                     const uint32_t i = t->perm[m];
                     wk.src[a] = i;
@@ -227,10 +388,16 @@ sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const 
                     for (int x = 0; x < 3; x++) wk.sxyz[(size_t)x * Sn + a] = mesh->pos[3 * (size_t)i + x];
                 }
             }
-            for (uint32_t f = 0; f < Sf; f++)
-                memcpy(wk.Psi + ((size_t)Sn + (size_t)SSS_GATHER_MOMENTS * f) * D,
-                       t->mom + (size_t)wk.l.far[f] * SSS_GATHER_MOMENTS * D, (size_t)SSS_GATHER_MOMENTS * D * sizeof(float));
-            double t1 = sss_now();
+            for (uint32_t f = 0; f < Sf; f++) {
+                const float *mf = t->mom + (size_t)wk.l.far[f] * SSS_GATHER_MOMENTS * D;
+                float *pf = wk.Psi + ((size_t)Sn + (size_t)SSS_GATHER_MOMENTS * f) * Dn;
+                if (Dn == D)
+                    memcpy(pf, mf, (size_t)SSS_GATHER_MOMENTS * D * sizeof(float));
+                else
+                    for (int x = 0; x < SSS_GATHER_MOMENTS; x++)
+                        memcpy(pf + (size_t)x * Dn + c0, mf + (size_t)x * D, D * sizeof(float));
+            }
+            double t1 = sss_thread_cpu();
             /* W: row c·B + k is receiver k's weights for channel c */
             for (uint32_t kr = 0; kr < B; kr++) {
                 const uint32_t o = t->perm[blk->lo + kr];
@@ -240,38 +407,44 @@ sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const 
                 sss_gather_far_weights(t, t->pmm + 3 * (size_t)o, wk.l.far, Sf, k, C, radius_mm, wk.fs + 3 * (size_t)Sn,
                                        wrow + Sn, (uint64_t)B * S);
             }
-            double t2 = sss_now();
+            double t2 = sss_thread_cpu();
             if (S > 0)
-                cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, (int)(C * B), (int)D, (int)S, 1.0f, wk.W,
-                            (int)S, wk.Psi, (int)D, 0.0f, wk.Q, (int)D);
+                cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, (int)(C * B), (int)Dn, (int)S, 1.0f, wk.W,
+                            (int)S, wk.Psi, (int)Dn, 0.0f, wk.Q, (int)Dn);
             else
-                memset(wk.Q, 0, (size_t)C * B * D * sizeof(float));
-            double t3 = sss_now();
+                memset(wk.Q, 0, (size_t)C * B * Dn * sizeof(float));
+            double t3 = sss_thread_cpu();
             /* q is a sum of non-negative terms; the far field's Taylor
              * terms and float cancellation can leave tiny negative values
-             * where it is ~0 (fully shadowed): clamp, as the file requires */
-            for (size_t e = 0; e < (size_t)C * B * D; e++) wk.Q[e] = wk.Q[e] > 0.0f ? wk.Q[e] : 0.0f;
+             * where it is ~0 (fully shadowed): clamp, as the file requires.
+             * The channels of one (vertex, direction) share a cache line
+             * of q: write them together, a direction at a time (q is
+             * vertex-major within a direction, so a receiver's directions
+             * are nv·C floats apart). */
             const uint64_t base = off[bi - b0];
             for (uint32_t kr = 0; kr < B; kr++) {
                 const uint32_t v = t->perm[blk->lo + kr];
-                for (uint32_t c = 0; c < C; c++) {
-                    const float *qr = wk.Q + ((size_t)c * B + kr) * D;
-                    if (full)
-                        for (uint32_t j = 0; j < D; j++) out[((size_t)j * nv + v) * C + c] = qr[j];
-                    else
-                        for (uint32_t j = 0; j < D; j++) out[((base + kr) * D + j) * C + c] = qr[j];
+                const float *qr = wk.Q + (size_t)kr * Dn + c0; /* channel c at qr + c·B·Dn */
+                const size_t cs = (size_t)B * Dn;
+                for (uint32_t j = 0; j < D; j++) {
+                    float *o = full ? out + ((size_t)(j0 + j) * nv + v) * C : out + ((base + kr) * D + j) * C;
+                    for (uint32_t c = 0; c < C; c++) {
+                        const float x = qr[c * cs + j];
+                        o[c] = x > 0.0f ? x : 0.0f;
+                    }
                 }
             }
-            double t4 = sss_now();
+            double t4 = sss_thread_cpu();
             tl += t1 - t0;
             tw += t2 - t1;
             tg += t3 - t2;
             ts += t4 - t3;
-            fl += 2.0 * C * B * (double)S * D;
+            fl += 2.0 * C * B * (double)S * Dn;
+            fu += 2.0 * C * B * (double)S * D;
             np += (uint64_t)B * Sn;
             fp += (uint64_t)B * Sf;
             rows_total += (double)S;
-            sss_progress_tick(B);
+            sss_progress_tick(sss_gather_block_work(t, (uint32_t)bi, (uint32_t)S, C, D, n_total));
         }
 #pragma omp critical
         {
@@ -280,6 +453,7 @@ sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const 
             s0.t_sgemm += tg;
             s0.t_scatter += ts;
             s0.flops += fl;
+            s0.flops_useful += fu;
             s0.near_pairs += np;
             s0.far_pairs += fp;
         }

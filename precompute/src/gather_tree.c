@@ -144,7 +144,7 @@ static void params_defaults(sss_gather_params *p)
 {
     if (!(p->theta > 0)) p->theta = SSS_GATHER_THETA_DEFAULT;
     if (p->leaf_size == 0) p->leaf_size = 32;
-    if (p->block_size == 0) p->block_size = 64;
+    if (p->block_size == 0) p->block_size = 128; /* sss/gather.h */
 }
 
 uint64_t sss_gather_tree_bytes(uint32_t nv, uint32_t n_dirs, const sss_gather_params *pin)
@@ -157,6 +157,13 @@ uint64_t sss_gather_tree_bytes(uint32_t nv, uint32_t n_dirs, const sss_gather_pa
     const uint64_t nodes = 8ull * nv / p.leaf_size + 64;
     return nodes * (sizeof(sss_gnode) + (uint64_t)SSS_GATHER_MOMENTS * n_dirs * sizeof(float)) +
            (uint64_t)nv * (4 + 24 + 8 + 16 + 4) + (uint64_t)nv * n_dirs * sizeof(float);
+}
+
+uint64_t sss_gather_tree_size(const sss_gather_tree *t, uint32_t n_dirs)
+{
+    return (uint64_t)t->nv * (sizeof *t->perm + 3 * sizeof *t->pmm + sizeof *t->group_area) +
+           (uint64_t)t->nnodes * sizeof *t->node + (uint64_t)t->nblocks * sizeof *t->block +
+           (uint64_t)n_dirs * ((uint64_t)t->nv + (uint64_t)t->nnodes * SSS_GATHER_MOMENTS) * sizeof(float);
 }
 
 uint32_t sss_gather_tree_blocks(const sss_gather_tree *t) { return t->nblocks; }
@@ -221,12 +228,11 @@ static void internal_moments(const sss_gather_tree *t, const sss_gnode *n, doubl
     for (size_t k = 0; k < (size_t)SSS_GATHER_MOMENTS * D; k++) out[k] = (float)acc[k];
 }
 
-sss_result sss_gather_tree_build(const sss_mesh *mesh, double s, const float *G, uint32_t D,
-                                 const sss_gather_params *pin, sss_gather_tree **out, sss_error *err)
+sss_result sss_gather_tree_create(const sss_mesh *mesh, double s, const sss_gather_params *pin, sss_gather_tree **out,
+                                  sss_error *err)
 {
     *out = NULL;
-    if (!mesh->area || mesh->nv == 0 || !(s > 0) || D == 0 || !G)
-        return sss_fail(err, SSS_ERR_ARG, "gather tree: invalid arguments");
+    if (!mesh->area || mesh->nv == 0 || !(s > 0)) return sss_fail(err, SSS_ERR_ARG, "gather tree: invalid arguments");
     sss_gather_params p = pin ? *pin : (sss_gather_params){0};
     params_defaults(&p);
     if (!(p.theta < 1.0)) return sss_fail(err, SSS_ERR_ARG, "--theta %g must be in (0, 1)", p.theta);
@@ -237,7 +243,6 @@ sss_result sss_gather_tree_build(const sss_mesh *mesh, double s, const float *G,
     b.code = malloc((size_t)nv * sizeof(uint64_t));
     if (t) {
         t->nv = nv;
-        t->D = D;
         t->s = s;
         t->p = p;
         t->perm = malloc((size_t)nv * sizeof(uint32_t));
@@ -294,12 +299,6 @@ sss_result sss_gather_tree_build(const sss_mesh *mesh, double s, const float *G,
     }
     free(kv);
     kv = NULL;
-    /* G in Morton order: a near leaf's rows are then one contiguous run */
-    t->Gm = malloc((size_t)nv * D * sizeof(float) + 1);
-    if (!t->Gm) goto nomem;
-#pragma omp parallel for schedule(static)
-    for (int64_t m = 0; m < (int64_t)nv; m++)
-        memcpy(t->Gm + (size_t)m * D, G + (size_t)t->perm[m] * D, D * sizeof(float));
 
     /* Octree on the Morton digits. */
     b.cap = 64;
@@ -347,14 +346,60 @@ sss_result sss_gather_tree_build(const sss_mesh *mesh, double s, const float *G,
         nd->r = sqrt(r2) * (1.0 + 1e-12) + 1e-12;
         nd->rho_max = sqrt(rho2);
     }
+    t->maxdepth = 0;
+    for (uint32_t n = 0; n < t->nnodes; n++) t->maxdepth = t->node[n].depth > t->maxdepth ? t->node[n].depth : t->maxdepth;
 
-    /* Flux moments, deepest nodes first (a level at a time, in parallel). */
-    t->mom = malloc((size_t)t->nnodes * SSS_GATHER_MOMENTS * D * sizeof(float) + 1);
-    if (!t->mom) goto nomem;
-    uint32_t maxdepth = 0;
-    for (uint32_t n = 0; n < t->nnodes; n++) maxdepth = t->node[n].depth > maxdepth ? t->node[n].depth : maxdepth;
+    uint32_t nb = 0;
+    collect_blocks(t, 0, &nb, 0);
+    t->block = malloc((size_t)nb * sizeof(uint32_t));
+    if (!t->block) goto nomem;
+    t->nblocks = 0;
+    collect_blocks(t, 0, &t->nblocks, 1);
+    *out = t;
+    return SSS_OK;
+
+nomem:
+    free(kv);
+    free(b.code);
+    sss_gather_tree_destroy(t);
+    return sss_fail(err, SSS_ERR_NOMEM, "gather tree: out of memory for %u vertices", mesh->nv);
+}
+
+const uint32_t *sss_gather_tree_order(const sss_gather_tree *t) { return t->perm; }
+
+float *sss_gather_tree_rows(sss_gather_tree *t, uint32_t n_dirs)
+{
+    if (n_dirs == 0) return NULL;
+    /* The buffers keep the largest width asked for: a bake in direction
+     * chunks (bake_gather.c) loads chunk after chunk into the same memory. */
+    if (n_dirs > t->cap_dirs) {
+        free(t->Gm);
+        free(t->mom);
+        t->Gm = malloc((size_t)t->nv * n_dirs * sizeof(float) + 1);
+        t->mom = malloc((size_t)t->nnodes * SSS_GATHER_MOMENTS * n_dirs * sizeof(float) + 1);
+        if (!t->Gm || !t->mom) {
+            free(t->Gm);
+            free(t->mom);
+            t->Gm = t->mom = NULL;
+            t->cap_dirs = t->D = 0;
+            return NULL;
+        }
+        t->cap_dirs = n_dirs;
+    }
+    t->D = n_dirs;
+    return t->Gm;
+}
+
+sss_result sss_gather_tree_moments(sss_gather_tree *t, const sss_mesh *mesh, sss_error *err)
+{
+    const uint32_t D = t->D;
+    if (!t->Gm || D == 0 || mesh->nv != t->nv) return sss_fail(err, SSS_ERR_ARG, "gather tree: no transfer rows loaded");
+    /* Flux moments, deepest nodes first (a level at a time, in parallel).
+     * Every direction j is summed on its own, in the same order whatever
+     * the other directions loaded with it: a node's moments for ω_j have
+     * the same bits in a bake in direction chunks as in one piece. */
     int failed = 0;
-    for (int64_t dep = maxdepth; dep >= 0; dep--) {
+    for (int64_t dep = t->maxdepth; dep >= 0; dep--) {
 #pragma omp parallel
         {
             double *acc = malloc((size_t)SSS_GATHER_MOMENTS * D * sizeof(double));
@@ -372,23 +417,36 @@ sss_result sss_gather_tree_build(const sss_mesh *mesh, double s, const float *G,
             }
             free(acc);
         }
-        if (failed) goto nomem;
+        if (failed)
+            return sss_fail(err, SSS_ERR_NOMEM, "gather tree: out of memory for the moments of %u directions", D);
     }
+    return SSS_OK;
+}
 
-    uint32_t nb = 0;
-    collect_blocks(t, 0, &nb, 0);
-    t->block = malloc((size_t)nb * sizeof(uint32_t));
-    if (!t->block) goto nomem;
-    t->nblocks = 0;
-    collect_blocks(t, 0, &t->nblocks, 1);
+sss_result sss_gather_tree_build(const sss_mesh *mesh, double s, const float *G, uint32_t D,
+                                 const sss_gather_params *pin, sss_gather_tree **out, sss_error *err)
+{
+    *out = NULL;
+    if (D == 0 || !G) return sss_fail(err, SSS_ERR_ARG, "gather tree: invalid arguments");
+    sss_gather_tree *t = NULL;
+    sss_result r = sss_gather_tree_create(mesh, s, pin, &t, err);
+    if (r != SSS_OK) return r;
+    /* G in Morton order: a near leaf's rows are then one contiguous run */
+    float *Gm = sss_gather_tree_rows(t, D);
+    if (!Gm) {
+        sss_gather_tree_destroy(t);
+        return sss_fail(err, SSS_ERR_NOMEM, "gather tree: out of memory for %u vertices x %u directions", mesh->nv, D);
+    }
+#pragma omp parallel for schedule(static)
+    for (int64_t m = 0; m < (int64_t)t->nv; m++)
+        memcpy(Gm + (size_t)m * D, G + (size_t)t->perm[m] * D, D * sizeof(float));
+    r = sss_gather_tree_moments(t, mesh, err);
+    if (r != SSS_OK) {
+        sss_gather_tree_destroy(t);
+        return r;
+    }
     *out = t;
     return SSS_OK;
-
-nomem:
-    free(kv);
-    free(b.code);
-    sss_gather_tree_destroy(t);
-    return sss_fail(err, SSS_ERR_NOMEM, "gather tree: out of memory for %u vertices x %u directions", mesh->nv, D);
 }
 
 static int push(uint32_t **a, uint32_t *n, uint32_t *cap, uint32_t v)

@@ -1,15 +1,29 @@
 /* progress.h: one progress bar with ETA on stderr (only when stderr is a
  * terminal and the bar was enabled). Ticks are thread-safe; only the thread
- * that crosses a 0.5 s boundary redraws. */
+ * that crosses a redraw boundary redraws.
+ *
+ * With SSS_PROGRESS_LOG=FILE in the environment (and progress enabled,
+ * i.e. not -q, and on MPI rank 0 only), every redraw is also appended to
+ * FILE as one line "LABEL<TAB>FRACTION<TAB>ELAPSED_S<TAB>ETA_S", the last
+ * line of a phase ending in "<TAB>end": what the bar shows, for scripts and
+ * tests (tests/integration/cli_progress.sh). FRACTION is done/total,
+ * unclamped; ETA = elapsed × (1 − f)/f, so it is as good as the ticks are
+ * proportional to the time the work takes (the gather ticks each block's
+ * estimated work, sss_gather_block_work). */
 #ifndef SSS_PROGRESS_H
 #define SSS_PROGRESS_H
 
 #include <stdint.h>
 
 void sss_progress_enable(int on);
-void sss_progress_begin(const char *label, uint64_t total);
+int sss_progress_active(void); /* a bar or a log is being drawn */
+void sss_progress_begin(const char *label, uint64_t total); /* label is copied */
 void sss_progress_tick(uint64_t n);
 void sss_progress_end(void);
 double sss_now(void); /* monotonic seconds */
+/* CPU seconds of the calling thread: what the gather's phase timings
+ * count, so that a machine shared with other jobs (time slices taken away)
+ * does not inflate them (monotonic seconds where unavailable). */
+double sss_thread_cpu(void);
 
 #endif

@@ -27,19 +27,21 @@ float sss_transfer_one(const sss_mesh *mesh, const sss_vis *vis, uint32_t i, con
     return g;
 }
 
-sss_result sss_transfer_rows(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
-                             uint32_t v0, uint32_t v1, float *G, uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
+sss_result sss_transfer_rows_ordered(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n,
+                                     double eta, const uint32_t *order, uint32_t m0, uint32_t m1, float *G,
+                                     uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
 {
     if (!mesh->nrm) return sss_fail(err, SSS_ERR_ARG, "transfer: mesh has no normals");
     uint64_t rays = 0, occ = 0;
     int stop = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : rays, occ)
-    for (int64_t i = v0; i < (int64_t)v1; i++) {
+    for (int64_t m = m0; m < (int64_t)m1; m++) {
         if (stop) continue;
         if (sss_bake_interrupted) { stop = 1; continue; }
+        const uint32_t i = order ? order[m] : (uint32_t)m;
         for (uint32_t j = 0; j < n; j++) {
             int traced, blocked;
-            G[(size_t)i * n + j] = sss_transfer_one(mesh, vis, (uint32_t)i, &dirs[3 * (size_t)j], eta, &traced, &blocked);
+            G[(size_t)m * n + j] = sss_transfer_one(mesh, vis, i, &dirs[3 * (size_t)j], eta, &traced, &blocked);
             rays += (uint64_t)traced;
             occ += (uint64_t)blocked;
         }
@@ -49,6 +51,12 @@ sss_result sss_transfer_rows(const sss_mesh *mesh, const sss_vis *vis, const dou
     if (rays_out) *rays_out = rays;
     if (occ_out) *occ_out = occ;
     return SSS_OK;
+}
+
+sss_result sss_transfer_rows(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
+                             uint32_t v0, uint32_t v1, float *G, uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
+{
+    return sss_transfer_rows_ordered(mesh, vis, dirs, n, eta, NULL, v0, v1, G, rays_out, occ_out, err);
 }
 
 sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
@@ -81,7 +89,7 @@ void sss_integrate(const sss_nbhd *nb, const float *G, uint32_t n, float *q)
             for (uint32_t j = 0; j < n; j++)
                 for (uint32_t c = 0; c < C; c++)
                     q[((size_t)j * nb->nrows + (size_t)r) * C + c] = (float)acc[(size_t)c * n + j];
-            sss_progress_tick(1);
+            sss_progress_tick(nb->start[r + 1] - nb->start[r]); /* a row costs its neighbours */
         }
         free(acc);
     }

@@ -360,6 +360,10 @@ int main(int argc, char **argv)
                 st.gather == SSS_GATHER_TREE ? "" : " (every neighbour)", st.t_tree, st.gather_gflops,
                 st.gather == SSS_GATHER_TREE ? " in sgemm" : " multiply-adds x 2", st.predicted_peak_bytes / 1048576.0,
                 cli_peak_rss_mib(), mpi_n > 1 ? " (rank 0)" : "");
+    if (!quiet && st.direction_chunks > 1) /* issue 8: the memory plan of bake_gather.c */
+        fprintf(stderr, "  light directions in %u chunks of at most %u: the memory available would not hold the "
+                "transfer rows and tree moments of all %u at once (same output)\n",
+                st.direction_chunks, st.direction_chunk_width, N);
     if (st.coarse_vertices)
         fprintf(stderr, "%s: %s: warning: %u vertices have an edge longer than %.3g mm, twice the scattering length "
                 "1/sigma_tr = %.3g mm (longest edge %.3g mm): the per-vertex sum does not resolve the profile there "
@@ -434,9 +438,12 @@ int main(int argc, char **argv)
             cJSON_AddNumberToObject(o, "rows_per_block", st.rows_mean);
             cJSON_AddNumberToObject(o, "far_nodes_per_vertex", st.far_pairs / (double)nv);
             cJSON_AddNumberToObject(o, "sgemm_fraction", st.sgemm_fraction);
+            cJSON_AddNumberToObject(o, "direction_chunks", st.direction_chunks);
+            cJSON_AddNumberToObject(o, "direction_chunk_width", st.direction_chunk_width);
             cJSON_AddNumberToObject(tm, "tree", st.t_tree);
         }
         cJSON_AddNumberToObject(o, "gather_gflops", st.gather_gflops);
+        if (st.gather == SSS_GATHER_TREE) cJSON_AddNumberToObject(o, "near_gflops", st.near_gflops);
         cJSON_AddNumberToObject(o, "predicted_peak_mib", st.predicted_peak_bytes / 1048576.0);
         cJSON_AddNumberToObject(o, "mpi_ranks", mpi_n);
         cJSON_AddNumberToObject(o, "file_bytes", (double)fsize);

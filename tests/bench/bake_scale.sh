@@ -78,7 +78,8 @@ import json, math, statistics, sys
 rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
 peak = [r for r in rows if r.get('sgemm_peak')]
 for p in peak:
-    print(f"sgemm peak ({p['M']}x{p['N']}x{p['K']}), {p['threads']} thread(s): {p['gflops_total']:.1f} GFLOP/s")
+    print(f"sgemm peak ({p['M']}x{p['N']}x{p['K']}), {p['threads']} thread(s): {p['gflops_total']:.1f} GFLOP/s"
+          + (f", {p['gflops_per_thread_cpu']:.1f} per thread by CPU time" if 'gflops_per_thread_cpu' in p else ""))
 bakes = [r for r in rows if 'gather' in r and 'seconds' in r]
 est = {(r['size'], r['ch']): r for r in rows if r.get('direct_estimate')}
 groups = {}
@@ -86,15 +87,16 @@ for r in bakes:
     groups.setdefault((r['size'], r['ch'], r['gather']), []).append(r)
 med = lambda rs, f: statistics.median(f(r) for r in rs)
 print()
-print("| vertices | ch | gather | runs | import s | neighbourhoods s | visibility s | tree s | integrals s | write s | total s | wall s | peak RSS MiB | predicted MiB | sgemm GFLOP/s | rows/block | far nodes/vertex |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+print("| vertices | ch | gather | runs | import s | neighbourhoods s | visibility s | tree s | integrals s | write s | total s | wall s | peak RSS MiB | predicted MiB | sgemm GFLOP/s | near field GFLOP/s | rows/block | far nodes/vertex |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for (n, ch, g), rs in sorted(groups.items()):
     t = lambda k: med(rs, lambda r: r['seconds'].get(k, 0.0))
     tree = g == 'tree'
     print(f"| {rs[0]['vertices']:,} | {ch} | {g} | {len(rs)} | {t('import'):.2f} | {t('neighbourhoods'):.2f} | {t('visibility'):.2f} | "
           f"{t('tree'):.2f} | {t('integrals'):.2f} | {t('write'):.2f} | {t('total'):.2f} | {med(rs, lambda r: r['wall_s']):.2f} | "
           f"{med(rs, lambda r: r['peak_rss_mib']):.0f} | {med(rs, lambda r: r['predicted_peak_mib']):.0f} | "
-          f"{med(rs, lambda r: r['gather_gflops']):.1f} | {rs[0].get('rows_per_block', 0):.0f} | {rs[0].get('far_nodes_per_vertex', 0):.1f} |")
+          f"{med(rs, lambda r: r['gather_gflops']):.1f} | {med(rs, lambda r: r.get('near_gflops', 0.0)):.1f} | "
+          f"{rs[0].get('rows_per_block', 0):.0f} | {rs[0].get('far_nodes_per_vertex', 0):.1f} |")
 print()
 print("Direct sum estimated from a subset of receivers (gather_compare):")
 print("| vertices | ch | subset | mean neighbours | direct s (subset) | direct s (estimated, all) | tree gather s | error RMS per vertex | max |")

@@ -2,7 +2,8 @@
  * on a sphere, a self-shadowing blob, an unwelded (coincident-vertex)
  * sphere and the 22,998-vertex dragon when data/fetch.sh has fetched it;
  * the error shrinks as θ tightens; the far field's Taylor weights on a
- * flat plate; bytes identical for 1 and 2 threads; the memory refusal. */
+ * flat plate; bytes identical for 1 and 2 threads and in direction chunks;
+ * the memory refusal. */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <stdarg.h>
 #include <stddef.h>
@@ -230,6 +231,68 @@ static void tree_bytes_do_not_depend_on_threads(void **state)
     sss_mesh_free(&m);
 }
 
+/* Directions in chunks (the memory plan of bake_gather.c): the hierarchy
+ * built once, the transfer rows and moments of a chunk loaded at a time,
+ * each chunk's q written into the whole; the bytes must be those of one
+ * pass over all directions, for chunks of every width down to one
+ * direction (sgemm calls narrower than the whole, padded to it, or of one
+ * column: gather_near.c sss_gather_call_width). */
+static void tree_chunks_give_the_same_bytes(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_blob(&m, 35.0, 4, &err), SSS_OK);
+    sss_material mat;
+    assert_int_equal(sss_material_preset("marble", &mat, &err), SSS_OK);
+    const uint32_t C = 3, D = 37, nv = m.nv;
+    sss_dipole dip[3];
+    for (uint32_t c = 0; c < C; c++)
+        assert_int_equal(sss_dipole_init(&dip[c], mat.sigma_a[c], mat.sigmap_s[c], mat.eta), SSS_OK);
+    double lo[3], hi[3];
+    const double R = sss_rd_radius(&dip[0], 1e-3, sss_mesh_bounds(&m, lo, hi));
+    sss_dirset ds;
+    assert_int_equal(sss_dirset_fibonacci(&ds, D, &err), SSS_OK);
+    float *G = malloc((size_t)nv * D * sizeof(float));
+    float *qa = malloc((size_t)nv * D * C * sizeof(float)), *qb = malloc((size_t)nv * D * C * sizeof(float));
+    assert_non_null(G);
+    assert_non_null(qa);
+    assert_non_null(qb);
+    sss_vis *vis;
+    assert_int_equal(sss_vis_create(&m, &vis, &err), SSS_OK);
+    assert_int_equal(sss_transfer_compute(&m, vis, ds.dir, D, mat.eta, G, NULL, NULL, &err), SSS_OK);
+    sss_vis_destroy(vis);
+    sss_gather_tree *t;
+    assert_int_equal(sss_gather_tree_build(&m, 1.0, G, D, NULL, &t, &err), SSS_OK);
+    const uint32_t nb = sss_gather_tree_blocks(t);
+    assert_int_equal(sss_gather_run(t, &m, dip, C, R, 0, nb, qa, 1, NULL, &err), SSS_OK);
+    sss_gather_tree_destroy(t);
+    static const uint32_t NCH[4] = {2, 5, 12, 37};
+    for (int ci = 0; ci < 4; ci++) {
+        const uint32_t nch = NCH[ci];
+        memset(qb, 0xff, (size_t)nv * D * C * sizeof(float));
+        assert_int_equal(sss_gather_tree_create(&m, 1.0, NULL, &t, &err), SSS_OK);
+        const uint32_t *order = sss_gather_tree_order(t);
+        for (uint32_t c = 0; c < nch; c++) {
+            const uint32_t j0 = D * c / nch, Dc = D * (c + 1) / nch - j0;
+            float *rows = sss_gather_tree_rows(t, Dc);
+            assert_non_null(rows);
+            for (uint32_t k = 0; k < nv; k++)
+                memcpy(rows + (size_t)k * Dc, G + (size_t)order[k] * D + j0, Dc * sizeof(float));
+            assert_int_equal(sss_gather_tree_moments(t, &m, &err), SSS_OK);
+            assert_int_equal(sss_gather_run_chunk(t, &m, dip, C, R, 0, nb, j0, D, qb, 1, NULL, &err), SSS_OK);
+        }
+        sss_gather_tree_destroy(t);
+        printf("  %u chunks: %s\n", nch, memcmp(qa, qb, (size_t)nv * D * C * sizeof(float)) ? "differ" : "same bytes");
+        assert_memory_equal(qa, qb, (size_t)nv * D * C * sizeof(float));
+    }
+    free(G);
+    free(qa);
+    free(qb);
+    sss_dirset_free(&ds);
+    sss_mesh_free(&m);
+}
+
 /* The memory estimate refuses a bake that cannot fit, before starting. */
 static void tree_refuses_when_memory_is_short(void **state)
 {
@@ -260,6 +323,7 @@ int main(void)
         cmocka_unit_test(tree_matches_direct_on_dragon),
         cmocka_unit_test(far_field_taylor_weights_on_plate),
         cmocka_unit_test(tree_bytes_do_not_depend_on_threads),
+        cmocka_unit_test(tree_chunks_give_the_same_bytes),
         cmocka_unit_test(tree_refuses_when_memory_is_short),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -38,11 +38,13 @@ typedef struct sss_bake_options {
      * and `comm` (set by the tool) moves the pieces; rank 0 gets all. */
     int rank, nranks;
     const struct sss_bake_comm *comm;
-    /* Own term (sss/ownterm.h, docs/format.md §5.14): SSS_OWN_TERM_RUNTIME
-     * stores q minus the vertex's own term and marks the file (OWNT,
-     * format 1.3) so that readers add it back with their own shadow test;
-     * 0 (default) stores q itself, as the paper does. */
+    /* Near terms (sss/ownterm.h, docs/format.md §5.14): SSS_OWN_TERM_RUNTIME
+     * stores q minus the vertex's own term and its `own_rings` mesh rings
+     * and marks the file (OWNT, format 1.3) so that readers add them back
+     * with every vertex's own shadow test; 0 (default) stores q itself, as
+     * the paper does. */
     uint32_t own_term;
+    uint32_t own_rings;
 } sss_bake_options;
 
 enum { SSS_GATHER_AUTO = 0, SSS_GATHER_DIRECT = 1, SSS_GATHER_TREE = 2 };
@@ -92,10 +94,21 @@ typedef struct sss_bake_stats {
     double t_tree;                       /* tree build (Morton order, nodes, moments) */
     double gather_gflops;                /* sgemm GFLOP/s (tree) or multiply-adds × 2 / s (direct) */
     double sgemm_fraction;               /* share of the integrals' thread time spent in sgemm */
+    /* tree: the near field as a whole, assembly included: 2 · C · B · rows
+     * · D flops of the block products (B receivers, rows = near sources +
+     * 10 per far node, D directions) over the thread-seconds of everything
+     * done per block (interaction lists, stacking the rows, the weights,
+     * sgemm, writing q): GFLOP/s per thread, to set against sgemm_peak */
+    double near_gflops;
     double rows_mean;                    /* tree: dense rows per receiver block */
     uint32_t tree_nodes, tree_blocks;
     uint64_t near_pairs, far_pairs;      /* tree: receiver × near source, receiver × far node */
     uint64_t predicted_peak_bytes;       /* estimate made before starting */
+    /* tree: the light directions were processed in this many chunks of at
+     * most direction_chunk_width (1 and all of them when everything fits;
+     * more when the transfer rows and tree moments of every direction would
+     * not fit next to q: same bytes, docs/benchmarks.md) */
+    uint32_t direction_chunks, direction_chunk_width;
 } sss_bake_stats;
 
 /* Scattering neighbourhoods N(x_o) in compressed-row form with the per-channel

@@ -29,6 +29,14 @@
  * Determinism: each block is computed by one thread with single-threaded
  * OpenBLAS in a fixed order, so q does not depend on the thread count or,
  * under MPI, on the number of ranks.
+ *
+ * Directions in chunks (issue 8, memory): the hierarchy does not depend on
+ * the light directions. A bake that cannot hold the transfer rows and the
+ * moments of all directions next to q builds it once
+ * (sss_gather_tree_create) and loads a chunk of directions at a time
+ * (sss_gather_tree_rows, sss_gather_tree_moments, sss_gather_run_chunk),
+ * with the same bits as one pass over all of them (gather_near.c,
+ * sss_gather_call_width).
  */
 #ifndef SSS_GATHER_H
 #define SSS_GATHER_H
@@ -53,7 +61,9 @@ extern "C" {
 typedef struct sss_gather_params {
     double theta;        /* opening threshold in (0, 1) (default SSS_GATHER_THETA_DEFAULT) */
     uint32_t leaf_size;  /* most sources in a leaf (default 32) */
-    uint32_t block_size; /* most receivers in a block (default 64) */
+    uint32_t block_size; /* most receivers in a block (default 128: 64 before; measured, docs/benchmarks.md
+                          * "near field": blocks of 47 receivers on average instead of 19, the rows of Ψ
+                          * copied and packed once for more receivers, 20 % more rows per block) */
 } sss_gather_params;
 
 /* What the gather measured. */
@@ -62,12 +72,16 @@ typedef struct sss_gather_stats {
     uint64_t near_pairs;      /* Σ over blocks of receivers × near sources */
     uint64_t far_pairs;       /* Σ over blocks of receivers × far nodes */
     double rows_mean;         /* mean rows (near sources + 10 per far node) per block */
-    double flops;             /* 2 · C · B · rows · D summed over the sgemm calls */
+    double flops;             /* 2 · C · B · rows · columns summed over the sgemm calls (their rate) */
+    double flops_useful;      /* the same with the directions asked for, not the zero columns a
+                               * chunk's call may carry: the near field's own work */
     double t_build;           /* Morton order, nodes, moments (s) */
-    double t_lists;           /* interaction lists (thread-seconds) */
-    double t_weights;         /* weight matrices (thread-seconds) */
-    double t_sgemm;           /* inside sgemm (thread-seconds) */
-    double t_scatter;         /* copying rows in and results out (thread-seconds) */
+    /* thread-seconds: CPU time of the threads (CLOCK_THREAD_CPUTIME_ID), so
+     * that other jobs on a shared machine do not inflate them */
+    double t_lists;           /* interaction lists and stacking the rows of Ψ */
+    double t_weights;         /* weight matrices */
+    double t_sgemm;           /* inside sgemm */
+    double t_scatter;         /* writing q out */
 } sss_gather_stats;
 
 /* The source hierarchy with its per-direction flux moments. */
@@ -76,9 +90,27 @@ typedef struct sss_gather_tree sss_gather_tree;
 /* Builds the hierarchy over all vertices of mesh (areas computed) in mm
  * (positions × mm_per_unit) and its moments from G (nv × n_dirs, the
  * transfer table of sss_transfer_compute). The tree keeps its own copy of
- * G in Morton order (near rows are read from it): the caller may free G. */
+ * G in Morton order (near rows are read from it): the caller may free G.
+ * The same as sss_gather_tree_create, sss_gather_tree_rows filled from G,
+ * sss_gather_tree_moments. */
 sss_result sss_gather_tree_build(const sss_mesh *mesh, double mm_per_unit, const float *G, uint32_t n_dirs,
                                  const sss_gather_params *p, sss_gather_tree **out, sss_error *err);
+/* The hierarchy alone (Morton order, nodes, receiver blocks): it does not
+ * depend on the light directions, so a bake that cannot hold the transfer
+ * rows and moments of every direction at once builds it once and loads
+ * the directions a chunk at a time (bake_gather.c). */
+sss_result sss_gather_tree_create(const sss_mesh *mesh, double mm_per_unit, const sss_gather_params *p,
+                                  sss_gather_tree **out, sss_error *err);
+/* Morton position → vertex (nv entries): row m of sss_gather_tree_rows is
+ * vertex order[m]. */
+const uint32_t *sss_gather_tree_order(const sss_gather_tree *t);
+/* The tree's transfer rows for n_dirs directions (nv × n_dirs floats, row m
+ * for vertex order[m], G[i, j] of sss_transfer_compute), for the caller to
+ * fill before sss_gather_tree_moments; owned by the tree, reused when the
+ * next chunk is no wider. NULL when out of memory. */
+float *sss_gather_tree_rows(sss_gather_tree *t, uint32_t n_dirs);
+/* Every node's flux moments from the rows loaded. */
+sss_result sss_gather_tree_moments(sss_gather_tree *t, const sss_mesh *mesh, sss_error *err);
 void sss_gather_tree_destroy(sss_gather_tree *t);
 
 /* Receiver blocks (Morton order) and the vertices of block b. */
@@ -95,11 +127,43 @@ uint64_t sss_gather_tree_bytes(uint32_t nv, uint32_t n_dirs, const sss_gather_pa
  * for the k-th receiver in block order (sss_gather_tree_block_vertices),
  * or, when out_q_full is set, q[(j · nv + v) · C + c] for its vertex v
  * (the layout of sss_integrate and the file). radius_mm is the cutoff R,
- * dip[c] the channel models. Progress ticks once per receiver. */
+ * dip[c] the channel models. Progress ticks each block's work
+ * (sss_gather_block_work). */
 sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const sss_dipole *dip, uint32_t channels,
                           double radius_mm, uint32_t b0, uint32_t b1, float *out, int out_q_full,
                           sss_gather_stats *stats, sss_error *err);
+/* The same for a chunk of directions: the tree holds directions
+ * [j0, j0 + D) of n_total (D = the width loaded by sss_gather_tree_rows).
+ * out_q_full: q[((j0 + j) · nv + v) · C + c] of the whole q (n_total
+ * directions); else out[(k · D + j) · C + c], the chunk alone. The values
+ * have the same bits as those of one sss_gather_run over all n_total
+ * directions (see call_width in gather_near.c for why and how). */
+sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, const sss_dipole *dip,
+                                uint32_t channels, double radius_mm, uint32_t b0, uint32_t b1, uint32_t j0,
+                                uint32_t n_total, float *out, int out_q_full, sss_gather_stats *stats, sss_error *err);
 
+/* Rows of each block's dense product (near sources + SSS_GATHER_MOMENTS per
+ * far node) for blocks [b0, b1), into rows[b − b0]: the interaction lists
+ * alone, without weights or products (a tree walk per block, about 1 % of
+ * the gather). Blocks' work differs by 100× and more between a dense and a
+ * sparse region, so progress and the MPI split weigh blocks by it. */
+sss_result sss_gather_block_rows(const sss_gather_tree *t, double radius_mm, uint32_t b0, uint32_t b1, uint32_t *rows,
+                                 sss_error *err);
+/* Estimated work of block b with `rows` rows for a chunk of n_dirs of
+ * n_total directions (the units of sss_gather_run's progress ticks: about
+ * one sgemm flop; the weights, the rows copied and q written counted at
+ * their measured cost per element, docs/benchmarks.md). */
+uint64_t sss_gather_block_work(const sss_gather_tree *t, uint32_t b, uint32_t rows, uint32_t channels, uint32_t n_dirs,
+                               uint32_t n_total);
+
+/* Bytes the built tree t takes with n_dirs directions loaded (exact, but
+ * for malloc's own overhead). */
+uint64_t sss_gather_tree_size(const sss_gather_tree *t, uint32_t n_dirs);
+/* Bytes of the work space of sss_gather_run over `threads` threads when no
+ * block has more than max_rows rows (sss_gather_block_rows): an upper
+ * bound, the buffers growing by half again when they grow. */
+uint64_t sss_gather_workspace_rows_bytes(uint32_t max_rows, uint32_t n_dirs, uint32_t channels,
+                                         const sss_gather_params *p, int threads);
 /* Bytes of per-thread work space of sss_gather_run (an estimate). */
 uint64_t sss_gather_workspace_bytes(uint32_t nv, uint32_t n_dirs, uint32_t channels, const sss_gather_params *p,
                                     int threads);
