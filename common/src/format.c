@@ -211,9 +211,9 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
         return sss_fail(err, A, "%s: section QFLT: values missing", name);
     if (f->quant == SSS_QUANT_LLOYD8 && (!f->levels || !f->qidx))
         return sss_fail(err, A, "%s: section QL8 : levels or indices missing", name);
-    if (f->own_term && (f->own_term != SSS_OWN_TERM_RUNTIME || fxm))
-        return sss_fail(err, A, "%s: section OWNT: mode %u%s", name, f->own_term,
-                        fxm ? " in a scene bake (plain bakes only)" : " is unknown");
+    if (f->own_term && (f->own_term != SSS_OWN_TERM_RUNTIME || fxm || f->own_rings > SSS_OWN_RINGS_MAX))
+        return sss_fail(err, A, "%s: section OWNT: mode %u, %u rings%s", name, f->own_term, f->own_rings,
+                        fxm ? " in a scene bake (plain bakes only)" : " is not a valid split");
 
     /* Values: refuse to write what the reader would reject. */
     sss_result r;
@@ -295,7 +295,7 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
         count[S_SHC] = f->sh.ncoded;
         ok = ok && size[S_SHC] != 0;
     }
-    size[S_OWNT] = 4;
+    size[S_OWNT] = 8;
     count[S_OWNT] = 1;
     size[S_PARM] = jlen;
     count[S_PARM] = jlen;
@@ -368,7 +368,10 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
         case S_QDIR: sss_fmt_pack_qdir(f, p); break;
         case S_ENVT: sss_fmt_pack_envt(f, p); break;
         case S_PSHL: sss_fmt_pack_pshl(f, p); break;
-        case S_OWNT: put_u32(p, SSS_OWN_TERM_RUNTIME); break;
+        case S_OWNT:
+            put_u32(p, SSS_OWN_TERM_RUNTIME);
+            put_u32(p + 4, f->own_rings);
+            break;
         }
         uint8_t *e = buf + HDR_FIXED + (size_t)ENTRY_SIZE * i;
         memcpy(e, known_tag[s], 4);
@@ -547,18 +550,21 @@ static sss_result parse_parm(const uint8_t *p, const sss_section_info *si, const
     return SSS_OK;
 }
 
-/* OWNT (1.3): one u32, the mode; 1 = the q rows hold q minus the own term
- * (sss/ownterm.h, docs/format.md §5.14). */
+/* OWNT (1.3): u32 mode (1 = the q rows hold q minus the near terms), u32
+ * rings (0 … 8) (sss/ownterm.h, docs/format.md §5.14). */
 static sss_result parse_ownt(const uint8_t *p, const sss_section_info *si, const char *name, sss_bake_file *f,
                              sss_error *err)
 {
-    if (si->size != 4 || si->count != 1)
-        return sss_fail(err, CORRUPT, "%s: section OWNT: %llu bytes, count %llu (expected 4 and 1)", name,
+    if (si->size != 8 || si->count != 1)
+        return sss_fail(err, CORRUPT, "%s: section OWNT: %llu bytes, count %llu (expected 8 and 1)", name,
                         (unsigned long long)si->size, (unsigned long long)si->count);
-    uint32_t mode = get_u32(p);
+    uint32_t mode = get_u32(p), rings = get_u32(p + 4);
     if (mode != SSS_OWN_TERM_RUNTIME)
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "%s: section OWNT: mode %u is unknown to this reader", name, mode);
+    if (rings > SSS_OWN_RINGS_MAX)
+        return sss_fail(err, CORRUPT, "%s: section OWNT: %u rings (at most %u)", name, rings, SSS_OWN_RINGS_MAX);
     f->own_term = mode;
+    f->own_rings = rings;
     return SSS_OK;
 }
 

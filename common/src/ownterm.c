@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 sss_result sss_own_weights(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
                            float *w, sss_error *err)
@@ -60,5 +61,227 @@ void sss_own_add(const float *w, const float *nrm, uint32_t nv, uint32_t channel
         const float g = sss_own_transfer(eta, nrm + 3 * (size_t)v, df);
         if (g == 0.0f) continue;
         for (uint32_t c = 0; c < channels; c++) out[(size_t)v * channels + c] += w[(size_t)v * channels + c] * g;
+    }
+}
+
+/* ---- near terms: own term and mesh rings --------------------------------- */
+
+void sss_near_free(sss_near *n)
+{
+    if (!n) return;
+    free(n->start);
+    free(n->idx);
+    free(n->w);
+    memset(n, 0, sizeof *n);
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Position order for finding coincident copies (qsort has no context
+ * argument in C11: the positions are passed through this file-scope pointer,
+ * set and used only inside sss_near_build; not thread-safe, like qsort's
+ * callers here). */
+static const float *g_sort_pos;
+
+static int same_pos(const float *p, uint32_t a, uint32_t b)
+{
+    return p[3 * (size_t)a] == p[3 * (size_t)b] && p[3 * (size_t)a + 1] == p[3 * (size_t)b + 1] &&
+           p[3 * (size_t)a + 2] == p[3 * (size_t)b + 2];
+}
+
+static int cmp_pos(const void *x, const void *y)
+{
+    const uint32_t a = *(const uint32_t *)x, b = *(const uint32_t *)y;
+    for (int k = 0; k < 3; k++) {
+        const float u = g_sort_pos[3 * (size_t)a + k], v = g_sort_pos[3 * (size_t)b + k];
+        if (u < v) return -1;
+        if (u > v) return 1;
+    }
+    return (a > b) - (a < b);
+}
+
+sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
+                          uint32_t rings, sss_near *out, sss_error *err)
+{
+    if (out) memset(out, 0, sizeof *out);
+    if (!mesh || !mat || !out || (channels != 1 && channels != 3) || rings > 8 || !(mm_per_unit > 0.0) ||
+        !isfinite(mm_per_unit))
+        return sss_fail(err, SSS_ERR_ARG, "near terms: bad argument");
+    const uint32_t nv = mesh->nv, nf = mesh->nf;
+    const uint32_t C = channels;
+    sss_result r = SSS_OK;
+    double *area = malloc((size_t)nv * sizeof *area + 1);
+    uint32_t *astart = calloc((size_t)nv + 1, sizeof *astart), *adj = NULL;
+    uint32_t *mark = NULL, *list = NULL, *order = NULL, *grp = NULL, *gend = NULL;
+    out->start = calloc((size_t)nv + 1, sizeof *out->start);
+    if (!area || !astart || !out->start) goto nomem;
+    sss_mesh_vertex_areas(mesh, area);
+
+    /* vertex–vertex adjacency over the triangles' edges (with repeats,
+     * which the ring walk below skips) */
+    for (uint32_t t = 0; t < nf; t++)
+        for (int k = 0; k < 3; k++) astart[mesh->tri[3 * (size_t)t + k] + 1] += 2;
+    for (uint32_t v = 0; v < nv; v++) astart[v + 1] += astart[v];
+    adj = malloc((size_t)astart[nv] * sizeof *adj + 1);
+    uint32_t *fill = malloc((size_t)nv * sizeof *fill + 1);
+    if (!adj || !fill) {
+        free(fill);
+        goto nomem;
+    }
+    memcpy(fill, astart, (size_t)nv * sizeof *fill);
+    for (uint32_t t = 0; t < nf; t++)
+        for (int k = 0; k < 3; k++) {
+            const uint32_t a = mesh->tri[3 * (size_t)t + k];
+            adj[fill[a]++] = mesh->tri[3 * (size_t)t + (k + 1) % 3];
+            adj[fill[a]++] = mesh->tri[3 * (size_t)t + (k + 2) % 3];
+        }
+    free(fill);
+
+    /* Coincident copies (the same position under several indices, e.g. a
+     * seam with split normals) share one disk in nbhd.c's self term, and a
+     * copy's light flips with the vertex's own: they join ring 0. grp[v]
+     * = first index of v's position group in `order` (sorted by position,
+     * then index); gend marks the end of each group. */
+    order = malloc((size_t)nv * sizeof *order + 1);
+    grp = malloc((size_t)nv * sizeof *grp + 1);
+    gend = malloc((size_t)nv * sizeof *gend + 1);
+    if (!order || !grp || !gend) goto nomem;
+    for (uint32_t v = 0; v < nv; v++) order[v] = v;
+    g_sort_pos = mesh->pos;
+    qsort(order, nv, sizeof *order, cmp_pos);
+    for (uint32_t k = 0; k < nv;) {
+        uint32_t e = k + 1;
+        while (e < nv && same_pos(mesh->pos, order[e], order[k])) e++;
+        for (uint32_t m = k; m < e; m++) grp[order[m]] = k, gend[order[m]] = e;
+        k = e;
+    }
+
+    /* rings by breadth-first walk per vertex (a vertex brings its copies);
+     * two passes (count, fill) so the rows are allocated once. mark[v] =
+     * o + 1 when v is in o's row. */
+    mark = calloc((size_t)nv, sizeof *mark);
+    list = malloc((size_t)nv * sizeof *list + 1);
+    if (!mark || !list) goto nomem;
+    for (int pass = 0; pass < 2; pass++) {
+        for (uint32_t o = 0; o < nv; o++) {
+            const uint32_t tag = (uint32_t)pass * nv + o + 1;
+            uint32_t m = 0, begin = 0;
+            list[m++] = o;
+            mark[o] = tag;
+            for (uint32_t g = grp[o]; g < gend[o]; g++)
+                if (mark[order[g]] != tag) mark[order[g]] = tag, list[m++] = order[g];
+            for (uint32_t k = 0; k < rings; k++) {
+                const uint32_t end = m;
+                for (uint32_t a = begin; a < end; a++)
+                    for (uint32_t e = astart[list[a]]; e < astart[list[a] + 1]; e++) {
+                        const uint32_t i = adj[e];
+                        if (mark[i] == tag) continue;
+                        for (uint32_t g = grp[i]; g < gend[i]; g++)
+                            if (mark[order[g]] != tag) mark[order[g]] = tag, list[m++] = order[g];
+                    }
+                begin = end;
+            }
+            if (pass == 0) {
+                out->start[o + 1] = out->start[o] + m;
+                continue;
+            }
+            qsort(list + 1, m - 1, sizeof *list, cmp_u32);
+            memcpy(out->idx + out->start[o], list, (size_t)m * sizeof *list);
+        }
+        if (pass == 0) {
+            const size_t total = out->start[nv];
+            out->idx = malloc(total * sizeof *out->idx + 1);
+            out->w = malloc(total * C * sizeof *out->w + 1);
+            if (!out->idx || !out->w) goto nomem;
+        }
+    }
+
+    /* weights: the own disk first, then nbhd.c's rule per neighbour */
+    const double s = mm_per_unit;
+    for (uint32_t c = 0; c < C && r == SSS_OK; c++) {
+        sss_dipole dip;
+        if (sss_dipole_init(&dip, mat->sigma_a[c], mat->sigmap_s[c], mat->eta) != SSS_OK) {
+            r = sss_fail(err, SSS_ERR_ARG, "near terms: invalid material in channel %u", c);
+            break;
+        }
+        for (uint32_t o = 0; o < nv; o++) {
+            /* the copies' common disk, shared by area (nbhd.c) */
+            double garea = 0.0;
+            for (uint32_t g = grp[o]; g < gend[o]; g++) garea += area[order[g]];
+            const double gdisk = garea > 0.0 ? sss_rd_disk(&dip, sqrt(garea * s * s / M_PI)) / M_PI : 0.0;
+            for (uint32_t a = out->start[o]; a < out->start[o + 1]; a++) {
+                const uint32_t i = out->idx[a];
+                const double dA = area[i] * s * s, rho = sqrt(dA / M_PI);
+                double w;
+                if (grp[i] == grp[o]) {
+                    w = garea > 0.0 ? gdisk * (area[i] / garea) : 0.0;
+                } else {
+                    double d2 = 0.0;
+                    for (int k = 0; k < 3; k++) {
+                        const double dx = ((double)mesh->pos[3 * (size_t)i + k] - mesh->pos[3 * (size_t)o + k]) * s;
+                        d2 += dx * dx;
+                    }
+                    const double dist = sqrt(d2);
+                    w = dist < rho ? sss_rd_disk_offset(&dip, dist, rho) / M_PI : sss_rd(&dip, dist) * dA / M_PI;
+                }
+                out->w[(size_t)a * C + c] = (float)w;
+            }
+        }
+    }
+    if (r == SSS_OK) {
+        out->nv = nv;
+        out->channels = C;
+        out->rings = rings;
+    }
+    goto done;
+nomem:
+    r = sss_fail(err, SSS_ERR_NOMEM, "near terms: out of memory for %u vertices", nv);
+done:
+    free(area);
+    free(astart);
+    free(adj);
+    free(mark);
+    free(list);
+    free(order);
+    free(grp);
+    free(gend);
+    if (r != SSS_OK) sss_near_free(out);
+    return r;
+}
+
+void sss_near_transfer(const float *nrm, uint32_t nv, float eta, const double d[3], const uint8_t *lit, float *gv)
+{
+    const float df[3] = {(float)d[0], (float)d[1], (float)d[2]};
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (nv >= 16384)
+#endif
+    for (int64_t v = 0; v < (int64_t)nv; v++)
+        gv[v] = lit && !lit[v] ? 0.0f : sss_own_transfer(eta, nrm + 3 * (size_t)v, df);
+}
+
+void sss_near_sum(const sss_near *n, uint32_t o, const float *gv, float *s)
+{
+    const uint32_t C = n->channels;
+    for (uint32_t c = 0; c < C; c++) s[c] = 0.0f;
+    for (uint32_t a = n->start[o]; a < n->start[o + 1]; a++) {
+        const float g = gv[n->idx[a]];
+        for (uint32_t c = 0; c < C; c++) s[c] += n->w[(size_t)a * C + c] * g;
+    }
+}
+
+void sss_near_add(const sss_near *n, const float *gv, float *out)
+{
+    const uint32_t C = n->channels;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (n->nv >= 16384)
+#endif
+    for (int64_t o = 0; o < (int64_t)n->nv; o++) {
+        float s[3];
+        sss_near_sum(n, (uint32_t)o, gv, s);
+        for (uint32_t c = 0; c < C; c++) out[(size_t)o * C + c] += s[c];
     }
 }

@@ -101,57 +101,64 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
     if (o->own_term) { /* format 1.3: what the rows hold (docs/format.md §5.14) */
         const size_t L = strlen(buf);
         if (L > 0 && L + 160 < sizeof buf)
-            snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"own_term\":\"runtime: rows hold q - w_o F_t(eta,n_o.w) "
-                     "max(0,n_o.w) V(x_o,w), w_o the disk integral of the vertex's own area\"}");
+            snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"own_term\":\"runtime: rows hold q minus the sum over the "
+                     "vertex and its mesh rings of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)\",\"own_rings\":%u}",
+                     o->own_rings);
     }
     char *s = malloc(strlen(buf) + 1);
     if (s) strcpy(s, buf);
     return s;
 }
 
-/* Splits the own term off q in place (sss/ownterm.h): for every vertex and
- * direction sample, q_j −= w̃_o g(n_o, ω_j) V(x_o, ω_j), with the bake's own
- * visibility rule (one occlusion ray per front-facing pair, as
- * sss_transfer_rows traces) and the readers' float expression for g, so
- * that a reader adding the term back at ω_j restores q_j up to rounding
- * (and the clamp at 0 below).
+/* Splits the near terms off q in place (sss/ownterm.h): for every
+ * direction sample ω_j and vertex o, q_j −= Σ_{i in o's rings} w̃(o, i)
+ * g(n_i, ω_j) V(x_i, ω_j), with the bake's own visibility rule (one
+ * occlusion ray per vertex facing ω_j, as sss_transfer_rows traces) and
+ * the readers' float sum (sss_near_sum), so that a reader adding the terms
+ * back at ω_j restores q_j up to rounding (and the clamp at 0 below).
  * Independent elements: the result does not depend on the thread count. */
-static sss_result split_own_term(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
-                                 uint32_t C, const sss_dirset *ds, float *q, uint64_t *rays, sss_error *err)
+static sss_result split_near_terms(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
+                                   uint32_t C, const sss_dirset *ds, float *q, uint64_t *rays, sss_error *err)
 {
     const uint32_t nv = mesh->nv, D = ds->n;
-    float *w = malloc((size_t)nv * C * sizeof *w + 1);
-    if (!w) return sss_fail(err, SSS_ERR_NOMEM, "out of memory for the own-term weights of %u vertices", nv);
-    sss_result r = sss_own_weights(mesh, mat, o->mm_per_unit, C, w, err);
+    sss_near nr;
+    sss_result r = sss_near_build(mesh, mat, o->mm_per_unit, C, o->own_rings, &nr, err);
+    if (r != SSS_OK) return r;
     sss_vis *vis = NULL;
+    uint8_t *lit = malloc((size_t)nv + 1);
+    float *gv = malloc((size_t)nv * sizeof *gv + 1);
+    if (!lit || !gv) r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the near terms of %u vertices", nv);
     if (r == SSS_OK) r = sss_vis_create(mesh, &vis, err);
-    if (r != SSS_OK) {
-        free(w);
-        return r;
-    }
-    const float eta = (float)mat->eta;
     uint64_t traced = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : traced)
-    for (int64_t v = 0; v < (int64_t)nv; v++) {
-        const float *n = mesh->nrm + 3 * (size_t)v;
-        for (uint32_t j = 0; j < D; j++) {
-            const double *d = ds->dir + 3 * (size_t)j;
-            const float df[3] = {(float)d[0], (float)d[1], (float)d[2]};
-            const float g = sss_own_transfer(eta, n, df);
-            if (g == 0.0f) continue;
-            traced++;
-            if (sss_vis_occluded(vis, (uint32_t)v, d)) continue;
-            float *qv = q + ((size_t)j * nv + (size_t)v) * C;
-            /* ≥ 0, as every stored q: the rest is a sum of non-negative
-             * terms, and only rounding (or coincident copies with split
-             * normals, whose shared disk nbhd.c divides) takes it below */
-            for (uint32_t c = 0; c < C; c++) qv[c] = fmaxf(qv[c] - w[(size_t)v * C + c] * g, 0.0f);
+    for (uint32_t j = 0; j < D && r == SSS_OK; j++) {
+        const double *d = ds->dir + 3 * (size_t)j;
+#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : traced)
+        for (int64_t v = 0; v < (int64_t)nv; v++) {
+            const float *n = mesh->nrm + 3 * (size_t)v;
+            const int facing = n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0.0;
+            traced += (uint64_t)facing;
+            lit[v] = facing && !sss_vis_occluded(vis, (uint32_t)v, d);
         }
+        sss_near_transfer(mesh->nrm, nv, (float)mat->eta, d, lit, gv);
+        float *qj = q + (size_t)j * nv * C;
+#pragma omp parallel for schedule(static)
+        for (int64_t v = 0; v < (int64_t)nv; v++) {
+            float s[3];
+            sss_near_sum(&nr, (uint32_t)v, gv, s);
+            /* ≥ 0, as every stored q: the rest is a sum of non-negative
+             * terms, and only rounding (or weights that differ from
+             * nbhd.c's, e.g. coincident copies sharing a disk) takes it
+             * below */
+            for (uint32_t c = 0; c < C; c++) qj[(size_t)v * C + c] = fmaxf(qj[(size_t)v * C + c] - s[c], 0.0f);
+        }
+        if (sss_bake_interrupted) r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted while splitting the near terms");
     }
     if (rays) *rays += traced;
     sss_vis_destroy(vis);
-    free(w);
-    return SSS_OK;
+    free(lit);
+    free(gv);
+    sss_near_free(&nr);
+    return r;
 }
 
 sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_material *mat,
@@ -167,6 +174,9 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     if (!(o.mm_per_unit > 0) || !isfinite(o.mm_per_unit))
         return sss_fail(err, SSS_ERR_ARG, "--mm-per-unit %g must be a finite number > 0", o.mm_per_unit);
     if (!(o.eps > 0 && o.eps < 1)) return sss_fail(err, SSS_ERR_ARG, "eps %g must be in (0, 1)", o.eps);
+    if ((o.own_term && o.own_term != SSS_OWN_TERM_RUNTIME) || o.own_rings > SSS_OWN_RINGS_MAX)
+        return sss_fail(err, SSS_ERR_ARG, "own term %u with %u rings: rings must be 0 ... %u", o.own_term, o.own_rings,
+                        SSS_OWN_RINGS_MAX);
     if (o.n_dirs > 100000) return sss_fail(err, SSS_ERR_ARG, "--dirs %u out of range [1, 100000]", o.n_dirs);
 #ifdef _OPENMP
     if (o.threads > 0) omp_set_num_threads(o.threads);
@@ -300,9 +310,10 @@ quantise:
     }
     if (o.own_term) {
         t = sss_now();
-        r = split_own_term(mesh, mat, &o, C, &out->dirs, out->q, &st.rays, err);
+        r = split_near_terms(mesh, mat, &o, C, &out->dirs, out->q, &st.rays, err);
         if (r != SSS_OK) goto fail;
         out->own_term = SSS_OWN_TERM_RUNTIME;
+        out->own_rings = o.own_rings;
         st.t_visibility += sss_now() - t;
     }
 

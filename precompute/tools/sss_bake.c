@@ -37,8 +37,9 @@ static void usage(FILE *f)
         "  --eps E              neighbourhood energy cutoff: radius holds 1-E of R_d total (default 1e-3)\n"
         "  --quant float|lloyd8 storage of the integrals (default float)\n"
         "  --own-term M         baked: the vertex's own term stays in q (the paper); runtime:\n"
-        "                       it is split off and readers add it back with their own shadow\n"
-        "                       test (format 1.3; 7x less interpolation error: docs/accuracy.md)\n"
+        "                       it and its --rings are split off and readers add them back\n"
+        "                       with a shadow test per vertex (format 1.3; docs/accuracy.md)\n"
+        "  --rings K            with --own-term runtime: mesh rings split off too, 0..8 (default 1)\n"
         "Compression (Hao & Varshney 2004 sec. 4; docs/compression.md); any of these\n"
         "stores the compressed form instead of --quant:\n"
         "  --compress P         preset: paper (3%% references, SH order 3, linear 8-bit codes,\n"
@@ -102,7 +103,7 @@ int main(int argc, char **argv)
     memset(&opt, 0, sizeof opt);
     sss_compress_opts co;
     sss_compress_opts_default(&co);
-    int compress = 0, have_quant = 0, have_refs = 0, compact = 0, own_set = 0;
+    int compress = 0, have_quant = 0, have_refs = 0, compact = 0, own_set = 0, rings_set = 0;
     /* which compression options were given, so a preset only fills the rest */
     int set_order = 0, set_kind = 0, set_wbits = 0, set_ls = 0, set_illum = 0;
     for (int i = 1; i < argc; i++) {
@@ -160,10 +161,20 @@ int main(int argc, char **argv)
         }
         else if (!strcmp(a, "--own-term")) {
             NEED();
-            if (!strcmp(v, "runtime")) opt.own_term = SSS_OWN_TERM_RUNTIME;
+            if (!strcmp(v, "runtime")) opt.own_term = SSS_OWN_TERM_RUNTIME, opt.own_rings = rings_set ? opt.own_rings : 1;
             else if (!strcmp(v, "baked")) opt.own_term = 0;
             else { fprintf(stderr, "%s: --own-term: '%s' must be runtime or baked\n", TOOL, v); return 2; }
             own_set = 1;
+        }
+        else if (!strcmp(a, "--rings")) {
+            NEED();
+            double k;
+            if (!cli_parse_double(TOOL, a, v, 0, SSS_OWN_RINGS_MAX, &k) || k != floor(k)) {
+                fprintf(stderr, "%s: --rings: '%s' must be an integer 0 ... %u\n", TOOL, v, SSS_OWN_RINGS_MAX);
+                return 2;
+            }
+            opt.own_rings = (uint32_t)k;
+            rings_set = 1;
         }
         else if (!strcmp(a, "--theta")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-3, 0.95, &opt.theta)) return 2; }
         else if (!strcmp(a, "--threads")) { uint32_t t; NEED(); if (!cli_parse_u32(TOOL, a, v, 1, 1024, &t)) return 2; opt.threads = (int)t; }
@@ -178,6 +189,10 @@ int main(int argc, char **argv)
     }
     if (plan_only && !scene) {
         fprintf(stderr, "%s: --plan needs --scene S.json\n", TOOL);
+        return 2;
+    }
+    if (rings_set && opt.own_term != SSS_OWN_TERM_RUNTIME) {
+        fprintf(stderr, "%s: --rings needs --own-term runtime\n", TOOL);
         return 2;
     }
     if (scene && own_set) {

@@ -22,6 +22,7 @@
 #include "app.h"
 #include "font.h"
 #include "renderer.h"
+#include "shadow.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -40,6 +41,8 @@ const char *sss_app_controls_help =
     "  1 / 2 / 3                     scattering only / reflection only / both\n"
     "  C                             toggle CPU / GPU evaluation path\n"
     "  W                             toggle wireframe\n"
+    "  O                             toggle the near terms of a file baked with --own-term runtime\n"
+    "  V                             their visibility: the bake's rays / a shadow map\n"
     "  T                             toggle tone map clamp / Reinhard\n"
     "  R                             reset camera and light (direction and intensity)\n"
     "  P                             save a screenshot PNG (--screenshot FILE, else sss-view-NNN.png)\n"
@@ -63,7 +66,7 @@ typedef struct app {
     int overlay;
     int want_shot;     /* 'P' seen: save after the next frame is drawn */
     double last_t;     /* start of the previous frame, seconds */
-    double frame_ms, scatter_ms, draw_ms; /* smoothed for a readable overlay */
+    double frame_ms, scatter_ms, draw_ms, own_ms; /* smoothed for a readable overlay */
     int frames;
 } app;
 
@@ -173,6 +176,8 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     case GLFW_KEY_KP_3: a->p.scatter = 1, a->p.specular = 1; break;
     case GLFW_KEY_C: a->p.path = a->p.path == SSS_EVAL_GPU ? SSS_EVAL_CPU : SSS_EVAL_GPU; break;
     case GLFW_KEY_W: a->p.wireframe = !a->p.wireframe; break;
+    case GLFW_KEY_O: a->p.own_term = !a->p.own_term; break;
+    case GLFW_KEY_V: a->p.near_visibility = a->p.near_visibility == SSS_NEAR_MAP ? SSS_NEAR_RAYS : SSS_NEAR_MAP; break;
     case GLFW_KEY_T:
         a->p.tonemap = a->p.tonemap == SSS_TONEMAP_CLAMP ? SSS_TONEMAP_REINHARD : SSS_TONEMAP_CLAMP;
         break;
@@ -337,6 +342,17 @@ static void draw_overlay(app *a, int fw, int fh)
                                                       : "none";
     const char *base = strrchr(a->opt->file_path, '/');
     base = base ? base + 1 : a->opt->file_path;
+    /* files baked with --own-term runtime: the near terms the viewer adds
+     * back, with the visibility of the bake's rays or of a shadow map
+     * (renderer.h) */
+    char own[160] = "", vis[48] = "rays";
+    if (a->p.near_visibility == SSS_NEAR_MAP)
+        snprintf(vis, sizeof vis, "shadow map %d^2", a->p.shadow_size ? a->p.shadow_size : SSS_SHADOW_SIZE);
+    if (f->own_term)
+        snprintf(own, sizeof own, "near terms (own + %u ring%s, %s, V): %s\n", f->own_rings,
+                 f->own_rings == 1 ? "" : "s", vis, a->p.own_term ? "on" : "off (O)");
+    if (f->own_term && a->p.own_term)
+        snprintf(own + strlen(own) - 1, sizeof own - (strlen(own) - 1), ", %.2f ms\n", a->own_ms);
     char buf[1536];
     snprintf(buf, sizeof buf,
              "%.60s  %dx%d\n"
@@ -345,6 +361,7 @@ static void draw_overlay(app *a, int fw, int fh)
              "vertices %u  channels %u  directions %u\n"
              "bytes/vertex %.1f (%s)\n"
              "material %.31s  eta %.3f\n"
+             "%s"
              "exposure %.3g  intensity %.3g  tonemap %s\n"
              "light (%.2f, %.2f, %.2f)\n"
              "%s%.100s%s"
@@ -353,7 +370,7 @@ static void draw_overlay(app *a, int fw, int fh)
              base, fw, fh, a->frame_ms > 0 ? 1e3 / a->frame_ms : 0.0, a->frame_ms, a->scatter_ms,
              a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU", a->draw_ms, f->mesh.nv, f->channels, f->dirs.n,
              sss_renderer_bytes_per_vertex(a->r), a->storage,
-             f->material.name, f->material.eta, a->p.exposure, a->p.light_rgb[0],
+             f->material.name, f->material.eta, own, a->p.exposure, a->p.light_rgb[0],
              a->p.tonemap == SSS_TONEMAP_REINHARD ? "reinhard" : "clamp", l[0], l[1], l[2],
              a->scene_desc ? "scene: " : "", a->scene_desc ? a->scene_desc : "", a->scene_desc ? "\n" : "", terms,
              a->p.wireframe ? "  wireframe" : "");
@@ -488,6 +505,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
             sss_frame_times ft = sss_renderer_times(a.r);
             a.scatter_ms = smooth(a.scatter_ms, ft.scatter_ms, a.frames == 1);
             a.draw_ms = smooth(a.draw_ms, ft.draw_ms, a.frames == 1);
+            a.own_ms = smooth(a.own_ms, ft.own_ms, a.frames == 1);
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, a.r, t)) != NULL) {

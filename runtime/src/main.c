@@ -15,6 +15,7 @@
 #include "offscreen.h"
 #include "renderer.h"
 #include "scene_view.h"
+#include "shadow.h"
 #include "sss/format.h"
 
 static const char *TOOL = "sss-view";
@@ -39,6 +40,13 @@ static void usage(FILE *f)
         "  --tonemap clamp|reinhard   (default clamp: values in [0,1], the measurement convention)\n"
         "  --cpu                evaluate on the CPU (C decoder; with --scene, the CPU sum of the lights)\n"
         "  --no-scatter, --no-specular   drop one of the two terms\n"
+        "  --no-own-term        files baked with --own-term runtime: draw the stored rows alone, without\n"
+        "                       the near terms the viewer adds back (for comparison)\n"
+        "  --near-visibility rays|map   where those near terms' visibility comes from: the bake's own ray,\n"
+        "                       traced on the GPU (default), or a shadow map (cheaper on a software GL,\n"
+        "                       wrong near shadow outlines: docs/viewer.md)\n"
+        "  --shadow-size N      that shadow map's texels per side, 256 ... 8192 (default 2048; finer agrees\n"
+        "                       with the bake's rays at more vertices)\n"
         "  --wireframe          draw edges over the surface\n"
         "  --screenshot FILE    where the P key saves a PNG (window mode)\n"
         "  --bench N            offscreen: time N frames and print JSON timings on stdout\n"
@@ -132,16 +140,23 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
         frame[i] = t2 - t0;
     }
     sss_frame_times gt = sss_renderer_times(r);
-    char storage[128];
+    char storage[128], own[96];
     sss_storage_describe(f, storage, sizeof storage);
+    /* the near terms (OWNT) run inside the evaluation, so scatter_ms holds
+     * them; own_term says whether they ran */
+    if (!f->own_term) snprintf(own, sizeof own, "none");
+    else if (!p->own_term) snprintf(own, sizeof own, "off (--no-own-term)");
+    else if (p->near_visibility == SSS_NEAR_MAP)
+        snprintf(own, sizeof own, "%u ring(s), shadow map %d", f->own_rings, p->shadow_size ? p->shadow_size : SSS_SHADOW_SIZE);
+    else snprintf(own, sizeof own, "%u ring(s), rays", f->own_rings);
     printf("{\"vertices\":%u,\"channels\":%u,\"quant\":\"%s\",\"storage\":\"%s\",\"path\":\"%s\",\"renderer\":\"%s\",\"frames\":%d,"
-           "\"width\":%d,\"height\":%d,\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,\"frame_ms_median\":%.4f,"
-           "\"scatter_vertices_per_s\":%.6g,\"fps\":%.3f,\"gpu_timer_scatter_ms_last\":%.4f,\"gpu_timer_draw_ms_last\":%.4f,"
-           "\"bytes_per_vertex\":%.3f}\n",
+           "\"width\":%d,\"height\":%d,\"own_term\":\"%s\",\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,"
+           "\"frame_ms_median\":%.4f,\"scatter_vertices_per_s\":%.6g,\"fps\":%.3f,\"gpu_timer_scatter_ms_last\":%.4f,"
+           "\"gpu_timer_draw_ms_last\":%.4f,\"gpu_timer_own_ms_last\":%.4f,\"bytes_per_vertex\":%.3f}\n",
            f->mesh.nv, f->channels, sss_quant_name(f->quant), storage,
-           p->path == SSS_EVAL_CPU ? "cpu" : "gpu", sss_gl_renderer_name(), n, w, h, median(scatter, n),
+           p->path == SSS_EVAL_CPU ? "cpu" : "gpu", sss_gl_renderer_name(), n, w, h, own, median(scatter, n),
            median(draw, n), median(frame, n), f->mesh.nv / (1e-3 * median(scatter, n)), 1e3 / median(frame, n),
-           gt.scatter_ms, gt.draw_ms, sss_renderer_bytes_per_vertex(r));
+           gt.scatter_ms, gt.draw_ms, gt.own_ms, sss_renderer_bytes_per_vertex(r));
     free(scatter);
     free(draw);
     free(frame);
@@ -350,6 +365,23 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--scene")) { NEED(); scene_path = v; }
         else if (!strcmp(a, "--no-scatter")) p.scatter = 0;
         else if (!strcmp(a, "--no-specular")) p.specular = 0;
+        else if (!strcmp(a, "--no-own-term")) p.own_term = 0;
+        else if (!strcmp(a, "--near-visibility")) {
+            NEED();
+            if (!strcmp(v, "rays")) p.near_visibility = SSS_NEAR_RAYS;
+            else if (!strcmp(v, "map")) p.near_visibility = SSS_NEAR_MAP;
+            else { fprintf(stderr, "%s: --near-visibility: '%s' must be rays or map\n", TOOL, v); return 2; }
+        }
+        else if (!strcmp(a, "--shadow-size")) {
+            NEED();
+            char *end;
+            long n = strtol(v, &end, 10);
+            if (end == v || *end || n < 256 || n > 8192) {
+                fprintf(stderr, "%s: --shadow-size: '%s' must be an integer 256 ... 8192\n", TOOL, v);
+                return 2;
+            }
+            p.shadow_size = (int)n;
+        }
         else if (!strcmp(a, "--wireframe")) p.wireframe = 1;
         else if (!strcmp(a, "--bench")) {
             NEED();

@@ -18,6 +18,25 @@
  * values y_i(light) into the SH tables (a few thousand products), exactly as
  * the C decoder (common/src/decode.c) does, so the GPU's per-vertex sums use
  * the very same float terms and give the C decoder's result to the bit.
+ *
+ * Near terms (format 1.3, section OWNT; sss/ownterm.h): the rows of such a
+ * file hold q minus the largest entries of the §3.1 sum, the vertex's own
+ * w̃(o,o) g_o(ω_j) V(x_o, ω_j) and those of its `own_rings` mesh rings: the
+ * entries that jump where x_o or a neighbour enters a cast shadow, and that
+ * §3.2's interpolation between direction samples would smear. After q is
+ * evaluated (either path) or uploaded, two more compute passes add them
+ * back for the actual light: the first finds every vertex's own visibility
+ * V(x_i, ω) and its transfer g_i V_i; the second adds each vertex's row
+ * Σ_i w̃(o, i) g_i V_i, in sss_near_sum's order. V is, by default, the
+ * bake's own ray traced on the GPU through a BVH of the mesh built here
+ * once (bvh.c): a vertex that gets V wrong is off by about half of its q,
+ * so only the bake's rule itself keeps the image error at the bake's. On
+ * request (near_visibility = 1) V comes from a shadow map instead (shadow.c,
+ * the paper's own test, §3.1, plus the bake's ray against the vertex's own
+ * triangles), created on first use and re-rendered only when the light
+ * direction changes. Pass 1 depends on the light direction alone, so it
+ * runs only when that (or the visibility asked for) changes. A file without
+ * OWNT gets none of it: no weights, no BVH, no map, no programs, no passes.
  */
 #include <epoxy/gl.h>
 
@@ -28,9 +47,12 @@
 #include <time.h>
 
 #include "renderer.h"
+#include "bvh.h"
 #include "gl_util.h"
 #include "shaders.h"
+#include "shadow.h"
 #include "sss/decode.h"
+#include "sss/ownterm.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -57,7 +79,7 @@ struct sss_renderer {
     float *fold_sh;     /* CPU copy of those, C·ncoef·levels */
     GLuint ref_q;       /* reference values of the frame, nref·C */
     GLuint ref_vertex, ref_tri, coded_rec, wtab;
-    GLuint queries[2];
+    GLuint queries[3];  /* scatter, draw, near terms */
     int have_times;
     float *cpu_q;       /* CPU path scratch */
     sss_frame_times times;
@@ -65,6 +87,19 @@ struct sss_renderer {
     int last_path;
     GLuint fbo, fbo_color, fbo_depth;
     int fbo_w, fbo_h;
+    /* near terms (files with OWNT only) */
+    sss_shadow *shadow; /* created on the first pass that asks for the map */
+    GLuint prog_vis, prog_ray, prog_near; /* pass 1 (map or rays): V and g V per vertex; pass 2: the rows' sums into q */
+    GLuint bvh_node, bvh_tri; /* the mesh's BVH (bvh.h) for prog_ray */
+    uint32_t bvh_ntri;
+    int vis_valid, vis_map, vis_size; /* what pass 1 last computed: map or rays, map size, */
+    float vis_dir[3];                 /* and light: lit and gv hold it */
+    GLuint lit, gv;     /* V (uint) and g V (float) per vertex */
+    GLuint fan;         /* incident triangles per vertex: offsets (nv + 1), then triangle indices */
+    GLuint fan_sin;     /* per vertex: sin of the largest angle between n_o and its triangles' normals */
+    GLuint near_start, near_idx, near_w; /* sss_near: rows of (vertex, w̃ per channel) */
+    float delta;        /* the bake's ray offset, 1e-5 of the bounding-box diagonal (visibility.c) */
+    int own_pending;    /* q was uploaded: the next draw adds the near terms for its light */
 };
 
 static double now_ms(void)
@@ -87,6 +122,8 @@ void sss_view_params_default(sss_view_params *p)
     p->specular = 1;
     p->tonemap = SSS_TONEMAP_CLAMP;
     p->path = SSS_EVAL_GPU;
+    p->own_term = 1;
+    p->near_visibility = SSS_NEAR_RAYS;
 }
 
 float sss_tonemap_apply(sss_tonemap t, float x)
@@ -110,6 +147,128 @@ double sss_view_bounds(const sss_mesh *m, double centre[3])
         if (d2 > r2) r2 = d2;
     }
     return r2 > 0 ? sqrt(r2) : 1.0;
+}
+
+static void normalize3(double v[3])
+{
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0)
+        for (int k = 0; k < 3; k++) v[k] /= l;
+}
+
+static void cross3(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* The near terms' resources (files with OWNT): their rows and weights from
+ * the file's geometry and material (sss_near_build: the file stores no
+ * bytes for them), the mesh's BVH for the rays, each vertex's incident
+ * triangles for the map, the per-vertex V and g V buffers and the programs.
+ * The shadow map itself waits for a pass that asks for it. */
+static sss_result own_create(sss_renderer *r, sss_error *err)
+{
+    const sss_bake_file *f = r->f;
+    sss_near nr;
+    sss_result res = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, r->C, f->own_rings, &nr, err);
+    if (res != SSS_OK) return res;
+    const uint64_t nent = nr.start[r->nv];
+    GLint64 max_block = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    if (max_block > 0 && nent * r->C * sizeof(float) > (uint64_t)max_block) {
+        sss_near_free(&nr);
+        return sss_fail(err, SSS_ERR_UNSUPPORTED,
+                        "renderer: the near terms of %u rings need a %.1f MiB storage buffer, above this GL's limit "
+                        "of %.1f MiB (bake with fewer --rings)",
+                        f->own_rings, (double)(nent * r->C * sizeof(float)) / 1048576.0,
+                        (double)max_block / 1048576.0);
+    }
+    r->near_start = sss_gl_ssbo((GLsizeiptr)(((size_t)r->nv + 1) * sizeof(uint32_t)), nr.start, GL_STATIC_DRAW);
+    r->near_idx = sss_gl_ssbo((GLsizeiptr)(nent * sizeof(uint32_t)), nr.idx, GL_STATIC_DRAW);
+    r->near_w = sss_gl_ssbo((GLsizeiptr)(nent * r->C * sizeof(float)), nr.w, GL_STATIC_DRAW);
+    sss_near_free(&nr);
+    r->gv = sss_gl_ssbo((GLsizeiptr)r->nv * sizeof(float), NULL, GL_DYNAMIC_COPY);
+    r->lit = sss_gl_ssbo((GLsizeiptr)r->nv * sizeof(uint32_t), NULL, GL_DYNAMIC_COPY);
+    glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    /* each vertex's incident triangles, for pass 1's exact test of the
+     * bake's ray against them (shadow.c: the map cannot resolve them) */
+    const uint64_t nfan = (uint64_t)r->nv + 1 + 3 * (uint64_t)r->nf;
+    if (nfan > UINT32_MAX) return sss_fail(err, SSS_ERR_UNSUPPORTED, "renderer: mesh too large for the near terms");
+    uint32_t *fan = calloc(nfan, sizeof *fan);
+    if (!fan) return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the vertices' triangle fans");
+    for (size_t k = 0; k < 3 * (size_t)r->nf; k++) fan[f->mesh.tri[k] + 1]++;
+    fan[0] = r->nv + 1;
+    for (uint32_t v = 0; v < r->nv; v++) fan[v + 1] += fan[v];
+    for (size_t k = 0; k < 3 * (size_t)r->nf; k++) fan[fan[f->mesh.tri[k]]++] = (uint32_t)(k / 3);
+    for (uint32_t v = r->nv; v > 0; v--) fan[v] = fan[v - 1]; /* the fill advanced each start to its end */
+    fan[0] = r->nv + 1;
+    r->fan = sss_gl_ssbo((GLsizeiptr)(nfan * sizeof *fan), fan, GL_STATIC_DRAW);
+    /* The ray cannot hit a triangle of the fan while ω is above every
+     * triangle's plane, which holds when n_o·ω > sin α, α the largest angle
+     * between n_o and a triangle's normal: the pass then skips the fan
+     * (most vertices, most lights). sin α = 1 (never skip) where a triangle
+     * faces away from n_o or is degenerate. */
+    float *fs = malloc((size_t)r->nv * sizeof *fs + 1);
+    if (!fs) {
+        free(fan);
+        return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the vertices' triangle fans");
+    }
+    for (uint32_t v = 0; v < r->nv; v++) {
+        const float *n = &f->mesh.nrm[3 * (size_t)v];
+        double cmin = 1.0;
+        for (uint32_t k = fan[v]; k < fan[v + 1]; k++) {
+            const uint32_t *t = &f->mesh.tri[3 * (size_t)fan[k]];
+            double e1[3], e2[3], fnrm[3];
+            for (int i = 0; i < 3; i++) {
+                e1[i] = (double)f->mesh.pos[3 * (size_t)t[1] + i] - f->mesh.pos[3 * (size_t)t[0] + i];
+                e2[i] = (double)f->mesh.pos[3 * (size_t)t[2] + i] - f->mesh.pos[3 * (size_t)t[0] + i];
+            }
+            cross3(e1, e2, fnrm);
+            const double len = sqrt(fnrm[0] * fnrm[0] + fnrm[1] * fnrm[1] + fnrm[2] * fnrm[2]);
+            const double c = len > 0 ? (n[0] * fnrm[0] + n[1] * fnrm[1] + n[2] * fnrm[2]) / len : -1.0;
+            if (c < cmin) cmin = c;
+        }
+        /* a margin of 1e-3 for the float arithmetic of the pass */
+        fs[v] = cmin > 0.0 ? (float)fmin(1.0, sqrt(fmax(0.0, 1.0 - cmin * cmin)) + 1e-3) : 1.0f;
+    }
+    r->fan_sin = sss_gl_ssbo((GLsizeiptr)r->nv * sizeof *fs, fs, GL_STATIC_DRAW);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    free(fs);
+    free(fan);
+    double lo[3], hi[3];
+    /* as visibility.c computes it, so that the origins are the bake's floats */
+    r->delta = (float)(1e-5 * sss_mesh_bounds(&f->mesh, lo, hi));
+    char pre[48];
+    snprintf(pre, sizeof pre, "#define CHANNELS %u\n", r->C);
+    GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, "", sss_glsl_own_vis_cs, err);
+    if (!cs || !(r->prog_vis = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
+    cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_own_near_cs, err);
+    if (!cs || !(r->prog_near = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
+    /* The BVH for the rays. Where its buffers exceed this GL's storage block
+     * (above ~2.8M triangles at 48 bytes each in llvmpipe's 128 MiB), the
+     * renderer keeps working with the shadow map alone (prog_ray stays 0). */
+    sss_bvh bvh;
+    res = sss_bvh_build(f->mesh.pos, r->nv, f->mesh.tri, r->nf, &bvh, err);
+    if (res != SSS_OK) return res;
+    const uint64_t node_bytes = (uint64_t)bvh.nnode * sizeof *bvh.node;
+    const uint64_t tri_bytes = (uint64_t)bvh.ntri * 12 * sizeof(float);
+    if (max_block <= 0 || (node_bytes <= (uint64_t)max_block && tri_bytes <= (uint64_t)max_block)) {
+        r->bvh_node = sss_gl_ssbo((GLsizeiptr)node_bytes, bvh.node, GL_STATIC_DRAW);
+        r->bvh_tri = sss_gl_ssbo((GLsizeiptr)tri_bytes, bvh.tri, GL_STATIC_DRAW);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        r->bvh_ntri = bvh.ntri;
+        snprintf(pre, sizeof pre, "#define RAYS 1\n#define SSS_BVH_STACK %d\n", SSS_BVH_STACK);
+        cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_own_vis_cs, err);
+        if (!cs || !(r->prog_ray = sss_gl_link(cs, 0, err))) {
+            sss_bvh_free(&bvh);
+            return SSS_ERR_UNSUPPORTED;
+        }
+    }
+    sss_bvh_free(&bvh);
+    return SSS_OK;
 }
 
 sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err)
@@ -280,7 +439,14 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->qbuf);
     glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)r->nv * r->C * sizeof(float), NULL, GL_DYNAMIC_DRAW);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-    glGenQueries(2, r->queries);
+    glGenQueries(3, r->queries);
+    if (f->own_term) {
+        sss_result res = own_create(r, err);
+        if (res != SSS_OK) {
+            sss_renderer_destroy(r);
+            return res;
+        }
+    }
     if (glGetError() == GL_OUT_OF_MEMORY) {
         sss_renderer_destroy(r);
         return sss_fail(err, SSS_ERR_NOMEM, "renderer: the GPU is out of memory for %u directions x %u vertices",
@@ -293,14 +459,20 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
 void sss_renderer_destroy(sss_renderer *r)
 {
     if (!r) return;
-    GLuint bufs[13] = {r->vbo_pos, r->vbo_nrm,  r->ebo,     r->rows,    r->levels,    r->qbuf, r->sh_codes,
-                       r->sh_tab,  r->ref_q,    r->ref_vertex, r->ref_tri, r->coded_rec, r->wtab};
-    glDeleteBuffers(13, bufs);
+    GLuint bufs[22] = {r->vbo_pos, r->vbo_nrm,  r->ebo,     r->rows,    r->levels,    r->qbuf, r->sh_codes,
+                       r->sh_tab,  r->ref_q,    r->ref_vertex, r->ref_tri, r->coded_rec, r->wtab, r->lit,
+                       r->gv,      r->fan,      r->near_start, r->near_idx, r->near_w, r->fan_sin,
+                       r->bvh_node, r->bvh_tri};
+    glDeleteBuffers(22, bufs);
     if (r->vao) glDeleteVertexArrays(1, &r->vao);
     if (r->prog_cs) glDeleteProgram(r->prog_cs);
     if (r->prog_coded) glDeleteProgram(r->prog_coded);
     if (r->prog_shade) glDeleteProgram(r->prog_shade);
-    if (r->queries[0]) glDeleteQueries(2, r->queries);
+    if (r->prog_vis) glDeleteProgram(r->prog_vis);
+    if (r->prog_ray) glDeleteProgram(r->prog_ray);
+    if (r->prog_near) glDeleteProgram(r->prog_near);
+    sss_shadow_destroy(r->shadow);
+    if (r->queries[0]) glDeleteQueries(3, r->queries);
     if (r->fbo) {
         glDeleteFramebuffers(1, &r->fbo);
         glDeleteRenderbuffers(1, &r->fbo_color);
@@ -310,20 +482,6 @@ void sss_renderer_destroy(sss_renderer *r)
     free(r->fold_l);
     free(r->fold_sh);
     free(r);
-}
-
-static void normalize3(double v[3])
-{
-    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (l > 0)
-        for (int k = 0; k < 3; k++) v[k] /= l;
-}
-
-static void cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 void sss_renderer_camera(const sss_renderer *r, const sss_view_params *p, double eye[3], double right[3],
@@ -347,12 +505,105 @@ void sss_renderer_camera(const sss_renderer *r, const sss_view_params *p, double
     }
 }
 
+/* The shadow map of the size asked for (clamped to 256 … 8192), created or
+ * replaced here on first use; 0 when none can be had (the old one is kept
+ * when a new size fails). */
+static int own_map(sss_renderer *r, int size)
+{
+    size = size > 0 ? (size < 256 ? 256 : size > 8192 ? 8192 : size) : SSS_SHADOW_SIZE;
+    if (!r->shadow || size != sss_shadow_size(r->shadow)) {
+        sss_shadow *ns = NULL;
+        sss_error e = {{0}};
+        if (sss_shadow_create(r->vao, r->nf, r->centre, r->radius, size, &ns, &e) == SSS_OK) {
+            sss_shadow_destroy(r->shadow);
+            r->shadow = ns;
+        }
+    }
+    return r->shadow != NULL;
+}
+
+/* Adds the near terms for unit light l to q (binding 3) and records every
+ * vertex's V, on the GPU whichever path evaluated q: by the bake's ray
+ * through the BVH, or from the shadow map when p asks for it (or when
+ * there is no BVH, or no map can be had: the other one then). */
+static void own_pass(sss_renderer *r, const double l[3], const sss_view_params *p)
+{
+    const float lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
+    if (!(lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2] > 0.5f)) return; /* zero or NaN light: no light */
+    int map = p->near_visibility == SSS_NEAR_MAP || !r->prog_ray;
+    if (map && !own_map(r, p->shadow_size)) map = 0;
+    if (!map && !r->prog_ray) return;
+    const int size = map ? sss_shadow_size(r->shadow) : 0;
+    /* lit and gv depend on the light direction and the test alone */
+    const int fresh = !(r->vis_valid && r->vis_map == map && r->vis_size == size && r->vis_dir[0] == lf[0] &&
+                        r->vis_dir[1] == lf[1] && r->vis_dir[2] == lf[2]);
+    if (map) sss_shadow_update(r->shadow, lf, r->queries[2]); /* begins the timer query */
+    else glBeginQuery(GL_TIME_ELAPSED, r->queries[2]);
+    if (fresh) {
+        /* pass 1: V and g V per vertex */
+        GLuint pr = map ? r->prog_vis : r->prog_ray;
+        glUseProgram(pr);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r->vbo_pos);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r->vbo_nrm);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r->gv);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->lit);
+        if (map) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r->ebo);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, r->fan);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->fan_sin);
+            glActiveTexture(GL_TEXTURE0);
+            glBindTexture(GL_TEXTURE_2D, sss_shadow_texture(r->shadow));
+            glUniform1i(glGetUniformLocation(pr, "u_depth"), 0);
+            glUniformMatrix4fv(glGetUniformLocation(pr, "u_shadow"), 1, GL_FALSE, sss_shadow_matrix(r->shadow));
+            glUniform1i(glGetUniformLocation(pr, "u_size"), sss_shadow_size(r->shadow));
+            glUniform1f(glGetUniformLocation(pr, "u_offset"),
+                        (float)(SSS_SHADOW_NORMAL_OFFSET * sss_shadow_texel(r->shadow)));
+            glUniform1f(glGetUniformLocation(pr, "u_bias_c"), (float)SSS_SHADOW_BIAS_CONST);
+            glUniform1f(glGetUniformLocation(pr, "u_bias_s"), (float)SSS_SHADOW_BIAS_SLOPE);
+            glUniform1f(glGetUniformLocation(pr, "u_tan_max"), (float)SSS_SHADOW_TAN_MAX);
+        } else {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r->bvh_node);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, r->bvh_tri);
+            /* the unit light in double too: the bake's facing test, n·ω > 0,
+             * is evaluated in double (transfer.c, bake.c) */
+            glUniform3d(glGetUniformLocation(pr, "u_light_d"), l[0], l[1], l[2]);
+            glUniform1ui(glGetUniformLocation(pr, "u_ntri"), r->bvh_ntri);
+        }
+        glUniform1f(glGetUniformLocation(pr, "u_delta"), r->delta);
+        glUniform3f(glGetUniformLocation(pr, "u_light"), lf[0], lf[1], lf[2]);
+        glUniform1f(glGetUniformLocation(pr, "u_eta"), (float)r->f->material.eta);
+        glUniform1ui(glGetUniformLocation(pr, "u_count"), r->nv);
+        glDispatchCompute((r->nv + 63) / 64, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        if (map) glBindTexture(GL_TEXTURE_2D, 0);
+        r->vis_valid = 1;
+        r->vis_map = map;
+        r->vis_size = size;
+        memcpy(r->vis_dir, lf, sizeof lf);
+    }
+    /* pass 2: q[o] += Σ_i w̃(o, i) g_i V_i over o's row */
+    GLuint pr = r->prog_near;
+    glUseProgram(pr);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r->near_start);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r->near_idx);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r->gv);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->qbuf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->near_w);
+    glUniform1ui(glGetUniformLocation(pr, "u_count"), r->nv);
+    glDispatchCompute((r->nv + 255) / 256, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glEndQuery(GL_TIME_ELAPSED);
+    r->have_times |= 4;
+}
+
 void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
 {
     const sss_bake_file *f = r->f;
     double l[3] = {p->light[0], p->light[1], p->light[2]};
     normalize3(l);
     r->last_path = p->path;
+    r->own_pending = 0;
+    r->have_times &= ~4; /* own_ms: only when this frame runs the passes */
     if (p->path == SSS_EVAL_CPU) {
         double t0 = now_ms();
         sss_decode_all(f, l, r->cpu_q);
@@ -360,6 +611,7 @@ void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
         glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)r->nv * r->C * sizeof(float), r->cpu_q);
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         r->cpu_scatter_ms = now_ms() - t0;
+        if (r->prog_near && p->own_term) own_pass(r, l, p);
         return;
     }
     uint32_t idx[3] = {0, 0, 0};
@@ -430,6 +682,7 @@ void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glEndQuery(GL_TIME_ELAPSED);
     r->have_times |= 1;
+    if (r->prog_near && p->own_term) own_pass(r, l, p);
 }
 
 static void mat4_mul(const double a[16], const double b[16], float out[16])
@@ -465,6 +718,11 @@ void sss_renderer_draw(sss_renderer *r, const sss_view_params *p, int width, int
     mat4_mul(P, V, mvp);
     double l[3] = {p->light[0], p->light[1], p->light[2]};
     normalize3(l);
+    if (r->own_pending) {
+        /* uploaded q: its near terms for this frame's light, once */
+        if (p->own_term) own_pass(r, l, p);
+        r->own_pending = 0;
+    }
 
     glViewport(0, 0, width, height);
     glClearColor(p->background[0], p->background[1], p->background[2], 1.0f);
@@ -514,9 +772,30 @@ void sss_renderer_read_q(sss_renderer *r, float *out)
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
 }
 
+void sss_renderer_read_own_visibility(sss_renderer *r, uint8_t *lit)
+{
+    if (!r->lit) {
+        memset(lit, 1, r->nv); /* no own term: nothing was tested */
+        return;
+    }
+    uint32_t *u = malloc((size_t)r->nv * sizeof *u + 1);
+    if (!u) {
+        memset(lit, 0, r->nv);
+        return;
+    }
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->lit);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)r->nv * sizeof *u, u);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    for (uint32_t v = 0; v < r->nv; v++) lit[v] = u[v] != 0;
+    free(u);
+}
+
+int sss_renderer_has_own_term(const sss_renderer *r) { return r->prog_near != 0; }
+
 sss_frame_times sss_renderer_times(const sss_renderer *r)
 {
-    sss_frame_times t = {0, 0};
+    sss_frame_times t = {0, 0, 0};
     GLuint64 ns = 0;
     if (r->last_path == SSS_EVAL_CPU) t.scatter_ms = r->cpu_scatter_ms;
     else if (r->have_times & 1) {
@@ -526,6 +805,10 @@ sss_frame_times sss_renderer_times(const sss_renderer *r)
     if (r->have_times & 2) {
         glGetQueryObjectui64v(r->queries[1], GL_QUERY_RESULT, &ns);
         t.draw_ms = 1e-6 * (double)ns;
+    }
+    if (r->have_times & 4) {
+        glGetQueryObjectui64v(r->queries[2], GL_QUERY_RESULT, &ns);
+        t.own_ms = 1e-6 * (double)ns;
     }
     return t;
 }
@@ -590,6 +873,9 @@ void sss_renderer_upload_q(sss_renderer *r, const float *q)
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)r->nv * r->C * sizeof(float), q);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    /* the light is not known here: the next draw adds the near terms */
+    r->own_pending = r->prog_near != 0;
+    r->have_times &= ~4;
 }
 
 static sss_result render_image(sss_renderer *r, const sss_view_params *p, const float *q, int width, int height,

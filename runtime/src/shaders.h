@@ -24,4 +24,21 @@ extern const char *sss_glsl_coded_cs;
 extern const char *sss_glsl_shade_vs;
 extern const char *sss_glsl_shade_fs;
 
+/* Depth-only program of the shadow map (shadow.c): positions through one
+ * matrix, no colour. */
+extern const char *sss_glsl_shadow_vs;
+extern const char *sss_glsl_shadow_fs;
+
+/* Compute, the near terms of files with OWNT (sss/ownterm.h), two passes:
+ * own_vis: per vertex, V(x_i, ω) into lit[] (binding 4) and g_i V_i into
+ * gv[] (binding 2), g = F_t(η, c)·max(0, c) as sss_own_transfer computes
+ * it; with "#define RAYS 1" and "#define SSS_BVH_STACK n" V is the bake's
+ * ray traced through the BVH (bvh.h; bindings 5 nodes, 6 triangles),
+ * otherwise the bake's ray against the vertex's own triangles and the
+ * shadow map (Hao–Varshney 2004 §3.1's depth comparison). 64 invocations
+ * per group. own_near: per vertex o, q[o·C + c] += Σ_i w̃(o, i) g_i V_i over
+ * o's row (sss_near_sum's order); needs "#define CHANNELS n". */
+extern const char *sss_glsl_own_vis_cs;
+extern const char *sss_glsl_own_near_cs;
+
 #endif

@@ -47,13 +47,13 @@
 #include <string.h>
 
 #include "sss/accuracy.h"
-#include "sss/dipole.h"
+#include "sss/ownterm.h"
 #include "sss/bake.h"
 #include "sss/exact.h"
 #include "sss/format.h"
 
-enum { SCHEMES = 4, CLASSES = 3 };
-static const char *scheme_name[SCHEMES] = {"triangle", "linear", "terminator", "self"};
+enum { SCHEMES = 6, CLASSES = 3, NEAR = 3 };
+static const char *scheme_name[SCHEMES] = {"triangle", "linear", "terminator", "own", "own_ring1", "own_ring2"};
 static const char *class_name[CLASSES] = {"steady", "terminator", "shadow_edge"};
 #define DELTA 0.05
 
@@ -64,16 +64,18 @@ static double det3(const double *a, const double *b, const double *c)
 
 static double dotn(const float *n, const double *d) { return n[0] * d[0] + n[1] * d[1] + n[2] * d[2]; }
 
-/* w(o, o): R_d over a disk of the vertex's own area, / π (nbhd.c's self
- * term, without its sharing among coincident copies), per channel. */
-static double *self_w;
+/* The near terms at rings 0, 1, 2 (sss/ownterm.h) and the vertices' own
+ * visibility by rays under the bake's rule. */
+static sss_near g_near[NEAR];
 
-/* The vertex's own term w(o,o) F_t(n_o·ω) max(0, n_o·ω) V(x_o, ω). */
-static double self_term(const sss_bake_file *f, const sss_vis *vis, uint32_t v, uint32_t c, const double *d)
+static void transfer_all(const sss_bake_file *f, const sss_vis *vis, const double *d, uint8_t *lit, float *gv)
 {
-    const double cth = dotn(f->mesh.nrm + 3 * (size_t)v, d);
-    if (!(cth > 0.0) || sss_vis_occluded(vis, v, d)) return 0.0;
-    return self_w[(size_t)v * f->channels + c] * sss_ft(f->material.eta, cth) * cth;
+#pragma omp parallel for schedule(dynamic, 512)
+    for (int64_t v = 0; v < (int64_t)f->mesh.nv; v++) {
+        const float *n = f->mesh.nrm + 3 * (size_t)v;
+        lit[v] = n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0.0 && !sss_vis_occluded(vis, (uint32_t)v, d);
+    }
+    sss_near_transfer(f->mesh.nrm, f->mesh.nv, (float)f->material.eta, d, lit, gv);
 }
 
 typedef struct {
@@ -83,6 +85,9 @@ typedef struct {
 
 /* One light direction d: reconstruct from rows (D × nv × C) and compare
  * with the exact x; vis, when given, classifies for the split. */
+static float *g_gv[4];  /* transfer_all at ω_a, ω_b, ω_c, ω */
+static uint8_t *g_lit;
+
 static void measure(const sss_bake_file *f, const float *rows, const float *x, const double *area, const double d[3],
                     const sss_vis *vis, tally *t)
 {
@@ -97,6 +102,10 @@ static void measure(const sss_bake_file *f, const float *rows, const float *x, c
     for (int k = 0; k < 3; k++)
         if (w[k] == 0.0) lam[k] = 0.0; /* on an edge or at a sample, as the shipped weights */
     const double *smp[3] = {A, B, Cd};
+    if (vis) {
+        for (int k = 0; k < 3; k++) transfer_all(f, vis, smp[k], g_lit, g_gv[k]);
+        transfer_all(f, vis, d, g_lit, g_gv[3]);
+    }
     for (uint32_t v = 0; v < nv; v++) {
         const float *n = f->mesh.nrm + 3 * (size_t)v;
         double s[3], sd = fmax(0.0, dotn(n, d)) + DELTA;
@@ -116,16 +125,19 @@ static void measure(const sss_bake_file *f, const float *rows, const float *x, c
         for (uint32_t c = 0; c < C; c++) {
             const size_t i = (size_t)v * C + c, row = (size_t)nv * C;
             const double qa = rows[idx[0] * row + i], qb = rows[idx[1] * row + i], qc = rows[idx[2] * row + i];
-            double own = 0.0;
-            if (vis) {
-                double o[3] = {0, 0, 0};
-                for (int k = 0; k < 3; k++)
-                    if (w[k] != 0.0) o[k] = self_term(f, vis, v, c, smp[k]);
-                own = self_term(f, vis, v, c, d) - (lam[0] * o[0] + lam[1] * o[1] + lam[2] * o[2]);
-            }
-            const double r[SCHEMES] = {w[0] * qa + w[1] * qb + w[2] * qc, lam[0] * qa + lam[1] * qb + lam[2] * qc,
+            /* near terms exact at ω, taken out of the samples before the
+             * shipped (normalised) interpolation */
+            double nearc[NEAR] = {0, 0, 0};
+            if (vis)
+                for (int k = 0; k < NEAR; k++) {
+                    float sk[4][3];
+                    for (int m = 0; m < 4; m++) sss_near_sum(&g_near[k], v, g_gv[m], sk[m]);
+                    nearc[k] = sk[3][c] - (w[0] * sk[0][c] + w[1] * sk[1][c] + w[2] * sk[2][c]);
+                }
+            const double tri = w[0] * qa + w[1] * qb + w[2] * qc;
+            const double r[SCHEMES] = {tri, lam[0] * qa + lam[1] * qb + lam[2] * qc,
                                        sd * (lam[0] * qa / s[0] + lam[1] * qb / s[1] + lam[2] * qc / s[2]),
-                                       lam[0] * qa + lam[1] * qb + lam[2] * qc + own};
+                                       tri + nearc[0], tri + nearc[1], tri + nearc[2]};
             const double xv = x[i];
             for (int m = 0; m < SCHEMES; m++) t->se[m] += area[v] * (r[m] - xv) * (r[m] - xv);
             t->sx += area[v] * xv * xv;
@@ -167,15 +179,14 @@ int main(int argc, char **argv)
         return 1;
     }
     sss_mesh_vertex_areas(&f.mesh, area);
-    self_w = malloc(row * sizeof *self_w);
-    if (!self_w) return 1;
-    for (uint32_t c = 0; c < C; c++) {
-        sss_dipole dip;
-        sss_dipole_init(&dip, f.material.sigma_a[c], f.material.sigmap_s[c], f.material.eta);
-        for (uint32_t v = 0; v < nv; v++)
-            self_w[(size_t)v * C + c] =
-                sss_rd_disk(&dip, sqrt(area[v] * f.mm_per_unit * f.mm_per_unit / M_PI)) / M_PI;
-    }
+    for (int k = 0; k < 4; k++)
+        if (!(g_gv[k] = malloc(nv * sizeof(float)))) return 1;
+    if (!(g_lit = malloc(nv))) return 1;
+    for (int k = 0; k < NEAR; k++)
+        if (sss_near_build(&f.mesh, &f.material, f.mm_per_unit, C, (uint32_t)k, &g_near[k], &err) != SSS_OK) {
+            fprintf(stderr, "error_sources: %s: %s\n", argv[1], err.msg);
+            return 1;
+        }
     /* the no-shadow physics at the file's own direction samples */
     sss_exact_set_shadows(e, 0);
     for (uint32_t j = 0; j < D; j++) sss_exact_eval(e, f.dirs.dir + 3 * (size_t)j, rows_ns + j * row);

@@ -26,6 +26,31 @@ d=$("$SSS_PNGSTATS" "$TMP/c.png" "$TMP/c_cpu.png") || fail "cannot compare c.png
 awk -v d="$d" 'BEGIN { exit !(d < 0.001) }' || fail "GPU and CPU paths differ on $d of the pixels of c.png"
 expect_ok view "$TMP/c.sss" --offscreen --bench 3 --size 64x64
 contains "$TMP/out" '"quant":"refs"'
+# a file baked with its near terms split off (format 1.3, OWNT; sss/ownterm.h): the viewer adds them
+# back with the visibility of the bake's rays (or of a shadow map), on both paths alike; --no-own-term
+# draws the stored rows alone, which lack them and are darker; --bench names the split and the
+# visibility, and a plain file has none
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/o.sss" --material skin1 --mm-per-unit 20 --dirs 50 --own-term runtime -q
+expect_ok view "$TMP/o.sss" --offscreen --out "$TMP/o.png" --size 160x120 --light 0.6,0.5,0.6 --view 0,0,1
+expect_ok view "$TMP/o.sss" --offscreen --out "$TMP/o_cpu.png" --size 160x120 --light 0.6,0.5,0.6 --view 0,0,1 --cpu
+d=$("$SSS_PNGSTATS" "$TMP/o.png" "$TMP/o_cpu.png") || fail "cannot compare o.png and o_cpu.png"
+awk -v d="$d" 'BEGIN { exit !(d < 0.001) }' || fail "GPU and CPU paths differ on $d of the pixels of o.png"
+expect_ok view "$TMP/o.sss" --offscreen --out "$TMP/o_off.png" --size 160x120 --light 0.6,0.5,0.6 --view 0,0,1 --no-own-term
+read -r _ _ omean _ _ < <("$SSS_PNGSTATS" "$TMP/o.png") || fail "cannot read o.png"
+read -r _ _ offmean _ _ < <("$SSS_PNGSTATS" "$TMP/o_off.png") || fail "cannot read o_off.png"
+awk -v a="$omean" -v b="$offmean" 'BEGIN { exit !(a > 2 && b < a) }' \
+  || fail "near terms: image mean $omean with them, $offmean without (expected brighter with them)"
+expect_ok view "$TMP/o.sss" --offscreen --bench 3 --size 64x64
+contains "$TMP/out" '"own_term":"1 ring(s), rays"'
+expect_ok view "$TMP/o.sss" --offscreen --bench 3 --size 64x64 --near-visibility map
+contains "$TMP/out" '"own_term":"1 ring(s), shadow map 2048"'
+expect_ok view "$TMP/o.sss" --offscreen --out "$TMP/o_map.png" --size 160x120 --light 0.6,0.5,0.6 --view 0,0,1 \
+  --near-visibility map
+d=$("$SSS_PNGSTATS" "$TMP/o.png" "$TMP/o_map.png") || fail "cannot compare o.png and o_map.png"
+awk -v d="$d" 'BEGIN { exit !(d < 0.01) }' || fail "rays and shadow map differ on $d of the pixels of o.png"
+expect_fail "near-visibility" view "$TMP/o.sss" --offscreen --out "$TMP/x.png" --near-visibility maps
+expect_ok view "$TMP/b.sss" --offscreen --bench 2 --size 64x64
+contains "$TMP/out" '"own_term":"none"'
 # bad input
 head -c 200 "$TMP/b.sss" > "$TMP/trunc.sss"
 expect_fail "trunc.sss" view "$TMP/trunc.sss" --offscreen --out "$TMP/x.png"

@@ -26,6 +26,7 @@ extern "C" {
 #define SSS_MAX_SECTIONS 32
 /* sss_bake_file.own_term: own term split off (section OWNT, format 1.3) */
 #define SSS_OWN_TERM_RUNTIME 1u
+#define SSS_OWN_RINGS_MAX 8u
 
 typedef enum sss_quant {
     SSS_QUANT_FLOAT = 0,   /* q stored as float32 */
@@ -147,8 +148,10 @@ typedef struct sss_bake_file {
     char *params_json;        /* bake parameters as JSON text (provenance), NUL-terminated, owned */
     sss_effects fx;           /* (1.2) effect set of a scene bake; mask 0 for a plain bake */
     uint32_t own_term;        /* (1.3) 0, or SSS_OWN_TERM_RUNTIME: section OWNT, the q rows (any storage
-                               * form) hold q minus the vertex's own term, which the reader adds for the
-                               * actual light with its own visibility (sss/ownterm.h) */
+                               * form) hold q minus the near terms (the vertex's own term and its rings),
+                               * which the reader adds for the actual light with every vertex's own
+                               * visibility (sss/ownterm.h) */
+    uint32_t own_rings;       /* (1.3) with own_term: mesh rings around the vertex split off too (0 … 8) */
     /* Filled by the reader (ignored by the writer): */
     uint64_t file_size;
     uint32_t nsections;
