@@ -17,7 +17,10 @@
  *    99.9th percentile of the positive exact q over all vertices and
  *    channels pooled over the six axis light directions, so that the
  *    brightest 0.1 % of lit values reach 1;
- *  - light directions never on a direction sample (sss_accuracy_draw_direction).
+ *  - light directions never on a direction sample (sss_accuracy_draw_direction);
+ *  - a file with OWNT (near terms at run time): the renderer adds them as
+ *    the viewer does (its GPU rays, or its shadow map on request), or the
+ *    tool adds them with the bake's ray on the CPU (sss_recon_eval).
  *
  * The renderer is given a geometry-only view of the file (no direction
  * rows): q is always supplied per vertex (sss_renderer_upload_q), so the
@@ -113,7 +116,10 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     g.quant = SSS_QUANT_FLOAT;
     g.dirs.n = 0;
     g.q = NULL;
-    g.own_term = 0; /* q is supplied whole, the own term already in it */
+    /* with OWNT and the viewer's visibility the renderer adds the near terms
+     * itself (its shadow map); otherwise q is supplied whole */
+    const int map_vis = f->own_term && o->near_mode != 1; /* the renderer adds the near terms */
+    if (!map_vis) g.own_term = 0;
     sss_renderer *ren = NULL;
     res = sss_renderer_create(&g, &ren, err);
     if (res != SSS_OK) {
@@ -142,6 +148,8 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     p.specular = 0;
     p.exposure = out->exposure;
     p.tonemap = SSS_TONEMAP_CLAMP;
+    p.shadow_size = o->shadow_size;
+    p.near_visibility = o->near_mode == 2 ? SSS_NEAR_MAP : SSS_NEAR_RAYS;
     /* a stream of its own, so that the per-vertex measure's directions
      * (same seed) are not these */
     uint64_t state = o->seed ^ 0x696d616765657272ull; /* "imageerr" */
@@ -153,9 +161,12 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
         sss_accuracy_draw_direction(&f->dirs, &state, light);
         for (int k = 0; k < 3; k++) p.view[k] = view[k], p.light[k] = light[k];
         sss_exact_eval(e, light, qx);
-        sss_recon_eval(rc, light, o->interp, qa);
+        if (map_vis) sss_recon_eval_rows(rc, light, o->interp, qa);
+        else sss_recon_eval(rc, light, o->interp, qa);
         float *ex = NULL, *exh = NULL, *ap = NULL, *aph = NULL;
+        p.own_term = 0; /* the exact q is whole */
         res = sss_renderer_render_q_image(ren, &p, qx, W, H, &ex, &exh, err);
+        p.own_term = map_vis;
         if (res == SSS_OK) res = sss_renderer_render_q_image(ren, &p, qa, W, H, &ap, &aph, err);
         if (res != SSS_OK) {
             free(ex); free(exh); free(ap); free(aph);

@@ -13,6 +13,7 @@
 
 #include "cli_util.h"
 #include "image_error.h"
+#include "shadow.h" /* SSS_SHADOW_SIZE, the viewer's default map */
 #include "sss/decode.h"
 #include "sss/accuracy.h"
 #include "sss/exact.h"
@@ -27,6 +28,7 @@ static void usage(FILE *f)
                "       sss-stat FILE.sss --query VERTEX --light X,Y,Z [--json]\n"
                "       sss-stat FILE.sss --error [--views N] [--seed S] [--json] [--image-views N]\n"
                "                [--image-size N] [--exposure E] [--error-images DIR] [--no-image]\n"
+               "                [--image-visibility viewer|rays|map[:N]]\n"
                "                [--interp triangle|nearest4]\n"
                "Prints vertex count, channels, directions, storage, material, the bytes of every\n"
                "section, and every part of the scattering data (directions, reference indices,\n"
@@ -55,6 +57,9 @@ static void usage(FILE *f)
                "(PNG and EXR). Without OpenGL the image error is reported unavailable (one line) and\n"
                "the per-vertex error still printed; --no-image skips it. --interp nearest4 uses the\n"
                "paper's 4-nearest-direction interpolation instead of the stored triangle's (study only).\n"
+               "Files with near terms at run time (OWNT): the per-vertex error adds them with the bake's\n"
+               "ray visibility; the image error as the viewer adds them (its GPU rays; map[:N]: its\n"
+               "shadow map of N x N texels, default 2048; rays: the bake's ray on the CPU).\n"
                "\n"
                "Exit status: 0 success, 1 unreadable or unusable file, 2 bad arguments.\n");
 }
@@ -214,6 +219,8 @@ typedef struct error_args {
     const char *images_dir;
     int no_image;
     sss_interp interp;
+    int near_mode;               /* --image-visibility viewer (0) | rays (1) | map[:N] (2) */
+    int shadow_size;             /* --image-visibility map:N */
 } error_args;
 
 static int error_report(const char *path, const sss_bake_file *f, const error_args *a, int json)
@@ -242,7 +249,7 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
     int have_image = 0;
     if (!a->no_image) {
         sss_image_error_opts io = {a->image_views ? a->image_views : views, seed, a->image_size, a->image_size,
-                                   a->exposure, a->interp, a->images_dir};
+                                   a->exposure, a->interp, a->images_dir, a->near_mode, a->shadow_size};
         sss_error ierr = {{0}};
         r = sss_image_error_measure(f, e, &io, &ie, &ierr);
         if (r == SSS_OK) {
@@ -291,6 +298,16 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
             cJSON_AddNumberToObject(im, "rms_median", ie.rms_median);
             cJSON_AddNumberToObject(im, "rms_max_covered", ie.rms_max_covered);
             cJSON_AddNumberToObject(im, "coverage_mean", ie.coverage_mean);
+            /* files with OWNT: where the near terms' visibility came from */
+            if (f->own_term && a->near_mode == 1) cJSON_AddStringToObject(im, "near_visibility", "rays (CPU, Embree)");
+            else if (f->own_term && a->near_mode == 2) {
+                char mv[48];
+                snprintf(mv, sizeof mv, "shadow map %d", a->shadow_size ? a->shadow_size : SSS_SHADOW_SIZE);
+                cJSON_AddStringToObject(im, "near_visibility", mv);
+            } else if (f->own_term)
+                cJSON_AddStringToObject(im, "near_visibility", "rays (viewer, GPU)");
+            else
+                cJSON_AddNullToObject(im, "near_visibility");
             cJSON *w = cJSON_AddObjectToObject(im, "worst_view");
             cJSON_AddNumberToObject(w, "index", ie.worst);
             cJSON_AddItemToObject(w, "light", cJSON_CreateDoubleArray(ie.worst_light, 3));
@@ -379,6 +396,18 @@ int main(int argc, char **argv)
             image_opt = 1;
         }
         else if (!strcmp(argv[i], "--no-image")) ea.no_image = 1;
+        else if (!strcmp(argv[i], "--image-visibility")) {
+            if (i + 1 >= argc) { fprintf(stderr, "%s: --image-visibility needs a value (see --help)\n", TOOL); return 2; }
+            i++;
+            unsigned sz = 0;
+            char tail;
+            if (!strcmp(argv[i], "viewer")) ea.near_mode = 0;
+            else if (!strcmp(argv[i], "rays")) ea.near_mode = 1;
+            else if (!strcmp(argv[i], "map")) ea.near_mode = 2;
+            else if (sscanf(argv[i], "map:%u%c", &sz, &tail) == 1 && sz >= 256 && sz <= 8192) ea.near_mode = 2, ea.shadow_size = (int)sz;
+            else { fprintf(stderr, "%s: --image-visibility '%s' must be viewer, rays, map or map:N (N = 256 ... 8192)\n", TOOL, argv[i]); return 2; }
+            image_opt = 1;
+        }
         else if (!strcmp(argv[i], "--interp")) {
             if (i + 1 >= argc) { fprintf(stderr, "%s: --interp needs a value (see --help)\n", TOOL); return 2; }
             i++;
@@ -458,6 +487,10 @@ int main(int argc, char **argv)
         cJSON_AddStringToObject(o, "quant", quant);
         cJSON_AddStringToObject(o, "material", f.material.name);
         cJSON_AddNumberToObject(o, "mm_per_unit", f.mm_per_unit);
+        /* null: every term baked (the paper); else the mesh rings whose
+         * terms a reader adds at run time (sss/ownterm.h) */
+        if (f.own_term) cJSON_AddNumberToObject(o, "runtime_rings", f.own_rings);
+        else cJSON_AddNullToObject(o, "runtime_rings");
         cJSON_AddNumberToObject(o, "file_bytes", (double)f.file_size);
         cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)f.file_size / nv);
         cJSON *secs = cJSON_AddArrayToObject(o, "sections");
@@ -505,6 +538,9 @@ int main(int argc, char **argv)
         printf("  vertices %u, triangles %u, channels %u, directions %u, storage %s\n", f.mesh.nv, f.mesh.nf,
                f.channels, f.dirs.n, quant);
         printf("  material %s (eta %g), %g mm per unit\n", f.material.name, f.material.eta, f.mm_per_unit);
+        if (f.own_term)
+            printf("  near terms added at run time: the vertex's own term and %u mesh ring%s (section OWNT)\n",
+                   f.own_rings, f.own_rings == 1 ? "" : "s");
         printf("  %-6s %14s %12s %14s\n", "section", "bytes", "bytes/vertex", "count");
         for (uint32_t s = 0; s < f.nsections; s++)
             printf("  %-6s %14llu %12.2f %14llu\n", f.sections[s].tag, (unsigned long long)f.sections[s].size,
