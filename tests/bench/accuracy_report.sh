@@ -17,6 +17,13 @@ for m in bunny teapot d23 d100 d437 sphere; do
       [.directions, .image.rms_max, .image.rms_mean, .vertex_rel_rms, .bytes_per_vertex, .bake_s.total] | @tsv' > "$P/fig5_${m}_${ip}.dat"
   done
 done
+# the directions sweep with the near terms (own term + 1-ring) at run time
+for m in d23 sphere; do
+  for ip in triangle map; do
+    q --arg m "$m" --arg ip "$ip" 'map(select(.mesh==$m and .study=="dirs_ring1" and .interp==$ip)) | sort_by(.directions) | .[] |
+      [.directions, .image.rms_max, .image.rms_mean, .vertex_rel_rms, .bytes_per_vertex, .bake_s.total] | @tsv' > "$P/fig5_${m}_ring1_${ip}.dat"
+  done
+done
 for o in 3 6; do
   q --argjson o "$o" 'map(select(.mesh=="d23" and (.study=="refs") and .sh_order==$o)) | sort_by(.refs) | .[] |
     [.refs, .image.rms_max, .image.rms_mean, .vertex_rel_rms, .bytes_per_vertex] | @tsv' > "$P/fig9_o$o.dat"
@@ -71,6 +78,21 @@ plot '$P/fig5_bunny_triangle.dat' u 1:3 w lp lw 2 t 'bunny, image mean', \
      '$P/fig5_d23_nearest4.dat' u 1:3 w lp dt 3 lw 2 t 'dragon 23K, image mean, 4 nearest', \
      '$P/fig5_sphere_triangle.dat' u 1:3 w lp lw 2 lc rgb 'black' t 'sphere, image mean', \
      '$P/fig5_sphere_triangle.dat' u 1:4 w lp dt 2 lw 2 lc rgb 'black' t 'sphere, per-vertex rel. RMS'"
+plot fig5_near_terms "
+set logscale xy
+set title 'Image RMS (max over $VIEWS views) vs light directions: all baked vs own term + 1-ring at run time'
+set xlabel 'light directions'
+set ylabel 'image RMS error'
+set xtics (25,50,100,200,400,800)
+set xrange [20:1000]
+set key bottom left
+plot '$P/fig5_d23_triangle.dat' u 1:2 w lp lw 2 lc rgb 'blue' t 'dragon 23K, all baked (paper)', \
+     '$P/fig5_d23_ring1_triangle.dat' u 1:2 w lp lw 2 lc rgb 'blue' dt 2 t 'dragon 23K, near terms (viewer: rays)', \
+     '$P/fig5_d23_ring1_map.dat' u 1:2 w lp lw 2 lc rgb 'dark-cyan' dt 4 t 'dragon 23K, near terms, viewer shadow map 2048', \
+     '$P/fig5_sphere_triangle.dat' u 1:2 w lp lw 2 lc rgb 'black' t 'sphere, all baked', \
+     '$P/fig5_sphere_ring1_triangle.dat' u 1:2 w lp lw 2 lc rgb 'black' dt 2 t 'sphere, near terms', \
+     3e-3 w l lc rgb 'red' dt 3 t 'paper: 3e-3 at 200 directions', \
+     1e-3 w l lc rgb 'dark-green' dt 4 t 'issue 5 target: 1e-3'"
 F200MAX=$(q 'map(select(.id=="d23_dirs200_float" and .interp=="triangle")) | .[0].image.rms_max // 0')
 F200MEAN=$(q 'map(select(.id=="d23_dirs200_float" and .interp=="triangle")) | .[0].image.rms_mean // 0')
 plot fig9_error_vs_references "
@@ -143,7 +165,7 @@ best() { # mesh [criterion]: the lowest error measured
 table_choose() { # criterion
   echo "| mesh | target | cheapest in bytes | cheapest in bake time |"
   echo "|---|---|---|---|"
-  for m in d23 d100 bunny teapot sphere; do for t in 1e-2 3e-3 1e-3; do
+  for m in d23 d100 bunny teapot sphere; do for t in 1e-2 3e-3 1e-3 3e-4; do
     b=$(choose $m $t bytes "$1"); k=$(choose $m $t bake "$1")
     echo "| $m | $t | ${b:-$(best $m "$1")} | ${k:-—} |"
   done; done
@@ -160,6 +182,30 @@ table_slopes() {
     [ -s "$P/fig5_${m}_${ip}.dat" ] || continue
     echo "| $m | $ip | $(slope ${m}_$ip 2) | $(slope ${m}_$ip 3) | $(slope ${m}_$ip 4) |"
   done; done
+}
+# near terms at 200 directions: all baked, own term, +1 ring, +2 rings
+table_near() {
+  echo "| mesh | near terms at run time | bytes/vertex | image RMS max | image RMS mean | per-vertex rel. RMS | bake s | CPU path ms | GPU path ms |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+  for m in sphere bunny teapot d23 d100; do
+    for id in "${m}_dirs200_float" "${m}_dirs200_ring0" "${m}_dirs200_ring1" "${m}_dirs200_ring2" "${m}_dirs200_lloyd8" "${m}_dirs200_lloyd8_ring1" "${m}_dirs200_lloyd8_ring2"; do
+      q --arg id "$id" 'map(select(.id==$id and (.interp=="triangle" or .interp=="map"))) | .[] |
+        [.id, .mesh, .quant, .bytes_per_vertex, .image.rms_max, .image.rms_mean, .vertex_rel_rms, .bake_s.total, .cpu_scatter_ms, .gpu_scatter_ms, .interp, (.image.near_visibility // "")] | @tsv' |
+      awk -F'\t' '{ k = "none (paper)"; if ($1 ~ /ring0$/) k = "own term"; else if ($1 ~ /ring1$/) k = "own + 1-ring"; else if ($1 ~ /ring2$/) k = "own + 2 rings";
+        if ($12 != "") k = k ", " $12;
+        printf("| %s | %s | %.0f (%s) | %.2e | %.2e | %.4f | %.1f | %.2f | %.2f |\n", $2, k, $4, $3, $5, $6, $7, $8, $9, $10) }'
+    done
+  done
+}
+# error_sources: per-vertex rel. RMS by what the interpolation fails to follow
+table_sources() {
+  echo "| float bake, 200 directions | all baked | without cast shadows (V ≡ 1) | share of squared error where the vertex's own visibility flips (pairs) | linear weights | terminator divided out | own term at run time | own + 1-ring | own + 2 rings |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+  [ -s "$DATA/error_sources.jsonl" ] || return 0
+  jq -r '[(.file | sub(".*/"; "") | sub(".sss$"; "")), .vertices, .shadows.triangle, .no_shadows.triangle,
+          .split.shadow_edge.error_share, .split.shadow_edge.area_share, .shadows.linear, .shadows.terminator,
+          .shadows.own, .shadows.own_ring1, .shadows.own_ring2] | @tsv' "$DATA/error_sources.jsonl" |
+  awk -F'\t' '{printf("| %s (%s v) | %.4f | %.4f | %.1f %% (%.1f %%) | %.4f | %.4f | %.4f | %.5f | %.5f |\n", $1, $2, $3, $4, 100*$5, 100*$6, $7, $8, $9, $10, $11)}'
 }
 GL=$(q '.[0].gl_renderer // "unknown"')
 CPU=$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')

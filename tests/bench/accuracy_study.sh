@@ -44,7 +44,10 @@ log() { printf '[%s] accuracy_study: %s\n' "$(date -u +%H:%M:%S)" "$*" >&2; }
 declare -A MESH=( [bunny]=data/stanford/bunny.ply [teapot]=data/stanford/teapot.ply
                   [d23]=data/stanford/dragon_22998.ply [d100]=data/stanford/dragon_100250.ply
                   [d437]=data/stanford/dragon_437645.ply )
-declare -A SCALE=( [bunny]=15 [teapot]=5 [d23]=4000 [d100]=4000 [d437]=4000 [sphere]=100 )
+declare -A SCALE=( [bunny]=15 [teapot]=5 [d23]=4000 [d100]=4000 [d437]=4000 [sphere]=100 [d100g]=4000 )
+# d100g: the 100K dragon in grey marble (marble's green coefficients, one
+# channel): the one-channel budget of docs/compression.md
+MESH[d100g]=data/stanford/dragon_100250.ply
 # A convex control without self-shadowing (generated): q is then smooth in
 # the light direction, and the direction error is interpolation alone.
 MESH[sphere]=$OUT/sphere.ply
@@ -57,6 +60,10 @@ have_mesh() {
   [ -f "${MESH[$1]}" ] || { log "${MESH[$1]} missing (data/fetch.sh failed): its configurations are left out"; return 1; }
 }
 MAT=(--material marble)
+mat_of() { if [ "$1" = d100g ]; then echo "--sigma-a 0.0041,0.0041,0.0041 --sigma-s 2.62,2.62,2.62 --eta 1.3"; else echo "--material marble"; fi; }
+# compression for <= 16 bytes/vertex RGB with the near terms split off
+# (docs/accuracy.md "Choosing settings")
+SMALL_ARGS=${SMALL_ARGS:---refs 0.005 --sh-order 2}
 
 # One configuration: run ID MESH STUDY INTERPS -- BAKE-ARGS...
 # The manifest line says what was varied; the files under $OUT/json hold
@@ -70,14 +77,17 @@ run() {
   have_mesh "$m" || return 0
   if [ ! -s "$j.bake.json" ] || [ ! -f "$f" ]; then
     log "$id: bake $*"
-    "$BAKE" "${MESH[$m]}" -o "$f" "${MAT[@]}" --mm-per-unit "${SCALE[$m]}" "$@" --json -q > "$j.bake.json"
+    "$BAKE" "${MESH[$m]}" -o "$f" $(mat_of "$m") --mm-per-unit "${SCALE[$m]}" "$@" --json -q > "$j.bake.json"
   fi
   [ -s "$j.stat.json" ] || "$STAT" "$f" --json > "$j.stat.json"
   local exp; exp=$(cat "$OUT/json/$m.exposure")
   for ip in $interps; do
     if [ ! -s "$j.$ip.err.json" ]; then
       log "$id: error ($ip)"
-      "$STAT" "$f" --error --views 100 --image-views "$VIEWS" --seed 1 --exposure "$exp" --interp "$ip" --json > "$j.$ip.err.json"
+      # "map": files with near terms, imaged with the viewer's shadow map
+      # instead of its default GPU rays (docs/viewer.md)
+      local ia=(--interp "$ip"); [ "$ip" = map ] && ia=(--interp triangle --image-visibility map)
+      "$STAT" "$f" --error --views 100 --image-views "$VIEWS" --seed 1 --exposure "$exp" "${ia[@]}" --json > "$j.$ip.err.json"
     fi
   done
   if [ ! -s "$j.gpu.json" ]; then
@@ -97,13 +107,13 @@ exposure() {
   [ "${REPORT_ONLY:-0}" = 1 ] && return 0
   [ -s "$OUT/json/$m.exposure" ] && return 0
   have_mesh "$m" || return 0
-  [ -f "$OUT/sss/$id.sss" ] || "$BAKE" "${MESH[$m]}" -o "$OUT/sss/$id.sss" "${MAT[@]}" --mm-per-unit "${SCALE[$m]}" --dirs 200 --quant $qt --json -q > "$OUT/json/$id.bake.json"
+  [ -f "$OUT/sss/$id.sss" ] || "$BAKE" "${MESH[$m]}" -o "$OUT/sss/$id.sss" $(mat_of "$m") --mm-per-unit "${SCALE[$m]}" --dirs 200 --quant $qt --json -q > "$OUT/json/$id.bake.json"
   "$STAT" "$OUT/sss/$id.sss" --error --views 1 --image-views 1 --image-size 16 --json | jq -r '.image_error.exposure' > "$OUT/json/$m.exposure"
   log "$m: exposure $(cat "$OUT/json/$m.exposure")"
 }
 
 SMALL="bunny teapot d23"
-for m in $SMALL d100 sphere; do exposure "$m"; done
+for m in $SMALL d100 sphere d100g; do exposure "$m"; done
 [ "$FULL" = 1 ] && exposure d437
 # Figure 5: error against the number of directions, both interpolations.
 for m in $SMALL sphere; do
@@ -131,7 +141,49 @@ for m in $PRESET_MESHES; do
   [ "$m" = d100 ] && run "d100_dirs200_float" d100 preset "triangle" -- --dirs 200
   [ "$m" = d437 ] && run "d437_dirs200_lloyd8" d437 preset "triangle" -- --dirs 200 --quant lloyd8
 done
+# Near terms at run time (sss/ownterm.h, format 1.3): the vertex's own term
+# and its mesh rings split off in the bake and added back by the reader with
+# a shadow test per vertex. Rings 0 / 1 / 2 at 200 directions, and the
+# directions sweep again with the default ring (1).
+NEAR=(--own-term runtime)
+for m in $SMALL sphere; do
+  for k in 0 2; do run "${m}_dirs200_ring${k}" "$m" near "triangle map" -- --dirs 200 "${NEAR[@]}" --rings $k; done
+done
+for m in d23 sphere; do
+  for n in 25 50 100 200 400; do run "${m}_dirs${n}_ring1" "$m" dirs_ring1 "triangle map" -- --dirs $n "${NEAR[@]}" --rings 1; done
+done
+for m in bunny teapot; do run "${m}_dirs200_ring1" "$m" dirs_ring1 "triangle map" -- --dirs 200 "${NEAR[@]}" --rings 1; done
+run "d100_dirs200_lloyd8_ring1" d100 dirs_ring1 "triangle map" -- --dirs 200 --quant lloyd8 "${NEAR[@]}" --rings 1
+for m in $SMALL d100; do
+  run "${m}_compact_ring1" "$m" preset_ring1 "triangle map" -- --dirs 200 --compress compact "${NEAR[@]}" --rings 1
+done
+# the settings recommended for the issue's budget (<= 16 bytes/vertex RGB): fewer
+# references and lower SH order suffice once the near terms are off the rows
+for m in d23 d100; do
+  run "${m}_small_ring1" "$m" preset_ring1 "triangle map" -- --dirs 200 --compress compact $SMALL_ARGS "${NEAR[@]}" --rings 1
+done
+# finer meshes hold more of q beyond the 1-ring: two rings
+for m in d23 d100; do
+  run "${m}_small_ring2" "$m" preset_ring2 "triangle" -- --dirs 200 --compress compact $SMALL_ARGS "${NEAR[@]}" --rings 2
+done
+run "d100_dirs200_lloyd8_ring2" d100 near "triangle" -- --dirs 200 --quant lloyd8 "${NEAR[@]}" --rings 2
+run "d100_small_ring3" d100 preset_ring3 "triangle" -- --dirs 200 --compress compact $SMALL_ARGS "${NEAR[@]}" --rings 3
+# one channel: the compact preset is <= 16 bytes/vertex as it is
+run "d100g_compact" d100g preset "triangle" -- --dirs 200 --compress compact
+run "d100g_compact_ring1" d100g preset_ring1 "triangle map" -- --dirs 200 --compress compact "${NEAR[@]}" --rings 1
+run "d100g_compact_ring2" d100g preset_ring2 "triangle" -- --dirs 200 --compress compact "${NEAR[@]}" --rings 2
 mv "$OUT/manifest.tsv.new" "$OUT/manifest.tsv"
+# Where the error comes from (tests/bench/error_sources): the float bakes'
+# error split into lobe, terminator and cast shadows, and what splitting off
+# the own term and its rings leaves
+if [ "${REPORT_ONLY:-0}" != 1 ]; then
+  for id in sphere_dirs200_float d23_dirs200_float bunny_dirs200_float teapot_dirs200_float d100_dirs200_float; do
+    [ -f "$OUT/sss/$id.sss" ] || continue
+    [ -s "$OUT/json/$id.sources.json" ] || { log "$id: error sources"; "$BUILD/tests/bench/error_sources" "$OUT/sss/$id.sss" 100 1 > "$OUT/json/$id.sources.json"; }
+  done
+fi
+mkdir -p "$DATA"
+cat "$OUT"/json/*.sources.json 2>/dev/null > "$DATA/error_sources.jsonl" || true
 # the worst view's images of the 200-direction float dragon, for the page
 if [ "${REPORT_ONLY:-0}" != 1 ] && [ ! -s "$DATA/worst_error.png" ] && [ -f "$OUT/sss/d23_dirs200_float.sss" ]; then
   "$STAT" "$OUT/sss/d23_dirs200_float.sss" --error --views 1 --image-views "$VIEWS" --seed 1 \
