@@ -132,13 +132,7 @@ static sss_result split_near_terms(const sss_mesh *mesh, const sss_material *mat
     uint64_t traced = 0;
     for (uint32_t j = 0; j < D && r == SSS_OK; j++) {
         const double *d = ds->dir + 3 * (size_t)j;
-#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : traced)
-        for (int64_t v = 0; v < (int64_t)nv; v++) {
-            const float *n = mesh->nrm + 3 * (size_t)v;
-            const int facing = n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0.0;
-            traced += (uint64_t)facing;
-            lit[v] = facing && !sss_vis_occluded(vis, (uint32_t)v, d);
-        }
+        traced += sss_vis_lit_all(vis, mesh, d, lit);
         sss_near_transfer(mesh->nrm, nv, (float)mat->eta, d, lit, gv);
         float *qj = q + (size_t)j * nv * C;
 #pragma omp parallel for schedule(static)

@@ -46,8 +46,7 @@ static int unit(const double l[3], double d[3])
     return 1;
 }
 
-/* Own visibility of vertex v: a ray where it faces the light, as the bake
- * traces (sss_transfer_rows). */
+/* Own visibility of vertex v, one vertex of sss_vis_lit_all. */
 static uint8_t lit_one(const sss_recon *r, uint32_t v, const double d[3])
 {
     const float *n = r->f->mesh.nrm + 3 * (size_t)v;
@@ -62,8 +61,7 @@ void sss_recon_own_lit(const sss_recon *r, const double light[3], uint8_t *lit)
         memset(lit, r->near_on ? 0 : 1, nv);
         return;
     }
-#pragma omp parallel for schedule(dynamic, 1024)
-    for (int64_t v = 0; v < (int64_t)nv; v++) lit[v] = lit_one(r, (uint32_t)v, d);
+    sss_vis_lit_all(r->vis, &r->f->mesh, d, lit);
 }
 
 void sss_recon_eval_rows(const sss_recon *r, const double light[3], sss_interp interp, float *out)

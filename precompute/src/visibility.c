@@ -112,3 +112,16 @@ int sss_vis_occluded_upto(const sss_vis *vis, uint32_t v, const double d[3], dou
     rtcOccluded1(vis->scene, &ctx, &ray);
     return ray.tfar < 0.0f; /* Embree sets tfar = −inf when blocked */
 }
+
+uint64_t sss_vis_lit_all(const sss_vis *vis, const sss_mesh *mesh, const double d[3], uint8_t *lit)
+{
+    uint64_t traced = 0;
+#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : traced)
+    for (int64_t v = 0; v < (int64_t)mesh->nv; v++) {
+        const float *n = mesh->nrm + 3 * (size_t)v;
+        const int facing = n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0.0;
+        traced += (uint64_t)facing;
+        lit[v] = facing && !sss_vis_occluded(vis, (uint32_t)v, d);
+    }
+    return traced;
+}

@@ -70,11 +70,7 @@ static sss_near g_near[NEAR];
 
 static void transfer_all(const sss_bake_file *f, const sss_vis *vis, const double *d, uint8_t *lit, float *gv)
 {
-#pragma omp parallel for schedule(dynamic, 512)
-    for (int64_t v = 0; v < (int64_t)f->mesh.nv; v++) {
-        const float *n = f->mesh.nrm + 3 * (size_t)v;
-        lit[v] = n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0.0 && !sss_vis_occluded(vis, (uint32_t)v, d);
-    }
+    sss_vis_lit_all(vis, &f->mesh, d, lit);
     sss_near_transfer(f->mesh.nrm, f->mesh.nv, (float)f->material.eta, d, lit, gv);
 }
 

@@ -19,7 +19,7 @@
  * vertex's own visibility from a shadow test of its own (rays in the tools,
  * a shadow map in the viewer: the paper's local-illumination pass already
  * shadows the surface, §3.2). w̃_o is not stored: both sides compute it
- * with sss_own_weights from the file's geometry and material, so it costs
+ * with sss_near_build from the file's geometry and material, so it costs
  * no bytes.
  */
 #ifndef SSS_OWNTERM_H
@@ -34,27 +34,11 @@
 extern "C" {
 #endif
 
-/* w̃_o,c = (1/π) ∫_disk R_d dA over a disk of x_o's own area ΔA_o
- * (sss_mesh_vertex_areas, scaled by mm_per_unit²), i.e. the bake's self
- * weight (nbhd.c) without its sharing among coincident copies, for every
- * vertex and channel into w[v * channels + c]. mesh needs pos and tri
- * only. Deterministic (same sums in the same order wherever it runs).
- * Errors: SSS_ERR_ARG (NULL, channels not 1 or 3, mm_per_unit ≤ 0),
- * SSS_ERR_NOMEM. */
-sss_result sss_own_weights(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
-                           float *w, sss_error *err);
-
 /* g = F_t(η, c) · max(0, c), c = n·ω (n and ω unit; ω towards the light):
  * the transfer factor of the own term without visibility, in float as
  * every reader evaluates it (the GLSL version in runtime/src/shaders.c
  * computes the same expression). */
 float sss_own_transfer(float eta, const float n[3], const float d[3]);
-
-/* Adds the own term for unit light direction d to out[v * channels + c]:
- * out += w[v, c] · sss_own_transfer(η, n_v, d) · lit[v], with lit[v] the
- * vertex's own visibility (0 or 1; NULL: every vertex lit). */
-void sss_own_add(const float *w, const float *nrm, uint32_t nv, uint32_t channels, float eta, const double d[3],
-                 const uint8_t *lit, float *out);
 
 /* ---- the near terms: the own term and its mesh rings -----------------
  *
@@ -74,8 +58,9 @@ typedef struct sss_near {
     float *w;        /* start[nv] × channels: w̃(o, i) */
 } sss_near;
 
-/* Builds the rows for rings 0 … 8 (0: the own term alone, w̃(o,o) of
- * sss_own_weights). Ring neighbours are vertices reachable over at most
+/* Builds the rows for rings 0 … 8 (0: the own term alone, w̃(o,o) = (1/π)
+ * ∫ R_d over a disk of x_o's own area, shared by area with coincident
+ * copies as nbhd.c's self term). Ring neighbours are vertices reachable over at most
  * `rings` triangle edges; their weight follows nbhd.c: (1/π) ∫ R_d over
  * x_i's area as a disk when that disk covers x_o, else (1/π) R_d(r) ΔA_i
  * (Hao–Varshney 2004 §3.1). Deterministic. Errors: SSS_ERR_ARG,
