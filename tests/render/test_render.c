@@ -26,25 +26,7 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-static sss_offscreen *ctx;
-
-static int setup(void **state)
-{
-    (void)state;
-    sss_error err = {{0}};
-    if (sss_offscreen_create(&ctx, &err) != SSS_OK) {
-        fprintf(stderr, "no offscreen GL context: %s\n", err.msg);
-        return -1;
-    }
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    sss_offscreen_destroy(ctx);
-    return 0;
-}
+#include "gl_fixture.h"
 
 static void bake(const sss_mesh *m, const char *material, int grey, double mm, uint32_t dirs, sss_quant q,
                  sss_bake_file *f)
@@ -299,5 +281,5 @@ int main(void)
         cmocka_unit_test(offscreenCompressedSphereMatchesCDecoderImage),
         cmocka_unit_test(offscreenBunnyMatchesCDecoderImage),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, gl_setup, gl_teardown);
 }
