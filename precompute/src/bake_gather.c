@@ -53,7 +53,7 @@ static uint32_t share_start(uint32_t n, int k, int nranks) { return (uint32_t)((
  * dragon, 92 on a 20K-triangle blob). */
 #define VIS_BYTES_PER_TRIANGLE 112u
 /* What the process holds besides the bake's own arrays: code, shared
- * libraries, OpenBLAS's packing buffers, threads' stacks, and freed memory
+ * libraries, threads' stacks, and freed memory
  * malloc keeps (peak RSS of a 2,562-vertex bake: 22 MiB, of which 8 MiB
  * its arrays). */
 #define PROCESS_BYTES ((uint64_t)20 << 20)
@@ -127,8 +127,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     /* Peak memory (this rank), and the widest chunk of directions that
      * fits. Whole during the gather: the process itself, the meshes, q
      * (rank 0), Embree's scene, the hierarchy, the threads' block matrices
-     * (a call may be as wide as all D directions, gather_near.c
-     * call_width). Per direction loaded: the Morton-ordered transfer rows
+     * (counted for all D directions, an upper bound when chunked). Per direction loaded: the Morton-ordered transfer rows
      * and the nodes' moments, and under MPI this rank's part of q and on
      * rank 0 the chunk it collects. After the gather (the hierarchy gone):
      * lloyd8 holds q, its 8-bit indices and the training sample (16 bytes
@@ -280,7 +279,6 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
             gs.t_sgemm += g.t_sgemm;
             gs.t_scatter += g.t_scatter;
             gs.flops += g.flops;
-            gs.flops_useful += g.flops_useful;
         }
         if (mpi) {
             /* rank 0 collects the parts (rank order = block order) and
@@ -320,7 +318,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     {
         const double tt = gs.t_lists + gs.t_weights + gs.t_sgemm + gs.t_scatter;
         st->sgemm_fraction = tt > 0 ? gs.t_sgemm / tt : 0;
-        st->near_gflops = tt > 0 ? gs.flops_useful / tt * 1e-9 : 0;
+        st->near_gflops = tt > 0 ? gs.flops / tt * 1e-9 : 0;
     }
     /* the neighbourhood figures of the direct sum, for the summary: sources
      * per receiver taken one by one, and the rows per receiver */
@@ -328,7 +326,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     st->neighbours_mean = nv ? (double)gs.near_pairs / nv : 0;
     if (getenv("SSS_GATHER_VERBOSE"))
         fprintf(stderr, "gather: %u nodes (%u leaves), %u blocks, rows/block %.0f, near pairs/receiver %.0f, far "
-                "nodes/receiver %.1f; thread-s lists %.2f weights %.2f sgemm %.2f scatter %.2f; sgemm %.1f GFLOP/s, "
+                "nodes/receiver %.1f; thread-s lists %.2f weights %.2f product %.2f scatter %.2f; product %.1f GFLOP/s, "
                 "near field %.1f GFLOP/s; tree %.2fs; %u direction chunks\n", gs.nodes, gs.leaves, nb, gs.rows_mean,
                 (double)gs.near_pairs / nv, (double)gs.far_pairs / nv, gs.t_lists, gs.t_weights, gs.t_sgemm,
                 gs.t_scatter, st->gather_gflops, st->near_gflops, st->t_tree, nch);

@@ -5,6 +5,7 @@
 #define SSS_GATHER_INTERNAL_H
 
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <string.h>
 #include "sss/gather.h"
@@ -51,17 +52,55 @@ typedef struct sss_glist {
  * Returns 0 on allocation failure. */
 int sss_gather_lists(const sss_gather_tree *t, uint32_t b, double radius_mm, sss_glist *l);
 
-/* Columns of the sgemm call for a chunk of Dc of n_total directions
- * starting at j0, for a block of M weight rows and K product rows, and the
- * column c0 of the call where the chunk sits (the others are zero): the
- * rule that keeps a chunked bake's bytes those of the whole (gather_near.c). */
-uint32_t sss_gather_call_width(uint64_t M, uint64_t K, uint32_t Dc, uint32_t n_total, uint32_t j0, uint32_t *c0);
+/* The block product Q (M × N, row stride ldq) = W (M × K, row stride
+ * ldw) · Ψ, Ψ's row k being the N floats at rows[k] (gather_gemm.c). Every
+ * element is the chain acc ← fmaf(W[m][k], Ψ[k][n], acc) over k in order
+ * from 0, so every path gives the same bits. scratch holds
+ * sss_gather_gemm_scratch(N) floats. sss_gather_gemm takes the fastest
+ * path this CPU has; sss_gather_gemm_isa forces one (for tests and
+ * benchmarks) and returns 0, leaving Q alone, where the CPU lacks it. */
+enum { SSS_GEMM_PORTABLE = 0, SSS_GEMM_AVX2 = 1, SSS_GEMM_AVX512 = 2 };
+size_t sss_gather_gemm_scratch(uint32_t N);
+void sss_gather_gemm(uint32_t M, uint32_t N, uint32_t K, const float *W, uint64_t ldw, const float *const *rows,
+                     float *Q, uint64_t ldq, float *scratch);
+int sss_gather_gemm_isa(int isa, uint32_t M, uint32_t N, uint32_t K, const float *W, uint64_t ldw,
+                        const float *const *rows, float *Q, uint64_t ldq, float *scratch);
+int sss_gather_gemm_best(void);
 
 /* Per-channel constants of the float profile kernels. */
 typedef struct sss_gkernel {
     float sigma, z_r, z_v, zr2, zv2, coef; /* coef = α′/(4π) · 1/π */
 } sss_gkernel;
 void sss_gkernel_init(sss_gkernel *k, const sss_dipole *d);
+
+/* (1/π) R_d as piecewise polynomials in x = r² (gather_rdtab.c): octave
+ * e0 + i of x holds Σ_j c[j][i] u^j, u = 2t − 1, x = 2^(e0+i) (1 + t). */
+#define SSS_RDTAB_N 32
+#define SSS_RDTAB_DEG 10
+typedef struct sss_rdtab {
+    int e0; /* the first octave: xmax's octave is the last */
+    _Alignas(64) float c[SSS_RDTAB_DEG + 1][SSS_RDTAB_N];
+} sss_rdtab;
+void sss_rdtab_init(sss_rdtab *t, const sss_dipole *d, double xmax);
+float sss_rdtab_eval(const sss_rdtab *t, float x);
+
+/* The profile at x ≥ 0; inline so that the weight loops vectorise it.
+ * Integer and fused operations only, so every vector width gives the
+ * same bits (an x below the first octave is taken at its start, above the
+ * last one on the last polynomial: such sources lie beyond the cutoff). */
+static inline float sss_rdtab_at(const sss_rdtab *tab, float x)
+{
+    const int32_t lo = (127 + tab->e0) << 23, hi = (127 + tab->e0 + SSS_RDTAB_N) << 23; /* 2^e0, 2^(e0+N) */
+    int32_t b;
+    memcpy(&b, &x, sizeof b);
+    b = b > lo ? b : lo;
+    b = b < hi - 1 ? b : hi - 1;
+    const int32_t i = (b >> 23) - (127 + tab->e0);
+    const float u = (float)(b & 0x7fffff) * 0x1p-22f - 1.0f;
+    float p = tab->c[SSS_RDTAB_DEG][i];
+    for (int j = SSS_RDTAB_DEG - 1; j >= 0; j--) p = fmaf(p, u, tab->c[j][i]);
+    return p;
+}
 
 /* Far-field weights of one receiver at x_o (mm) against far nodes
  * far[0 .. nfar): for channel c, the 10 moment weights of node f go to

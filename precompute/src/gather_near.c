@@ -9,14 +9,13 @@
  * the columns of one dense matrix W (channels × receivers by rows), and the
  * block's integrals are one product
  *   Q (C·B × D) = W (C·B × S) · Ψ (S × D),
- * Ψ stacking the transfer rows G[i, ·] of the near sources and the moment
- * rows of the far nodes. sgemm (OpenBLAS, single-threaded inside each
- * OpenMP thread) runs it near the machine's peak, where the direct sum's
- * sparse row loop is bound by memory (docs/benchmarks.md). One thread
- * computes a whole block in a fixed order, so the bytes do not depend on
- * the thread count.
+ * Ψ's rows being the transfer rows G[i, ·] of the near sources and the
+ * moment rows of the far nodes, read in place (gather_gemm.c: a register-
+ * tiled kernel near the machine's FMA peak, where the direct sum's sparse
+ * row loop is bound by memory; docs/benchmarks.md). One thread computes a
+ * whole block in a fixed order, so the bytes do not depend on the thread
+ * count.
  */
-#include <cblas.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,17 +31,17 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-/* OpenBLAS's own threads would fight OpenMP's and make the sum's order
- * depend on the thread count. */
-void openblas_set_num_threads(int);
-
 /* The same near-disk rule as nbhd.c: a neighbour closer than its own
  * area-disk radius is integrated over the disk. */
 #define NEAR_DISKS 1.0
 
 typedef struct work {
-    float *W, *Psi, *Q;
-    size_t capW, capPsi, capQ;
+    float *W, *Q;
+    size_t capW, capQ;
+    const float **rows; /* Ψ: a pointer to each row */
+    size_t caprows;
+    float *pack; /* the block product's scratch */
+    size_t cappack;
     uint32_t *src;
     size_t capsrc;
     float *fs; /* per source: dA, r², inside; then the far scratch */
@@ -65,48 +64,73 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem)
     return 1;
 }
 
-/* (1/π) R_d(r) ΔA for S sources at squared distances r2v, zero where
- * inv[a] = 0 (beyond the cutoff): the float form of sss_rd (physics sheet
- * §2), R_d = α′/(4π) Σ_z z (1 + σd) e^{−σd} / d³; channel c into
- * w[c · ldc + a]. Three channels (RGB) in one pass over the sources: the
- * distances are loaded once and the three rows written together (measured
- * 10 % less time per weight than a pass per channel); the arithmetic per
- * channel is the same either way. */
-static inline float rd_one(const sss_gkernel *kp, float rr, float in)
-{
-    const float d1 = sqrtf(rr + kp->zr2), d2 = sqrtf(rr + kp->zv2);
-    const float i1 = 1.0f / d1, i2 = 1.0f / d2;
-    /* A source beyond the cutoff (in = 0) gets e^{−σd−128} = 0 exactly:
-     * the weight is 0 either way, but a distant source's e^{−σd}/d³ can
-     * fall to a subnormal float, and every operation on one costs ~100
-     * cycles (measured: a coarse sphere's blocks 6× slower per weight).
-     * Inside (in = 1) the argument is σd itself, so the bits are the same. */
-    const float s1 = kp->sigma * d1 + (1.0f - in) * 128.0f, s2 = kp->sigma * d2 + (1.0f - in) * 128.0f;
-    const float t1 = kp->z_r * (1.0f + s1) * sss_gexpf(-s1) * i1 * i1 * i1;
-    const float t2 = kp->z_v * (1.0f + s2) * sss_gexpf(-s2) * i2 * i2 * i2;
-    return kp->coef * (t1 + t2);
-}
-
+/* (1/π) R_d(r) ΔA for S sources at squared distances r2v (mm²), zero
+ * where inv[a] = 0 (beyond the cutoff), from the channel's polynomials
+ * (gather_rdtab.c), into w[a]. Three channels (RGB) share the octave and u
+ * of each source: one pass writes the three rows. */
 SSS_GATHER_CLONES
-static void rd_row(const sss_gkernel *kp, const float *restrict r2v, const float *restrict dA,
+static void rd_row(const sss_rdtab *tab, const float *restrict r2v, const float *restrict dA,
                    const float *restrict inv, uint32_t S, float *restrict w)
 {
-    const sss_gkernel k = *kp;
-    for (uint32_t a = 0; a < S; a++) w[a] = rd_one(&k, r2v[a], inv[a]) * dA[a] * inv[a];
+    for (uint32_t a = 0; a < S; a++) w[a] = sss_rdtab_at(tab, r2v[a]) * (dA[a] * inv[a]);
 }
 
-SSS_GATHER_CLONES
-static void rd_rows3(const sss_gkernel *kp, const float *restrict r2v, const float *restrict dA,
-                     const float *restrict inv, uint32_t S, float *restrict w, uint64_t ldc)
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+/* The three rows with AVX-512 written out, each coefficient of the 32
+ * octaves one two-register permutation (vpermt2ps) rather than a gather:
+ * the same operations in the same order as sss_rdtab_at, the same bits. */
+__attribute__((target("avx512f"))) static void rd_rows3_512(const sss_rdtab *tab, const float *restrict r2v,
+                                                             const float *restrict dA, const float *restrict inv,
+                                                             uint32_t S, float *restrict w, uint64_t ldc)
 {
-    const sss_gkernel k0 = kp[0], k1 = kp[1], k2 = kp[2];
+    const int32_t e0 = tab[0].e0; /* the channels share the cutoff's octave */
+    const __m512i lo = _mm512_set1_epi32((127 + e0) << 23), hi = _mm512_set1_epi32(((127 + e0 + SSS_RDTAB_N) << 23) - 1);
+    const __m512i mant = _mm512_set1_epi32(0x7fffff), base = _mm512_set1_epi32(127 + e0);
+    const __m512 scale = _mm512_set1_ps(0x1p-22f), one = _mm512_set1_ps(1.0f);
+    for (uint32_t a0 = 0; a0 < S; a0 += 16) {
+        const __mmask16 m = S - a0 >= 16 ? (__mmask16)0xffff : (__mmask16)((1u << (S - a0)) - 1u);
+        __m512i b = _mm512_castps_si512(_mm512_maskz_loadu_ps(m, r2v + a0));
+        b = _mm512_min_epi32(_mm512_max_epi32(b, lo), hi);
+        const __m512i i = _mm512_sub_epi32(_mm512_srli_epi32(b, 23), base);
+        const __m512 u = _mm512_sub_ps(_mm512_mul_ps(_mm512_cvtepi32_ps(_mm512_and_si512(b, mant)), scale), one);
+        const __m512 s = _mm512_mul_ps(_mm512_maskz_loadu_ps(m, dA + a0), _mm512_maskz_loadu_ps(m, inv + a0));
+        for (int c = 0; c < 3; c++) {
+            const sss_rdtab *t = &tab[c];
+            __m512 p = _mm512_permutex2var_ps(_mm512_load_ps(t->c[SSS_RDTAB_DEG]), i,
+                                              _mm512_load_ps(t->c[SSS_RDTAB_DEG] + 16));
+            for (int j = SSS_RDTAB_DEG - 1; j >= 0; j--)
+                p = _mm512_fmadd_ps(p, u, _mm512_permutex2var_ps(_mm512_load_ps(t->c[j]), i, _mm512_load_ps(t->c[j] + 16)));
+            _mm512_mask_storeu_ps(w + c * ldc + a0, m, _mm512_mul_ps(p, s));
+        }
+    }
+}
+#define SSS_HAVE_RD512 1
+#endif
+
+SSS_GATHER_CLONES
+static void rd_rows3_any(const sss_rdtab *tab, const float *restrict r2v, const float *restrict dA,
+                         const float *restrict inv, uint32_t S, float *restrict w, uint64_t ldc)
+{
     float *restrict w0 = w, *restrict w1 = w + ldc, *restrict w2 = w + 2 * ldc;
     for (uint32_t a = 0; a < S; a++) {
-        const float rr = r2v[a], da = dA[a], in = inv[a];
-        w0[a] = rd_one(&k0, rr, in) * da * in;
-        w1[a] = rd_one(&k1, rr, in) * da * in;
-        w2[a] = rd_one(&k2, rr, in) * da * in;
+        const float rr = r2v[a], s = dA[a] * inv[a];
+        w0[a] = sss_rdtab_at(&tab[0], rr) * s;
+        w1[a] = sss_rdtab_at(&tab[1], rr) * s;
+        w2[a] = sss_rdtab_at(&tab[2], rr) * s;
     }
+}
+
+static void rd_rows3(const sss_rdtab *tab, const float *restrict r2v, const float *restrict dA,
+                     const float *restrict inv, uint32_t S, float *restrict w, uint64_t ldc)
+{
+#ifdef SSS_HAVE_RD512
+    if (tab[0].e0 == tab[1].e0 && tab[1].e0 == tab[2].e0 && __builtin_cpu_supports("avx512f")) {
+        rd_rows3_512(tab, r2v, dA, inv, S, w, ldc);
+        return;
+    }
+#endif
+    rd_rows3_any(tab, r2v, dA, inv, S, w, ldc);
 }
 
 /* Squared distances in mm from x_o to the S sources at (mesh units, as
@@ -134,10 +158,10 @@ static void near_d2(const double *restrict sx, const double *restrict sy, const 
 }
 
 /* Weights of receiver o against the near sources of the block (arrays of
- * the work space) into W[c * ldc + a]: the float kernel for ordinary pairs,
+ * the work space) into W[c * ldc + a]: the tabulated profile for ordinary pairs,
  * then the self / coincident / near-disk pairs redone in double exactly as
  * nbhd.c does them. */
-static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const sss_dipole *dip, const sss_gkernel *k,
+static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const sss_dipole *dip, const sss_rdtab *tab,
                          uint32_t C, double radius_mm, uint32_t o, const uint32_t *src, const double *sxyz,
                          const float *dA, uint32_t S, float *r2f, float *inv, unsigned char *flag, float *W,
                          uint64_t ldc)
@@ -146,9 +170,9 @@ static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const s
     const float *po = mesh->pos + 3 * (size_t)o;
     near_d2(sxyz, sxyz + S, sxyz + 2 * (size_t)S, dA, S, po[0], po[1], po[2], s, r2, r2f, inv, flag);
     if (C == 3)
-        rd_rows3(k, r2f, dA, inv, S, W, ldc);
+        rd_rows3(tab, r2f, dA, inv, S, W, ldc);
     else
-        for (uint32_t c = 0; c < C; c++) rd_row(&k[c], r2f, dA, inv, S, W + c * ldc);
+        for (uint32_t c = 0; c < C; c++) rd_row(&tab[c], r2f, dA, inv, S, W + c * ldc);
     for (uint32_t a = 0; a < S; a++) {
         /* flagged pairs are a handful per receiver: skip the others
          * eight flags at a time (flag has room for S rounded up to 8) */
@@ -186,55 +210,6 @@ static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const s
     }
 }
 
-/* Products whose m·n·k is at most this may be routed by OpenBLAS to
- * kernels other than its blocked one; above it every call is the blocked
- * kernel (0.3.21: "small matrix" kernels up to m·n·k = 10⁶, the SkylakeX
- * "direct" sgemm below 28·512² = 7.3·10⁶; this bound leaves 2.3× margin). */
-#define SGEMM_BLOCKED_MNK (16.0 * 1048576.0)
-
-/* Width of the sgemm call that computes a chunk of Dc directions
- * [j0, j0 + Dc) of n_total for a block with M = C·B weight rows and K
- * rows of Ψ, and the column c0 of the call where the chunk sits.
- *
- * A bake in direction chunks (bake_gather.c) must give the bytes of the
- * bake in one piece, whose block product is one call over all n_total
- * columns. OpenBLAS does not promise that a column comes out with the same
- * bits when the call has fewer columns, and measured here (OpenBLAS 0.3.21,
- * SkylakeX kernels; tests/bench/sgemm_columns.c checks it) it does not always:
- * products small enough for its "small matrix" or "direct" kernels are
- * summed in another order than by the blocked kernel (which splits k into
- * panels), and so is a call of one column. Among calls that all take the
- * blocked kernel, every column had the same bits whatever the number of
- * columns (2 … n_total) and wherever it sat: that kernel computes each
- * element as the same chain of multiply-adds over the same k panels, and
- * the panels depend on k alone. So:
- *  - the chunk is the whole set (Dc = n_total): the reference call itself;
- *  - both the whole call and a call of at least 16 columns lie above
- *    SGEMM_BLOCKED_MNK: the chunk is computed in a call of
- *    max(Dc, 16, the width that crosses the bound) columns, the chunk at
- *    column 0 and zero columns after it;
- *  - otherwise (cheap blocks: few rows or few receivers) the call is the
- *    whole call, n_total columns with the chunk at its own place
- *    [j0, j0 + Dc) and the other columns zero: the same call as the
- *    reference, so the chunk's columns are computed the same way by
- *    whatever kernel OpenBLAS picks.
- * tests/integration/cli_gather_chunks.sh compares the bytes of chunked
- * and whole bakes. */
-uint32_t sss_gather_call_width(uint64_t M, uint64_t K, uint32_t Dc, uint32_t n_total, uint32_t j0, uint32_t *c0)
-{
-    *c0 = 0;
-    if (Dc >= n_total) return Dc;
-    const double mk = (double)M * (double)K;
-    if (mk > 0 && mk * n_total > SGEMM_BLOCKED_MNK) {
-        double need = floor(SGEMM_BLOCKED_MNK / mk) + 1.0;
-        uint32_t n = Dc > 16 ? Dc : 16;
-        if (need > n) n = need < (double)n_total ? (uint32_t)need : n_total;
-        if (n < n_total) return n;
-    }
-    *c0 = j0;
-    return n_total;
-}
-
 /* Cost per element, in sgemm flops, of the parts of a block that are not
  * the product: a weight (receiver × row × channel), a row element of Ψ
  * copied and packed (row × column), a value of q written (receiver ×
@@ -250,9 +225,8 @@ uint64_t sss_gather_block_work(const sss_gather_tree *t, uint32_t b, uint32_t ro
 {
     const sss_gnode *n = &t->node[t->block[b]];
     const double M = (double)C * (n->hi - n->lo);
-    uint32_t c0;
-    const double w = sss_gather_call_width((uint64_t)M, rows, Dc, n_total, 0, &c0);
-    return (uint64_t)(2.0 * M * rows * w + WORK_WEIGHT * M * rows + WORK_ROWCOPY * rows * w + WORK_WRITE * M * Dc) + 1;
+    (void)n_total;
+    return (uint64_t)(2.0 * M * rows * Dc + WORK_WEIGHT * M * rows + WORK_ROWCOPY * rows * Dc + WORK_WRITE * M * Dc) + 1;
 }
 
 sss_result sss_gather_block_rows(const sss_gather_tree *t, double radius_mm, uint32_t b0, uint32_t b1, uint32_t *rows,
@@ -286,9 +260,12 @@ uint64_t sss_gather_workspace_rows_bytes(uint32_t max_rows, uint32_t D, uint32_t
 {
     sss_gather_params p = pin ? *pin : (sss_gather_params){0};
     const uint64_t B = p.block_size ? p.block_size : 128, S = max_rows;
-    /* W, Ψ, Q, and per row: source index, 3 floats, 3 doubles, a flag;
-     * grow() leaves up to half again as much */
-    const uint64_t per = (C * B * S * 4 + S * D * 4 + C * B * D * 4 + S * (4 + 12 + 24 + 1)) * 3 / 2 + 64 * 1024;
+    /* W, Q, the product's packed panel, and per row: a row pointer,
+     * source index, 3 floats, 3 doubles, a flag; grow() leaves up to half
+     * again as much */
+    const uint64_t per =
+        (C * B * S * 4 + C * B * D * 4 + sss_gather_gemm_scratch(D) * 4 + S * (8 + 4 + 12 + 24 + 1)) * 3 / 2 +
+        64 * 1024;
     return per * (uint64_t)(threads > 0 ? threads : 1);
 }
 
@@ -298,7 +275,8 @@ uint64_t sss_gather_workspace_bytes(uint32_t nv, uint32_t D, uint32_t C, const s
     const uint32_t B = p.block_size ? p.block_size : 128;
     /* rows per block: measured below 4000 on the dragons at θ = 0.5; allow 16000 */
     const uint64_t S = nv < 16000 ? nv + 10 * 64 : 16000;
-    const uint64_t per = S * D * 4 + (uint64_t)C * B * S * 4 + (uint64_t)C * B * D * 4 + S * 12 + 64 * 1024;
+    const uint64_t per = (uint64_t)C * B * S * 4 + (uint64_t)C * B * D * 4 + sss_gather_gemm_scratch(D) * 4 +
+                         S * (8 + 12) + 64 * 1024;
     return per * (uint64_t)(threads > 0 ? threads : 1);
 }
 
@@ -323,7 +301,11 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
     s0.blocks = b1 - b0;
     const uint32_t D = t->D, nv = t->nv;
     sss_gkernel k[SSS_MAX_CHANNELS];
-    for (uint32_t c = 0; c < C; c++) sss_gkernel_init(&k[c], &dip[c]);
+    sss_rdtab tab[SSS_MAX_CHANNELS];
+    for (uint32_t c = 0; c < C; c++) {
+        sss_gkernel_init(&k[c], &dip[c]);
+        sss_rdtab_init(&tab[c], &dip[c], radius_mm * radius_mm);
+    }
     /* Offsets of each block's receivers in the output (block order). */
     uint64_t *off = malloc(((size_t)(b1 - b0) + 1) * sizeof *off);
     if (!off) return sss_fail(err, SSS_ERR_NOMEM, "gather: out of memory");
@@ -332,14 +314,13 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
         const sss_gnode *n = &t->node[t->block[b]];
         off[b - b0 + 1] = off[b - b0] + (n->hi - n->lo);
     }
-    openblas_set_num_threads(1);
     int failed = 0;
     double rows_total = 0;
 #pragma omp parallel reduction(+ : rows_total)
     {
         work wk;
         memset(&wk, 0, sizeof wk);
-        double tl = 0, tw = 0, tg = 0, ts = 0, fl = 0, fu = 0;
+        double tl = 0, tw = 0, tg = 0, ts = 0, fl = 0;
         uint64_t np = 0, fp = 0;
 #pragma omp for schedule(dynamic, 1)
         for (int64_t bi = (int64_t)b0; bi < (int64_t)b1; bi++) {
@@ -355,11 +336,10 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
             }
             const uint32_t Sn = wk.l.near_sources, Sf = wk.l.nfar;
             const size_t S = (size_t)Sn + (size_t)SSS_GATHER_MOMENTS * Sf;
-            uint32_t c0;
-            const uint32_t Dn = sss_gather_call_width((uint64_t)C * B, S, D, n_total, j0, &c0); /* columns of this call */
             if (!grow((void **)&wk.W, &wk.capW, (size_t)C * B * S + 1, sizeof(float)) ||
-                !grow((void **)&wk.Psi, &wk.capPsi, S * Dn + 1, sizeof(float)) ||
-                !grow((void **)&wk.Q, &wk.capQ, (size_t)C * B * Dn + 1, sizeof(float)) ||
+                !grow((void **)&wk.rows, &wk.caprows, S + 1, sizeof(float *)) ||
+                !grow((void **)&wk.pack, &wk.cappack, sss_gather_gemm_scratch(D), sizeof(float)) ||
+                !grow((void **)&wk.Q, &wk.capQ, (size_t)C * B * D + 1, sizeof(float)) ||
                 !grow((void **)&wk.src, &wk.capsrc, (size_t)Sn + 1, sizeof(uint32_t)) ||
                 !grow((void **)&wk.fs, &wk.capfs, 3 * (size_t)Sn + 10 * (size_t)Sf + 1, sizeof(float)) ||
                 !grow((void **)&wk.sxyz, &wk.capxyz, 3 * (size_t)Sn + 1, sizeof(double)) ||
@@ -369,20 +349,14 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
                 continue;
             }
             memset(wk.flag + Sn, 0, 8); /* near_weights reads the flags eight at a time */
-            /* Ψ: near transfer rows (a leaf is a contiguous run of the
-             * Morton-ordered G), then far moment rows; a call wider than
-             * the chunk has zero columns around it (call_width) */
-            if (Dn != D) memset(wk.Psi, 0, S * Dn * sizeof(float));
+            /* Ψ: the near sources' transfer rows (a leaf is a contiguous
+             * run of the Morton-ordered G), then the far nodes' moment rows */
             uint32_t a = 0;
             for (uint32_t e = 0; e < wk.l.nnear; e++) {
                 const sss_gnode *n = &t->node[wk.l.near[e]];
-                if (Dn == D)
-                    memcpy(wk.Psi + (size_t)a * D, t->Gm + (size_t)n->lo * D, (size_t)(n->hi - n->lo) * D * sizeof(float));
-                else
-                    for (uint32_t m = n->lo; m < n->hi; m++)
-                        memcpy(wk.Psi + (size_t)(a + m - n->lo) * Dn + c0, t->Gm + (size_t)m * D, D * sizeof(float));
                 for (uint32_t m = n->lo; m < n->hi; m++, a++) {
                     const uint32_t i = t->perm[m];
+                    wk.rows[a] = t->Gm + (size_t)m * D;
                     wk.src[a] = i;
                     wk.fs[a] = (float)(mesh->area[i] * t->s * t->s);
                     for (int x = 0; x < 3; x++) wk.sxyz[(size_t)x * Sn + a] = mesh->pos[3 * (size_t)i + x];
@@ -390,29 +364,21 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
             }
             for (uint32_t f = 0; f < Sf; f++) {
                 const float *mf = t->mom + (size_t)wk.l.far[f] * SSS_GATHER_MOMENTS * D;
-                float *pf = wk.Psi + ((size_t)Sn + (size_t)SSS_GATHER_MOMENTS * f) * Dn;
-                if (Dn == D)
-                    memcpy(pf, mf, (size_t)SSS_GATHER_MOMENTS * D * sizeof(float));
-                else
-                    for (int x = 0; x < SSS_GATHER_MOMENTS; x++)
-                        memcpy(pf + (size_t)x * Dn + c0, mf + (size_t)x * D, D * sizeof(float));
+                for (int x = 0; x < SSS_GATHER_MOMENTS; x++)
+                    wk.rows[(size_t)Sn + (size_t)SSS_GATHER_MOMENTS * f + x] = mf + (size_t)x * D;
             }
             double t1 = sss_thread_cpu();
             /* W: row c·B + k is receiver k's weights for channel c */
             for (uint32_t kr = 0; kr < B; kr++) {
                 const uint32_t o = t->perm[blk->lo + kr];
                 float *wrow = wk.W + (size_t)kr * S;
-                near_weights(t, mesh, dip, k, C, radius_mm, o, wk.src, wk.sxyz, wk.fs, Sn, wk.fs + Sn,
+                near_weights(t, mesh, dip, tab, C, radius_mm, o, wk.src, wk.sxyz, wk.fs, Sn, wk.fs + Sn,
                              wk.fs + 2 * (size_t)Sn, wk.flag, wrow, (uint64_t)B * S);
                 sss_gather_far_weights(t, t->pmm + 3 * (size_t)o, wk.l.far, Sf, k, C, radius_mm, wk.fs + 3 * (size_t)Sn,
                                        wrow + Sn, (uint64_t)B * S);
             }
             double t2 = sss_thread_cpu();
-            if (S > 0)
-                cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, (int)(C * B), (int)Dn, (int)S, 1.0f, wk.W,
-                            (int)S, wk.Psi, (int)Dn, 0.0f, wk.Q, (int)Dn);
-            else
-                memset(wk.Q, 0, (size_t)C * B * Dn * sizeof(float));
+            sss_gather_gemm(C * B, D, (uint32_t)S, wk.W, S, wk.rows, wk.Q, D, wk.pack);
             double t3 = sss_thread_cpu();
             /* q is a sum of non-negative terms; the far field's Taylor
              * terms and float cancellation can leave tiny negative values
@@ -424,8 +390,8 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
             const uint64_t base = off[bi - b0];
             for (uint32_t kr = 0; kr < B; kr++) {
                 const uint32_t v = t->perm[blk->lo + kr];
-                const float *qr = wk.Q + (size_t)kr * Dn + c0; /* channel c at qr + c·B·Dn */
-                const size_t cs = (size_t)B * Dn;
+                const float *qr = wk.Q + (size_t)kr * D; /* channel c at qr + c·B·D */
+                const size_t cs = (size_t)B * D;
                 for (uint32_t j = 0; j < D; j++) {
                     float *o = full ? out + ((size_t)(j0 + j) * nv + v) * C : out + ((base + kr) * D + j) * C;
                     for (uint32_t c = 0; c < C; c++) {
@@ -439,8 +405,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
             tw += t2 - t1;
             tg += t3 - t2;
             ts += t4 - t3;
-            fl += 2.0 * C * B * (double)S * Dn;
-            fu += 2.0 * C * B * (double)S * D;
+            fl += 2.0 * C * B * (double)S * D;
             np += (uint64_t)B * Sn;
             fp += (uint64_t)B * Sf;
             rows_total += (double)S;
@@ -453,12 +418,12 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
             s0.t_sgemm += tg;
             s0.t_scatter += ts;
             s0.flops += fl;
-            s0.flops_useful += fu;
             s0.near_pairs += np;
             s0.far_pairs += fp;
         }
         free(wk.W);
-        free(wk.Psi);
+        free(wk.rows);
+        free(wk.pack);
         free(wk.Q);
         free(wk.src);
         free(wk.fs);

@@ -17,7 +17,8 @@
  * - Near field (gather_near.c): receivers are grouped in Morton blocks; a
  *   block's near sources and the rows of its far nodes form one dense
  *   weight matrix W (channels × receivers by rows), multiplied by the stacked
- *   flux rows (rows × directions) with one sgemm per block (OpenBLAS).
+ *   flux rows (rows × directions), one register-tiled product per block
+ *   (gather_gemm.c; OpenBLAS's sgemm before, measured in docs/benchmarks.md).
  *
  * Cutoff: a source farther than R from x_o contributes nothing, as in the
  * direct sum; near sources are tested one by one (exactly nbhd.c's test),
@@ -26,17 +27,18 @@
  * along the sphere, where R_d has fallen to ε of its energy, measured in
  * docs/benchmarks.md).
  *
- * Determinism: each block is computed by one thread with single-threaded
- * OpenBLAS in a fixed order, so q does not depend on the thread count or,
- * under MPI, on the number of ranks.
+ * Determinism: each block is computed by one thread in a fixed order, and
+ * every element of the product is one chain of fused multiply-adds in row
+ * order on every vector width, so q does not depend on the thread count,
+ * on the number of MPI ranks or on the CPU's vector extensions.
  *
  * Directions in chunks (issue 8, memory): the hierarchy does not depend on
  * the light directions. A bake that cannot hold the transfer rows and the
  * moments of all directions next to q builds it once
  * (sss_gather_tree_create) and loads a chunk of directions at a time
  * (sss_gather_tree_rows, sss_gather_tree_moments, sss_gather_run_chunk),
- * with the same bits as one pass over all of them (gather_near.c,
- * sss_gather_call_width).
+ * with the same bits as one pass over all of them (a column of the block
+ * product does not depend on the other columns, gather_gemm.c).
  */
 #ifndef SSS_GATHER_H
 #define SSS_GATHER_H
@@ -72,15 +74,13 @@ typedef struct sss_gather_stats {
     uint64_t near_pairs;      /* Σ over blocks of receivers × near sources */
     uint64_t far_pairs;       /* Σ over blocks of receivers × far nodes */
     double rows_mean;         /* mean rows (near sources + 10 per far node) per block */
-    double flops;             /* 2 · C · B · rows · columns summed over the sgemm calls (their rate) */
-    double flops_useful;      /* the same with the directions asked for, not the zero columns a
-                               * chunk's call may carry: the near field's own work */
+    double flops;             /* 2 · C · B · rows · directions summed over the block products */
     double t_build;           /* Morton order, nodes, moments (s) */
     /* thread-seconds: CPU time of the threads (CLOCK_THREAD_CPUTIME_ID), so
      * that other jobs on a shared machine do not inflate them */
     double t_lists;           /* interaction lists and stacking the rows of Ψ */
     double t_weights;         /* weight matrices */
-    double t_sgemm;           /* inside sgemm */
+    double t_sgemm;           /* inside the block product (gather_gemm.c; the name is from when it was sgemm) */
     double t_scatter;         /* writing q out */
 } sss_gather_stats;
 
@@ -137,7 +137,7 @@ sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const 
  * out_q_full: q[((j0 + j) · nv + v) · C + c] of the whole q (n_total
  * directions); else out[(k · D + j) · C + c], the chunk alone. The values
  * have the same bits as those of one sss_gather_run over all n_total
- * directions (see call_width in gather_near.c for why and how). */
+ * directions (gather_gemm.c: a column's bits do not depend on the others). */
 sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, const sss_dipole *dip,
                                 uint32_t channels, double radius_mm, uint32_t b0, uint32_t b1, uint32_t j0,
                                 uint32_t n_total, float *out, int out_q_full, sss_gather_stats *stats, sss_error *err);

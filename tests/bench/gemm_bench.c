@@ -1,0 +1,106 @@
+/* gemm_bench: the gather's block product (gather_gemm.c) against
+ * OpenBLAS's sgemm on the same block shape, one thread, side by side.
+ *   gemm_bench [M N K [REPEAT]]   (default 141 200 2742 200: the 100K
+ *                                  dragon's mean RGB block, issue 8)
+ * Ψ's K rows are runs of 32 rows taken from a larger table, as a block's
+ * near leaves are, so the sgemm column includes the copy of Ψ into one
+ * matrix that a BLAS call needs (the old gather did the same). Prints
+ * GFLOP/s by CPU time for: sgemm alone on a ready Ψ, copy + sgemm, and this
+ * kernel on every path this CPU has, and whether the paths agree bit for
+ * bit. */
+#define _POSIX_C_SOURCE 200809L
+#include <cblas.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "gather_internal.h"
+
+void openblas_set_num_threads(int);
+
+static double cpu(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+int main(int argc, char **argv)
+{
+    const uint32_t M = argc > 3 ? (uint32_t)atoi(argv[1]) : 141, N = argc > 3 ? (uint32_t)atoi(argv[2]) : 200,
+                   K = argc > 3 ? (uint32_t)atoi(argv[3]) : 2742;
+    const int reps = argc > 4 ? atoi(argv[4]) : 200;
+    if (M < 1 || N < 1 || K < 1 || reps < 1) {
+        fprintf(stderr, "gemm_bench: M N K REPEAT must be positive\n");
+        return 2;
+    }
+    openblas_set_num_threads(1);
+    const uint32_t table_rows = 4 * K + 64;
+    float *G = malloc(sizeof(float) * (size_t)table_rows * N), *W = malloc(sizeof(float) * (size_t)M * K),
+          *Psi = malloc(sizeof(float) * (size_t)K * N), *Q = malloc(sizeof(float) * (size_t)M * N),
+          *Q2 = malloc(sizeof(float) * (size_t)M * N);
+    const float **rows = malloc(sizeof *rows * K);
+    float *scratch = malloc(sizeof(float) * sss_gather_gemm_scratch(N));
+    if (!G || !W || !Psi || !Q || !Q2 || !rows || !scratch) return 1;
+    uint64_t x = 88172645463325252ull;
+    for (size_t i = 0; i < (size_t)table_rows * N; i++) {
+        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+        G[i] = (float)(x >> 40) * 0x1p-24f;
+    }
+    for (size_t i = 0; i < (size_t)M * K; i++) {
+        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+        W[i] = (float)(x >> 40) * 0x1p-24f;
+    }
+    /* runs of 32 rows from every other 32-row stretch of the table */
+    for (uint32_t k = 0; k < K; k++) rows[k] = G + (size_t)((k / 32) * 64 + k % 32) * N;
+    const double flops = 2.0 * M * N * (double)K * reps;
+    double t;
+
+    for (uint32_t k = 0; k < K; k++) memcpy(Psi + (size_t)k * N, rows[k], N * sizeof(float));
+    cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, (int)M, (int)N, (int)K, 1.f, W, (int)K, Psi, (int)N, 0.f, Q,
+                (int)N);
+    t = cpu();
+    for (int r = 0; r < reps; r++)
+        cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, (int)M, (int)N, (int)K, 1.f, W, (int)K, Psi, (int)N,
+                    0.f, Q, (int)N);
+    const double g_sgemm = flops / (cpu() - t) * 1e-9;
+    t = cpu();
+    for (int r = 0; r < reps; r++) {
+        for (uint32_t k = 0; k < K; k++) memcpy(Psi + (size_t)k * N, rows[k], N * sizeof(float));
+        cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, (int)M, (int)N, (int)K, 1.f, W, (int)K, Psi, (int)N,
+                    0.f, Q, (int)N);
+    }
+    const double g_copy = flops / (cpu() - t) * 1e-9;
+    printf("{\"M\":%u,\"N\":%u,\"K\":%u,\"sgemm_gflops\":%.1f,\"copy_sgemm_gflops\":%.1f", M, N, K, g_sgemm, g_copy);
+
+    static const char *name[] = {"portable", "avx2", "avx512"};
+    int have_ref = 0, same = 1;
+    double maxrel = 0;
+    for (int isa = SSS_GEMM_AVX512; isa >= SSS_GEMM_PORTABLE; isa--) {
+        if (!sss_gather_gemm_isa(isa, M, N, K, W, K, rows, Q2, N, scratch)) continue;
+        const int r_isa = isa == SSS_GEMM_PORTABLE ? (reps + 49) / 50 : reps; /* fmaf may be a libm call */
+        t = cpu();
+        for (int r = 0; r < r_isa; r++) sss_gather_gemm_isa(isa, M, N, K, W, K, rows, Q2, N, scratch);
+        printf(",\"%s_gflops\":%.1f", name[isa], flops / reps * r_isa / (cpu() - t) * 1e-9);
+        if (!have_ref) {
+            memcpy(Psi, Q2, sizeof(float) * M * N); /* keep the first path's result */
+            have_ref = 1;
+        } else if (memcmp(Psi, Q2, sizeof(float) * M * N))
+            same = 0;
+        for (size_t i = 0; i < (size_t)M * N; i++) {
+            const double d = Q2[i] - Q[i], rel = d < 0 ? -d / Q[i] : d / Q[i];
+            if (rel > maxrel) maxrel = rel;
+        }
+    }
+    printf(",\"paths_identical\":%s,\"max_rel_diff_to_sgemm\":%.2e}\n", same ? "true" : "false", maxrel);
+    free(G);
+    free(W);
+    free(Psi);
+    free(Q);
+    free(Q2);
+    free(rows);
+    free(scratch);
+    return same ? 0 : 1;
+}
