@@ -5,9 +5,14 @@
  * result is computed the same way whichever rank or thread computes it, so
  * rank 0's file is byte-identical to a single process's.
  */
+#define _DEFAULT_SOURCE /* madvise, MADV_HUGEPAGE */
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -57,6 +62,23 @@ static uint32_t share_start(uint32_t n, int k, int nranks) { return (uint32_t)((
  * malloc keeps (peak RSS of a 2,562-vertex bake: 22 MiB, of which 8 MiB
  * its arrays). */
 #define PROCESS_BYTES ((uint64_t)20 << 20)
+
+/* Asks Linux for transparent huge pages under q (where the kernel leaves
+ * them to madvise). A block writes its receivers' q for every direction,
+ * and q is direction-major (the file's order), so a receiver's 200 values
+ * lie nv·C floats apart, each on its own 4 KiB page: writing q was TLB
+ * misses more than anything (docs/benchmarks.md, "Near field: own block
+ * product"). Only a hint: nothing changes where it is refused. */
+static void huge_pages(void *p, size_t n)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    const uintptr_t page = 4096, a = ((uintptr_t)p + page - 1) & ~(page - 1), b = ((uintptr_t)p + n) & ~(page - 1);
+    if (b > a) (void)madvise((void *)a, b - a, MADV_HUGEPAGE);
+#else
+    (void)p;
+    (void)n;
+#endif
+}
 
 /* Directions [c · D / n, (c + 1) · D / n) form chunk c of n: widths
  * differ by one at most. */
@@ -199,6 +221,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     if (holds_q) {
         out->q = malloc((size_t)nv * D * C * sizeof(float) + 1);
         if (!out->q) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u x %u integrals", nv, D, C); goto done; }
+        huge_pages(out->q, (size_t)nv * D * C * sizeof(float));
     }
     if (mpi) {
         part = malloc((size_t)mine * wmax * C * sizeof(float) + 1);

@@ -102,13 +102,14 @@ static inline float sss_rdtab_at(const sss_rdtab *tab, float x)
     return p;
 }
 
-/* Far-field weights of one receiver at x_o (mm) against far nodes
- * far[0 .. nfar): for channel c, the 10 moment weights of node f go to
- * W[c * ldc + 10 f + m]. Zero where the centroid is beyond radius_mm.
- * scratch: 10 · nfar floats. */
-void sss_gather_far_weights(const sss_gather_tree *t, const double x_o[3], const uint32_t *far, uint32_t nfar,
-                            const sss_gkernel *k, uint32_t channels, double radius_mm, float *scratch, float *W,
-                            uint64_t ldc);
+/* Far-field weights of one receiver at x_o (mm) against nfar far nodes
+ * whose centroids are c (x of every node, then y, then z:
+ * sss_gather_far_centroids): for channel c, moment m of node f goes to
+ * W[c * ldc + m * nfar + f] (Ψ's far rows in the same order: moment-major).
+ * Zero where the centroid is beyond radius_mm. scratch: 10 · nfar floats. */
+void sss_gather_far_centroids(const sss_gather_tree *t, const uint32_t *far, uint32_t nfar, double *c);
+void sss_gather_far_weights(const double *c, uint32_t nfar, const double x_o[3], const sss_gkernel *k,
+                            uint32_t channels, double radius_mm, float *scratch, float *W, uint64_t ldc);
 
 /* e^x for x ≤ 0 in float, vectorisable (no libm call, no float
  * compare-select, which gcc does not vectorise here): Cody–Waite range

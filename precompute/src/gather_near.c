@@ -342,7 +342,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
                 !grow((void **)&wk.Q, &wk.capQ, (size_t)C * B * D + 1, sizeof(float)) ||
                 !grow((void **)&wk.src, &wk.capsrc, (size_t)Sn + 1, sizeof(uint32_t)) ||
                 !grow((void **)&wk.fs, &wk.capfs, 3 * (size_t)Sn + 10 * (size_t)Sf + 1, sizeof(float)) ||
-                !grow((void **)&wk.sxyz, &wk.capxyz, 3 * (size_t)Sn + 1, sizeof(double)) ||
+                !grow((void **)&wk.sxyz, &wk.capxyz, 3 * ((size_t)Sn + Sf) + 1, sizeof(double)) ||
                 !grow((void **)&wk.flag, &wk.capflag, (size_t)Sn + 8, 1)) {
 #pragma omp atomic write
                 failed = 1;
@@ -362,10 +362,11 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
                     for (int x = 0; x < 3; x++) wk.sxyz[(size_t)x * Sn + a] = mesh->pos[3 * (size_t)i + x];
                 }
             }
-            for (uint32_t f = 0; f < Sf; f++) {
+            double *const fc = wk.sxyz + 3 * (size_t)Sn; /* far centroids, x then y then z */
+            sss_gather_far_centroids(t, wk.l.far, Sf, fc);
+            for (uint32_t f = 0; f < Sf; f++) { /* moment-major, as sss_gather_far_weights writes W */
                 const float *mf = t->mom + (size_t)wk.l.far[f] * SSS_GATHER_MOMENTS * D;
-                for (int x = 0; x < SSS_GATHER_MOMENTS; x++)
-                    wk.rows[(size_t)Sn + (size_t)SSS_GATHER_MOMENTS * f + x] = mf + (size_t)x * D;
+                for (int x = 0; x < SSS_GATHER_MOMENTS; x++) wk.rows[(size_t)Sn + (size_t)x * Sf + f] = mf + (size_t)x * D;
             }
             double t1 = sss_thread_cpu();
             /* W: row c·B + k is receiver k's weights for channel c */
@@ -374,7 +375,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
                 float *wrow = wk.W + (size_t)kr * S;
                 near_weights(t, mesh, dip, tab, C, radius_mm, o, wk.src, wk.sxyz, wk.fs, Sn, wk.fs + Sn,
                              wk.fs + 2 * (size_t)Sn, wk.flag, wrow, (uint64_t)B * S);
-                sss_gather_far_weights(t, t->pmm + 3 * (size_t)o, wk.l.far, Sf, k, C, radius_mm, wk.fs + 3 * (size_t)Sn,
+                sss_gather_far_weights(fc, Sf, t->pmm + 3 * (size_t)o, k, C, radius_mm, wk.fs + 3 * (size_t)Sn,
                                        wrow + Sn, (uint64_t)B * S);
             }
             double t2 = sss_thread_cpu();

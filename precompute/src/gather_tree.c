@@ -548,43 +548,77 @@ static void rd_derivs(const sss_gkernel *kp, const float *restrict r2v, const fl
     }
 }
 
-void sss_gather_far_weights(const sss_gather_tree *t, const double x_o[3], const uint32_t *far, uint32_t nfar,
-                            const sss_gkernel *k, uint32_t channels, double radius_mm, float *scratch, float *W,
-                            uint64_t ldc)
+/* The ten moment weights of nfar nodes for one channel from R_d and its
+ * radial derivatives (f0, f1, f2 at distances r, unit vectors u): the
+ * second-order Taylor expansion of R_d about each node's centroid
+ * (docs/benchmarks.md, "Far field"). Moment m of node f goes to wm[f]:
+ * ten separate runs (restrict parameters; as offsets into one array gcc
+ * could not rule out their overlap and left the loop scalar). */
+SSS_GATHER_CLONES
+static void taylor_weights(const float *restrict f0, const float *restrict f1, const float *restrict f2,
+                           const float *restrict r, const float *restrict in, const float *restrict ux,
+                           const float *restrict uy, const float *restrict uz, uint32_t nfar, float *restrict w0,
+                           float *restrict w1, float *restrict w2, float *restrict w3, float *restrict w4,
+                           float *restrict w5, float *restrict w6, float *restrict w7, float *restrict w8,
+                           float *restrict w9)
 {
-    const double R2 = radius_mm * radius_mm;
-    float *r2 = scratch, *r = r2 + nfar, *in = r + nfar, *u = in + nfar; /* u: 3 per node */
-    float *f0 = u + 3 * (size_t)nfar, *f1 = f0 + nfar, *f2 = f1 + nfar;
     for (uint32_t f = 0; f < nfar; f++) {
-        const sss_gnode *n = &t->node[far[f]];
-        const double y0 = x_o[0] - n->c[0], y1 = x_o[1] - n->c[1], y2 = x_o[2] - n->c[2];
-        const double d2 = y0 * y0 + y1 * y1 + y2 * y2, d = sqrt(d2);
+        const float m = in[f], id = 1.0f / r[f];
+        const float x = ux[f], y = uy[f], z = uz[f];
+        const float A = (f2[f] - f1[f] * id) * m, B = f1[f] * id * m, F1 = f1[f] * m;
+        w0[f] = f0[f] * m;
+        w1[f] = -F1 * x;
+        w2[f] = -F1 * y;
+        w3[f] = -F1 * z;
+        w4[f] = 0.5f * (A * x * x + B);
+        w5[f] = 0.5f * (A * y * y + B);
+        w6[f] = 0.5f * (A * z * z + B);
+        w7[f] = A * x * y;
+        w8[f] = A * x * z;
+        w9[f] = A * y * z;
+    }
+}
+
+/* Distance, cutoff mark and unit vector from each far node's centroid to
+ * the receiver, in double as the lists decide (vectorised: the centroids
+ * come as three arrays, gathered once per block by the caller). */
+SSS_GATHER_CLONES
+static void far_geometry(const double *restrict cx, const double *restrict cy, const double *restrict cz,
+                         uint32_t nfar, double ox, double oy, double oz, double R2, float *restrict r2,
+                         float *restrict r, float *restrict in, float *restrict ux, float *restrict uy,
+                         float *restrict uz)
+{
+    for (uint32_t f = 0; f < nfar; f++) {
+        const double y0 = ox - cx[f], y1 = oy - cy[f], y2 = oz - cz[f];
+        const double d2 = y0 * y0 + y1 * y1 + y2 * y2, d = sqrt(d2), id = 1.0 / d;
         /* a node whose centroid is beyond the cutoff counts as outside */
         in[f] = (float)(d2 <= R2);
         r2[f] = (float)d2;
         r[f] = (float)d;
-        u[3 * f] = (float)(y0 / d);
-        u[3 * f + 1] = (float)(y1 / d);
-        u[3 * f + 2] = (float)(y2 / d);
+        ux[f] = (float)(y0 * id);
+        uy[f] = (float)(y1 * id);
+        uz[f] = (float)(y2 * id);
     }
+}
+
+void sss_gather_far_centroids(const sss_gather_tree *t, const uint32_t *far, uint32_t nfar, double *c)
+{
+    for (uint32_t f = 0; f < nfar; f++)
+        for (int x = 0; x < 3; x++) c[(size_t)x * nfar + f] = t->node[far[f]].c[x];
+}
+
+void sss_gather_far_weights(const double *c, uint32_t nfar, const double x_o[3], const sss_gkernel *k,
+                            uint32_t channels, double radius_mm, float *scratch, float *W, uint64_t ldc)
+{
+    float *r2 = scratch, *r = r2 + nfar, *in = r + nfar, *ux = in + nfar, *uy = ux + nfar, *uz = uy + nfar;
+    float *f0 = uz + nfar, *f1 = f0 + nfar, *f2 = f1 + nfar;
+    far_geometry(c, c + nfar, c + 2 * (size_t)nfar, nfar, x_o[0], x_o[1], x_o[2], radius_mm * radius_mm, r2, r, in,
+                 ux, uy, uz);
     for (uint32_t c = 0; c < channels; c++) {
         rd_derivs(&k[c], r2, r, nfar, f0, f1, f2);
         float *w = W + c * ldc;
-        for (uint32_t f = 0; f < nfar; f++) {
-            const float m = in[f], id = 1.0f / r[f];
-            const float ux = u[3 * f], uy = u[3 * f + 1], uz = u[3 * f + 2];
-            const float A = (f2[f] - f1[f] * id) * m, B = f1[f] * id * m, F1 = f1[f] * m;
-            float *wf = w + (size_t)SSS_GATHER_MOMENTS * f;
-            wf[0] = f0[f] * m;
-            wf[1] = -F1 * ux;
-            wf[2] = -F1 * uy;
-            wf[3] = -F1 * uz;
-            wf[4] = 0.5f * (A * ux * ux + B);
-            wf[5] = 0.5f * (A * uy * uy + B);
-            wf[6] = 0.5f * (A * uz * uz + B);
-            wf[7] = A * ux * uy;
-            wf[8] = A * ux * uz;
-            wf[9] = A * uy * uz;
-        }
+        const size_t n = nfar;
+        taylor_weights(f0, f1, f2, r, in, ux, uy, uz, nfar, w, w + n, w + 2 * n, w + 3 * n, w + 4 * n, w + 5 * n,
+                       w + 6 * n, w + 7 * n, w + 8 * n, w + 9 * n);
     }
 }
