@@ -19,7 +19,7 @@
  * k = 0, 1, …, K − 1 in order, from acc = 0, whatever the vector width, the
  * tile, the panel or the number of columns: the AVX-512, AVX2+FMA and
  * portable (C11 fmaf, correctly rounded) paths give the same bits
- * (tests/unit/test_gather_gemm.c), and a column's bits do not depend on
+ * (tests/unit/test_gather_kernels.c), and a column's bits do not depend on
  * which other columns are computed with it, so a bake in direction chunks
  * gives the bytes of the bake in one piece without further care. */
 #include <math.h>

@@ -84,6 +84,15 @@ typedef struct sss_rdtab {
 void sss_rdtab_init(sss_rdtab *t, const sss_dipole *d, double xmax);
 float sss_rdtab_eval(const sss_rdtab *t, float x);
 
+/* (1/π) R_d(r) ΔA · in for S sources (squared distances r2v in mm², areas
+ * dA in mm², inv 0 or 1 for beyond / within the cutoff), channel c into
+ * w[c · ldc + a] (gather_near.c). isa SSS_GEMM_AVX512: the permutation
+ * kernel for three channels; SSS_GEMM_PORTABLE: the loops over
+ * sss_rdtab_at (vectorised by the compiler's clones). Both give the same
+ * bits; returns 0, writing nothing, for a path that does not apply. */
+int sss_gather_rd_rows_isa(int isa, const sss_rdtab *tab, uint32_t C, const float *r2v, const float *dA,
+                           const float *inv, uint32_t S, float *w, uint64_t ldc);
+
 /* The profile at x ≥ 0; inline so that the weight loops vectorise it.
  * Integer and fused operations only, so every vector width gives the
  * same bits (an x below the first octave is taken at its start, above the
@@ -106,7 +115,7 @@ static inline float sss_rdtab_at(const sss_rdtab *tab, float x)
  * whose centroids are c (x of every node, then y, then z:
  * sss_gather_far_centroids): for channel c, moment m of node f goes to
  * W[c * ldc + m * nfar + f] (Ψ's far rows in the same order: moment-major).
- * Zero where the centroid is beyond radius_mm. scratch: 10 · nfar floats. */
+ * Zero where the centroid is beyond radius_mm. scratch: 9 · nfar floats. */
 void sss_gather_far_centroids(const sss_gather_tree *t, const uint32_t *far, uint32_t nfar, double *c);
 void sss_gather_far_weights(const double *c, uint32_t nfar, const double x_o[3], const sss_gkernel *k,
                             uint32_t channels, double radius_mm, float *scratch, float *W, uint64_t ldc);

@@ -10,9 +10,10 @@
  * block's integrals are one product
  *   Q (C·B × D) = W (C·B × S) · Ψ (S × D),
  * Ψ's rows being the transfer rows G[i, ·] of the near sources and the
- * moment rows of the far nodes, read in place (gather_gemm.c: a register-
- * tiled kernel near the machine's FMA peak, where the direct sum's sparse
- * row loop is bound by memory; docs/benchmarks.md). One thread computes a
+ * moment rows of the far nodes, taken through pointers and packed a panel
+ * at a time by gather_gemm.c (a register-tiled kernel near the machine's
+ * FMA peak, where the direct sum's sparse row loop is bound by memory;
+ * docs/benchmarks.md). One thread computes a
  * whole block in a fixed order, so the bytes do not depend on the thread
  * count.
  */
@@ -121,16 +122,33 @@ static void rd_rows3_any(const sss_rdtab *tab, const float *restrict r2v, const 
     }
 }
 
-static void rd_rows3(const sss_rdtab *tab, const float *restrict r2v, const float *restrict dA,
-                     const float *restrict inv, uint32_t S, float *restrict w, uint64_t ldc)
+int sss_gather_rd_rows_isa(int isa, const sss_rdtab *tab, uint32_t C, const float *r2v, const float *dA,
+                           const float *inv, uint32_t S, float *w, uint64_t ldc)
 {
+    if (C == 3 && isa == SSS_GEMM_AVX512) {
 #ifdef SSS_HAVE_RD512
-    if (tab[0].e0 == tab[1].e0 && tab[1].e0 == tab[2].e0 && __builtin_cpu_supports("avx512f")) {
-        rd_rows3_512(tab, r2v, dA, inv, S, w, ldc);
-        return;
-    }
+        if (tab[0].e0 == tab[1].e0 && tab[1].e0 == tab[2].e0 && __builtin_cpu_supports("avx512f")) {
+            rd_rows3_512(tab, r2v, dA, inv, S, w, ldc);
+            return 1;
+        }
 #endif
-    rd_rows3_any(tab, r2v, dA, inv, S, w, ldc);
+        return 0;
+    }
+    if (isa != SSS_GEMM_PORTABLE) return 0;
+    if (C == 3)
+        rd_rows3_any(tab, r2v, dA, inv, S, w, ldc);
+    else
+        for (uint32_t c = 0; c < C; c++) rd_row(&tab[c], r2v, dA, inv, S, w + c * ldc);
+    return 1;
+}
+
+/* The rows by the fastest path: the AVX-512 kernel where it applies, else
+ * the compiler's clones (also vector code, chosen by the CPU at load). */
+static void rd_rows(const sss_rdtab *tab, uint32_t C, const float *r2v, const float *dA, const float *inv, uint32_t S,
+                    float *w, uint64_t ldc)
+{
+    if (!sss_gather_rd_rows_isa(SSS_GEMM_AVX512, tab, C, r2v, dA, inv, S, w, ldc))
+        sss_gather_rd_rows_isa(SSS_GEMM_PORTABLE, tab, C, r2v, dA, inv, S, w, ldc);
 }
 
 /* Squared distances in mm from x_o to the S sources at (mesh units, as
@@ -169,10 +187,7 @@ static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const s
     const double s = t->s, r2 = radius_mm * radius_mm, s2 = s * s;
     const float *po = mesh->pos + 3 * (size_t)o;
     near_d2(sxyz, sxyz + S, sxyz + 2 * (size_t)S, dA, S, po[0], po[1], po[2], s, r2, r2f, inv, flag);
-    if (C == 3)
-        rd_rows3(tab, r2f, dA, inv, S, W, ldc);
-    else
-        for (uint32_t c = 0; c < C; c++) rd_row(&tab[c], r2f, dA, inv, S, W + c * ldc);
+    rd_rows(tab, C, r2f, dA, inv, S, W, ldc);
     for (uint32_t a = 0; a < S; a++) {
         /* flagged pairs are a handful per receiver: skip the others
          * eight flags at a time (flag has room for S rounded up to 8) */
@@ -215,7 +230,10 @@ static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const s
  * copied and packed (row × column), a value of q written (receiver ×
  * channel × direction). Fitted to per-block CPU times of the 100K dragon
  * (200 directions) and of `sss-genmesh pair 6` (100 directions): 212 / 197,
- * 81 / 70, 752 / 551 (docs/benchmarks.md, "Progress"). */
+ * 81 / 70, 752 / 551 (docs/benchmarks.md, "Progress"), with OpenBLAS and the
+ * R_d formula; with gather_gemm.c and the polynomials a weight costs about
+ * half as much (not re-fitted: only the progress bar's weighting of sparse
+ * blocks shifts, and cli_progress still holds its ETA bound). */
 #define WORK_WEIGHT 200.0
 #define WORK_ROWCOPY 75.0
 #define WORK_WRITE 650.0
@@ -271,13 +289,9 @@ uint64_t sss_gather_workspace_rows_bytes(uint32_t max_rows, uint32_t D, uint32_t
 
 uint64_t sss_gather_workspace_bytes(uint32_t nv, uint32_t D, uint32_t C, const sss_gather_params *pin, int threads)
 {
-    sss_gather_params p = pin ? *pin : (sss_gather_params){0};
-    const uint32_t B = p.block_size ? p.block_size : 128;
     /* rows per block: measured below 4000 on the dragons at θ = 0.5; allow 16000 */
     const uint64_t S = nv < 16000 ? nv + 10 * 64 : 16000;
-    const uint64_t per = (uint64_t)C * B * S * 4 + (uint64_t)C * B * D * 4 + sss_gather_gemm_scratch(D) * 4 +
-                         S * (8 + 12) + 64 * 1024;
-    return per * (uint64_t)(threads > 0 ? threads : 1);
+    return sss_gather_workspace_rows_bytes((uint32_t)S, D, C, pin, threads);
 }
 
 sss_result sss_gather_run(const sss_gather_tree *t, const sss_mesh *mesh, const sss_dipole *dip, uint32_t C,

@@ -38,7 +38,10 @@
 void sss_rdtab_init(sss_rdtab *t, const sss_dipole *d, double xmax)
 {
     int E = 0;
-    (void)frexp(xmax > 0.0 ? xmax : 1.0, &E); /* xmax < 2^E */
+    (void)frexp(xmax > 0.0 && isfinite(xmax) ? xmax : 1.0, &E); /* xmax < 2^E */
+    /* keep 2^e0 and 2^(e0 + N) normal floats, so that the evaluator's
+     * exponent arithmetic stays in range (cutoffs of 10⁻¹⁴ mm or 10¹⁹ mm) */
+    E = E < SSS_RDTAB_N - 126 ? SSS_RDTAB_N - 126 : E > 127 ? 127 : E;
     t->e0 = E - SSS_RDTAB_N;
     enum { NP = SSS_RDTAB_DEG + 1 };
     for (int i = 0; i < SSS_RDTAB_N; i++) {

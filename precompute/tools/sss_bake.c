@@ -55,7 +55,7 @@ static void usage(FILE *f)
         "  --illum-refs W       illumination-aware references, feature weight W > 0\n"
         "  --gather direct|tree how the integrals are summed: every neighbour, or far sources\n"
         "                       through an octree of flux moments and the near ones as dense\n"
-        "                       sgemm blocks (default tree; docs/benchmarks.md)\n"
+        "                       matrix-product blocks (default tree; docs/benchmarks.md)\n"
         "  --theta T            tree opening threshold in (0, 1): smaller is more accurate (default 0.4)\n"
         "  --scene S.json       bake the effects a scene calls for: one DIR/NAME.sss per object\n"
         "  --plan               with --scene: print the effect set and the reason for each decision\n"
@@ -373,7 +373,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "  gather %s%s: tree %.3fs, %.1f GFLOP/s%s; memory predicted %.0f MiB, peak RSS %.0f MiB%s\n",
                 st.gather == SSS_GATHER_TREE ? "tree" : "direct",
                 st.gather == SSS_GATHER_TREE ? "" : " (every neighbour)", st.t_tree, st.gather_gflops,
-                st.gather == SSS_GATHER_TREE ? " in sgemm" : " multiply-adds x 2", st.predicted_peak_bytes / 1048576.0,
+                st.gather == SSS_GATHER_TREE ? " in the block products" : " multiply-adds x 2", st.predicted_peak_bytes / 1048576.0,
                 cli_peak_rss_mib(), mpi_n > 1 ? " (rank 0)" : "");
     if (!quiet && st.direction_chunks > 1) /* issue 8: the memory plan of bake_gather.c */
         fprintf(stderr, "  light directions in %u chunks of at most %u: the memory available would not hold the "

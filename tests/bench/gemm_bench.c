@@ -29,21 +29,22 @@ static double cpu(void)
 
 int main(int argc, char **argv)
 {
-    const uint32_t M = argc > 3 ? (uint32_t)atoi(argv[1]) : 141, N = argc > 3 ? (uint32_t)atoi(argv[2]) : 200,
-                   K = argc > 3 ? (uint32_t)atoi(argv[3]) : 2742;
-    const int reps = argc > 4 ? atoi(argv[4]) : 200;
-    if (M < 1 || N < 1 || K < 1 || reps < 1) {
-        fprintf(stderr, "gemm_bench: M N K REPEAT must be positive\n");
+    const long lM = argc > 3 ? strtol(argv[1], NULL, 10) : 141, lN = argc > 3 ? strtol(argv[2], NULL, 10) : 200,
+               lK = argc > 3 ? strtol(argv[3], NULL, 10) : 2742, lr = argc > 4 ? strtol(argv[4], NULL, 10) : 200;
+    if (lM < 1 || lN < 1 || lK < 1 || lr < 1 || lM > 100000 || lN > 100000 || lK > 1000000 || lr > 1000000) {
+        fprintf(stderr, "gemm_bench: M N K (REPEAT) must be positive integers (at most 1e5, 1e5, 1e6, 1e6)\n");
         return 2;
     }
+    const uint32_t M = (uint32_t)lM, N = (uint32_t)lN, K = (uint32_t)lK;
+    const int reps = (int)lr;
     openblas_set_num_threads(1);
     const uint32_t table_rows = 4 * K + 64;
     float *G = malloc(sizeof(float) * (size_t)table_rows * N), *W = malloc(sizeof(float) * (size_t)M * K),
           *Psi = malloc(sizeof(float) * (size_t)K * N), *Q = malloc(sizeof(float) * (size_t)M * N),
-          *Q2 = malloc(sizeof(float) * (size_t)M * N);
+          *Q2 = malloc(sizeof(float) * (size_t)M * N), *Qref = malloc(sizeof(float) * (size_t)M * N);
     const float **rows = malloc(sizeof *rows * K);
     float *scratch = malloc(sizeof(float) * sss_gather_gemm_scratch(N));
-    if (!G || !W || !Psi || !Q || !Q2 || !rows || !scratch) return 1;
+    if (!G || !W || !Psi || !Q || !Q2 || !Qref || !rows || !scratch) return 1;
     uint64_t x = 88172645463325252ull;
     for (size_t i = 0; i < (size_t)table_rows * N; i++) {
         x ^= x << 13, x ^= x >> 7, x ^= x << 17;
@@ -85,9 +86,9 @@ int main(int argc, char **argv)
         for (int r = 0; r < r_isa; r++) sss_gather_gemm_isa(isa, M, N, K, W, K, rows, Q2, N, scratch);
         printf(",\"%s_gflops\":%.1f", name[isa], flops / reps * r_isa / (cpu() - t) * 1e-9);
         if (!have_ref) {
-            memcpy(Psi, Q2, sizeof(float) * M * N); /* keep the first path's result */
+            memcpy(Qref, Q2, sizeof(float) * M * N); /* keep the first path's result */
             have_ref = 1;
-        } else if (memcmp(Psi, Q2, sizeof(float) * M * N))
+        } else if (memcmp(Qref, Q2, sizeof(float) * M * N))
             same = 0;
         for (size_t i = 0; i < (size_t)M * N; i++) {
             const double d = Q2[i] - Q[i], rel = d < 0 ? -d / Q[i] : d / Q[i];
@@ -100,6 +101,7 @@ int main(int argc, char **argv)
     free(Psi);
     free(Q);
     free(Q2);
+    free(Qref);
     free(rows);
     free(scratch);
     return same ? 0 : 1;

@@ -202,8 +202,8 @@ static void far_field_taylor_weights_on_plate(void **state)
     sss_mesh_free(&m);
 }
 
-/* Same bytes whatever the thread count (one thread per block, OpenBLAS
- * single-threaded). */
+/* Same bytes whatever the thread count (one thread per block, each block
+ * in a fixed order). */
 static void tree_bytes_do_not_depend_on_threads(void **state)
 {
     (void)state;
@@ -235,8 +235,8 @@ static void tree_bytes_do_not_depend_on_threads(void **state)
  * built once, the transfer rows and moments of a chunk loaded at a time,
  * each chunk's q written into the whole; the bytes must be those of one
  * pass over all directions, for chunks of every width down to one
- * direction (sgemm calls narrower than the whole, padded to it, or of one
- * column: gather_near.c sss_gather_call_width). */
+ * direction (a column of the block product does not depend on the others:
+ * gather_gemm.c). */
 static void tree_chunks_give_the_same_bytes(void **state)
 {
     (void)state;

@@ -1,7 +1,8 @@
 /* The hierarchical gather's kernels (issue 8).
  * The profile polynomials (precompute/src/gather_rdtab.c): within 10⁻⁶
- * relative of R_d / π in double from 10⁻³ mm to the cutoff for several
- * materials and radii, finite and bounded outside that range.
+ * relative of R_d / π in double over their 32 octaves (to the cutoff) for
+ * several materials and radii, finite and bounded outside that range; the
+ * weight rows give the same bits by every path (gather_near.c).
  * The block product (precompute/src/gather_gemm.c):
  * every path this CPU has (AVX-512, AVX2+FMA, portable fmaf) gives the same
  * bits, equal to one fmaf chain per element computed here; a column's bits
@@ -117,6 +118,9 @@ static void paths_agree_bit_for_bit(void **state)
         for (size_t b = 0; b < sizeof Ns / sizeof *Ns; b++) check_shape(Ms[a], Ns[b], 1 + (uint32_t)(a * 37 + b * 11) % 300);
     check_shape(9, 33, 257);
     check_shape(9, 33, 512);
+    /* no rows of Q, no columns */
+    check_shape(0, 20, 30);
+    check_shape(6, 0, 30);
 }
 
 static void empty_product_is_zero(void **state)
@@ -139,18 +143,20 @@ static void columns_do_not_depend_on_the_others(void **state)
     (void)state;
     const uint32_t M = 21, N = 200, K = 600;
     prob p = make(M, N, K);
-    sss_gather_gemm(M, N, K, p.W, K, p.rows, p.Q, N, p.scratch);
     static const uint32_t j0s[] = {0, 1, 17, 64, 150, 199}, ws[] = {1, 3, 16, 37, 50, 1};
     float *Qc = malloc(sizeof(float) * M * N);
     const float **rc = malloc(sizeof *rc * K);
     assert_non_null(Qc);
     assert_non_null(rc);
-    for (size_t c = 0; c < sizeof j0s / sizeof *j0s; c++) {
-        const uint32_t j0 = j0s[c], w = ws[c];
-        for (uint32_t k = 0; k < K; k++) rc[k] = p.rows[k] + j0;
-        sss_gather_gemm(M, w, K, p.W, K, rc, Qc, w, p.scratch);
-        for (uint32_t m = 0; m < M; m++)
-            assert_memory_equal(Qc + (size_t)m * w, p.Q + (size_t)m * N + j0, w * sizeof(float));
+    for (int isa = SSS_GEMM_PORTABLE; isa <= SSS_GEMM_AVX512; isa++) {
+        if (!sss_gather_gemm_isa(isa, M, N, K, p.W, K, p.rows, p.Q, N, p.scratch)) continue;
+        for (size_t c = 0; c < sizeof j0s / sizeof *j0s; c++) {
+            const uint32_t j0 = j0s[c], w = ws[c];
+            for (uint32_t k = 0; k < K; k++) rc[k] = p.rows[k] + j0;
+            assert_int_equal(sss_gather_gemm_isa(isa, M, w, K, p.W, K, rc, Qc, w, p.scratch), 1);
+            for (uint32_t m = 0; m < M; m++)
+                assert_memory_equal(Qc + (size_t)m * w, p.Q + (size_t)m * N + j0, w * sizeof(float));
+        }
     }
     free(Qc);
     free(rc);
@@ -165,8 +171,21 @@ static void an_unknown_path_is_refused(void **state)
     assert_true(sss_gather_gemm_scratch(2) <= 4096 + 16);
     assert_int_equal(sss_gather_gemm_isa(7, 2, 2, 2, W, 2, rows, Q, 2, scratch), 0);
     assert_true(Q[0] == 1.0f && Q[3] == 4.0f);
-    const int best = sss_gather_gemm_best();
-    assert_true(best >= SSS_GEMM_PORTABLE && best <= SSS_GEMM_AVX512);
+}
+
+/* The dispatching entry takes a path this CPU has, with that path's bits. */
+static void the_dispatch_takes_an_available_path(void **state)
+{
+    (void)state;
+    const uint32_t M = 13, N = 57, K = 300;
+    prob p = make(M, N, K);
+    float *Qd = malloc(sizeof(float) * M * N);
+    assert_non_null(Qd);
+    sss_gather_gemm(M, N, K, p.W, K, p.rows, Qd, N, p.scratch);
+    assert_int_equal(sss_gather_gemm_isa(sss_gather_gemm_best(), M, N, K, p.W, K, p.rows, p.Q, N, p.scratch), 1);
+    assert_memory_equal(Qd, p.Q, sizeof(float) * M * N);
+    free(Qd);
+    drop(&p);
 }
 
 /* R_d / π from the polynomials against the double formula, at float x:
@@ -231,15 +250,69 @@ static void profile_outside_its_range_is_finite(void **state)
     }
 }
 
+/* The weight rows by every path (the AVX-512 permutation kernel, the
+ * compiler-vectorised loops) against sss_rdtab_eval times ΔA·in computed
+ * here, bit for bit: three channels and one, lengths around the vector
+ * width, and x at 0, subnormal, octave edges, the cutoff, beyond the table,
+ * infinite and NaN. */
+static void profile_paths_agree_bit_for_bit(void **state)
+{
+    (void)state;
+    sss_material mat;
+    sss_error err = {{0}};
+    assert_int_equal(sss_material_preset("marble", &mat, &err), SSS_OK);
+    sss_rdtab tab[3];
+    const double R = 32.2;
+    for (int c = 0; c < 3; c++) {
+        sss_dipole d;
+        assert_int_equal(sss_dipole_init(&d, mat.sigma_a[c], mat.sigmap_s[c], mat.eta), SSS_OK);
+        sss_rdtab_init(&tab[c], &d, R * R);
+    }
+    enum { SMAX = 100 };
+    float x[SMAX], dA[SMAX], in[SMAX], w[3 * SMAX + 8], ref[3 * SMAX];
+    const float edge = ldexpf(1.0f, tab[0].e0 + 7);
+    const float special[] = {0.0f, -0.0f, 1e-45f, 1e-40f, ldexpf(1.0f, tab[0].e0), nextafterf(edge, 0.0f), edge,
+                             nextafterf(edge, 1e30f), (float)(R * R), (float)(1.5 * R * R), 3e38f, INFINITY, NAN};
+    for (int k = 0; k < SMAX; k++) {
+        x[k] = k < (int)(sizeof special / sizeof *special) ? special[k] : urand() * (float)(R * R);
+        dA[k] = 0.01f + urand() * 0.1f;
+        in[k] = (k % 5 == 3) ? 0.0f : 1.0f;
+    }
+    static const uint32_t Ss[] = {1, 15, 16, 17, 33, SMAX};
+    static const uint32_t Cs[] = {3, 1};
+    for (size_t ci = 0; ci < 2; ci++) {
+        const uint32_t C = Cs[ci];
+        for (size_t si = 0; si < sizeof Ss / sizeof *Ss; si++) {
+            const uint32_t S = Ss[si];
+            for (uint32_t c = 0; c < C; c++)
+                for (uint32_t a = 0; a < S; a++) ref[c * S + a] = sss_rdtab_eval(&tab[c], x[a]) * (dA[a] * in[a]);
+            int ran = 0;
+            for (int isa = SSS_GEMM_PORTABLE; isa <= SSS_GEMM_AVX512; isa++) {
+                for (size_t k = 0; k < sizeof w / sizeof *w; k++) w[k] = -1.0f; /* nothing past C·S is written */
+                if (!sss_gather_rd_rows_isa(isa, tab, C, x, dA, in, S, w, S)) continue;
+                ran++;
+                for (uint32_t k = 0; k < C * S; k++)
+                    if (memcmp(&w[k], &ref[k], sizeof(float)))
+                        fail_msg("path %d, C %u, S %u: weight %u = %.9g, want %.9g (x = %.9g)", isa, C, S, k,
+                                 (double)w[k], (double)ref[k], (double)x[k % S]);
+                for (size_t k = C * S; k < sizeof w / sizeof *w; k++) assert_true(w[k] == -1.0f);
+            }
+            assert_true(ran >= 1);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(profile_polynomials_match_rd),
         cmocka_unit_test(profile_outside_its_range_is_finite),
+        cmocka_unit_test(profile_paths_agree_bit_for_bit),
         cmocka_unit_test(paths_agree_bit_for_bit),
         cmocka_unit_test(empty_product_is_zero),
         cmocka_unit_test(columns_do_not_depend_on_the_others),
         cmocka_unit_test(an_unknown_path_is_refused),
+        cmocka_unit_test(the_dispatch_takes_an_available_path),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

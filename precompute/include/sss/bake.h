@@ -29,7 +29,8 @@ typedef struct sss_bake_options {
     int progress;        /* non-zero: progress bar with ETA on stderr when it is a terminal */
     /* Integrals (issue 8, sss/gather.h): SSS_GATHER_DIRECT sums every
      * neighbour (nbhd.c + sss_integrate); SSS_GATHER_TREE takes far sources
-     * through an octree of flux moments and the rest as dense sgemm blocks.
+     * through an octree of flux moments and the rest as dense matrix-product
+     * blocks (gather_gemm.c).
      * SSS_GATHER_AUTO (0, default): the tree (measured: docs/benchmarks.md). */
     int gather;
     double theta;        /* tree opening threshold (default SSS_GATHER_THETA_DEFAULT) */
@@ -92,13 +93,16 @@ typedef struct sss_bake_stats {
     int gather;                          /* SSS_GATHER_DIRECT or SSS_GATHER_TREE */
     double theta;
     double t_tree;                       /* tree build (Morton order, nodes, moments) */
-    double gather_gflops;                /* sgemm GFLOP/s (tree) or multiply-adds × 2 / s (direct) */
-    double sgemm_fraction;               /* share of the integrals' thread time spent in sgemm */
+    /* tree: GFLOP/s inside the block products (packing Ψ included; named
+     * when they were OpenBLAS's sgemm), direct: multiply-adds × 2 / s */
+    double gather_gflops;
+    double sgemm_fraction;               /* share of the integrals' thread time spent in the block products */
     /* tree: the near field as a whole, assembly included: 2 · C · B · rows
      * · D flops of the block products (B receivers, rows = near sources +
      * 10 per far node, D directions) over the thread-seconds of everything
-     * done per block (interaction lists, stacking the rows, the weights,
-     * sgemm, writing q): GFLOP/s per thread, to set against sgemm_peak */
+     * done per block (interaction lists, Ψ's row pointers, the weights,
+     * the product, writing q): GFLOP/s per thread, to set against
+     * sgemm_peak */
     double near_gflops;
     double rows_mean;                    /* tree: dense rows per receiver block */
     uint32_t tree_nodes, tree_blocks;
