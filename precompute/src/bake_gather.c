@@ -129,13 +129,13 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
      * computes a block does not change its bytes. */
     {
         uint64_t total = 0;
-        for (uint32_t b = 0; b < nb; b++) total += sss_gather_block_work(tree, b, rows[b], C, D, D);
+        for (uint32_t b = 0; b < nb; b++) total += sss_gather_block_work(tree, b, rows[b], C, D);
         bsplit[0] = 0;
         uint64_t acc = 0;
         uint32_t b = 0;
         for (int k = 1; k < nranks; k++) {
             const double target = (double)total * k / nranks;
-            while (b < nb && (double)acc < target) acc += sss_gather_block_work(tree, b, rows[b], C, D, D), b++;
+            while (b < nb && (double)acc < target) acc += sss_gather_block_work(tree, b, rows[b], C, D), b++;
             bsplit[k] = b;
         }
         bsplit[nranks] = nb;
@@ -288,7 +288,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
         /* The gather of this rank's blocks, progress weighted by work. */
         t = sss_now();
         uint64_t total = 0;
-        for (uint32_t b = b0; b < b1; b++) total += sss_gather_block_work(tree, b, rows[b], C, Dc, D);
+        for (uint32_t b = b0; b < b1; b++) total += sss_gather_block_work(tree, b, rows[b], C, Dc);
         if (nch > 1) snprintf(lab, sizeof lab, "integrals %u/%u", c + 1, nch);
         sss_progress_begin(nch > 1 ? lab : "integrals", total);
         sss_gather_stats g;

@@ -238,12 +238,10 @@ static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const s
 #define WORK_ROWCOPY 75.0
 #define WORK_WRITE 650.0
 
-uint64_t sss_gather_block_work(const sss_gather_tree *t, uint32_t b, uint32_t rows, uint32_t C, uint32_t Dc,
-                               uint32_t n_total)
+uint64_t sss_gather_block_work(const sss_gather_tree *t, uint32_t b, uint32_t rows, uint32_t C, uint32_t Dc)
 {
     const sss_gnode *n = &t->node[t->block[b]];
     const double M = (double)C * (n->hi - n->lo);
-    (void)n_total;
     return (uint64_t)(2.0 * M * rows * Dc + WORK_WEIGHT * M * rows + WORK_ROWCOPY * rows * Dc + WORK_WRITE * M * Dc) + 1;
 }
 
@@ -424,7 +422,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
             np += (uint64_t)B * Sn;
             fp += (uint64_t)B * Sf;
             rows_total += (double)S;
-            sss_progress_tick(sss_gather_block_work(t, (uint32_t)bi, (uint32_t)S, C, D, n_total));
+            sss_progress_tick(sss_gather_block_work(t, (uint32_t)bi, (uint32_t)S, C, D));
         }
 #pragma omp critical
         {

@@ -8,24 +8,17 @@
  * GFLOP/s by CPU time for: sgemm alone on a ready Ψ, copy + sgemm, and this
  * kernel on every path this CPU has, and whether the paths agree bit for
  * bit. */
-#define _POSIX_C_SOURCE 200809L
 #include <cblas.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "gather_internal.h"
+#include "progress.h"
+#include "sss/random.h"
 
 void openblas_set_num_threads(int);
-
-static double cpu(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 int main(int argc, char **argv)
 {
@@ -46,14 +39,8 @@ int main(int argc, char **argv)
     float *scratch = malloc(sizeof(float) * sss_gather_gemm_scratch(N));
     if (!G || !W || !Psi || !Q || !Q2 || !Qref || !rows || !scratch) return 1;
     uint64_t x = 88172645463325252ull;
-    for (size_t i = 0; i < (size_t)table_rows * N; i++) {
-        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
-        G[i] = (float)(x >> 40) * 0x1p-24f;
-    }
-    for (size_t i = 0; i < (size_t)M * K; i++) {
-        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
-        W[i] = (float)(x >> 40) * 0x1p-24f;
-    }
+    for (size_t i = 0; i < (size_t)table_rows * N; i++) G[i] = (float)sss_rng_unit(&x);
+    for (size_t i = 0; i < (size_t)M * K; i++) W[i] = (float)sss_rng_unit(&x);
     /* runs of 32 rows from every other 32-row stretch of the table */
     for (uint32_t k = 0; k < K; k++) rows[k] = G + (size_t)((k / 32) * 64 + k % 32) * N;
     const double flops = 2.0 * M * N * (double)K * reps;
@@ -62,18 +49,18 @@ int main(int argc, char **argv)
     for (uint32_t k = 0; k < K; k++) memcpy(Psi + (size_t)k * N, rows[k], N * sizeof(float));
     cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, (int)M, (int)N, (int)K, 1.f, W, (int)K, Psi, (int)N, 0.f, Q,
                 (int)N);
-    t = cpu();
+    t = sss_thread_cpu();
     for (int r = 0; r < reps; r++)
         cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, (int)M, (int)N, (int)K, 1.f, W, (int)K, Psi, (int)N,
                     0.f, Q, (int)N);
-    const double g_sgemm = flops / (cpu() - t) * 1e-9;
-    t = cpu();
+    const double g_sgemm = flops / (sss_thread_cpu() - t) * 1e-9;
+    t = sss_thread_cpu();
     for (int r = 0; r < reps; r++) {
         for (uint32_t k = 0; k < K; k++) memcpy(Psi + (size_t)k * N, rows[k], N * sizeof(float));
         cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, (int)M, (int)N, (int)K, 1.f, W, (int)K, Psi, (int)N,
                     0.f, Q, (int)N);
     }
-    const double g_copy = flops / (cpu() - t) * 1e-9;
+    const double g_copy = flops / (sss_thread_cpu() - t) * 1e-9;
     printf("{\"M\":%u,\"N\":%u,\"K\":%u,\"sgemm_gflops\":%.1f,\"copy_sgemm_gflops\":%.1f", M, N, K, g_sgemm, g_copy);
 
     static const char *name[] = {"portable", "avx2", "avx512"};
@@ -82,9 +69,9 @@ int main(int argc, char **argv)
     for (int isa = SSS_GEMM_AVX512; isa >= SSS_GEMM_PORTABLE; isa--) {
         if (!sss_gather_gemm_isa(isa, M, N, K, W, K, rows, Q2, N, scratch)) continue;
         const int r_isa = isa == SSS_GEMM_PORTABLE ? (reps + 49) / 50 : reps; /* fmaf may be a libm call */
-        t = cpu();
+        t = sss_thread_cpu();
         for (int r = 0; r < r_isa; r++) sss_gather_gemm_isa(isa, M, N, K, W, K, rows, Q2, N, scratch);
-        printf(",\"%s_gflops\":%.1f", name[isa], flops / reps * r_isa / (cpu() - t) * 1e-9);
+        printf(",\"%s_gflops\":%.1f", name[isa], flops / reps * r_isa / (sss_thread_cpu() - t) * 1e-9);
         if (!have_ref) {
             memcpy(Qref, Q2, sizeof(float) * M * N); /* keep the first path's result */
             have_ref = 1;

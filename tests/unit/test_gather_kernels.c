@@ -21,6 +21,7 @@
 
 #include "gather_internal.h"
 #include "sss/dipole.h"
+#include "sss/random.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -29,8 +30,7 @@
 static uint64_t rng = 0x9E3779B97F4A7C15ull;
 static float urand(void)
 {
-    rng ^= rng << 13, rng ^= rng >> 7, rng ^= rng << 17;
-    return (float)(rng >> 40) * 0x1p-24f;
+    return (float)sss_rng_unit(&rng);
 }
 
 typedef struct prob {

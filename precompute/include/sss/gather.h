@@ -149,12 +149,11 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
  * sparse region, so progress and the MPI split weigh blocks by it. */
 sss_result sss_gather_block_rows(const sss_gather_tree *t, double radius_mm, uint32_t b0, uint32_t b1, uint32_t *rows,
                                  sss_error *err);
-/* Estimated work of block b with `rows` rows for a chunk of n_dirs of
- * n_total directions (the units of sss_gather_run's progress ticks: about
- * one sgemm flop; the weights, the rows copied and q written counted at
- * their measured cost per element, docs/benchmarks.md). */
-uint64_t sss_gather_block_work(const sss_gather_tree *t, uint32_t b, uint32_t rows, uint32_t channels, uint32_t n_dirs,
-                               uint32_t n_total);
+/* Estimated work of block b with `rows` rows for a chunk of n_dirs
+ * directions (the units of sss_gather_run's progress ticks: about one flop
+ * of the block product; the weights, the rows packed and q written counted
+ * at their measured cost per element, docs/benchmarks.md). */
+uint64_t sss_gather_block_work(const sss_gather_tree *t, uint32_t b, uint32_t rows, uint32_t channels, uint32_t n_dirs);
 
 /* Bytes the built tree t takes with n_dirs directions loaded (exact, but
  * for malloc's own overhead). */
