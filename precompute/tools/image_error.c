@@ -40,9 +40,9 @@
 #include "image_io.h"
 #include "offscreen.h"
 #include "renderer.h"
-#include "sss/accuracy.h"
+#include "sss/vertex_error.h"
 #include "sss/random.h"
-#include "sss/recon.h"
+#include "sss/reconstruct.h"
 
 static double now_s(void)
 {

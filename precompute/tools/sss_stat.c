@@ -15,9 +15,9 @@
 #include "image_error.h"
 #include "shadow.h" /* SSS_SHADOW_SIZE, the viewer's default map */
 #include "sss/decode.h"
-#include "sss/accuracy.h"
+#include "sss/vertex_error.h"
 #include "sss/exact.h"
-#include "sss/recon.h"
+#include "sss/reconstruct.h"
 #include "sss/format.h"
 
 static const char *TOOL = "sss-stat";

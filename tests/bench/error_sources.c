@@ -46,7 +46,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sss/accuracy.h"
+#include "sss/vertex_error.h"
 #include "sss/ownterm.h"
 #include "sss/bake.h"
 #include "sss/exact.h"

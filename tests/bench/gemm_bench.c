@@ -14,8 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gather_internal.h"
-#include "progress.h"
+#include "gather/gather_internal.h"
+#include "kernels/progress.h"
 #include "sss/random.h"
 
 void openblas_set_num_threads(int);

@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gather_internal.h"
+#include "gather/gather_internal.h"
 #include "sss/dipole.h"
 #include "sss/random.h"
 

@@ -26,13 +26,13 @@
 #include <string.h>
 
 #include "genmesh.h"
-#include "sss/accuracy.h"
+#include "sss/vertex_error.h"
 #include "sss/bake.h"
 #include "sss/compress.h"
 #include "sss/dipole.h"
 #include "sss/exact.h"
 #include "sss/ownterm.h"
-#include "sss/recon.h"
+#include "sss/reconstruct.h"
 
 static sss_mesh g_mesh;
 static sss_bake_file g_plain, g_own, g_ring; /* the same bake: all baked, own term split, own + 1-ring split

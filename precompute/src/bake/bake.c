@@ -14,9 +14,9 @@
 #include <omp.h>
 #endif
 
-#include "bake_gather.h"
-#include "progress.h"
-#include "thickness.h"
+#include "bake/bake_tree.h"
+#include "kernels/progress.h"
+#include "kernels/thickness.h"
 
 volatile int sss_bake_interrupted;
 

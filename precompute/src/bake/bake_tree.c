@@ -17,10 +17,10 @@
 #include <omp.h>
 #endif
 
-#include "bake_gather.h"
-#include "progress.h"
+#include "bake/bake_tree.h"
+#include "kernels/progress.h"
 #include "sss/gather.h"
-#include "transfer.h"
+#include "kernels/transfer.h"
 
 int sss_bake_choose_gather(const sss_bake_options *o)
 {

@@ -26,7 +26,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "gather_internal.h"
+#include "gather/gather_internal.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>

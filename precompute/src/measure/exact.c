@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "sss/bake.h"
-#include "transfer.h"
+#include "kernels/transfer.h"
 
 /* The bake's default cutoff (sss_bake_options.eps = 0 means this). */
 #define EXACT_DEFAULT_EPS 1e-3

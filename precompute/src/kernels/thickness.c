@@ -17,7 +17,7 @@
  * neighbourhoods, and freed at once, so it does not add to the bake's peak
  * memory (visibility builds its own later).
  */
-#include "thickness.h"
+#include "kernels/thickness.h"
 
 #include <embree3/rtcore.h>
 #include <math.h>

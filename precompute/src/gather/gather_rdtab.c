@@ -29,7 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gather_internal.h"
+#include "gather/gather_internal.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

@@ -1,5 +1,5 @@
 /* recon.c: a file's reconstruction of q as a reader shows it (sss/recon.h). */
-#include "sss/recon.h"
+#include "sss/reconstruct.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -39,7 +39,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "import_openmesh.h"
+#include "input/import_openmesh.h"
 
 #define HEADER_MAX ((size_t)1 << 20) /* a PLY/OFF header must end within this */
 #define SLACK ((size_t)16384)        /* room before the data for a rewritten header */

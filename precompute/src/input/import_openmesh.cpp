@@ -13,7 +13,7 @@
 // capture of their messages redirects std::cerr, so reads are serialised with
 // a mutex.
 
-#include "import_openmesh.h"
+#include "input/import_openmesh.h"
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/Options.hh>

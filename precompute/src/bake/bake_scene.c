@@ -19,9 +19,9 @@
 #include <omp.h>
 #endif
 
-#include "bake_pass.h"
-#include "progress.h"
-#include "transfer.h"
+#include "bake/bake_pass.h"
+#include "kernels/progress.h"
+#include "kernels/transfer.h"
 
 void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, float *G, uint64_t *rays_out)
 {

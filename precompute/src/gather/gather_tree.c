@@ -25,8 +25,8 @@
 #include <omp.h>
 #endif
 
-#include "gather_internal.h"
-#include "progress.h"
+#include "gather/gather_internal.h"
+#include "kernels/progress.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

@@ -29,7 +29,7 @@ static int same_position(const sss_mesh *m, uint32_t i, uint32_t o)
 #include <stdlib.h>
 #include <string.h>
 
-#include "progress.h"
+#include "kernels/progress.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

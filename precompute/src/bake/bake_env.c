@@ -14,8 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake_pass.h"
-#include "transfer.h"
+#include "bake/bake_pass.h"
+#include "kernels/transfer.h"
 #include "sss/probe.h"
 #include "sss/effects.h"
 #include "sss/sh.h"

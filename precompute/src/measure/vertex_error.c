@@ -2,8 +2,8 @@
  * (see sss/accuracy.h). The exact q has no direction interpolation (§3.2)
  * and no compression (§4), so this one number covers every approximation
  * the file makes. */
-#include "sss/accuracy.h"
-#include "sss/recon.h"
+#include "sss/vertex_error.h"
+#include "sss/reconstruct.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -23,8 +23,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "refs_closest.h"
-#include "refs_decimate.h"
+#include "compress/refs_closest.h"
+#include "compress/refs_decimate.h"
 
 #define NONE UINT32_MAX
 

@@ -52,7 +52,7 @@
 // the normalised integrals q over a few light directions) adds a cost for
 // moving a feature discontinuity by collapsing across it.
 
-#include "refs_decimate.h"
+#include "compress/refs_decimate.h"
 
 // OpenMesh's PropertyT<Vec3d>::push_back appends a default-constructed,
 // deliberately uninitialised VectorT that add_vertex then overwrites; GCC 12

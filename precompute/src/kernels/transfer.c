@@ -8,8 +8,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "progress.h"
-#include "transfer.h"
+#include "kernels/progress.h"
+#include "kernels/transfer.h"
 
 float sss_transfer_one(const sss_mesh *mesh, const sss_vis *vis, uint32_t i, const double d[3], double eta,
                        int *traced, int *blocked)

@@ -1,7 +1,7 @@
 /* progress.c: progress bar with ETA on stderr, and the same figures as
  * lines in a log file (see progress.h). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c11 */
-#include "progress.h"
+#include "kernels/progress.h"
 
 #include <stdatomic.h>
 #include <stdio.h>

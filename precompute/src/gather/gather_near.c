@@ -24,8 +24,8 @@
 #include <omp.h>
 #endif
 
-#include "gather_internal.h"
-#include "progress.h"
+#include "gather/gather_internal.h"
+#include "kernels/progress.h"
 #include "sss/bake.h"
 
 #ifndef M_PI

@@ -18,7 +18,7 @@
 // This is the only file in libsss_bake that includes CGAL headers (CMake
 // builds it in its own object library, see precompute/CMakeLists.txt).
 
-#include "refs_closest.h"
+#include "compress/refs_closest.h"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
