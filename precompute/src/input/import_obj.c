@@ -1,0 +1,125 @@
+/* import_obj.c: the OBJ scanner (input/import_internal.h). */
+#define _POSIX_C_SOURCE 200809L
+
+#include "input/import_internal.h"
+
+#include <math.h>
+
+sss_result sss_scan_obj(src *s, expect *ex, sss_error *err)
+{
+    sss_result r = sss_src_read_all(s, err);
+    if (r != SSS_OK) return r;
+    char *base = s->data, *end = s->data + s->size, *b, *e;
+    tok t;
+
+    /* Pass 1: how many vertices (indices may refer forward). */
+    ull nv_total = 0;
+    line_it it = {base, end, 0};
+    while (sss_scan_line(&it, &b, &e)) {
+        if (b == e || *b == '#' || is_space(*b)) continue;
+        char *q = b;
+        if (sss_scan_token(&q, e, &t) && tok_is(t, "v")) nv_total++;
+    }
+    if (nv_total > (ull)UINT32_MAX - 1)
+        return sss_fail(err, SSS_ERR_UNSUPPORTED, "%s: %llu vertices; at most 4294967294 are supported", s->name, nv_total);
+
+    if (!(ex->dpos = sss_src_alloc_dpos(s, nv_total, err))) return SSS_ERR_NOMEM;
+
+    /* Pass 2: validate, predict what the reader adds, neutralise the rest. */
+    size_t cap_idx = 64, cap_drop = 1024;
+    sll *ids = malloc(cap_idx * sizeof *ids);
+    unsigned char *drop = malloc(cap_drop);
+    if (!ids || !drop) {
+        free(ids); free(drop);
+        return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", s->name);
+    }
+    ull nv_seen = 0, nfaces = 0, added = 0;
+    it = (line_it){base, end, 0};
+    r = SSS_OK;
+    while (r == SSS_OK && sss_scan_line(&it, &b, &e)) {
+        if (b == e || *b == '#' || is_space(*b)) continue;
+        char *q = b;
+        tok kw;
+        sss_scan_token(&q, e, &kw);
+        if (tok_is(kw, "v")) {
+            for (int k = 0; k < 3; k++) {
+                if (!sss_scan_token(&q, e, &t)) {
+                    r = sss_fail(err, SSS_ERR_CORRUPT, "%s: vertex %llu (line %llu): fewer than 3 coordinates", s->name,
+                                 nv_seen, it.no);
+                    break;
+                }
+                num_check c = sss_scan_float(t);
+                if (c == NUM_NONFINITE)
+                    r = sss_fail(err, SSS_ERR_MESH, "%s: vertex %llu: coordinate is not finite ('" TOKF "', line %llu)",
+                                 s->name, nv_seen, TOKA(t), it.no);
+                else if (c == NUM_BAD)
+                    r = sss_fail(err, SSS_ERR_CORRUPT, "%s: vertex %llu: '" TOKF "' is not a number (line %llu)", s->name,
+                                 nv_seen, TOKA(t), it.no);
+                if (r != SSS_OK) break;
+                ex->dpos[3 * nv_seen + (ull)k] = tok_double(t);
+            }
+            nv_seen++;
+        } else if (tok_is(kw, "f")) {
+            size_t n = 0;
+            while (r == SSS_OK && sss_scan_token(&q, e, &t)) {
+                tok c0 = t;
+                char *slash = memchr(t.s, '/', t.n);
+                if (slash) c0.n = (size_t)(slash - t.s);
+                sll v;
+                if (!sss_scan_int(c0, &v)) {
+                    r = sss_fail(err, SSS_ERR_CORRUPT, "%s: face %llu: '" TOKF "' is not a vertex index (line %llu)", s->name,
+                                 nfaces, TOKA(t), it.no);
+                    break;
+                }
+                sll resolved = v < 0 ? (sll)nv_seen + v + 1 : v;
+                if (v == 0 || resolved < 1 || (ull)resolved > nv_total) {
+                    r = sss_fail(err, SSS_ERR_MESH, "%s: face %llu: vertex index " TOKF " out of range (line %llu; %llu vertices, "
+                                 "OBJ indices start at 1)", s->name, nfaces, TOKA(c0), it.no, nv_total);
+                    break;
+                }
+                if (n == cap_idx) {
+                    sll *ni = realloc(ids, 2 * cap_idx * sizeof *ids);
+                    if (!ni) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", s->name); break; }
+                    ids = ni;
+                    cap_idx *= 2;
+                }
+                ids[n++] = resolved;
+            }
+            if (r != SSS_OK) break;
+            nfaces++;
+            if (n < 3) {
+                ex->too_small++; /* the reader drops it */
+                continue;
+            }
+            size_t d = sss_count_distinct(ids, n);
+            if (d != n) ex->repeated++;
+            if (d < 3) continue; /* the reader drops it */
+            if (added == cap_drop) {
+                unsigned char *nd = realloc(drop, 2 * cap_drop);
+                if (!nd) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", s->name); break; }
+                drop = nd;
+                cap_drop *= 2;
+            }
+            /* The reader keeps a face with a repeated index after removing the
+             * repeats; the policy drops it, after the read. */
+            drop[added++] = d != n;
+        } else {
+            /* vt, vn, mtllib, usemtl, g, o, s, l, ...: nothing the bake needs,
+             * and the reader fails on a one-number vt or opens material files. */
+            *b = '#';
+        }
+    }
+    free(ids);
+    if (r != SSS_OK) {
+        free(drop);
+        return r;
+    }
+    ex->fmt = SSS_OM_OBJ;
+    ex->om_data = s->data;
+    ex->om_len = (size_t)s->size;
+    ex->nv = nv_total;
+    ex->nf = added;
+    ex->faces_in_file = nfaces;
+    ex->drop = drop;
+    return SSS_OK;
+}
