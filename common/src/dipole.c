@@ -70,6 +70,13 @@ sss_result sss_material_preset(const char *name, sss_material *out, sss_error *e
     return sss_fail(err, SSS_ERR_ARG, "material '%s': unknown preset (known: %s)", name, list);
 }
 
+uint32_t sss_material_channels(const sss_material *m)
+{
+    const int grey = m->sigma_a[0] == m->sigma_a[1] && m->sigma_a[1] == m->sigma_a[2] &&
+                     m->sigmap_s[0] == m->sigmap_s[1] && m->sigmap_s[1] == m->sigmap_s[2];
+    return grey ? 1 : 3;
+}
+
 sss_result sss_material_validate(const sss_material *m, sss_error *err)
 {
     const char *n = m->name[0] ? m->name : "custom";

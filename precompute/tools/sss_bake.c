@@ -2,6 +2,7 @@
  * (Hao–Varshney 2004 §3). See `sss-bake --help` and docs/usage.md. */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c11 */
 #include <cjson/cJSON.h>
+#include <stdint.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -65,10 +66,29 @@ static void usage(FILE *f)
         "  -h, --help           this text\n");
 }
 
+/* Set by SIGINT / SIGTERM; the bake polls it (sss_bake_options.cancel). */
+static volatile sig_atomic_t interrupted;
+
 static void on_sigint(int sig)
 {
     (void)sig;
-    sss_bake_interrupted = 1;
+    interrupted = 1;
+}
+
+/* What the environment says about this run: a memory limit (a share of a
+ * machine used by others; the tests use it to exercise the refusal), a
+ * progress log for scripts and tests, the gather's own figures. */
+static void options_from_env(sss_bake_options *opt)
+{
+    const char *lim = getenv("SSS_MEMORY_LIMIT_MB");
+    if (lim && *lim) {
+        char *end;
+        unsigned long long mb = strtoull(lim, &end, 10);
+        if (*end == 0 && mb > 0 && mb <= (UINT64_MAX >> 20)) opt->memory_limit = (uint64_t)mb << 20;
+    }
+    const char *log = getenv("SSS_PROGRESS_LOG");
+    if (log && *log) opt->progress_log = log;
+    opt->verbose = getenv("SSS_GATHER_VERBOSE") != NULL;
 }
 
 static double now_s(void)
@@ -76,21 +96,6 @@ static double now_s(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* Replaces *params_json by pj printed (kept as it was if printing fails)
- * and deletes pj. */
-static void set_params_json(char **params_json, cJSON *pj)
-{
-    char *txt = cJSON_PrintUnformatted(pj);
-    char *copy = txt ? malloc(strlen(txt) + 1) : NULL;
-    if (copy) {
-        memcpy(copy, txt, strlen(txt) + 1);
-        free(*params_json);
-        *params_json = copy;
-    }
-    free(txt);
-    cJSON_Delete(pj);
 }
 
 int main(int argc, char **argv)
@@ -187,6 +192,8 @@ int main(int argc, char **argv)
         else { fprintf(stderr, "%s: unexpected argument '%s' (one MESH only)\n", TOOL, a); return 2; }
 #undef NEED
     }
+    options_from_env(&opt);
+    opt.cancel = &interrupted;
     if (plan_only && !scene) {
         fprintf(stderr, "%s: --plan needs --scene S.json\n", TOOL);
         return 2;
@@ -247,6 +254,15 @@ int main(int argc, char **argv)
         fprintf(stderr, "%s: %s\n", TOOL, err.msg);
         return 2;
     }
+    if (compress) {
+        /* a preset fills what the user did not set (docs/compression.md) */
+        const uint32_t given = (set_order ? SSS_CO_ORDER : 0) | (have_refs ? SSS_CO_FRACTION : 0) |
+                               (set_kind ? SSS_CO_SH_KIND : 0) | (set_wbits ? SSS_CO_WBITS : 0) |
+                               (set_ls ? SSS_CO_LS_WEIGHTS : 0) | (set_illum ? SSS_CO_ILLUM : 0);
+        sss_compress_preset_apply(&co, compact ? SSS_COMPRESS_COMPACT : SSS_COMPRESS_PAPER,
+                                  sss_material_channels(&mat), given);
+        opt.compress = &co;
+    }
     opt.progress = !quiet;
     /* under mpirun: split the receivers, rank 0 alone speaks and writes */
     int mpi_rank = 0, mpi_n = 1;
@@ -274,14 +290,15 @@ int main(int argc, char **argv)
         if (!quiet) sss_import_print_repairs(&rep, prefix, stderr);
         sss_import_print_warnings(&rep, prefix, stderr); /* also with -q, like the bake's warnings */
     }
+    if (rep.recentred) opt.import_offset = rep.offset; /* provenance (docs/robustness.md B6) */
 
     sss_bake_file f;
     sss_bake_stats st;
     if (sss_bake(&mesh, cli_basename(in), &mat, &opt, &f, &st, &err) != SSS_OK) {
         fprintf(stderr, "%s: %s: %s\n", TOOL, in, err.msg);
         sss_mesh_free(&mesh);
-        sss_mpi_abort(sss_bake_interrupted ? 130 : 1); /* the other ranks wait in a collective */
-        return sss_bake_interrupted ? 130 : 1;
+        sss_mpi_abort(interrupted ? 130 : 1); /* the other ranks wait in a collective */
+        return interrupted ? 130 : 1;
     }
     if (mpi_n > 1 && mpi_rank != 0) { /* its part went to rank 0 */
         sss_file_free(&f);
@@ -289,56 +306,10 @@ int main(int argc, char **argv)
         sss_mpi_stop();
         return 0;
     }
-    if (rep.recentred && f.params_json) {
-        /* provenance (docs/robustness.md B6): GEOM holds the recentred
-         * positions; the file's own coordinates are these plus the offset */
-        cJSON *pj = cJSON_Parse(f.params_json);
-        if (pj) {
-            cJSON_AddItemToObject(pj, "import_offset", cJSON_CreateDoubleArray(rep.offset, 3));
-            set_params_json(&f.params_json, pj);
-        }
-    }
-    double t_compress = 0.0;
-    if (compress && compact) {
-        /* docs/compression.md "compact": at most 16 (grey) / 30 (RGB) bytes per
-         * vertex at no more error than the paper's configuration, measured on
-         * the dragons: 4-bit Lloyd SH codes, 8-bit least-squares weights,
-         * illumination-aware references; 3 % references for one channel, 2 %
-         * for three (RGB shares triangles and weights but not rows) */
-        if (!have_refs) co.fraction = f.channels == 1 ? 0.03 : 0.02;
-        if (!set_order) co.order = 3;
-        if (!set_kind) co.sh_kind = SSS_SHQ_LLOYD4;
-        if (!set_wbits) co.wbits = 8;
-        if (!set_ls) co.ls_weights = 1;
-        if (!set_illum) co.illum_weight = 1e-3;
-    }
-    if (compress && !sss_bake_interrupted) {
-        t0 = now_s();
-        sss_bake_file cf;
-        if (sss_compress(&f, &co, &cf, &err) != SSS_OK) {
-            fprintf(stderr, "%s: %s: %s\n", TOOL, in, err.msg);
-            sss_file_free(&f);
-            sss_mesh_free(&mesh);
-            return 1;
-        }
-        /* provenance: the compression settings join the bake parameters */
-        cJSON *pj = cJSON_Parse(cf.params_json ? cf.params_json : "");
-        if (pj) {
-            cJSON *c = cJSON_AddObjectToObject(pj, "compression");
-            cJSON_AddNumberToObject(c, "sh_order", co.order);
-            cJSON_AddNumberToObject(c, "refs_fraction", co.fraction);
-            cJSON_AddStringToObject(c, "sh_quant", sss_shq_name(co.sh_kind));
-            cJSON_AddNumberToObject(c, "weight_bits", co.wbits);
-            cJSON_AddBoolToObject(c, "ls_weights", co.ls_weights);
-            cJSON_AddNumberToObject(c, "illum_refs", co.illum_weight);
-            set_params_json(&cf.params_json, pj);
-        }
-        sss_file_free(&f);
-        f = cf;
-        t_compress = now_s() - t0;
-    }
+    const double t_compress = st.t_compress;
     t0 = now_s();
-    sss_result r = sss_bake_interrupted ? sss_fail(&err, SSS_ERR_INTERRUPTED, "%s: interrupted, nothing written", outp)
+    /* a signal after the bake's last poll: still nothing is written */
+    sss_result r = interrupted ? sss_fail(&err, SSS_ERR_INTERRUPTED, "%s: interrupted, nothing written", outp)
                                         : sss_file_write(outp, &f, &err);
     double t_write = now_s() - t0;
     if (r != SSS_OK) {

@@ -48,7 +48,7 @@
 
 #include "sss/vertex_error.h"
 #include "sss/ownterm.h"
-#include "sss/bake.h"
+#include "sss/visibility.h"
 #include "sss/exact.h"
 #include "sss/format.h"
 

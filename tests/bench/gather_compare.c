@@ -18,7 +18,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sss/bake.h"
+#include "sss/nbhd.h"
+#include "sss/visibility.h"
+#include "sss/transfer.h"
 #include "sss/dirset.h"
 #include "sss/gather.h"
 #include "sss/import.h"
@@ -62,7 +64,7 @@ int main(int argc, char **argv)
     sss_vis *vis;
     double t = sss_now();
     if (!G || sss_vis_create(&mesh, &vis, &err) != SSS_OK ||
-        sss_transfer_compute(&mesh, vis, ds.dir, D, mat.eta, G, NULL, NULL, &err) != SSS_OK) {
+        sss_transfer_compute(&mesh, vis, ds.dir, D, mat.eta, NULL, G, NULL, NULL, &err) != SSS_OK) {
         fprintf(stderr, "gather_compare: %s\n", err.msg);
         return 1;
     }
@@ -75,7 +77,7 @@ int main(int argc, char **argv)
     for (uint32_t k = 0; k < ns; k++) sub[k] = k * stride;
     sss_nbhd nb;
     t = sss_now();
-    if (sss_nbhd_build(&mesh, s, dip, C, R, sub, ns, 0, &nb, &err) != SSS_OK) {
+    if (sss_nbhd_build(&mesh, s, dip, C, R, sub, ns, 0, NULL, &nb, &err) != SSS_OK) {
         fprintf(stderr, "gather_compare: %s\n", err.msg);
         return 1;
     }
@@ -91,8 +93,9 @@ int main(int argc, char **argv)
     char *th = strdup(argv[5]);
     for (char *tok = strtok(th, " ,"); tok; tok = strtok(NULL, " ,")) {
         /* tuning knobs of the bench only: leaf and block sizes */
-        sss_gather_params p = {atof(tok), getenv("SSS_GATHER_LEAF") ? (uint32_t)atoi(getenv("SSS_GATHER_LEAF")) : 0,
-                               getenv("SSS_GATHER_BLOCK") ? (uint32_t)atoi(getenv("SSS_GATHER_BLOCK")) : 0};
+        sss_gather_params p = {.theta = atof(tok),
+                               .leaf_size = getenv("SSS_GATHER_LEAF") ? (uint32_t)atoi(getenv("SSS_GATHER_LEAF")) : 0,
+                               .block_size = getenv("SSS_GATHER_BLOCK") ? (uint32_t)atoi(getenv("SSS_GATHER_BLOCK")) : 0};
         sss_gather_tree *tree;
         t = sss_now();
         if (sss_gather_tree_build(&mesh, s, G, D, &p, &tree, &err) != SSS_OK) { fprintf(stderr, "%s\n", err.msg); return 1; }

@@ -46,6 +46,7 @@
 #include "offscreen.h"
 #include "renderer.h"
 #include "sss/bake.h"
+#include "sss/visibility.h"
 #include "sss/decode.h"
 #include "sss/import.h"
 #include "sss/ownterm.h"

@@ -14,6 +14,9 @@
 
 #include "genmesh.h"
 #include "sss/bake.h"
+#include "sss/nbhd.h"
+#include "sss/visibility.h"
+#include "sss/transfer.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -36,13 +39,13 @@ static double slab_centre_q(const sss_material *m, int c, double size, double h,
     uint32_t centre = (n / 2) * (n + 1) + n / 2;
     assert_true(mesh.pos[3 * centre] == 0.0f && mesh.pos[3 * centre + 1] == 0.0f);
     sss_nbhd nb;
-    assert_int_equal(sss_nbhd_build(&mesh, 1.0, d, 3, R, &centre, 1, 0, &nb, &err), SSS_OK);
+    assert_int_equal(sss_nbhd_build(&mesh, 1.0, d, 3, R, &centre, 1, 0, NULL, &nb, &err), SSS_OK);
     sss_vis *vis;
     assert_int_equal(sss_vis_create(&mesh, &vis, &err), SSS_OK);
     const double up[3] = {0, 0, 1};
     float *G = malloc(mesh.nv * sizeof(float));
     assert_non_null(G);
-    assert_int_equal(sss_transfer_compute(&mesh, vis, up, 1, m->eta, G, NULL, NULL, &err), SSS_OK);
+    assert_int_equal(sss_transfer_compute(&mesh, vis, up, 1, m->eta, NULL, G, NULL, NULL, &err), SSS_OK);
     float q[3];
     sss_integrate(&nb, G, 1, q);
     free(G);
@@ -64,13 +67,13 @@ static void centre_q(sss_mesh *mesh, const sss_material *m, uint32_t centre, flo
     }
     sss_error err = {{0}};
     sss_nbhd nb;
-    assert_int_equal(sss_nbhd_build(mesh, 1.0, d, 3, R, &centre, 1, 0, &nb, &err), SSS_OK);
+    assert_int_equal(sss_nbhd_build(mesh, 1.0, d, 3, R, &centre, 1, 0, NULL, &nb, &err), SSS_OK);
     sss_vis *vis;
     assert_int_equal(sss_vis_create(mesh, &vis, &err), SSS_OK);
     const double up[3] = {0, 0, 1};
     float *G = malloc(mesh->nv * sizeof(float));
     assert_non_null(G);
-    assert_int_equal(sss_transfer_compute(mesh, vis, up, 1, m->eta, G, NULL, NULL, &err), SSS_OK);
+    assert_int_equal(sss_transfer_compute(mesh, vis, up, 1, m->eta, NULL, G, NULL, NULL, &err), SSS_OK);
     sss_integrate(&nb, G, 1, q);
     free(G);
     sss_vis_destroy(vis);
@@ -263,7 +266,7 @@ static void vertexInsideClosedBoxIsFullyShadowed(void **state)
     assert_int_equal(sss_vis_create(&box, &vis, &err), SSS_OK);
     float *G = malloc((size_t)box.nv * ds.n * sizeof(float));
     uint64_t rays = 0, occ = 0;
-    assert_int_equal(sss_transfer_compute(&box, vis, ds.dir, ds.n, 1.3, G, &rays, &occ, &err), SSS_OK);
+    assert_int_equal(sss_transfer_compute(&box, vis, ds.dir, ds.n, 1.3, NULL, G, &rays, &occ, &err), SSS_OK);
     for (uint32_t v = first_ball; v < box.nv; v++)
         for (uint32_t j = 0; j < ds.n; j++) {
             assert_true(G[(size_t)v * ds.n + j] == 0.0f);

@@ -20,6 +20,9 @@
 
 #include "genmesh.h"
 #include "sss/bake.h"
+#include "sss/nbhd.h"
+#include "sss/visibility.h"
+#include "sss/transfer.h"
 #include "sss/dirset.h"
 #include "sss/gather.h"
 #include "sss/import.h"
@@ -55,7 +58,7 @@ static void compare(const sss_mesh *mesh, double s, uint32_t D, uint32_t stride,
     assert_non_null(G);
     sss_vis *vis;
     assert_int_equal(sss_vis_create(mesh, &vis, &err), SSS_OK);
-    assert_int_equal(sss_transfer_compute(mesh, vis, ds.dir, D, mat.eta, G, NULL, NULL, &err), SSS_OK);
+    assert_int_equal(sss_transfer_compute(mesh, vis, ds.dir, D, mat.eta, NULL, G, NULL, NULL, &err), SSS_OK);
     sss_vis_destroy(vis);
 
     const uint32_t ns = (nv + stride - 1) / stride;
@@ -63,14 +66,14 @@ static void compare(const sss_mesh *mesh, double s, uint32_t D, uint32_t stride,
     assert_non_null(sub);
     for (uint32_t k = 0; k < ns; k++) sub[k] = k * stride;
     sss_nbhd nb;
-    assert_int_equal(sss_nbhd_build(mesh, s, dip, C, R, sub, ns, 0, &nb, &err), SSS_OK);
+    assert_int_equal(sss_nbhd_build(mesh, s, dip, C, R, sub, ns, 0, NULL, &nb, &err), SSS_OK);
     float *qd = malloc((size_t)ns * D * C * sizeof(float)), *qt = malloc((size_t)nv * D * C * sizeof(float));
     assert_non_null(qd);
     assert_non_null(qt);
     sss_integrate(&nb, G, D, qd);
     sss_nbhd_free(&nb);
     for (int ti = 0; ti < nth; ti++) {
-        sss_gather_params p = {thetas[ti], 0, 0};
+        sss_gather_params p = {.theta = thetas[ti]};
         sss_gather_tree *t;
         assert_int_equal(sss_gather_tree_build(mesh, s, G, D, &p, &t, &err), SSS_OK);
         assert_int_equal(sss_gather_run(t, mesh, dip, C, R, 0, sss_gather_tree_blocks(t), qt, 1, NULL, &err), SSS_OK);
@@ -260,7 +263,7 @@ static void tree_chunks_give_the_same_bytes(void **state)
     assert_non_null(qb);
     sss_vis *vis;
     assert_int_equal(sss_vis_create(&m, &vis, &err), SSS_OK);
-    assert_int_equal(sss_transfer_compute(&m, vis, ds.dir, D, mat.eta, G, NULL, NULL, &err), SSS_OK);
+    assert_int_equal(sss_transfer_compute(&m, vis, ds.dir, D, mat.eta, NULL, G, NULL, NULL, &err), SSS_OK);
     sss_vis_destroy(vis);
     sss_gather_tree *t;
     assert_int_equal(sss_gather_tree_build(&m, 1.0, G, D, NULL, &t, &err), SSS_OK);

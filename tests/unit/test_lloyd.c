@@ -8,7 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "sss/bake.h"
+#include "sss/lloyd.h"
 
 static uint64_t rng = 0x9E3779B97F4A7C15ull;
 static double urand(void)

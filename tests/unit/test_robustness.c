@@ -17,6 +17,8 @@
 
 #include "genmesh.h"
 #include "sss/bake.h"
+#include "sss/visibility.h"
+#include "sss/lloyd.h"
 #include "sss/compress.h"
 #include "sss/decode.h"
 #include "sss/import.h"

@@ -5,6 +5,7 @@
 #ifndef SSS_DIPOLE_H
 #define SSS_DIPOLE_H
 
+#include <stdint.h>
 #include "sss/result.h"
 
 #ifdef __cplusplus
@@ -50,6 +51,11 @@ sss_result sss_material_preset(const char *name, sss_material *out, sss_error *e
 /* Checks a material: finite, 0 ≤ σa, σ′s ≤ SSS_SIGMA_MAX, σ′t > 0 per
  * channel, SSS_ETA_MIN ≤ η ≤ SSS_ETA_MAX. */
 sss_result sss_material_validate(const sss_material *m, sss_error *err);
+
+/* Colour channels a bake of m stores: 1 when σa and σ′s are equal in R, G
+ * and B (one dipole profile serves all three, and a grey material pays for
+ * one channel only), else 3. */
+uint32_t sss_material_channels(const sss_material *m);
 
 /* Diffuse Fresnel reflectance F_dr(η), Jensen's fit (Egan–Hilgeman for η<1);
  * exactly 0 at η = 1, where the fit's 0.0016 is an artefact. */

@@ -8,6 +8,8 @@
 #ifndef SSS_RESULT_H
 #define SSS_RESULT_H
 
+#include <signal.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -22,7 +24,7 @@ typedef enum sss_result {
     SSS_ERR_CORRUPT,     /* checksum, size, offset or value check failed */
     SSS_ERR_MESH,        /* mesh content unusable (empty, NaN, bad index) */
     SSS_ERR_UNSUPPORTED, /* valid but not handled by this build */
-    SSS_ERR_INTERRUPTED  /* stopped by a signal before completion */
+    SSS_ERR_INTERRUPTED  /* stopped by its caller (a cancel flag) before completion */
 } sss_result;
 
 /* One line describing the failure; msg[0] == 0 when nothing was set. */
@@ -40,6 +42,14 @@ sss_result sss_fail(sss_error *err, sss_result r, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
+
+/* Cancellation of long calls (the bake and its kernels; Embree's progress
+ * monitor is the model): the caller owns a flag, may set it from a signal
+ * handler or another thread, and passes a pointer to it; the call polls it
+ * and returns SSS_ERR_INTERRUPTED soon after it becomes non-zero, having
+ * written nothing it was asked to produce. NULL: never cancelled. */
+typedef volatile sig_atomic_t sss_cancel_flag;
+static inline int sss_cancelled(const sss_cancel_flag *cancel) { return cancel && *cancel; }
 
 #ifdef __cplusplus
 }

@@ -1,9 +1,12 @@
 /* sss/bake.h: the precompute pipeline of Hao–Varshney 2004 §3:
  * scattering neighbourhoods → visibility from each light direction →
- * integrals q(x_o, ω_j) → quantisation, producing an sss_bake_file.
+ * integrals q(x_o, ω_j) → quantisation or compression (§4), producing an
+ * sss_bake_file with its provenance.
  *
- * The steps are exposed separately so that tests and the exact evaluator can
- * run them on a subset of vertices or directions.
+ * The steps are kernels with headers of their own (sss/nbhd.h,
+ * sss/visibility.h, sss/transfer.h, sss/lloyd.h, sss/gather.h,
+ * sss/compress.h), so that tests and the exact evaluator can run them on a
+ * subset of vertices or directions; sss/precompute.h includes them all.
  */
 #ifndef SSS_BAKE_H
 #define SSS_BAKE_H
@@ -46,6 +49,21 @@ typedef struct sss_bake_options {
      * the paper does. */
     uint32_t own_term;
     uint32_t own_rings;
+    /* Compression (sss/compress.h) as the last stage, after any preset was
+     * applied (sss_compress_preset); NULL: q stays as `quant` says (which
+     * must then be SSS_QUANT_FLOAT when this is set). */
+    const struct sss_compress_opts *compress;
+    /* What the importer subtracted from every position (sss_import_report
+     * .offset when .recentred), recorded in the provenance; NULL: nothing. */
+    const double *import_offset;
+    /* Bytes the bake may use; 0: what the system reports available
+     * (MemAvailable). A smaller system figure wins. */
+    uint64_t memory_limit;
+    /* With progress: also append every redraw of the bar to this file
+     * (kernels/progress.h has the line format); NULL: no log. */
+    const char *progress_log;
+    int verbose;         /* non-zero: the gather's own figures on stderr */
+    const sss_cancel_flag *cancel; /* polled by every phase (sss/result.h); NULL: never */
 } sss_bake_options;
 
 enum { SSS_GATHER_AUTO = 0, SSS_GATHER_DIRECT = 1, SSS_GATHER_TREE = 2 };
@@ -65,6 +83,7 @@ typedef struct sss_bake_comm {
 /* What a bake measured (seconds are wall-clock). */
 typedef struct sss_bake_stats {
     double t_neighbourhoods, t_visibility, t_integrals, t_quantise;
+    double t_compress;                   /* the compression stage (options.compress) */
     double radius_mm[SSS_MAX_CHANNELS];  /* neighbourhood radius per channel */
     double search_radius_mm;             /* max over channels: the one searched */
     uint64_t neighbours_total;           /* Σ |N(x_o)| including x_o itself */
@@ -115,90 +134,12 @@ typedef struct sss_bake_stats {
     uint32_t direction_chunks, direction_chunk_width;
 } sss_bake_stats;
 
-/* Scattering neighbourhoods N(x_o) in compressed-row form with the per-channel
- * weights w_c(o, i) = (1/π) R_d,c(‖x_i − x_o‖) ΔA(x_i) (mm² · 1/mm² = sr⁻¹ units
- * of q), and for i = o the self term (1/π) ∫_disk R_d dA over a disk of x_o's
- * own area (physics sheet §2 (a)). Rows list neighbours in increasing index
- * order, so sums are taken in the same order whatever the thread count. */
-typedef struct sss_nbhd {
-    uint32_t nrows;       /* number of target vertices */
-    uint32_t channels;
-    uint64_t *start;      /* nrows + 1 offsets into idx / w */
-    uint32_t *idx;        /* neighbour vertex indices */
-    float *w;             /* channels weights per entry, interleaved */
-} sss_nbhd;
-
-/* Builds neighbourhoods for `targets` (ntargets vertex indices; NULL means all
- * vertices in order). mesh must have area computed. radius_mm is the search
- * radius; dip[c] the channel models. Counts first: if the rows would take
- * more than max_bytes (0: no limit), fails with SSS_ERR_NOMEM and a message
- * giving the size before allocating them. */
-sss_result sss_nbhd_build(const sss_mesh *mesh, double mm_per_unit, const sss_dipole *dip, uint32_t channels,
-                          double radius_mm, const uint32_t *targets, uint32_t ntargets, uint64_t max_bytes,
-                          sss_nbhd *out, sss_error *err);
-void sss_nbhd_free(sss_nbhd *nb);
-
-/* The neighbourhood radius rule, shared by the bake, the exact evaluator and
- * the scene passes so that all of them find the same neighbourhoods: per
- * channel the disk holding 1−ε of R_d,total (physics sheet §2 (b)), clamped
- * to the object's diagonal (α′ → 1). Fills radius_mm[c] (may be NULL) and
- * returns the largest, the radius searched. */
-double sss_nbhd_radii(const sss_mesh *mesh, double mm_per_unit, const sss_dipole *dip, uint32_t channels, double eps,
-                      double *radius_mm);
-
-/* Visibility V(x_i, ω_j) by occlusion rays (Embree). The paper used shadow
- * maps (§3.1); rays are exact up to the origin offset. */
-typedef struct sss_vis sss_vis;
-sss_result sss_vis_create(const sss_mesh *mesh, sss_vis **out, sss_error *err);
-void sss_vis_destroy(sss_vis *vis);
-/* Is vertex v's light from direction d (unit, towards the light) blocked? */
-int sss_vis_occluded(const sss_vis *vis, uint32_t v, const double d[3]);
-/* Every vertex's own visibility towards unit d, lit[v] = 1 when it faces d
- * (n_v·d > 0, in double) and its ray is not blocked — the rule of the
- * bake's transfer rows, where back-facing vertices trace no ray. mesh is
- * the one vis was built on (its normals). Returns the rays traced. */
-uint64_t sss_vis_lit_all(const sss_vis *vis, const sss_mesh *mesh, const double d[3], uint8_t *lit);
-/* Visibility for a scene (docs/scenes.md): rays start at mesh's vertices
- * (offset as above, from mesh's own diagonal) and are tested against mesh
- * itself when self != 0 and against the nocc occluder meshes (same world
- * units). sss_vis_create(m) is sss_vis_create_scene(m, 1, NULL, 0). */
-sss_result sss_vis_create_scene(const sss_mesh *mesh, int self, const sss_mesh *const *occ, uint32_t nocc,
-                                sss_vis **out, sss_error *err);
-/* The same test with the ray ending at distance tfar (mesh units): a point
- * light's shadow ends at the light. */
-int sss_vis_occluded_upto(const sss_vis *vis, uint32_t v, const double d[3], double tfar);
-
-/* Per-vertex light transport towards each direction, independent of x_o:
- * G[i * n + j] = F_t(η, n_i·ω_j) · max(0, n_i·ω_j) · V(x_i, ω_j)
- * for all vertices i (Hao–Varshney 2004 §3.1, eq. for q). rays/occluded
- * (may be NULL) count the rays traced and blocked. */
-sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
-                                float *G, uint64_t *rays, uint64_t *occluded, sss_error *err);
-
-/* q for every neighbourhood row and direction: q[(j * nrows + r) * channels + c]
- * = Σ_i w_c(r, i) G[i * n + j], accumulated in double. */
-void sss_integrate(const sss_nbhd *nb, const float *G, uint32_t n, float *q);
-
-/* Lloyd–Max scalar quantiser with 256 levels for one channel: trains on
- * (a deterministic subsample of) x[k * stride], k < count, writes levels in
- * increasing order (level 0 pinned to the minimum, so shadowed zeros decode
- * as zeros) and idx[k * stride]. Returns Σx² and Σ(x − x̂)² via the pointers. */
-sss_result sss_lloyd8(const float *x, uint64_t count, uint32_t stride, float levels[256], uint8_t *idx,
-                      double *signal, double *noise, sss_error *err);
-
-/* The same quantiser with nlevels (2 … 256) levels; pin_min pins level 0 to
- * the minimum (what sss_lloyd8 does), else every level is a free centroid
- * (signed data such as SH coefficients). */
-sss_result sss_lloyd(const float *x, uint64_t count, uint32_t stride, uint32_t nlevels, int pin_min, float *levels,
-                     uint8_t *idx, double *signal, double *noise, sss_error *err);
-
-/* The whole bake: writes out (mesh copy, material, dirs, q or levels+qidx,
- * params JSON) and stats. `mesh_name` goes into the params JSON. */
+/* The whole bake: writes out (mesh copy, material, dirs, q or levels+qidx
+ * or the compressed form, the provenance JSON built from the options and
+ * stats) and stats. `mesh_name` goes into the provenance. Cancelled through
+ * opt->cancel: SSS_ERR_INTERRUPTED and nothing in out. */
 sss_result sss_bake(const sss_mesh *mesh, const char *mesh_name, const sss_material *mat,
                     const sss_bake_options *opt, sss_bake_file *out, sss_bake_stats *stats, sss_error *err);
-
-/* Set by a SIGINT handler to stop a bake early (returns SSS_ERR_INTERRUPTED). */
-extern volatile int sss_bake_interrupted;
 
 #ifdef __cplusplus
 }

@@ -58,6 +58,29 @@ sss_result sss_compress_choose_refs(const sss_bake_file *f, double fraction, dou
  * SH codes, 16-bit barycentric weights, geometric references. */
 void sss_compress_opts_default(sss_compress_opts *o);
 
+/* Presets (docs/compression.md): the paper's configuration, and "compact":
+ * at most 16 (grey) / 30 (RGB) bytes per vertex at no more error than the
+ * paper's, measured on the dragons. */
+typedef enum sss_compress_preset {
+    SSS_COMPRESS_PAPER = 0,
+    SSS_COMPRESS_COMPACT = 1
+} sss_compress_preset;
+
+/* Fields of sss_compress_opts a caller set itself (bits of `given`). */
+enum {
+    SSS_CO_ORDER = 1u << 0,
+    SSS_CO_FRACTION = 1u << 1,
+    SSS_CO_SH_KIND = 1u << 2,
+    SSS_CO_WBITS = 1u << 3,
+    SSS_CO_LS_WEIGHTS = 1u << 4,
+    SSS_CO_ILLUM = 1u << 5
+};
+
+/* Sets every field of o that `given` does not name to preset p's value for
+ * a file of `channels` channels (sss_material_channels): the user's own
+ * choices stay, the preset fills the rest. */
+void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint32_t channels, uint32_t given);
+
 /* Compresses the float bake src into *dst: a deep copy of src's mesh,
  * material, directions and parameters with quant SSS_QUANT_SH or
  * SSS_QUANT_REFS and the matching sh / ref parts, ready for sss_file_write.

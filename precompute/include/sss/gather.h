@@ -66,6 +66,7 @@ typedef struct sss_gather_params {
     uint32_t block_size; /* most receivers in a block (default 128: 64 before; measured, docs/benchmarks.md
                           * "near field": blocks of 47 receivers on average instead of 19, the rows of Ψ
                           * copied and packed once for more receivers, 20 % more rows per block) */
+    const sss_cancel_flag *cancel; /* polled per receiver block by sss_gather_run (sss/result.h); NULL: never */
 } sss_gather_params;
 
 /* What the gather measured. */

@@ -3,8 +3,8 @@
  * sss_bake_file. Each phase is timed for the benchmarks.
  */
 #include "sss/bake.h"
-#include "sss/ownterm.h"
 
+#include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,26 +17,22 @@
 #include "bake/bake_tree.h"
 #include "kernels/progress.h"
 #include "kernels/thickness.h"
-
-volatile int sss_bake_interrupted;
+#include "sss/compress.h"
+#include "sss/lloyd.h"
+#include "sss/nbhd.h"
+#include "sss/ownterm.h"
+#include "sss/transfer.h"
+#include "sss/visibility.h"
 
 /* Memory this process may still use: MemAvailable from /proc/meminfo
- * (Linux), else all physical memory; 0 if unknown (no limit). The
- * environment variable SSS_MEMORY_LIMIT_MB lowers it (a share of a machine
- * used by others; the tests use it to exercise the refusal). */
+ * (Linux), else all physical memory; 0 if unknown (no limit). A caller's
+ * limit (sss_bake_options.memory_limit: a share of a machine used by
+ * others; the tests use it to exercise the refusal) lowers it. */
 static uint64_t memory_available_system(void);
-static uint64_t memory_available(void)
+static uint64_t memory_available(uint64_t limit)
 {
     uint64_t sys = memory_available_system();
-    const char *lim = getenv("SSS_MEMORY_LIMIT_MB");
-    if (lim && *lim) {
-        char *end;
-        unsigned long long mb = strtoull(lim, &end, 10);
-        if (*end == 0 && mb > 0) {
-            uint64_t b = (uint64_t)mb << 20;
-            if (!sys || b < sys) sys = b;
-        }
-    }
+    if (limit && (!sys || limit < sys)) sys = limit;
     return sys;
 }
 
@@ -68,7 +64,9 @@ static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
 }
 
 /* Bake parameters as JSON, for provenance. Only inputs go here (no thread
- * count, no timings), so the file's bytes depend on the inputs alone. */
+ * count, no timings), so the file's bytes depend on the inputs alone. The
+ * import offset and the compression settings, when there are any, are
+ * added through cJSON, whose number format the files made so far carry. */
 static char *params_json(const char *mesh_name, const sss_material *m, const sss_bake_options *o,
                          uint32_t channels, const double *radius, double search)
 {
@@ -105,9 +103,28 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
                      "vertex and its mesh rings of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)\",\"own_rings\":%u}",
                      o->own_rings);
     }
-    char *s = malloc(strlen(buf) + 1);
-    if (s) strcpy(s, buf);
-    return s;
+    if (!o->import_offset && !o->compress) {
+        char *s = malloc(strlen(buf) + 1);
+        if (s) strcpy(s, buf);
+        return s;
+    }
+    cJSON *pj = cJSON_Parse(buf);
+    if (!pj) return NULL;
+    if (o->import_offset) /* GEOM holds the recentred positions (docs/robustness.md B6) */
+        cJSON_AddItemToObject(pj, "import_offset", cJSON_CreateDoubleArray(o->import_offset, 3));
+    if (o->compress) {
+        const sss_compress_opts *co = o->compress;
+        cJSON *c = cJSON_AddObjectToObject(pj, "compression");
+        cJSON_AddNumberToObject(c, "sh_order", co->order);
+        cJSON_AddNumberToObject(c, "refs_fraction", co->fraction);
+        cJSON_AddStringToObject(c, "sh_quant", sss_shq_name(co->sh_kind));
+        cJSON_AddNumberToObject(c, "weight_bits", co->wbits);
+        cJSON_AddBoolToObject(c, "ls_weights", co->ls_weights);
+        cJSON_AddNumberToObject(c, "illum_refs", co->illum_weight);
+    }
+    char *s = cJSON_PrintUnformatted(pj);
+    cJSON_Delete(pj);
+    return s; /* cJSON allocates with malloc: sss_file_free frees it */
 }
 
 /* Splits the near terms off q in place (sss/ownterm.h): for every
@@ -145,7 +162,8 @@ static sss_result split_near_terms(const sss_mesh *mesh, const sss_material *mat
              * below */
             for (uint32_t c = 0; c < C; c++) qj[(size_t)v * C + c] = fmaxf(qj[(size_t)v * C + c] - s[c], 0.0f);
         }
-        if (sss_bake_interrupted) r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted while splitting the near terms");
+        if (sss_cancelled(o->cancel))
+            r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted while splitting the near terms");
     }
     if (rays) *rays += traced;
     sss_vis_destroy(vis);
@@ -172,18 +190,16 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
         return sss_fail(err, SSS_ERR_ARG, "own term %u with %u rings: rings must be 0 ... %u", o.own_term, o.own_rings,
                         SSS_OWN_RINGS_MAX);
     if (o.n_dirs > 100000) return sss_fail(err, SSS_ERR_ARG, "--dirs %u out of range [1, 100000]", o.n_dirs);
+    if (o.compress && o.quant != SSS_QUANT_FLOAT)
+        return sss_fail(err, SSS_ERR_ARG, "compression takes the float integrals: quant must be float");
 #ifdef _OPENMP
     if (o.threads > 0) omp_set_num_threads(o.threads);
 #endif
-    sss_progress_enable(o.progress);
+    sss_progress_enable(o.progress, o.progress_log);
     sss_result r = sss_material_validate(mat, err);
     if (r != SSS_OK) return r;
 
-    /* One channel when the material is grey: the three would be equal
-     * (design.md "Effects": a grey material pays for one channel only). */
-    const int grey = mat->sigma_a[0] == mat->sigma_a[1] && mat->sigma_a[1] == mat->sigma_a[2] &&
-                     mat->sigmap_s[0] == mat->sigmap_s[1] && mat->sigmap_s[1] == mat->sigmap_s[2];
-    const uint32_t C = grey ? 1 : 3;
+    const uint32_t C = sss_material_channels(mat);
     sss_dipole dip[SSS_MAX_CHANNELS];
     for (uint32_t c = 0; c < C; c++) sss_dipole_init(&dip[c], mat->sigma_a[c], mat->sigmap_s[c], mat->eta);
 
@@ -239,14 +255,14 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
      * incident light). The model stays (Hao–Varshney 2004 §3.1); the count
      * makes the tool warn. */
     st.thin_limit_mm = st.range_mm;
-    r = sss_thin_count(mesh, st.range_mm / o.mm_per_unit, &st.thin_vertices, &st.thinnest_mm, err);
+    r = sss_thin_count(mesh, st.range_mm / o.mm_per_unit, o.cancel, &st.thin_vertices, &st.thinnest_mm, err);
     if (r != SSS_OK) goto fail;
     st.thinnest_mm *= o.mm_per_unit;
 
     /* Say so before starting when the bake cannot fit in memory: the
      * transfer table G and the integrals are sized by the input; the
      * neighbourhood rows are counted before they are allocated. */
-    uint64_t avail = memory_available();
+    uint64_t avail = memory_available(o.memory_limit);
     uint64_t fixed = (uint64_t)mesh->nv * o.n_dirs * (4u + 4u * C + (o.quant == SSS_QUANT_LLOYD8 ? C : 0u));
     const size_t nq = (size_t)o.n_dirs * mesh->nv * C;
     double t;
@@ -265,7 +281,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     t = sss_now();
     sss_progress_begin("neighbourhoods", 2 * (uint64_t)mesh->nv); /* count pass + fill pass */
     r = sss_nbhd_build(mesh, o.mm_per_unit, dip, C, st.search_radius_mm, NULL, 0, avail ? (avail - fixed) / 10 * 9 : 0,
-                       &nb, err);
+                       o.cancel, &nb, err);
     sss_progress_end();
     if (r != SSS_OK) goto fail;
     st.t_neighbourhoods = sss_now() - t;
@@ -279,7 +295,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     t = sss_now();
     G = malloc((size_t)mesh->nv * o.n_dirs * sizeof(float) + 1);
     if (!G) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u transfer values", mesh->nv, o.n_dirs); goto fail; }
-    r = sss_bake_visibility(mesh, mat->eta, out->dirs.dir, o.n_dirs, 0, mesh->nv, G, &st, err);
+    r = sss_bake_visibility(mesh, mat->eta, out->dirs.dir, o.n_dirs, 0, mesh->nv, o.cancel, G, &st, err);
     if (r != SSS_OK) goto fail;
     st.t_visibility = sss_now() - t;
 
@@ -295,7 +311,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     if (st.t_integrals > 0) st.gather_gflops = 2.0 * (double)st.neighbours_total * o.n_dirs * C / st.t_integrals * 1e-9;
     st.predicted_peak_bytes = fixed + st.neighbours_total * (4u + 4u * C);
     sss_nbhd_free(&nb);
-    if (sss_bake_interrupted) { r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals"); goto fail; }
+    if (sss_cancelled(o.cancel)) { r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals"); goto fail; }
 
 quantise:
     if (o.nranks > 1 && o.rank != 0) { /* under MPI only rank 0 has q and writes the file */
@@ -330,6 +346,17 @@ quantise:
         out->q = NULL;
         st.t_quantise = sss_now() - t;
     }
+    if (o.compress) {
+        if (sss_cancelled(o.cancel)) { r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted before compression"); goto fail; }
+        t = sss_now();
+        sss_bake_file cf;
+        r = sss_compress(out, o.compress, &cf, err);
+        if (r != SSS_OK) goto fail;
+        sss_file_free(out);
+        *out = cf;
+        st.t_compress = sss_now() - t;
+    }
+    free(out->params_json);
     out->params_json = params_json(mesh_name, mat, &o, C, st.radius_mm, st.search_radius_mm);
     if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto fail; }
     if (st_out) *st_out = st;

@@ -4,6 +4,7 @@
 #define SSS_BAKE_PASS_H
 
 #include "sss/bake_scene.h"
+#include "sss/transfer.h"
 
 typedef struct sss_pass_ctx {
     const sss_scene *scene;

@@ -103,7 +103,7 @@ sss_result sss_point_exact(const sss_bake_file *f, int self_shadow, const double
     sss_nbhd nb = {0};
     sss_vis *vis = NULL;
     float *G = malloc((size_t)m.nv * sizeof(float) + 1);
-    r = G ? sss_nbhd_build(&m, f->mm_per_unit, dip, C, R, NULL, 0, 0, &nb, err) : sss_fail(err, SSS_ERR_NOMEM, "out of memory");
+    r = G ? sss_nbhd_build(&m, f->mm_per_unit, dip, C, R, NULL, 0, 0, NULL, &nb, err) : sss_fail(err, SSS_ERR_NOMEM, "out of memory");
     if (r == SSS_OK && self_shadow) r = sss_vis_create(&m, &vis, err);
     if (r == SSS_OK) {
         for (uint32_t i = 0; i < m.nv; i++) {

@@ -174,7 +174,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     sss_vis *vis = NULL;
     const sss_mesh **occ = NULL;
     double t = sss_now();
-    r = sss_nbhd_build(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0, 0, &nb, err);
+    r = sss_nbhd_build(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0, 0, opt->cancel, &nb, err);
     if (r != SSS_OK) goto done;
     st.t_neighbourhoods = sss_now() - t;
     st.neighbours_total = nb.start[nb.nrows];

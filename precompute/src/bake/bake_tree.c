@@ -1,5 +1,5 @@
-/* bake_gather.c: the bake's visibility and integrals through the
- * hierarchical gather (sss/gather.h, issue 8): memory estimate, transfer
+/* bake_tree.c: the bake's visibility and integrals through the
+ * hierarchical gather (sss/gather.h): memory estimate, transfer
  * table G, source tree, receiver blocks, and under MPI the split of both
  * the visibility rows and the receiver blocks across ranks. Every block's
  * result is computed the same way whichever rank or thread computes it, so
@@ -35,14 +35,14 @@ int sss_bake_choose_gather(const sss_bake_options *o)
 }
 
 sss_result sss_bake_visibility(const sss_mesh *mesh, double eta, const double *dirs, uint32_t D, uint32_t v0,
-                               uint32_t v1, float *G, sss_bake_stats *st, sss_error *err)
+                               uint32_t v1, const sss_cancel_flag *cancel, float *G, sss_bake_stats *st, sss_error *err)
 {
     sss_vis *vis = NULL;
     sss_result r = sss_vis_create(mesh, &vis, err);
     if (r != SSS_OK) return r;
     uint64_t occ = 0;
     sss_progress_begin("visibility", v1 - v0);
-    r = sss_transfer_rows(mesh, vis, dirs, D, eta, v0, v1, G, &st->rays, &occ, err);
+    r = sss_transfer_rows(mesh, vis, dirs, D, eta, v0, v1, cancel, G, &st->rays, &occ, err);
     sss_progress_end();
     sss_vis_destroy(vis);
     if (r != SSS_OK) return r;
@@ -93,7 +93,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     const int rank = mpi ? o->rank : 0, nranks = mpi ? o->nranks : 1;
     const int holds_q = rank == 0; /* under MPI rank 0 alone gets the integrals */
     const double R = st->search_radius_mm;
-    sss_gather_params p = {o->theta, 0, 0};
+    sss_gather_params p = {.theta = o->theta, .cancel = o->cancel};
 #ifdef _OPENMP
     const int threads = omp_get_max_threads();
 #else
@@ -258,7 +258,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
         if (nch > 1) snprintf(lab, sizeof lab, "visibility %u/%u", c + 1, nch);
         sss_progress_begin(nch > 1 ? lab : "visibility", m1 - m0);
         uint64_t ry = 0, oc = 0;
-        r = sss_transfer_rows_ordered(mesh, vis, out->dirs.dir + 3 * (size_t)j0, Dc, mat->eta, order, m0, m1, Gm, &ry,
+        r = sss_transfer_rows_ordered(mesh, vis, out->dirs.dir + 3 * (size_t)j0, Dc, mat->eta, order, m0, m1, o->cancel, Gm, &ry,
                                       &oc, err);
         sss_progress_end();
         if (r != SSS_OK) break;
@@ -327,7 +327,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
             }
         }
         st->t_integrals += sss_now() - t;
-        if (sss_bake_interrupted) r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals");
+        if (sss_cancelled(o->cancel)) r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals");
     }
     if (r != SSS_OK) goto done;
     st->rays = rays;
@@ -347,7 +347,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
      * per receiver taken one by one, and the rows per receiver */
     st->neighbours_total = gs.near_pairs;
     st->neighbours_mean = nv ? (double)gs.near_pairs / nv : 0;
-    if (getenv("SSS_GATHER_VERBOSE"))
+    if (o->verbose)
         fprintf(stderr, "gather: %u nodes (%u leaves), %u blocks, rows/block %.0f, near pairs/receiver %.0f, far "
                 "nodes/receiver %.1f; thread-s lists %.2f weights %.2f product %.2f scatter %.2f; product %.1f GFLOP/s, "
                 "near field %.1f GFLOP/s; tree %.2fs; %u direction chunks\n", gs.nodes, gs.leaves, nb, gs.rows_mean,

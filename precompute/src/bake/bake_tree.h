@@ -1,7 +1,7 @@
-/* bake_gather.h: the bake's integrals phase through the hierarchical
- * gather (issue 8), called from bake.c. Not a public header. */
-#ifndef SSS_BAKE_GATHER_H
-#define SSS_BAKE_GATHER_H
+/* bake_tree.h: the bake's integrals phase through the hierarchical
+ * gather (sss/gather.h), called from bake.c. Not a public header. */
+#ifndef SSS_BAKE_TREE_H
+#define SSS_BAKE_TREE_H
 
 #include "sss/bake.h"
 #include "sss/gather.h"
@@ -13,7 +13,8 @@ int sss_bake_choose_gather(const sss_bake_options *o);
  * sss_transfer_compute's) with its progress bar; sets st->rays and
  * st->occluded_fraction. */
 sss_result sss_bake_visibility(const sss_mesh *mesh, double eta, const double *dirs, uint32_t D, uint32_t v0,
-                               uint32_t v1, float *G, sss_bake_stats *st, sss_error *err);
+                               uint32_t v1, const sss_cancel_flag *cancel, float *G, sss_bake_stats *st,
+                               sss_error *err);
 
 /* Visibility, tree and gather: fills out->q (rank 0 only under MPI) and the
  * stats' timings. avail: bytes that may be used (0: unknown). When the

@@ -119,8 +119,7 @@ int sss_mesh_is_convex(const sss_mesh *m)
 static void rule_channels(const plan_in *in, sss_object_plan *p)
 {
     const sss_material *m = &in->scene->objects[p->object].material;
-    const int grey = m->sigma_a[0] == m->sigma_a[1] && m->sigma_a[1] == m->sigma_a[2] &&
-                     m->sigmap_s[0] == m->sigmap_s[1] && m->sigmap_s[1] == m->sigmap_s[2];
+    const int grey = sss_material_channels(m) == 1;
     p->channels = grey ? 1 : 3;
     if (!grey) p->effects |= SSS_FX_RGB;
     if (grey)

@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sss/bake.h"
+#include "sss/lloyd.h"
 #include "sss/refs.h"
 #include "sss/sh.h"
 
@@ -33,6 +33,29 @@ void sss_compress_opts_default(sss_compress_opts *o)
     o->fraction = 0.03;
     o->sh_kind = SSS_SHQ_LINEAR8;
     o->wbits = 16;
+}
+
+void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint32_t channels, uint32_t given)
+{
+    sss_compress_opts d;
+    sss_compress_opts_default(&d);
+    if (p == SSS_COMPRESS_COMPACT) {
+        /* docs/compression.md "compact": 4-bit Lloyd SH codes, 8-bit
+         * least-squares weights, illumination-aware references; 3 %
+         * references for one channel, 2 % for three (RGB shares triangles
+         * and weights but not rows) */
+        d.fraction = channels == 1 ? 0.03 : 0.02;
+        d.sh_kind = SSS_SHQ_LLOYD4;
+        d.wbits = 8;
+        d.ls_weights = 1;
+        d.illum_weight = 1e-3;
+    }
+    if (!(given & SSS_CO_ORDER)) o->order = d.order;
+    if (!(given & SSS_CO_FRACTION)) o->fraction = d.fraction;
+    if (!(given & SSS_CO_SH_KIND)) o->sh_kind = d.sh_kind;
+    if (!(given & SSS_CO_WBITS)) o->wbits = d.wbits;
+    if (!(given & SSS_CO_LS_WEIGHTS)) o->ls_weights = d.ls_weights;
+    if (!(given & SSS_CO_ILLUM)) o->illum_weight = d.illum_weight;
 }
 
 /* ---- copying what does not change ------------------------------------- */

@@ -26,7 +26,6 @@
 
 #include "gather/gather_internal.h"
 #include "kernels/progress.h"
-#include "sss/bake.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -336,7 +335,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
         uint64_t np = 0, fp = 0;
 #pragma omp for schedule(dynamic, 1)
         for (int64_t bi = (int64_t)b0; bi < (int64_t)b1; bi++) {
-            if (failed || sss_bake_interrupted) continue;
+            if (failed || sss_cancelled(t->p.cancel)) continue;
             const uint32_t bn = t->block[bi];
             const sss_gnode *blk = &t->node[bn];
             const uint32_t B = blk->hi - blk->lo;
@@ -449,6 +448,6 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
     s0.rows_mean = b1 > b0 ? rows_total / (b1 - b0) : 0;
     if (st) *st = s0;
     if (failed) return sss_fail(err, SSS_ERR_NOMEM, "gather: out of memory for a block's matrices");
-    if (sss_bake_interrupted) return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals");
+    if (sss_cancelled(t->p.cancel)) return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals");
     return SSS_OK;
 }

@@ -6,7 +6,7 @@
  * Lloyd iteration costs 256 binary searches instead of a pass over the data.
  * More than 4 Mi samples are subsampled with a fixed stride: deterministic.
  */
-#include "sss/bake.h"
+#include "sss/lloyd.h"
 
 #include <math.h>
 #include <stdlib.h>

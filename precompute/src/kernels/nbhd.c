@@ -3,7 +3,14 @@
  * reflectance, found with a FLANN kd-tree radius search, with the dipole
  * weights precomputed per channel.
  */
-#include "sss/bake.h"
+#include "sss/nbhd.h"
+
+#include <flann/flann.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernels/progress.h"
 
 /* A neighbour closer than its own area-disk radius ρ = sqrt(ΔA/π) (its area
  * covers the receiving point: duplicate or nearly coincident vertices) is
@@ -24,12 +31,6 @@ static int same_position(const sss_mesh *m, uint32_t i, uint32_t o)
     return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
-#include <flann/flann.h>
-#include <math.h>
-#include <stdlib.h>
-#include <string.h>
-
-#include "kernels/progress.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -52,7 +53,7 @@ static int cmp_int(const void *a, const void *b)
 
 sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip, uint32_t channels,
                           double radius_mm, const uint32_t *targets, uint32_t ntargets, uint64_t max_bytes,
-                          sss_nbhd *out, sss_error *err)
+                          const sss_cancel_flag *cancel, sss_nbhd *out, sss_error *err)
 {
     memset(out, 0, sizeof *out);
     if (!mesh->area || mesh->nv == 0 || channels < 1 || channels > SSS_MAX_CHANNELS || !(s > 0) ||
@@ -93,10 +94,10 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
     const double r2 = radius_mm * radius_mm;
     const float search_r2 = (float)(r2 * (1.0 + 1e-5)) + 1e-30f;
     int failed = 0;
-    /* SIGINT/SIGTERM (sss_bake_interrupted) is polled per vertex: this phase
+    /* The cancel flag (a tool's SIGINT/SIGTERM) is polled per vertex: this phase
      * took 355 s for 10^6 vertices, and a stop must not wait for it
      * (docs/robustness.md, "Interrupted bakes"). */
-    for (int pass = 0; pass < 2 && !failed && !sss_bake_interrupted; pass++) {
+    for (int pass = 0; pass < 2 && !failed && !sss_cancelled(cancel); pass++) {
         if (pass == 1) {
             uint64_t total = 0;
             for (uint32_t t = 0; t < nt; t++) { out->start[t] = total; total += cnt[t]; }
@@ -122,7 +123,7 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
             struct FLANNParameters pq = p;
 #pragma omp for schedule(dynamic, 64)
             for (int64_t t = 0; t < (int64_t)nt; t++) {
-                if (sss_bake_interrupted) continue; /* the rest of the loop is skipped quickly */
+                if (sss_cancelled(cancel)) continue; /* the rest of the loop is skipped quickly */
                 if (failed || !ind || !dst) {
 #pragma omp atomic write
                     failed = 1;
@@ -224,7 +225,7 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
     flann_free_index_float(index, &p);
     free(pts);
     free(cnt);
-    if (sss_bake_interrupted) {
+    if (sss_cancelled(cancel)) {
         sss_nbhd_free(out);
         return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during neighbourhoods");
     }

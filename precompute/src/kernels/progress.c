@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 static int bar;     /* draw the bar on stderr (a terminal) */
-static FILE *logf_; /* SSS_PROGRESS_LOG, if set */
+static FILE *logf_; /* the log file, if one was given */
 static char label_[48];
 static uint64_t total_;
 static _Atomic uint64_t done_;
@@ -32,10 +32,10 @@ double sss_thread_cpu(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-void sss_progress_enable(int on)
+void sss_progress_enable(int on, const char *log_path)
 {
     bar = on && isatty(STDERR_FILENO);
-    const char *path = on ? getenv("SSS_PROGRESS_LOG") : NULL;
+    const char *path = on ? log_path : NULL;
     if (logf_ && !(path && *path)) {
         fclose(logf_);
         logf_ = NULL;

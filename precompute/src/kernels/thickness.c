@@ -24,9 +24,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sss/bake.h"
 
-sss_result sss_thin_count(const sss_mesh *mesh, double limit, uint32_t *count, double *thinnest, sss_error *err)
+sss_result sss_thin_count(const sss_mesh *mesh, double limit, const sss_cancel_flag *cancel, uint32_t *count,
+                          double *thinnest, sss_error *err)
 {
     *count = 0;
     *thinnest = INFINITY;
@@ -60,7 +60,7 @@ sss_result sss_thin_count(const sss_mesh *mesh, double limit, uint32_t *count, d
     double best = INFINITY;
 #pragma omp parallel for schedule(dynamic, 1024) reduction(+ : n) reduction(min : best)
     for (int64_t vi = 0; vi < (int64_t)mesh->nv; vi++) {
-        if (sss_bake_interrupted) continue; /* the rest is skipped quickly */
+        if (sss_cancelled(cancel)) continue; /* the rest is skipped quickly */
         const float *p = &mesh->pos[3 * (size_t)vi], *nr = &mesh->nrm[3 * (size_t)vi];
         if (nr[0] == 0.0f && nr[1] == 0.0f && nr[2] == 0.0f) continue; /* normals cancel: no inside */
         struct RTCIntersectContext ctx;
@@ -86,7 +86,7 @@ sss_result sss_thin_count(const sss_mesh *mesh, double limit, uint32_t *count, d
     }
     rtcReleaseScene(scene);
     rtcReleaseDevice(dev);
-    if (sss_bake_interrupted) return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted while measuring thickness");
+    if (sss_cancelled(cancel)) return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted while measuring thickness");
     *count = (uint32_t)n;
     *thinnest = best;
     return SSS_OK;

@@ -12,7 +12,8 @@
  * units). mesh needs normals. *thinnest receives the smallest thickness
  * found (INFINITY if no ray hits anything). Deterministic, independent of
  * the thread count. Stops early (returning SSS_ERR_INTERRUPTED) when
- * sss_bake_interrupted is set. */
-sss_result sss_thin_count(const sss_mesh *mesh, double limit, uint32_t *count, double *thinnest, sss_error *err);
+ * cancel is set (sss/result.h). */
+sss_result sss_thin_count(const sss_mesh *mesh, double limit, const sss_cancel_flag *cancel, uint32_t *count,
+                          double *thinnest, sss_error *err);
 
 #endif

@@ -3,7 +3,7 @@
  *   G(x_i, ω_j) = F_t(η, n_i·ω_j) · max(0, n_i·ω_j) · V(x_i, ω_j),
  * so that q(x_o, ω_j) = Σ_i w(o, i) G(x_i, ω_j) is a sparse × dense product.
  */
-#include "sss/bake.h"
+#include "sss/transfer.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -28,8 +28,9 @@ float sss_transfer_one(const sss_mesh *mesh, const sss_vis *vis, uint32_t i, con
 }
 
 sss_result sss_transfer_rows_ordered(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n,
-                                     double eta, const uint32_t *order, uint32_t m0, uint32_t m1, float *G,
-                                     uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
+                                     double eta, const uint32_t *order, uint32_t m0, uint32_t m1,
+                                     const sss_cancel_flag *cancel, float *G, uint64_t *rays_out, uint64_t *occ_out,
+                                     sss_error *err)
 {
     if (!mesh->nrm) return sss_fail(err, SSS_ERR_ARG, "transfer: mesh has no normals");
     uint64_t rays = 0, occ = 0;
@@ -37,7 +38,7 @@ sss_result sss_transfer_rows_ordered(const sss_mesh *mesh, const sss_vis *vis, c
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : rays, occ)
     for (int64_t m = m0; m < (int64_t)m1; m++) {
         if (stop) continue;
-        if (sss_bake_interrupted) { stop = 1; continue; }
+        if (sss_cancelled(cancel)) { stop = 1; continue; }
         const uint32_t i = order ? order[m] : (uint32_t)m;
         for (uint32_t j = 0; j < n; j++) {
             int traced, blocked;
@@ -54,15 +55,17 @@ sss_result sss_transfer_rows_ordered(const sss_mesh *mesh, const sss_vis *vis, c
 }
 
 sss_result sss_transfer_rows(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
-                             uint32_t v0, uint32_t v1, float *G, uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
+                             uint32_t v0, uint32_t v1, const sss_cancel_flag *cancel, float *G, uint64_t *rays_out,
+                             uint64_t *occ_out, sss_error *err)
 {
-    return sss_transfer_rows_ordered(mesh, vis, dirs, n, eta, NULL, v0, v1, G, rays_out, occ_out, err);
+    return sss_transfer_rows_ordered(mesh, vis, dirs, n, eta, NULL, v0, v1, cancel, G, rays_out, occ_out, err);
 }
 
 sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
-                                float *G, uint64_t *rays_out, uint64_t *occ_out, sss_error *err)
+                                const sss_cancel_flag *cancel, float *G, uint64_t *rays_out, uint64_t *occ_out,
+                                sss_error *err)
 {
-    return sss_transfer_rows(mesh, vis, dirs, n, eta, 0, mesh->nv, G, rays_out, occ_out, err);
+    return sss_transfer_rows(mesh, vis, dirs, n, eta, 0, mesh->nv, cancel, G, rays_out, occ_out, err);
 }
 
 void sss_integrate(const sss_nbhd *nb, const float *G, uint32_t n, float *q)

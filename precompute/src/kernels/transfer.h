@@ -3,10 +3,10 @@
  * evaluator (exact.c), so both apply the same cosine, Fresnel and visibility
  * rule with the same float rounding (Hao–Varshney 2004 §3.1).
  */
-#ifndef SSS_TRANSFER_H
-#define SSS_TRANSFER_H
+#ifndef SSS_KERNELS_TRANSFER_H
+#define SSS_KERNELS_TRANSFER_H
 
-#include "sss/bake.h"
+#include "sss/transfer.h"
 
 /* G(x_i, ω) = F_t(η, n_i·ω) · max(0, n_i·ω) · V(x_i, ω), rounded to float as
  * the bake stores it; d is a unit vector towards the light. vis NULL means
@@ -19,13 +19,15 @@ float sss_transfer_one(const sss_mesh *mesh, const sss_vis *vis, uint32_t i, con
  * same indexing), for a rank that owns part of the vertices (issue 8, MPI)
  * or the whole mesh (sss_transfer_compute). */
 sss_result sss_transfer_rows(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
-                             uint32_t v0, uint32_t v1, float *G, uint64_t *rays_out, uint64_t *occ_out, sss_error *err);
+                             uint32_t v0, uint32_t v1, const sss_cancel_flag *cancel, float *G, uint64_t *rays_out,
+                             uint64_t *occ_out, sss_error *err);
 /* The same with row m (m0 <= m < m1) for vertex order[m] (NULL: vertex m):
  * the hierarchical gather fills its Morton-ordered rows directly
  * (bake_gather.c), each value computed as sss_transfer_one computes it, so
  * with the same bits whichever rows or directions are computed together. */
 sss_result sss_transfer_rows_ordered(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n,
-                                     double eta, const uint32_t *order, uint32_t m0, uint32_t m1, float *G,
-                                     uint64_t *rays_out, uint64_t *occ_out, sss_error *err);
+                                     double eta, const uint32_t *order, uint32_t m0, uint32_t m1,
+                                     const sss_cancel_flag *cancel, float *G, uint64_t *rays_out, uint64_t *occ_out,
+                                     sss_error *err);
 
 #endif

@@ -6,7 +6,7 @@
  * bounding-box diagonal (mesh units), and tnear = δ, so a ray does not hit the
  * triangles that share x_i; a smaller δ lets grazing rays clip them.
  */
-#include "sss/bake.h"
+#include "sss/visibility.h"
 
 #include <embree3/rtcore.h>
 #include <math.h>

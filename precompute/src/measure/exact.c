@@ -13,7 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sss/bake.h"
+#include "sss/nbhd.h"
+#include "sss/transfer.h"
+#include "sss/visibility.h"
 #include "kernels/transfer.h"
 
 /* The bake's default cutoff (sss_bake_options.eps = 0 means this). */
@@ -108,7 +110,7 @@ sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *
      * the search uses the largest. Recomputed, not read from PARM, where it
      * is rounded to 9 digits: the membership test r ≤ radius must match. */
     e->search_radius_mm = sss_nbhd_radii(&e->mesh, f->mm_per_unit, dip, f->channels, eps, NULL);
-    r = sss_nbhd_build(&e->mesh, f->mm_per_unit, dip, f->channels, e->search_radius_mm, NULL, 0, 0, &e->nb, err);
+    r = sss_nbhd_build(&e->mesh, f->mm_per_unit, dip, f->channels, e->search_radius_mm, NULL, 0, 0, NULL, &e->nb, err);
     if (r == SSS_OK) r = sss_vis_create(&e->mesh, &e->vis, err);
     if (r != SSS_OK) {
         sss_exact_destroy(e);

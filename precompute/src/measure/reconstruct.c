@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sss/bake.h"
+#include "sss/visibility.h"
 #include "sss/ownterm.h"
 
 struct sss_recon {
