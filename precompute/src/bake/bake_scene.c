@@ -19,7 +19,7 @@
 #include <omp.h>
 #endif
 
-#include "bake/bake_pass.h"
+#include "effects/effect.h"
 #include "kernels/progress.h"
 #include "kernels/transfer.h"
 

@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/bake_pass.h"
+#include "effects/effect.h"
 #include "kernels/transfer.h"
 #include "sss/probe.h"
 #include "sss/effects.h"

@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/bake_pass.h"
+#include "effects/effect.h"
 
 /* G for a point light at P, times s2 (r_s² or 1). The shadow ray ends at
  * the light, so geometry behind it does not shadow. */
