@@ -27,4 +27,4 @@ contains "$TMP/out" '  all '
 expect_fail 'views' "$SSS_STAT" "$TMP/b200.sss" --error --views 0
 expect_fail 'views' "$SSS_STAT" "$TMP/b200.sss" --error --views x
 expect_fail 'exclude' "$SSS_STAT" "$TMP/b200.sss" --error --query 1 --light 0,0,1
-echo "cli_error: ok"
+echo "cli_vertex_error: ok"

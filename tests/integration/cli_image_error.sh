@@ -66,7 +66,7 @@ awk -v a="$n4" -v b="$t3" 'BEGIN { exit !(a > b && b > 0) }' ||
 __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json LIBGL_ALWAYS_SOFTWARE=1 \
   "$SSS_STAT" "$TMP/b200.sss" --error --views 3 --json >"$TMP/out" 2>"$TMP/err" || fail "no-GL run failed"
 if grep -q '"image_error_status":"ok"' "$TMP/out"; then
-  echo "cli_error_image: note: GL was still found with the EGL vendor list hidden; fallback not exercised" >&2
+  echo "cli_image_error: note: GL was still found with the EGL vendor list hidden; fallback not exercised" >&2
 else
   contains "$TMP/out" '"image_error":null'
   contains "$TMP/out" '"image_error_status":"unavailable'
@@ -83,4 +83,4 @@ expect_fail 'interp' "$SSS_STAT" "$TMP/b200.sss" --error --interp cubic
 expect_fail 'go with --error' "$SSS_STAT" "$TMP/b200.sss" --image-views 3
 expect_fail 'excludes' "$SSS_STAT" "$TMP/b200.sss" --error --no-image --image-size 32
 expect_fail 'cannot create' "$SSS_STAT" "$TMP/b200.sss" --error --views 1 --image-views 1 --image-size 16 --error-images /proc/nope/x
-echo "cli_error_image: ok"
+echo "cli_image_error: ok"
