@@ -1,10 +1,11 @@
 /* bake_scene.c: one object of a planned scene (docs/scenes.md). The
  * neighbourhoods and weights of §3.1 are built once and shared by every
- * pass; the passes differ only in how the light enters G(x_i, ·):
- *   directional-exact  one direction per static light, q stored as is;
- *   direction-set      the §3.2 set, interpolated at run time;
- *   point-shells       §3.3, bake_point.c;
- *   environment-sh     SH transfer, bake_env.c.
+ * pass; the passes differ only in how the light enters G(x_i, ·), one
+ * effect unit each (effects/effect.h):
+ *   directional-exact  one direction per static light, q stored as is (dir_exact.c);
+ *   direction-set      the §3.2 set, interpolated at run time (dir_set.c);
+ *   point-shells       §3.3 (point_shells.c);
+ *   environment-sh     SH transfer (env_sh.c).
  * Visibility is traced against what the plan names (the object itself
  * unless it is convex, and the static occluders), and not at all when that
  * is nothing: a convex object alone pays no ray.
@@ -37,69 +38,6 @@ void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, fl
     if (rays_out) *rays_out += rays;
 }
 
-/* Static directional lights (and far static point lights, taken from the
- * object's centre): q(x_o, ω_l) of §3.1 for exactly ω_l. */
-static sss_result pass_dir_exact(const sss_pass_ctx *c, sss_error *err)
-{
-    const sss_scene *s = c->scene;
-    const uint32_t nv = c->mesh->nv, nl = c->plan->pass_lights[SSS_PASS_DIR_EXACT];
-    sss_effects *fx = &c->out->fx;
-    fx->exact_dir = malloc(3 * (size_t)nl * sizeof(double));
-    fx->exact_q = malloc((size_t)nl * nv * c->C * sizeof(float) + 1);
-    float *G = malloc((size_t)nv * sizeof(float) + 1);
-    if (!fx->exact_dir || !fx->exact_q || !G) {
-        free(G);
-        return sss_fail(err, SSS_ERR_NOMEM, "directional-exact pass: out of memory");
-    }
-    uint32_t k = 0;
-    for (uint32_t l = 0; l < s->nlights; l++) {
-        if (c->plan->light_pass[l] != SSS_PASS_DIR_EXACT) continue;
-        const sss_scene_light *L = &s->lights[l];
-        double d[3];
-        if (L->kind == SSS_LIGHT_DIRECTIONAL) {
-            memcpy(d, L->direction, sizeof d);
-        } else {
-            double n = 0;
-            for (int a = 0; a < 3; a++) d[a] = L->position[a] - c->plan->centre[a], n += d[a] * d[a];
-            n = sqrt(n);
-            for (int a = 0; a < 3; a++) d[a] /= n;
-        }
-        memcpy(&fx->exact_dir[3 * (size_t)k], d, sizeof d);
-        sss_pass_transfer(c, d, 1, G, &c->st->rays);
-        sss_integrate(c->nb, G, 1, &fx->exact_q[(size_t)k * nv * c->C]);
-        k++;
-    }
-    fx->nexact = k;
-    free(G);
-    return SSS_OK;
-}
-
-/* Moving directional lights: the direction set of §3.2 (what sss_bake
- * stores), float values. */
-static sss_result pass_dir_set(const sss_pass_ctx *c, sss_error *err)
-{
-    sss_bake_file *o = c->out;
-    if (!o->dirs.n) {
-        sss_result r = sss_dirset_fibonacci(&o->dirs, c->n_dirs, err);
-        if (r != SSS_OK) return r;
-    }
-    const uint32_t nv = c->mesh->nv, n = o->dirs.n;
-    float *G = malloc((size_t)nv * n * sizeof(float) + 1);
-    o->q = malloc((size_t)n * nv * c->C * sizeof(float) + 1);
-    if (!G || !o->q) {
-        free(G);
-        return sss_fail(err, SSS_ERR_NOMEM, "direction-set pass: out of memory for %u x %u values", nv, n);
-    }
-    sss_pass_transfer(c, o->dirs.dir, n, G, &c->st->rays);
-    sss_integrate(c->nb, G, n, o->q);
-    free(G);
-    o->quant = SSS_QUANT_FLOAT;
-    return SSS_OK;
-}
-
-typedef sss_result (*pass_fn)(const sss_pass_ctx *, sss_error *);
-static const pass_fn passes[SSS_PASS_KINDS] = {pass_dir_exact, pass_dir_set, sss_pass_point_shells, sss_pass_env_sh};
-
 static char *params(const sss_scene *s, const sss_object_plan *p, const sss_pass_ctx *c, double eps,
                     const double *radius)
 {
@@ -119,12 +57,9 @@ static char *params(const sss_scene *s, const sss_object_plan *p, const sss_pass
     for (uint32_t b = 0; b < SSS_FX_COUNT; b++)
         if (p->effects >> b & 1u) cJSON_AddItemToArray(fx, cJSON_CreateString(sss_effect_name(b)));
     sss_plan_add_decisions_json(p, o);
-    if (p->effects & SSS_FX_DIR_SET) cJSON_AddNumberToObject(o, "dirs", c->n_dirs);
-    if (p->effects & SSS_FX_POINT_SHELLS) {
-        cJSON_AddNumberToObject(o, "dirs", c->n_dirs);
-        cJSON_AddNumberToObject(o, "shells", c->shells);
-    }
-    if (p->effects & SSS_FX_ENV_SH) cJSON_AddNumberToObject(o, "sh_order", c->sh_order);
+    for (int k = 0; k < SSS_PASS_KINDS; k++)
+        if (p->effects & sss_effect_units[k]->fx && sss_effect_units[k]->provenance)
+            sss_effect_units[k]->provenance(c, o);
     char *txt = cJSON_PrintUnformatted(o);
     cJSON_Delete(o);
     return txt;
@@ -191,7 +126,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     c.vis = vis;
     for (int k = 0; k < SSS_PASS_KINDS; k++) {
         if (!p->pass_lights[k]) continue;
-        r = passes[k](&c, err);
+        r = sss_effect_units[k]->bake(&c, err);
         if (r != SSS_OK) goto done;
     }
     st.t_integrals = sss_now() - t;

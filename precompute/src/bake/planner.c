@@ -4,8 +4,8 @@
  * The rules run in table order over each object. Each one reads the scene
  * and the geometry facts computed once per object (size, centre,
  * convexity) and appends decisions; the light rule also chooses the pass of
- * each light. Adding an effect is adding a rule here and a pass in
- * bake_scene.c, not changing the others.
+ * each light by asking the effect units (effects/effect.h). Adding an
+ * effect is adding a unit there, not changing the rules here.
  */
 #include "sss/planner.h"
 
@@ -14,6 +14,8 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "effects/effect.h"
 
 typedef struct plan_in {
     const sss_scene *scene;
@@ -178,67 +180,43 @@ static void rule_scene_shadow(const plan_in *in, sss_object_plan *p)
 }
 
 /* Light parameterisation, per light; several lights add up at run time.
+ * Each effect unit's rule (effects/effect.h) says whether it takes the
+ * light and why; the rules exclude each other:
  *  - static directional: q for that one direction, exactly (§3.1 without
- *    the §3.2 direction set and its interpolation error);
- *  - moving directional: the direction set (§3.2);
- *  - point light within near_factor object sizes: directions × distance
- *    shells, interpolated trilinearly (§3.3); farther: its direction from
- *    the object's centre, as a directional light (the falloff varies by
- *    less than 2/near_factor across the object);
- *  - environment: SH transfer of q, dotted with the probe's SH. */
+ *    the §3.2 direction set and its interpolation error; dir_exact.c);
+ *  - moving directional: the direction set (§3.2; dir_set.c);
+ *  - point light within near_factor object sizes, or moving: directions ×
+ *    distance shells, interpolated trilinearly (§3.3; point_shells.c);
+ *    farther: its direction from the object's centre, as a directional
+ *    light (the falloff varies by less than 2/near_factor across the
+ *    object; dir_exact.c);
+ *  - environment: SH transfer of q, dotted with the probe's SH (env_sh.c). */
 static void rule_lights(const plan_in *in, sss_object_plan *p)
 {
     const sss_scene *s = in->scene;
-    const double near = s->bake.near_factor > 0 ? s->bake.near_factor : 5.0;
     for (uint32_t l = 0; l < s->nlights; l++) {
         const sss_scene_light *L = &s->lights[l];
         char eff[32];
         snprintf(eff, sizeof eff, "light %u", l);
-        sss_pass_kind k;
+        p->light_pass[l] = UINT32_MAX;
         if (L->intensity == 0.0 || (L->colour[0] == 0 && L->colour[1] == 0 && L->colour[2] == 0)) {
-            p->light_pass[l] = UINT32_MAX;
             decide(p, eff, "none", "%s light of zero intensity adds nothing", sss_light_kind_name(L->kind));
             continue;
         }
-        if (L->kind == SSS_LIGHT_DIRECTIONAL) {
-            k = L->moving ? SSS_PASS_DIR_SET : SSS_PASS_DIR_EXACT;
-            if (L->moving)
-                decide(p, eff, "direction-set", "moving directional light: q baked over a set of directions and "
-                       "interpolated at run time (Hao-Varshney 2004 sec. 3.2)");
-            else
-                decide(p, eff, "directional-exact", "static directional light: q baked exactly for direction "
-                       "(%.4g, %.4g, %.4g), one value per vertex and channel, no interpolation", L->direction[0],
-                       L->direction[1], L->direction[2]);
-        } else if (L->kind == SSS_LIGHT_POINT) {
-            double d2 = 0;
-            for (int c = 0; c < 3; c++) d2 += (L->position[c] - p->centre[c]) * (L->position[c] - p->centre[c]);
-            const double dist = sqrt(d2), ratio = p->size > 0 ? dist / p->size : INFINITY;
-            if (ratio < near || L->moving) {
-                k = SSS_PASS_POINT_SHELLS;
-                if (ratio < near)
-                    decide(p, eff, "point-shells", "point light %.3g object sizes from the centre (< %g): the "
-                           "direction and 1/r^2 falloff vary across the object, so q is baked over directions x "
-                           "distance shells and interpolated trilinearly (sec. 3.3)", ratio, near);
-                else
-                    decide(p, eff, "point-shells", "moving point light (now %.3g object sizes away) may come near: "
-                           "directions x distance shells (sec. 3.3)", ratio);
-            } else {
-                k = SSS_PASS_DIR_EXACT;
-                decide(p, eff, "directional-exact", "static point light %.3g object sizes away (>= %g): treated as "
-                       "a directional light from the object's centre, baked exactly", ratio, near);
-            }
-        } else {
-            k = SSS_PASS_ENV_SH;
-            decide(p, eff, "environment-sh", "environment probe: q projected onto SH per vertex and dotted with the "
-                   "probe's SH at run time%s", L->moving ? " (rotating the probe rotates its coefficients)" : "");
+        char reason[sizeof p->decisions[0].reason];
+        for (int k = 0; k < SSS_PASS_KINDS; k++) {
+            const sss_effect_unit *u = sss_effect_units[k];
+            if (!u->claim(s, p, L, reason, sizeof reason)) continue;
+            decide(p, eff, u->name, "%s", reason);
+            p->light_pass[l] = (uint32_t)k;
+            p->pass_lights[k]++;
+            break;
         }
-        p->light_pass[l] = (uint32_t)k;
-        p->pass_lights[k]++;
+        if (p->light_pass[l] == UINT32_MAX)
+            decide(p, eff, "none", "no effect takes a %s light", sss_light_kind_name(L->kind));
     }
-    static const uint32_t bit[SSS_PASS_KINDS] = {SSS_FX_DIR_EXACT, SSS_FX_DIR_SET, SSS_FX_POINT_SHELLS,
-                                                 SSS_FX_ENV_SH};
     for (int k = 0; k < SSS_PASS_KINDS; k++)
-        if (p->pass_lights[k]) p->effects |= bit[k];
+        if (p->pass_lights[k]) p->effects |= sss_effect_units[k]->fx;
 }
 
 typedef void (*rule_fn)(const plan_in *, sss_object_plan *);
@@ -289,9 +267,7 @@ void sss_plan_free(sss_plan *p)
 
 const char *sss_pass_name(sss_pass_kind k)
 {
-    static const char *const n[SSS_PASS_KINDS] = {"directional-exact", "direction-set", "point-shells",
-                                                  "environment-sh"};
-    return (unsigned)k < SSS_PASS_KINDS ? n[k] : "?";
+    return (unsigned)k < SSS_PASS_KINDS ? sss_effect_units[k]->name : "?";
 }
 
 static void effects_text(uint32_t m, char *buf, size_t n)

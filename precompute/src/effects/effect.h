@@ -1,11 +1,28 @@
-/* bake_pass.h (internal): what every pass of a scene bake gets
- * (bake_scene.c dispatches; one file per parameterisation). */
-#ifndef SSS_BAKE_PASS_H
-#define SSS_BAKE_PASS_H
+/* effect.h (internal): an effect of a scene bake as one unit
+ * (docs/architecture.md §5): its planner rule (which lights it takes, and
+ * why), its bake pass, and what it adds to the file's provenance. The
+ * planner (bake/planner.c) asks every unit of the table below whether it
+ * takes a light; the scene bake (bake/bake_scene.c) runs the pass of every
+ * unit some light chose, over one set of neighbourhoods N(x_o)
+ * (Hao–Varshney 2004 §3.1) and one visibility structure.
+ *
+ * Adding an effect: a file here defining its sss_effect_unit, one row in
+ * sss_effect_units (effects.c), its pass kind in sss/planner.h, its SSS_FX_
+ * bit and section (common/src/sections/), and its run-time pass
+ * (runtime/src/render/effects/).
+ */
+#ifndef SSS_EFFECT_H
+#define SSS_EFFECT_H
+
+#include <math.h>
+#include <stddef.h>
 
 #include "sss/bake_scene.h"
 #include "sss/transfer.h"
 
+struct cJSON;
+
+/* What every pass of a scene bake gets. */
 typedef struct sss_pass_ctx {
     const sss_scene *scene;
     const sss_object_plan *plan;
@@ -20,11 +37,56 @@ typedef struct sss_pass_ctx {
     sss_bake_stats *st;
 } sss_pass_ctx;
 
+typedef struct sss_effect_unit {
+    sss_pass_kind kind;  /* its row in sss_effect_units and in sss_object_plan.pass_lights */
+    const char *name;    /* the planner's choice for a light, and the pass's name */
+    uint32_t fx;         /* the SSS_FX_ bit a file carries when the pass ran */
+    /* Planner rule: does this effect take light L of the object planned in
+     * p? If so, writes the reason into reason[0 … n) and returns 1. The
+     * units' rules exclude each other, so every light with some intensity
+     * is taken by exactly one. */
+    int (*claim)(const sss_scene *s, const sss_object_plan *p, const sss_scene_light *L, char *reason, size_t n);
+    /* Bake pass: the data of the lights p->light_pass gives it, into c->out. */
+    sss_result (*bake)(const sss_pass_ctx *c, sss_error *err);
+    /* The pass's own parameters in the provenance JSON (may be NULL). */
+    void (*provenance)(const sss_pass_ctx *c, struct cJSON *params);
+} sss_effect_unit;
+
+/* Every unit, in pass-kind order (effects.c). */
+extern const sss_effect_unit *const sss_effect_units[SSS_PASS_KINDS];
+
+/* A point light is near when it is within this many object sizes of the
+ * object's centre (scene "bake"/"near_factor", default 5): its direction
+ * and 1/r² falloff then vary across the object (Hao–Varshney 2004 §3.3). */
+static inline double sss_near_factor(const sss_scene *s)
+{
+    return s->bake.near_factor > 0 ? s->bake.near_factor : 5.0;
+}
+
+/* Distance of point light L from the object's centre in object sizes. */
+static inline double sss_point_ratio(const sss_object_plan *p, const sss_scene_light *L)
+{
+    double d2 = 0;
+    for (int c = 0; c < 3; c++) d2 += (L->position[c] - p->centre[c]) * (L->position[c] - p->centre[c]);
+    const double dist = sqrt(d2);
+    return p->size > 0 ? dist / p->size : INFINITY;
+}
+
 /* G(x_i, ω_j) for all vertices and the n directions dirs into G[i * n + j],
  * counting rays only when a visibility structure is present. */
 void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, float *G, uint64_t *rays);
 
-sss_result sss_pass_env_sh(const sss_pass_ctx *c, sss_error *err);      /* bake_env.c */
-sss_result sss_pass_point_shells(const sss_pass_ctx *c, sss_error *err); /* bake_point.c */
+/* The near terms of a plain bake (near_terms.c): q −= the terms of each
+ * vertex and its o->own_rings mesh rings at every direction sample of ds,
+ * with the bake's own visibility rule, so that a reader adding them back
+ * for a sample restores q. In place; polls o->cancel. */
+sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
+                                const sss_dirset *ds, float *q, uint64_t *rays, sss_error *err);
+
+/* The units (one file each). */
+extern const sss_effect_unit sss_effect_dir_exact;    /* dir_exact.c */
+extern const sss_effect_unit sss_effect_dir_set;      /* dir_set.c */
+extern const sss_effect_unit sss_effect_point_shells; /* point_shells.c */
+extern const sss_effect_unit sss_effect_env_sh;       /* env_sh.c */
 
 #endif

@@ -1,4 +1,4 @@
-/* bake_env.c: the environment-sh pass (docs/scenes.md). Under distant
+/* env_sh.c: the environment-sh effect (docs/scenes.md). Under distant
  * radiance L(ω) the scattered term is ∫ L(ω) q(x_o, ω) dω, q the §3.1
  * integral per unit irradiance from ω. Projecting both onto the real SH
  * basis y_i (sss/sh.h, orthonormal) turns it into a dot product,
@@ -10,7 +10,9 @@
  * same sparse sum as every other pass. The probe's L_i are stored with the
  * file for convenience; a renderer may replace or rotate them.
  */
+#include <cjson/cJSON.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -24,7 +26,17 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-sss_result sss_pass_env_sh(const sss_pass_ctx *c, sss_error *err)
+static int claim(const sss_scene *s, const sss_object_plan *p, const sss_scene_light *L, char *reason, size_t n)
+{
+    (void)s;
+    (void)p;
+    if (L->kind != SSS_LIGHT_ENVIRONMENT) return 0;
+    snprintf(reason, n, "environment probe: q projected onto SH per vertex and dotted with the probe's SH at run "
+             "time%s", L->moving ? " (rotating the probe rotates its coefficients)" : "");
+    return 1;
+}
+
+static sss_result bake(const sss_pass_ctx *c, sss_error *err)
 {
     const uint32_t order = c->sh_order, K = order * order, nv = c->mesh->nv;
     sss_effects *fx = &c->out->fx;
@@ -97,3 +109,7 @@ done:
     sss_dirset_free(&q);
     return r;
 }
+
+static void provenance(const sss_pass_ctx *c, cJSON *params) { cJSON_AddNumberToObject(params, "sh_order", c->sh_order); }
+
+const sss_effect_unit sss_effect_env_sh = {SSS_PASS_ENV_SH, "environment-sh", SSS_FX_ENV_SH, claim, bake, provenance};

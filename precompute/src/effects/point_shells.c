@@ -1,4 +1,4 @@
-/* bake_point.c: the point-shells pass (docs/scenes.md), Hao–Varshney 2004
+/* point_shells.c: the point-shells effect (docs/scenes.md), Hao–Varshney 2004
  * §3.3: "we quantize the distance from the light source to the object
  * along with quantization of its direction. Then we can trilinearly
  * interpolate". A point light of intensity I at P gives vertex x_i the
@@ -13,10 +13,28 @@
  */
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "effects/effect.h"
+
+/* A point light near the object (its direction and 1/r² falloff vary
+ * across it), or one that moves and may come near. */
+static int claim(const sss_scene *s, const sss_object_plan *p, const sss_scene_light *L, char *reason, size_t n)
+{
+    if (L->kind != SSS_LIGHT_POINT) return 0;
+    const double near = sss_near_factor(s), ratio = sss_point_ratio(p, L);
+    if (!(ratio < near || L->moving)) return 0; /* the directional-exact effect's */
+    if (ratio < near)
+        snprintf(reason, n, "point light %.3g object sizes from the centre (< %g): the direction and 1/r^2 falloff "
+                 "vary across the object, so q is baked over directions x distance shells and interpolated "
+                 "trilinearly (sec. 3.3)", ratio, near);
+    else
+        snprintf(reason, n, "moving point light (now %.3g object sizes away) may come near: directions x distance "
+                 "shells (sec. 3.3)", ratio);
+    return 1;
+}
 
 /* G for a point light at P, times s2 (r_s² or 1). The shadow ray ends at
  * the light, so geometry behind it does not shadow. */
@@ -37,7 +55,7 @@ static float point_g(const sss_mesh *m, const sss_vis *vis, uint32_t i, const do
     return (float)(sss_ft(eta, cs) * cs / d2 * s2);
 }
 
-sss_result sss_pass_point_shells(const sss_pass_ctx *c, sss_error *err)
+static sss_result bake(const sss_pass_ctx *c, sss_error *err)
 {
     sss_bake_file *o = c->out;
     sss_effects *fx = &o->fx;
@@ -80,6 +98,15 @@ sss_result sss_pass_point_shells(const sss_pass_ctx *c, sss_error *err)
     free(G);
     return SSS_OK;
 }
+
+static void provenance(const sss_pass_ctx *c, cJSON *params)
+{
+    cJSON_AddNumberToObject(params, "dirs", c->n_dirs);
+    cJSON_AddNumberToObject(params, "shells", c->shells);
+}
+
+const sss_effect_unit sss_effect_point_shells = {SSS_PASS_POINT_SHELLS, "point-shells", SSS_FX_POINT_SHELLS, claim,
+                                                 bake, provenance};
 
 sss_result sss_point_exact(const sss_bake_file *f, int self_shadow, const double P[3], float *out, sss_error *err)
 {

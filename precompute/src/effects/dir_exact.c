@@ -1,0 +1,68 @@
+/* dir_exact.c: the directional-exact effect (docs/scenes.md). A static
+ * directional light, or a static point light far enough that its direction
+ * and falloff hardly vary across the object, gets q(x_o, ω_l) of
+ * Hao–Varshney 2004 §3.1 for exactly its direction ω_l: one value per
+ * vertex and channel, without the §3.2 direction set and its interpolation
+ * error (section QDIR, docs/format.md §5.11).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "effects/effect.h"
+
+static int claim(const sss_scene *s, const sss_object_plan *p, const sss_scene_light *L, char *reason, size_t n)
+{
+    if (L->kind == SSS_LIGHT_DIRECTIONAL && !L->moving) {
+        snprintf(reason, n, "static directional light: q baked exactly for direction (%.4g, %.4g, %.4g), one value "
+                 "per vertex and channel, no interpolation", L->direction[0], L->direction[1], L->direction[2]);
+        return 1;
+    }
+    if (L->kind != SSS_LIGHT_POINT) return 0;
+    const double near = sss_near_factor(s), ratio = sss_point_ratio(p, L);
+    if (ratio < near || L->moving) return 0; /* the point-shells effect's */
+    snprintf(reason, n, "static point light %.3g object sizes away (>= %g): treated as a directional light from the "
+             "object's centre, baked exactly", ratio, near);
+    return 1;
+}
+
+/* Static directional lights (and far static point lights, taken from the
+ * object's centre): q(x_o, ω_l) of §3.1 for exactly ω_l. */
+static sss_result bake(const sss_pass_ctx *c, sss_error *err)
+{
+    const sss_scene *s = c->scene;
+    const uint32_t nv = c->mesh->nv, nl = c->plan->pass_lights[SSS_PASS_DIR_EXACT];
+    sss_effects *fx = &c->out->fx;
+    fx->exact_dir = malloc(3 * (size_t)nl * sizeof(double));
+    fx->exact_q = malloc((size_t)nl * nv * c->C * sizeof(float) + 1);
+    float *G = malloc((size_t)nv * sizeof(float) + 1);
+    if (!fx->exact_dir || !fx->exact_q || !G) {
+        free(G);
+        return sss_fail(err, SSS_ERR_NOMEM, "directional-exact pass: out of memory");
+    }
+    uint32_t k = 0;
+    for (uint32_t l = 0; l < s->nlights; l++) {
+        if (c->plan->light_pass[l] != SSS_PASS_DIR_EXACT) continue;
+        const sss_scene_light *L = &s->lights[l];
+        double d[3];
+        if (L->kind == SSS_LIGHT_DIRECTIONAL) {
+            memcpy(d, L->direction, sizeof d);
+        } else {
+            double n = 0;
+            for (int a = 0; a < 3; a++) d[a] = L->position[a] - c->plan->centre[a], n += d[a] * d[a];
+            n = sqrt(n);
+            for (int a = 0; a < 3; a++) d[a] /= n;
+        }
+        memcpy(&fx->exact_dir[3 * (size_t)k], d, sizeof d);
+        sss_pass_transfer(c, d, 1, G, &c->st->rays);
+        sss_integrate(c->nb, G, 1, &fx->exact_q[(size_t)k * nv * c->C]);
+        k++;
+    }
+    fx->nexact = k;
+    free(G);
+    return SSS_OK;
+}
+
+const sss_effect_unit sss_effect_dir_exact = {SSS_PASS_DIR_EXACT, "directional-exact", SSS_FX_DIR_EXACT, claim, bake,
+                                              NULL};

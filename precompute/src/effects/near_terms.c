@@ -1,0 +1,58 @@
+/* near_terms.c: the near-terms effect of plain bakes, its bake side
+ * (`--own-term runtime [--rings K]`, section OWNT, docs/format.md §5.14):
+ * the rows store q minus the terms of the vertex itself and its K mesh
+ * rings, which every reader adds back for the actual light with every
+ * vertex's own visibility (sss/ownterm.h; docs/accuracy.md, "Where the
+ * error comes from"). It has no planner rule: a plain bake asks for it.
+ */
+#include <math.h>
+#include <stdlib.h>
+
+#include "effects/effect.h"
+#include "sss/ownterm.h"
+
+/* Splits the near terms off q in place (sss/ownterm.h): for every
+ * direction sample ω_j and vertex o, q_j −= Σ_{i in o's rings} w̃(o, i)
+ * g(n_i, ω_j) V(x_i, ω_j), with the bake's own visibility rule (one
+ * occlusion ray per vertex facing ω_j, as sss_transfer_rows traces) and
+ * the readers' float sum (sss_near_sum), so that a reader adding the terms
+ * back at ω_j restores q_j up to rounding (and the clamp at 0 below).
+ * Independent elements: the result does not depend on the thread count. */
+sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
+                                const sss_dirset *ds, float *q, uint64_t *rays, sss_error *err)
+{
+    const uint32_t nv = mesh->nv, D = ds->n;
+    sss_near nr;
+    sss_result r = sss_near_build(mesh, mat, o->mm_per_unit, C, o->own_rings, &nr, err);
+    if (r != SSS_OK) return r;
+    sss_vis *vis = NULL;
+    uint8_t *lit = malloc((size_t)nv + 1);
+    float *gv = malloc((size_t)nv * sizeof *gv + 1);
+    if (!lit || !gv) r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the near terms of %u vertices", nv);
+    if (r == SSS_OK) r = sss_vis_create(mesh, &vis, err);
+    uint64_t traced = 0;
+    for (uint32_t j = 0; j < D && r == SSS_OK; j++) {
+        const double *d = ds->dir + 3 * (size_t)j;
+        traced += sss_vis_lit_all(vis, mesh, d, lit);
+        sss_near_transfer(mesh->nrm, nv, (float)mat->eta, d, lit, gv);
+        float *qj = q + (size_t)j * nv * C;
+#pragma omp parallel for schedule(static)
+        for (int64_t v = 0; v < (int64_t)nv; v++) {
+            float s[3];
+            sss_near_sum(&nr, (uint32_t)v, gv, s);
+            /* ≥ 0, as every stored q: the rest is a sum of non-negative
+             * terms, and only rounding (or weights that differ from
+             * nbhd.c's, e.g. coincident copies sharing a disk) takes it
+             * below */
+            for (uint32_t c = 0; c < C; c++) qj[(size_t)v * C + c] = fmaxf(qj[(size_t)v * C + c] - s[c], 0.0f);
+        }
+        if (sss_cancelled(o->cancel))
+            r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted while splitting the near terms");
+    }
+    if (rays) *rays += traced;
+    sss_vis_destroy(vis);
+    free(lit);
+    free(gv);
+    sss_near_free(&nr);
+    return r;
+}

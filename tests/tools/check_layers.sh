@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# The include arrows of docs/architecture.md §1, checked: common includes
+# nothing of precompute or runtime (and no GL or C++ library); runtime and
+# precompute meet only in their tools; the precompute stages include only
+# their own stage and the stages below it (effects/ and bake/, the passes
+# and the pipeline that runs them, share one rank); no file outside runtime/
+# includes a header of runtime/src. Prints every arrow that breaks a rule.
+# usage: check_layers.sh SOURCE_DIR
+set -u
+cd "${1:?source dir}" || exit 2
+bad=0
+complain() { echo "check_layers: $*"; bad=1; }
+
+# the stage of a precompute public header, by name
+declare -A hstage=(
+  [import]=input [probe]=input
+  [nbhd]=kernels [visibility]=kernels [transfer]=kernels [lloyd]=kernels
+  [gather]=gather
+  [refs]=compress [compress]=compress
+  [bake]=bake [planner]=bake [bake_scene]=bake
+  [exact]=measure [reconstruct]=measure [vertex_error]=measure
+)
+declare -A rank=([input]=0 [kernels]=1 [gather]=2 [compress]=3 [effects]=4 [bake]=4 [measure]=5)
+
+# the stages a file includes: public headers by name, internal ones by folder
+includes() { grep -hoE '^#include "[^"]+"' "$1" | sed -E 's/#include "(.*)"/\1/'; }
+stage_of_include() {
+  case "$1" in
+    sss/*.h) local n=${1#sss/}; n=${n%.h}; echo "${hstage[$n]:-}";;
+    input/*|kernels/*|gather/*|effects/*|bake/*|compress/*|measure/*) echo "${1%%/*}";;
+  esac
+}
+
+# 1. common: C only, nothing above it
+while IFS= read -r f; do
+  for i in $(includes "$f"); do
+    case "$i" in sss/*) [ -e "common/include/$i" ] || complain "$f includes $i, which is not in common";; esac
+  done
+  grep -qE '^#include <(epoxy|GL|GLFW|EGL|embree|flann|OpenMesh|CGAL|openvdb|assimp|imgui)' "$f" &&
+    complain "$f includes a GL, C++ or precompute library header"
+done < <(find common -name '*.[ch]')
+[ -z "$(find common -name '*.cpp' -o -name '*.hpp')" ] || complain "common holds C++ files"
+
+# 2. precompute stages
+for s in input kernels gather compress effects bake measure; do
+  while IFS= read -r f; do
+    for i in $(includes "$f"); do
+      t=$(stage_of_include "$i")
+      [ -n "$t" ] || continue
+      [ "${rank[$t]}" -le "${rank[$s]}" ] || complain "$f ($s) includes $i ($t, a higher stage)"
+    done
+  done < <(find "precompute/src/$s" -type f)
+done
+for h in precompute/include/sss/*.h; do
+  n=$(basename "$h" .h); s=${hstage[$n]:-}
+  [ "$n" = precompute ] && continue
+  [ -n "$s" ] || { complain "$h has no stage in check_layers.sh"; continue; }
+  for i in $(includes "$h"); do
+    t=$(stage_of_include "$i"); [ -n "$t" ] || continue
+    [ "${rank[$t]}" -le "${rank[$s]}" ] || complain "$h ($s) includes $i ($t, a higher stage)"
+  done
+done
+
+# 3. runtime's own headers stay in runtime; precompute's library never
+#    includes the renderer (only its tools do: sss-stat's image error)
+while IFS= read -r f; do
+  case "$f" in runtime/*) continue;; esac
+  for i in $(includes "$f"); do
+    b=$(basename "$i")
+    [ -n "$(find runtime/src -name "$b" 2>/dev/null | head -n 1)" ] && [ ! -e "$(dirname "$f")/$i" ] &&
+      [ ! -e "common/include/$i" ] && [ ! -e "precompute/include/$i" ] &&
+      complain "$f includes $i from runtime/src (use sss/render.h)"
+  done
+done < <(find common precompute tests data -name '*.[ch]' -o -name '*.cpp')
+while IFS= read -r f; do
+  grep -qE '^#include "sss/render.h"' "$f" && complain "$f (the precompute library) includes the renderer"
+done < <(find precompute/src precompute/include -type f)
+while IFS= read -r f; do
+  for i in $(includes "$f"); do
+    case "$i" in sss/*) [ -e "precompute/include/$i" ] && complain "$f (runtime) includes $i of precompute";; esac
+  done
+done < <(find runtime -name '*.[ch]')
+exit $bad
