@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli_util.h"
+#include "sss/cli.h"
 #include "image_error.h"
 #include "shadow.h" /* SSS_SHADOW_SIZE, the viewer's default map */
 #include "sss/decode.h"
@@ -365,7 +365,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--views") || !strcmp(argv[i], "--seed")) {
             uint32_t x;
             if (i + 1 >= argc) { fprintf(stderr, "%s: %s needs a value (see --help)\n", TOOL, argv[i]); return 2; }
-            if (!cli_parse_u32(TOOL, argv[i], argv[i + 1], argv[i][2] == 'v' ? 1 : 0, argv[i][2] == 'v' ? 100000 : UINT32_MAX, &x)) return 2;
+            if (!sss_cli_parse_u32(TOOL, argv[i], argv[i + 1], argv[i][2] == 'v' ? 1 : 0, argv[i][2] == 'v' ? 100000 : UINT32_MAX, &x)) return 2;
             if (argv[i][2] == 'v') views = x;
             else seed = x;
             i++;
@@ -374,7 +374,7 @@ int main(int argc, char **argv)
             uint32_t x;
             if (i + 1 >= argc) { fprintf(stderr, "%s: %s needs a value (see --help)\n", TOOL, argv[i]); return 2; }
             int sz = argv[i][8] == 's';
-            if (!cli_parse_u32(TOOL, argv[i], argv[i + 1], sz ? 16 : 1, sz ? 4096 : 100000, &x)) return 2;
+            if (!sss_cli_parse_u32(TOOL, argv[i], argv[i + 1], sz ? 16 : 1, sz ? 4096 : 100000, &x)) return 2;
             if (sz) ea.image_size = (int)x;
             else ea.image_views = x;
             image_opt = 1;
