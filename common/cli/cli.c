@@ -41,7 +41,7 @@ int sss_cli_fail(const sss_cli *cli, const sss_cli_opt *o, const char *fmt, cons
     FILE *e = err_of(cli);
     if (!fmt && o->kind == SSS_CLI_CHOICE) {
         print_choices(e, cli, o, opt, text);
-        return 0;
+        return SSS_CLI_PRINTED;
     }
     if (!fmt) fmt = default_msg(o->kind);
     /* the range in the type its conversions name (sss/cli.h) */
@@ -51,6 +51,13 @@ int sss_cli_fail(const sss_cli *cli, const sss_cli_opt *o, const char *fmt, cons
     case SSS_CLI_SIZE: fprintf(e, fmt, cli->tool, opt, text, (int)o->lo, (int)o->hi); break;
     default: fprintf(e, fmt, cli->tool, opt, text, o->lo, o->hi); break;
     }
+    return SSS_CLI_PRINTED;
+}
+
+/* A bad value: its message, and sss_cli_value's 0. */
+static int bad(const sss_cli *cli, const sss_cli_opt *o, const char *fmt, const char *opt, const char *text)
+{
+    sss_cli_fail(cli, o, fmt, opt, text);
     return 0;
 }
 
@@ -127,42 +134,42 @@ int sss_cli_value(const sss_cli *cli, const sss_cli_opt *o, const char *opt, con
         break;
     case SSS_CLI_DOUBLE: {
         double v;
-        if (!read_double(text, o->flags, o->lo, o->hi, &v)) return sss_cli_fail(cli, o, o->msg, opt, text);
+        if (!read_double(text, o->flags, o->lo, o->hi, &v)) return bad(cli, o, o->msg, opt, text);
         *(double *)o->dest = v;
         break;
     }
     case SSS_CLI_U32:
     case SSS_CLI_INT: {
         long long v;
-        if (!read_integer(text, o->flags, o->lo, o->hi, &v)) return sss_cli_fail(cli, o, o->msg, opt, text);
+        if (!read_integer(text, o->flags, o->lo, o->hi, &v)) return bad(cli, o, o->msg, opt, text);
         if (o->kind == SSS_CLI_U32) *(uint32_t *)o->dest = (uint32_t)v;
         else *(int *)o->dest = (int)v;
         break;
     }
     case SSS_CLI_TRIPLE: {
         double t[3];
-        if (!read_triple(text, t)) return sss_cli_fail(cli, o, o->msg, opt, text);
+        if (!read_triple(text, t)) return bad(cli, o, o->msg, opt, text);
         if ((o->flags & SSS_CLI_NONZERO) && t[0] == 0 && t[1] == 0 && t[2] == 0)
-            return sss_cli_fail(cli, o, o->msg2 ? o->msg2 : "%s: %s: '%s' is not a direction\n", opt, text);
+            return bad(cli, o, o->msg2 ? o->msg2 : "%s: %s: '%s' is not a direction\n", opt, text);
         memcpy(o->dest, t, sizeof t);
         break;
     }
     case SSS_CLI_SIZE:
-        if (!read_size(text, o->lo, o->hi, (int *)o->dest)) return sss_cli_fail(cli, o, o->msg, opt, text);
+        if (!read_size(text, o->lo, o->hi, (int *)o->dest)) return bad(cli, o, o->msg, opt, text);
         break;
     case SSS_CLI_CHOICE: {
         int k = 0;
         while (o->choices && o->choices[k] && strcmp(o->choices[k], text)) k++;
-        if (!o->choices || !o->choices[k]) return sss_cli_fail(cli, o, o->msg, opt, text);
+        if (!o->choices || !o->choices[k]) return bad(cli, o, o->msg, opt, text);
         *(int *)o->dest = o->values ? o->values[k] : k;
         break;
     }
-    case SSS_CLI_CUSTOM:
-        if (!o->parse(cli, o, opt, text)) {
-            if (o->msg) sss_cli_fail(cli, o, o->msg, opt, text);
-            return 0;
-        }
+    case SSS_CLI_CUSTOM: {
+        const int r = o->parse(cli, o, opt, text);
+        if (r == SSS_CLI_PRINTED) return 0;
+        if (r != 1) return bad(cli, o, o->msg, opt, text);
         break;
+    }
     }
     if (o->given) *o->given = 1;
     return 1;

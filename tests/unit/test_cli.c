@@ -334,7 +334,7 @@ static int read_map(const sss_cli *cli, const sss_cli_opt *o, const char *opt, c
 static int read_bits(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
 {
     const sss_cli_opt num = {.kind = SSS_CLI_U32, .dest = o->dest, .lo = 8, .hi = 16};
-    if (!sss_cli_value(cli, &num, opt, text)) return 0;
+    if (!sss_cli_value(cli, &num, opt, text)) return SSS_CLI_PRINTED;
     uint32_t b = *(uint32_t *)o->dest;
     if (b != 8 && b != 16) return sss_cli_fail(cli, o, "%s: %s: '%s' must be 8 or 16\n", opt, text);
     return 1;
@@ -348,8 +348,11 @@ static void customReaderFailurePrintsRowMessageUnlessItPrintedItsOwn(void **stat
     const sss_cli_opt o[] = {
         {.name = "--image-visibility", .kind = SSS_CLI_CUSTOM, .dest = mode, .parse = read_map, .given = &given,
          .msg = "%s: %s '%s' must be rays or map:N (N = 256 ... 8192)\n"},
-        {.name = "--weight-bits", .kind = SSS_CLI_CUSTOM, .dest = &bits, .parse = read_bits}};
-    sss_cli c = tool(o, 2);
+        {.name = "--weight-bits", .kind = SSS_CLI_CUSTOM, .dest = &bits, .parse = read_bits},
+        {.name = "--mode", .kind = SSS_CLI_CUSTOM, .dest = mode, .parse = read_map}};
+    sss_cli c = tool(o, 3);
+    assert_int_equal(run(&c, "--mode", "x", NULL), 2); /* no msg, nothing printed by the reader */
+    assert_string_equal(take(err_f), "sss-test: --mode: 'x' is not a valid value\n");
     assert_int_equal(run(&c, "--image-visibility", "map:512", NULL), SSS_CLI_RUN);
     assert_int_equal(mode[0], 2);
     assert_int_equal(mode[1], 512);

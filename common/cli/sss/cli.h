@@ -74,9 +74,8 @@ typedef enum sss_cli_kind {
      * listed in order (sss-bake's and sss-view's wording). */
     SSS_CLI_CHOICE,
     /* Anything else (sss-stat's "map:N", sss-bake's --weight-bits 8|16):
-     * the row's parse callback reads the text into dest. When it fails and
-     * the row has a msg, that is printed; a callback that printed its own
-     * message(s) (sss_cli_value, sss_cli_fail) leaves msg NULL. */
+     * the row's parse callback reads the text into dest (sss_cli_parse_fn).
+     * Default message: "%s: %s: '%s' is not a valid value\n". */
     SSS_CLI_CUSTOM
 } sss_cli_kind;
 
@@ -114,6 +113,10 @@ enum {
  * exit status to return at once (0 after -h/--help, 2 after a message). */
 #define SSS_CLI_RUN (-1)
 
+/* A custom reader's result when it failed and has printed its message(s)
+ * itself (sss_cli_fail, or a sss_cli_value that failed). */
+#define SSS_CLI_PRINTED (-1)
+
 /* Number of rows of a table (an array, not a pointer). */
 #define SSS_CLI_COUNT(table) (sizeof(table) / sizeof((table)[0]))
 
@@ -121,8 +124,11 @@ typedef struct sss_cli sss_cli;
 typedef struct sss_cli_opt sss_cli_opt;
 
 /* A SSS_CLI_CUSTOM row's reader: reads `text`, the value of option `opt`
- * (as typed, or the positional's name), into o->dest. Returns 1 on success,
- * 0 on failure (see SSS_CLI_CUSTOM for who prints the message). */
+ * (as typed, or the positional's name), into o->dest. Returns 1 on success;
+ * 0 on failure, and the parser prints the row's msg (or the default);
+ * SSS_CLI_PRINTED on a failure it has reported itself (two messages, as
+ * sss-bake's --weight-bits prints). So no failure goes unreported unless the
+ * reader says it printed. */
 typedef int (*sss_cli_parse_fn)(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text);
 
 /* One option (or one positional) of a tool. Unused fields stay zero, so
@@ -177,7 +183,8 @@ struct sss_cli {
  * argument that starts with '-' and is not "-" itself is an unknown option;
  * the rest are positionals, counted as they come (one too many: extra_msg).
  * The first error prints its one message on err and stops (exit status 2);
- * a value that fails leaves its dest and given flag untouched. There is no
+ * a value that fails leaves its dest and given flag untouched (a custom
+ * reader answers for its own dest). There is no
  * "--opt=value" and no "--": neither was ever accepted.
  * After the walk: fewer than min_pos positionals prints missing_msg; then the
  * positionals are read into their rows in order (so a wrong count is
@@ -195,8 +202,8 @@ int sss_cli_parse(const sss_cli *cli, int argc, char *const argv[]);
 int sss_cli_value(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text);
 
 /* Prints fmt (NULL: the kind's default bad-value message) with the
- * arguments of a bad value (tool, opt, text, lo, hi) on cli's err; returns
- * 0, so a SSS_CLI_CUSTOM reader can `return sss_cli_fail(...)`. */
+ * arguments of a bad value (tool, opt, text, lo, hi) on cli's err. Returns
+ * SSS_CLI_PRINTED, so a custom reader can `return sss_cli_fail(...)`. */
 int sss_cli_fail(const sss_cli *cli, const sss_cli_opt *o, const char *fmt, const char *opt, const char *text);
 
 /* The parsers of a single value outside a table, for tools that read one
