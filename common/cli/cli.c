@@ -62,7 +62,8 @@ static int bad(const sss_cli *cli, const sss_cli_opt *o, const char *fmt, const 
 }
 
 /* A number as strtod reads it; strict: the whole text, errno clear, finite
- * (cli_parse_double's reading, which every tool shared). */
+ * (how sss-bake, sss-stat and sss-view have read their numbers); lax: see
+ * SSS_CLI_LAX. */
 static int read_double(const char *s, unsigned flags, double lo, double hi, double *out)
 {
     char *end;
@@ -113,6 +114,8 @@ static int read_triple(const char *s, double out[3])
     return 1;
 }
 
+/* "WxH" as sss-view's --size has read it: sscanf's "%dx%d", so blanks
+ * before W and before H pass, and nothing may follow H. */
 static int read_size(const char *s, double lo, double hi, int out[2])
 {
     int w, h;
