@@ -1,38 +1,64 @@
 /* sss-genmesh: writes a procedural test mesh as binary PLY.
  * Usage: sss-genmesh KIND RES OUT.ply [SIZE] */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "genmesh.h"
+#include "sss/cli.h"
 #include "sss/import.h"
+
+static const char *TOOL = "sss-genmesh";
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: sss-genmesh sphere|blob|plane|cube|slab|torus|pair RES OUT.ply [SIZE]\n"
+               "  RES: subdivisions (sphere, blob, pair) or segments per side (others); SIZE: radius or edge,\n"
+               "  default 1 (pair: a sphere of radius SIZE and one of 250 SIZE, far apart)\n");
+}
+
+/* The command line, as the positional rows fill it. */
+typedef struct genmesh_args {
+    const char *kind, *out;
+    int res;
+    double size;
+} genmesh_args;
+
+/* SSS_CLI_RUN, or 2 after the usage or a message. */
+static int parse_args(int argc, char **argv, genmesh_args *a)
+{
+    a->kind = a->out = NULL;
+    a->res = 0;
+    a->size = 1.0;
+    /* Only positionals, read as strtol and strtod read them (SSS_CLI_LAX):
+     * an empty RES is 0 and a SIZE may be infinite, as they always were. */
+    const sss_cli_opt pos[] = {
+        {.name = "KIND", .kind = SSS_CLI_STRING, .dest = &a->kind},
+        {.name = "RES", .kind = SSS_CLI_INT, .dest = &a->res, .lo = 0, .hi = 100000, .flags = SSS_CLI_LAX,
+         .msg = "%s: %s '%s' must be an integer in [%d, %d]\n"},
+        {.name = "OUT.ply", .kind = SSS_CLI_STRING, .dest = &a->out},
+        {.name = "SIZE", .kind = SSS_CLI_DOUBLE, .dest = &a->size, .lo = 0, .hi = INFINITY,
+         .flags = SSS_CLI_ABOVE_LO | SSS_CLI_LAX, .msg = "%s: %s '%s' must be a number > 0\n"},
+    };
+    /* no options: "-h" is a KIND and a wrong count prints the usage on stderr */
+    const sss_cli cli = {.tool = TOOL, .pos = pos, .npos = SSS_CLI_COUNT(pos), .min_pos = 3, .usage = usage,
+                         .flags = SSS_CLI_NO_OPTIONS};
+    return sss_cli_parse(&cli, argc, argv);
+}
 
 int main(int argc, char **argv)
 {
-    if (argc < 4 || argc > 5) {
-        fprintf(stderr, "usage: sss-genmesh sphere|blob|plane|cube|slab|torus|pair RES OUT.ply [SIZE]\n"
-                        "  RES: subdivisions (sphere, blob, pair) or segments per side (others); SIZE: radius or edge,\n"
-                        "  default 1 (pair: a sphere of radius SIZE and one of 250 SIZE, far apart)\n");
-        return 2;
-    }
-    char *end;
-    long res = strtol(argv[2], &end, 10);
-    if (*end || res < 0 || res > 100000) {
-        fprintf(stderr, "sss-genmesh: RES '%s' must be an integer in [0, 100000]\n", argv[2]);
-        return 2;
-    }
-    double size = argc == 5 ? strtod(argv[4], &end) : 1.0;
-    if (argc == 5 && (*end || !(size > 0))) {
-        fprintf(stderr, "sss-genmesh: SIZE '%s' must be a number > 0\n", argv[4]);
-        return 2;
-    }
+    genmesh_args a;
+    int rc = parse_args(argc, argv, &a);
+    if (rc != SSS_CLI_RUN) return rc;
     sss_mesh m;
     sss_error err = {{0}};
-    if (sss_gen_by_name(argv[1], (unsigned)res, size, &m, &err) != SSS_OK ||
-        sss_export_ply(argv[3], &m, &err) != SSS_OK) {
-        fprintf(stderr, "sss-genmesh: %s\n", err.msg);
+    if (sss_gen_by_name(a.kind, (unsigned)a.res, a.size, &m, &err) != SSS_OK ||
+        sss_export_ply(a.out, &m, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
-    fprintf(stderr, "sss-genmesh: %s: %u vertices, %u triangles\n", argv[3], m.nv, m.nf);
+    fprintf(stderr, "%s: %s: %u vertices, %u triangles\n", TOOL, a.out, m.nv, m.nf);
     sss_mesh_free(&m);
     return 0;
 }

@@ -11,7 +11,6 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "cli_util.h"
 #include "sss/bake_scene.h"
 #include "sss/import.h"
 #include "sss/planner.h"

@@ -11,7 +11,7 @@
 #include <time.h>
 
 #include "bake_mpi.h"
-#include "cli_util.h"
+#include "sss/cli.h"
 #include "sss/bake.h"
 #include "sss/compress.h"
 #include "sss/import.h"
@@ -118,12 +118,12 @@ int main(int argc, char **argv)
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) { usage(stdout); return 0; }
         else if (!strcmp(a, "-o") || !strcmp(a, "--out")) { NEED(); outp = v; }
         else if (!strcmp(a, "--material")) { NEED(); preset = v; }
-        else if (!strcmp(a, "--sigma-a")) { NEED(); if (!cli_parse_triple(TOOL, a, v, sa)) return 2; have_sa = 1; }
-        else if (!strcmp(a, "--sigma-s")) { NEED(); if (!cli_parse_triple(TOOL, a, v, ss)) return 2; have_ss = 1; }
-        else if (!strcmp(a, "--eta")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-3, 1e3, &eta)) return 2; have_eta = 1; }
-        else if (!strcmp(a, "--mm-per-unit")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-12, 1e12, &opt.mm_per_unit)) return 2; if (!(opt.mm_per_unit > 0)) { fprintf(stderr, "%s: --mm-per-unit must be > 0\n", TOOL); return 2; } }
-        else if (!strcmp(a, "--dirs")) { NEED(); if (!cli_parse_u32(TOOL, a, v, 1, 100000, &opt.n_dirs)) return 2; }
-        else if (!strcmp(a, "--eps")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-12, 0.5, &opt.eps)) return 2; }
+        else if (!strcmp(a, "--sigma-a")) { NEED(); if (!sss_cli_parse_triple(TOOL, a, v, sa)) return 2; have_sa = 1; }
+        else if (!strcmp(a, "--sigma-s")) { NEED(); if (!sss_cli_parse_triple(TOOL, a, v, ss)) return 2; have_ss = 1; }
+        else if (!strcmp(a, "--eta")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 1e-3, 1e3, &eta)) return 2; have_eta = 1; }
+        else if (!strcmp(a, "--mm-per-unit")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 1e-12, 1e12, &opt.mm_per_unit)) return 2; if (!(opt.mm_per_unit > 0)) { fprintf(stderr, "%s: --mm-per-unit must be > 0\n", TOOL); return 2; } }
+        else if (!strcmp(a, "--dirs")) { NEED(); if (!sss_cli_parse_u32(TOOL, a, v, 1, 100000, &opt.n_dirs)) return 2; }
+        else if (!strcmp(a, "--eps")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 1e-12, 0.5, &opt.eps)) return 2; }
         else if (!strcmp(a, "--quant")) {
             NEED();
             if (!strcmp(v, "float")) opt.quant = SSS_QUANT_FLOAT;
@@ -138,8 +138,8 @@ int main(int argc, char **argv)
             else { fprintf(stderr, "%s: --compress: '%s' must be paper or compact\n", TOOL, v); return 2; }
             compress = 1;
         }
-        else if (!strcmp(a, "--sh-order")) { NEED(); if (!cli_parse_u32(TOOL, a, v, 0, 8, &co.order)) return 2; compress = 1; set_order = 1; }
-        else if (!strcmp(a, "--refs")) { NEED(); if (!cli_parse_double(TOOL, a, v, 0.0, 1.0, &co.fraction)) return 2; compress = 1; have_refs = 1; }
+        else if (!strcmp(a, "--sh-order")) { NEED(); if (!sss_cli_parse_u32(TOOL, a, v, 0, 8, &co.order)) return 2; compress = 1; set_order = 1; }
+        else if (!strcmp(a, "--refs")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 0.0, 1.0, &co.fraction)) return 2; compress = 1; have_refs = 1; }
         else if (!strcmp(a, "--sh-quant")) {
             NEED();
             if (!strcmp(v, "linear8")) co.sh_kind = SSS_SHQ_LINEAR8;
@@ -151,13 +151,13 @@ int main(int argc, char **argv)
         }
         else if (!strcmp(a, "--weight-bits")) {
             NEED();
-            if (!cli_parse_u32(TOOL, a, v, 8, 16, &co.wbits)) return 2;
+            if (!sss_cli_parse_u32(TOOL, a, v, 8, 16, &co.wbits)) return 2;
             if (co.wbits != 8 && co.wbits != 16) { fprintf(stderr, "%s: --weight-bits: '%s' must be 8 or 16\n", TOOL, v); return 2; }
             compress = 1;
             set_wbits = 1;
         }
         else if (!strcmp(a, "--ls-weights")) { co.ls_weights = 1; compress = 1; set_ls = 1; }
-        else if (!strcmp(a, "--illum-refs")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-9, 1e9, &co.illum_weight)) return 2; compress = 1; set_illum = 1; }
+        else if (!strcmp(a, "--illum-refs")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 1e-9, 1e9, &co.illum_weight)) return 2; compress = 1; set_illum = 1; }
         else if (!strcmp(a, "--gather")) {
             NEED();
             if (!strcmp(v, "direct")) opt.gather = SSS_GATHER_DIRECT;
@@ -174,15 +174,15 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--rings")) {
             NEED();
             double k;
-            if (!cli_parse_double(TOOL, a, v, 0, SSS_OWN_RINGS_MAX, &k) || k != floor(k)) {
+            if (!sss_cli_parse_double(TOOL, a, v, 0, SSS_OWN_RINGS_MAX, &k) || k != floor(k)) {
                 fprintf(stderr, "%s: --rings: '%s' must be an integer 0 ... %u\n", TOOL, v, SSS_OWN_RINGS_MAX);
                 return 2;
             }
             opt.own_rings = (uint32_t)k;
             rings_set = 1;
         }
-        else if (!strcmp(a, "--theta")) { NEED(); if (!cli_parse_double(TOOL, a, v, 1e-3, 0.95, &opt.theta)) return 2; }
-        else if (!strcmp(a, "--threads")) { uint32_t t; NEED(); if (!cli_parse_u32(TOOL, a, v, 1, 1024, &t)) return 2; opt.threads = (int)t; }
+        else if (!strcmp(a, "--theta")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 1e-3, 0.95, &opt.theta)) return 2; }
+        else if (!strcmp(a, "--threads")) { uint32_t t; NEED(); if (!sss_cli_parse_u32(TOOL, a, v, 1, 1024, &t)) return 2; opt.threads = (int)t; }
         else if (!strcmp(a, "--scene")) { NEED(); scene = v; }
         else if (!strcmp(a, "--plan")) plan_only = 1;
         else if (!strcmp(a, "--json")) json = 1;
@@ -294,7 +294,7 @@ int main(int argc, char **argv)
 
     sss_bake_file f;
     sss_bake_stats st;
-    if (sss_bake(&mesh, cli_basename(in), &mat, &opt, &f, &st, &err) != SSS_OK) {
+    if (sss_bake(&mesh, sss_cli_basename(in), &mat, &opt, &f, &st, &err) != SSS_OK) {
         fprintf(stderr, "%s: %s: %s\n", TOOL, in, err.msg);
         sss_mesh_free(&mesh);
         sss_mpi_abort(interrupted ? 130 : 1); /* the other ranks wait in a collective */
@@ -345,7 +345,7 @@ int main(int argc, char **argv)
                 st.gather == SSS_GATHER_TREE ? "tree" : "direct",
                 st.gather == SSS_GATHER_TREE ? "" : " (every neighbour)", st.t_tree, st.gather_gflops,
                 st.gather == SSS_GATHER_TREE ? " in the block products" : " multiply-adds x 2", st.predicted_peak_bytes / 1048576.0,
-                cli_peak_rss_mib(), mpi_n > 1 ? " (rank 0)" : "");
+                sss_cli_peak_rss_mib(), mpi_n > 1 ? " (rank 0)" : "");
     if (!quiet && st.direction_chunks > 1) /* issue 8: the memory plan of bake_gather.c */
         fprintf(stderr, "  light directions in %u chunks of at most %u: the memory available would not hold the "
                 "transfer rows and tree moments of all %u at once (same output)\n",
@@ -414,7 +414,7 @@ int main(int argc, char **argv)
         cJSON_AddNumberToObject(tm, "compress", t_compress);
         cJSON_AddNumberToObject(tm, "write", t_write);
         cJSON_AddNumberToObject(tm, "total", total);
-        cJSON_AddNumberToObject(o, "peak_rss_mib", cli_peak_rss_mib());
+        cJSON_AddNumberToObject(o, "peak_rss_mib", sss_cli_peak_rss_mib());
         /* issue 8: the gather, its sgemm rate and the memory predicted before starting */
         cJSON_AddStringToObject(o, "gather", st.gather == SSS_GATHER_TREE ? "tree" : "direct");
         if (st.gather == SSS_GATHER_TREE) {

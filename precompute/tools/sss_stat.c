@@ -6,12 +6,13 @@
 #include <cjson/cJSON.h>
 #include <ctype.h>
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli_util.h"
+#include "sss/cli.h"
 #include "image_error.h"
 #include "shadow.h" /* SSS_SHADOW_SIZE, the viewer's default map */
 #include "sss/decode.h"
@@ -346,124 +347,14 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
     return 0;
 }
 
-int main(int argc, char **argv)
+/* The summary: what the file holds and where its bytes go. */
+static int summary(const char *path, const sss_bake_file *f, int json)
 {
-    const char *path = NULL, *qvertex = NULL, *qlight = NULL;
-    int json = 0, want_error = 0;
-    uint32_t views = 100;
-    uint64_t seed = 1;
-    error_args ea = {0};
-    int image_opt = 0;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--json")) json = 1;
-        else if (!strcmp(argv[i], "--query") || !strcmp(argv[i], "--light")) {
-            if (i + 1 >= argc) { fprintf(stderr, "%s: %s needs a value (see --help)\n", TOOL, argv[i]); return 2; }
-            if (argv[i][2] == 'q') qvertex = argv[++i];
-            else qlight = argv[++i];
-        }
-        else if (!strcmp(argv[i], "--error")) want_error = 1;
-        else if (!strcmp(argv[i], "--views") || !strcmp(argv[i], "--seed")) {
-            uint32_t x;
-            if (i + 1 >= argc) { fprintf(stderr, "%s: %s needs a value (see --help)\n", TOOL, argv[i]); return 2; }
-            if (!cli_parse_u32(TOOL, argv[i], argv[i + 1], argv[i][2] == 'v' ? 1 : 0, argv[i][2] == 'v' ? 100000 : UINT32_MAX, &x)) return 2;
-            if (argv[i][2] == 'v') views = x;
-            else seed = x;
-            i++;
-        }
-        else if (!strcmp(argv[i], "--image-views") || !strcmp(argv[i], "--image-size")) {
-            uint32_t x;
-            if (i + 1 >= argc) { fprintf(stderr, "%s: %s needs a value (see --help)\n", TOOL, argv[i]); return 2; }
-            int sz = argv[i][8] == 's';
-            if (!cli_parse_u32(TOOL, argv[i], argv[i + 1], sz ? 16 : 1, sz ? 4096 : 100000, &x)) return 2;
-            if (sz) ea.image_size = (int)x;
-            else ea.image_views = x;
-            image_opt = 1;
-            i++;
-        }
-        else if (!strcmp(argv[i], "--exposure")) {
-            if (i + 1 >= argc) { fprintf(stderr, "%s: --exposure needs a value (see --help)\n", TOOL); return 2; }
-            char *end;
-            ea.exposure = strtod(argv[++i], &end);
-            if (end == argv[i] || *end || !isfinite(ea.exposure) || !(ea.exposure > 0.0)) {
-                fprintf(stderr, "%s: --exposure '%s' must be a positive number\n", TOOL, argv[i]);
-                return 2;
-            }
-            image_opt = 1;
-        }
-        else if (!strcmp(argv[i], "--error-images")) {
-            if (i + 1 >= argc || !argv[i + 1][0]) { fprintf(stderr, "%s: --error-images needs a directory (see --help)\n", TOOL); return 2; }
-            ea.images_dir = argv[++i];
-            image_opt = 1;
-        }
-        else if (!strcmp(argv[i], "--no-image")) ea.no_image = 1;
-        else if (!strcmp(argv[i], "--image-visibility")) {
-            if (i + 1 >= argc) { fprintf(stderr, "%s: --image-visibility needs a value (see --help)\n", TOOL); return 2; }
-            i++;
-            unsigned sz = 0;
-            char tail;
-            if (!strcmp(argv[i], "viewer")) ea.near_mode = 0;
-            else if (!strcmp(argv[i], "rays")) ea.near_mode = 1;
-            else if (!strcmp(argv[i], "map")) ea.near_mode = 2;
-            else if (sscanf(argv[i], "map:%u%c", &sz, &tail) == 1 && sz >= 256 && sz <= 8192) ea.near_mode = 2, ea.shadow_size = (int)sz;
-            else { fprintf(stderr, "%s: --image-visibility '%s' must be viewer, rays, map or map:N (N = 256 ... 8192)\n", TOOL, argv[i]); return 2; }
-            image_opt = 1;
-        }
-        else if (!strcmp(argv[i], "--interp")) {
-            if (i + 1 >= argc) { fprintf(stderr, "%s: --interp needs a value (see --help)\n", TOOL); return 2; }
-            i++;
-            if (!strcmp(argv[i], "triangle")) ea.interp = SSS_INTERP_TRIANGLE;
-            else if (!strcmp(argv[i], "nearest4")) ea.interp = SSS_INTERP_NEAREST4;
-            else { fprintf(stderr, "%s: --interp '%s' must be triangle or nearest4\n", TOOL, argv[i]); return 2; }
-        }
-        else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) { usage(stdout); return 0; }
-        else if (argv[i][0] == '-' && argv[i][1]) { fprintf(stderr, "%s: unknown option '%s' (see --help)\n", TOOL, argv[i]); return 2; }
-        else if (!path) path = argv[i];
-        else { fprintf(stderr, "%s: unexpected argument '%s'\n", TOOL, argv[i]); return 2; }
-    }
-    if (!path) { fprintf(stderr, "%s: missing FILE.sss (see --help)\n", TOOL); return 2; }
-    if (!qvertex != !qlight) {
-        fprintf(stderr, "%s: %s needs %s (see --help)\n", TOOL, qvertex ? "--query" : "--light",
-                qvertex ? "--light X,Y,Z" : "--query VERTEX");
-        return 2;
-    }
-    sss_bake_file f;
-    sss_error err = {{0}};
-    if (sss_file_read(path, &f, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-        return 1;
-    }
-    if ((image_opt || ea.no_image || ea.interp) && !want_error) {
-        fprintf(stderr, "%s: --image-views, --image-size, --exposure, --error-images, --no-image and --interp go with --error\n", TOOL);
-        sss_file_free(&f);
-        return 2;
-    }
-    if (ea.no_image && image_opt) {
-        fprintf(stderr, "%s: --no-image excludes the image options\n", TOOL);
-        sss_file_free(&f);
-        return 2;
-    }
-    if (qvertex && want_error) {
-        fprintf(stderr, "%s: --query and --error exclude each other\n", TOOL);
-        sss_file_free(&f);
-        return 2;
-    }
-    if (qvertex) {
-        int rc = query(path, &f, qvertex, qlight, json);
-        sss_file_free(&f);
-        return rc;
-    }
-    if (want_error) {
-        ea.views = views;
-        ea.seed = seed;
-        int rc = error_report(path, &f, &ea, json);
-        sss_file_free(&f);
-        return rc;
-    }
-    const double nv = f.mesh.nv;
-    const char *quant = sss_quant_name(f.quant);
+    const double nv = f->mesh.nv;
+    const char *quant = sss_quant_name(f->quant);
     /* every byte of the scattering data, by part (docs/format.md §5) */
     sss_storage st;
-    sss_file_storage(&f, &st);
+    sss_file_storage(f, &st);
     const struct { const char *name; uint64_t bytes; } part[] = {
         {"directions", st.dirs},           {"values", st.values},         {"lloyd_tables", st.lloyd_tables},
         {"section_headers", st.section_headers}, {"ref_vertex_indices", st.ref_vertex},
@@ -472,34 +363,34 @@ int main(int argc, char **argv)
         {"sh_codes", st.sh_codes},
     };
     const size_t nparts = sizeof part / sizeof part[0];
-    const double raw8 = (double)f.dirs.n * f.channels, rawf = 4.0 * raw8; /* bytes/vertex, uncompressed */
+    const double raw8 = (double)f->dirs.n * f->channels, rawf = 4.0 * raw8; /* bytes/vertex, uncompressed */
     const double sbpv = (double)st.total / nv; /* scattering data incl. directions, per vertex */
     if (json) {
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "file", path);
         char ver[32];
-        snprintf(ver, sizeof ver, "%u.%u", f.version_major, f.version_minor);
+        snprintf(ver, sizeof ver, "%u.%u", f->version_major, f->version_minor);
         cJSON_AddStringToObject(o, "format_version", ver);
-        cJSON_AddNumberToObject(o, "vertices", f.mesh.nv);
-        cJSON_AddNumberToObject(o, "triangles", f.mesh.nf);
-        cJSON_AddNumberToObject(o, "channels", f.channels);
-        cJSON_AddNumberToObject(o, "directions", f.dirs.n);
+        cJSON_AddNumberToObject(o, "vertices", f->mesh.nv);
+        cJSON_AddNumberToObject(o, "triangles", f->mesh.nf);
+        cJSON_AddNumberToObject(o, "channels", f->channels);
+        cJSON_AddNumberToObject(o, "directions", f->dirs.n);
         cJSON_AddStringToObject(o, "quant", quant);
-        cJSON_AddStringToObject(o, "material", f.material.name);
-        cJSON_AddNumberToObject(o, "mm_per_unit", f.mm_per_unit);
+        cJSON_AddStringToObject(o, "material", f->material.name);
+        cJSON_AddNumberToObject(o, "mm_per_unit", f->mm_per_unit);
         /* null: every term baked (the paper); else the mesh rings whose
          * terms a reader adds at run time (sss/ownterm.h) */
-        if (f.own_term) cJSON_AddNumberToObject(o, "runtime_rings", f.own_rings);
+        if (f->own_term) cJSON_AddNumberToObject(o, "runtime_rings", f->own_rings);
         else cJSON_AddNullToObject(o, "runtime_rings");
-        cJSON_AddNumberToObject(o, "file_bytes", (double)f.file_size);
-        cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)f.file_size / nv);
+        cJSON_AddNumberToObject(o, "file_bytes", (double)f->file_size);
+        cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)f->file_size / nv);
         cJSON *secs = cJSON_AddArrayToObject(o, "sections");
-        for (uint32_t s = 0; s < f.nsections; s++) {
+        for (uint32_t s = 0; s < f->nsections; s++) {
             cJSON *e = cJSON_CreateObject();
-            cJSON_AddStringToObject(e, "tag", f.sections[s].tag);
-            cJSON_AddNumberToObject(e, "bytes", (double)f.sections[s].size);
-            cJSON_AddNumberToObject(e, "bytes_per_vertex", (double)f.sections[s].size / nv);
-            cJSON_AddNumberToObject(e, "count", (double)f.sections[s].count);
+            cJSON_AddStringToObject(e, "tag", f->sections[s].tag);
+            cJSON_AddNumberToObject(e, "bytes", (double)f->sections[s].size);
+            cJSON_AddNumberToObject(e, "bytes_per_vertex", (double)f->sections[s].size / nv);
+            cJSON_AddNumberToObject(e, "count", (double)f->sections[s].count);
             cJSON_AddItemToArray(secs, e);
         }
         cJSON *sto = cJSON_AddObjectToObject(o, "storage");
@@ -513,45 +404,45 @@ int main(int argc, char **argv)
         cJSON_AddNumberToObject(o, "scattering_bytes_per_vertex", sbpv);
         cJSON_AddNumberToObject(o, "ratio_vs_8bit", raw8 / sbpv);
         cJSON_AddNumberToObject(o, "ratio_vs_float", rawf / sbpv);
-        if (f.quant == SSS_QUANT_SH || f.quant == SSS_QUANT_REFS) {
+        if (f->quant == SSS_QUANT_SH || f->quant == SSS_QUANT_REFS) {
             cJSON *c = cJSON_AddObjectToObject(o, "compression");
-            cJSON_AddNumberToObject(c, "sh_order", f.sh.order);
-            cJSON_AddNumberToObject(c, "sh_coefficients", f.sh.ncoef);
-            cJSON_AddStringToObject(c, "sh_quant", sss_shq_name(f.sh.kind));
-            cJSON_AddNumberToObject(c, "coded_vertices", f.sh.ncoded);
-            if (f.quant == SSS_QUANT_REFS) {
-                cJSON_AddNumberToObject(c, "refs", f.ref.nref);
-                cJSON_AddNumberToObject(c, "refs_fraction", f.ref.nref / nv);
-                cJSON_AddNumberToObject(c, "ref_triangles", f.ref.nrt);
-                cJSON_AddNumberToObject(c, "weight_bits", f.ref.wbits);
-                cJSON_AddItemToObject(c, "weight_range", cJSON_CreateDoubleArray((double[]){f.ref.w_lo, f.ref.w_hi}, 2));
+            cJSON_AddNumberToObject(c, "sh_order", f->sh.order);
+            cJSON_AddNumberToObject(c, "sh_coefficients", f->sh.ncoef);
+            cJSON_AddStringToObject(c, "sh_quant", sss_shq_name(f->sh.kind));
+            cJSON_AddNumberToObject(c, "coded_vertices", f->sh.ncoded);
+            if (f->quant == SSS_QUANT_REFS) {
+                cJSON_AddNumberToObject(c, "refs", f->ref.nref);
+                cJSON_AddNumberToObject(c, "refs_fraction", f->ref.nref / nv);
+                cJSON_AddNumberToObject(c, "ref_triangles", f->ref.nrt);
+                cJSON_AddNumberToObject(c, "weight_bits", f->ref.wbits);
+                cJSON_AddItemToObject(c, "weight_range", cJSON_CreateDoubleArray((double[]){f->ref.w_lo, f->ref.w_hi}, 2));
             }
         }
-        cJSON *p = f.params_json ? cJSON_Parse(f.params_json) : NULL;
+        cJSON *p = f->params_json ? cJSON_Parse(f->params_json) : NULL;
         if (p) cJSON_AddItemToObject(o, "params", p);
         char *s = cJSON_PrintUnformatted(o);
         puts(s);
         free(s);
         cJSON_Delete(o);
     } else {
-        printf("%s: format %u.%u, %llu bytes\n", path, f.version_major, f.version_minor, (unsigned long long)f.file_size);
-        printf("  vertices %u, triangles %u, channels %u, directions %u, storage %s\n", f.mesh.nv, f.mesh.nf,
-               f.channels, f.dirs.n, quant);
-        printf("  material %s (eta %g), %g mm per unit\n", f.material.name, f.material.eta, f.mm_per_unit);
-        if (f.own_term)
+        printf("%s: format %u.%u, %llu bytes\n", path, f->version_major, f->version_minor, (unsigned long long)f->file_size);
+        printf("  vertices %u, triangles %u, channels %u, directions %u, storage %s\n", f->mesh.nv, f->mesh.nf,
+               f->channels, f->dirs.n, quant);
+        printf("  material %s (eta %g), %g mm per unit\n", f->material.name, f->material.eta, f->mm_per_unit);
+        if (f->own_term)
             printf("  near terms added at run time: the vertex's own term and %u mesh ring%s (section OWNT)\n",
-                   f.own_rings, f.own_rings == 1 ? "" : "s");
+                   f->own_rings, f->own_rings == 1 ? "" : "s");
         printf("  %-6s %14s %12s %14s\n", "section", "bytes", "bytes/vertex", "count");
-        for (uint32_t s = 0; s < f.nsections; s++)
-            printf("  %-6s %14llu %12.2f %14llu\n", f.sections[s].tag, (unsigned long long)f.sections[s].size,
-                   (double)f.sections[s].size / nv, (unsigned long long)f.sections[s].count);
-        printf("  total  %14llu %12.2f\n", (unsigned long long)f.file_size, (double)f.file_size / nv);
-        if (f.quant == SSS_QUANT_REFS)
+        for (uint32_t s = 0; s < f->nsections; s++)
+            printf("  %-6s %14llu %12.2f %14llu\n", f->sections[s].tag, (unsigned long long)f->sections[s].size,
+                   (double)f->sections[s].size / nv, (unsigned long long)f->sections[s].count);
+        printf("  total  %14llu %12.2f\n", (unsigned long long)f->file_size, (double)f->file_size / nv);
+        if (f->quant == SSS_QUANT_REFS)
             printf("  compression: %u references (%.2f%%), %u triangles, %u-bit weights in [%g, %g], SH order %u (%s)\n",
-                   f.ref.nref, 100.0 * f.ref.nref / nv, f.ref.nrt, f.ref.wbits, (double)f.ref.w_lo,
-                   (double)f.ref.w_hi, f.sh.order, sss_shq_name(f.sh.kind));
-        if (f.quant == SSS_QUANT_SH)
-            printf("  compression: SH order %u (%s) at every vertex\n", f.sh.order, sss_shq_name(f.sh.kind));
+                   f->ref.nref, 100.0 * f->ref.nref / nv, f->ref.nrt, f->ref.wbits, (double)f->ref.w_lo,
+                   (double)f->ref.w_hi, f->sh.order, sss_shq_name(f->sh.kind));
+        if (f->quant == SSS_QUANT_SH)
+            printf("  compression: SH order %u (%s) at every vertex\n", f->sh.order, sss_shq_name(f->sh.kind));
         printf("  scattering data by part:\n  %-24s %14s %12s\n", "part", "bytes", "bytes/vertex");
         for (size_t k = 0; k < nparts; k++)
             if (part[k].bytes)
@@ -560,6 +451,124 @@ int main(int argc, char **argv)
         printf("  %-24s %14llu %12.3f  (%.1fx smaller than 8-bit, %.1fx than float)\n", "all", (unsigned long long)st.total,
                sbpv, raw8 / sbpv, rawf / sbpv);
     }
-    sss_file_free(&f);
     return 0;
+}
+
+/* The command line, as the option table fills it. */
+typedef struct stat_args {
+    const char *path, *qvertex, *qlight;
+    int json, want_error;
+    uint32_t views, seed;
+    int interp;    /* --interp: SSS_INTERP_TRIANGLE (the default) or SSS_INTERP_NEAREST4 */
+    int image_opt; /* given: --image-views, --image-size, --exposure, --error-images or --image-visibility */
+    error_args ea; /* the image options; views, seed and interp join them for the run */
+} stat_args;
+
+/* --image-visibility viewer|rays|map|map:N (N = 256 ... 8192); "viewer",
+ * "rays" and "map" keep an earlier map:N's size, as they always have. */
+static int read_image_visibility(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
+{
+    (void)cli;
+    (void)opt;
+    error_args *ea = o->dest;
+    unsigned sz = 0;
+    char tail;
+    if (!strcmp(text, "viewer")) ea->near_mode = 0;
+    else if (!strcmp(text, "rays")) ea->near_mode = 1;
+    else if (!strcmp(text, "map")) ea->near_mode = 2;
+    else if (sscanf(text, "map:%u%c", &sz, &tail) == 1 && sz >= 256 && sz <= 8192) ea->near_mode = 2, ea->shadow_size = (int)sz;
+    else return 0;
+    return 1;
+}
+
+/* SSS_CLI_RUN, or the exit status after --help (0) or a message (2). */
+static int parse_args(int argc, char **argv, stat_args *a)
+{
+    static const char *const interps[] = {"triangle", "nearest4", NULL};
+    static const int interp_values[] = {SSS_INTERP_TRIANGLE, SSS_INTERP_NEAREST4};
+    memset(a, 0, sizeof *a);
+    a->views = 100;
+    a->seed = 1;
+    const sss_cli_opt opts[] = {
+        {.name = "--json", .kind = SSS_CLI_FLAG, .dest = &a->json},
+        {.name = "--query", .kind = SSS_CLI_STRING, .dest = &a->qvertex}, /* checked against the file: query() */
+        {.name = "--light", .kind = SSS_CLI_STRING, .dest = &a->qlight},
+        {.name = "--error", .kind = SSS_CLI_FLAG, .dest = &a->want_error},
+        {.name = "--views", .kind = SSS_CLI_U32, .dest = &a->views, .lo = 1, .hi = 100000},
+        {.name = "--seed", .kind = SSS_CLI_U32, .dest = &a->seed, .lo = 0, .hi = UINT32_MAX},
+        {.name = "--image-views", .kind = SSS_CLI_U32, .dest = &a->ea.image_views, .lo = 1, .hi = 100000,
+         .given = &a->image_opt},
+        {.name = "--image-size", .kind = SSS_CLI_INT, .dest = &a->ea.image_size, .lo = 16, .hi = 4096,
+         .given = &a->image_opt},
+        /* strtod's own reading: an underflow to a tiny positive number is taken */
+        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->ea.exposure, .lo = 0, .hi = DBL_MAX,
+         .flags = SSS_CLI_ABOVE_LO | SSS_CLI_LAX, .given = &a->image_opt,
+         .msg = "%s: %s '%s' must be a positive number\n"},
+        {.name = "--error-images", .kind = SSS_CLI_STRING, .dest = &a->ea.images_dir, .flags = SSS_CLI_NONEMPTY,
+         .given = &a->image_opt, .need_msg = "%s: %s needs a directory (see --help)\n"},
+        {.name = "--no-image", .kind = SSS_CLI_FLAG, .dest = &a->ea.no_image},
+        {.name = "--image-visibility", .kind = SSS_CLI_CUSTOM, .dest = &a->ea, .parse = read_image_visibility,
+         .given = &a->image_opt, .msg = "%s: %s '%s' must be viewer, rays, map or map:N (N = 256 ... 8192)\n"},
+        {.name = "--interp", .kind = SSS_CLI_CHOICE, .dest = &a->interp, .choices = interps, .values = interp_values,
+         .msg = "%s: %s '%s' must be triangle or nearest4\n"},
+    };
+    const sss_cli_opt pos[] = {{.name = "FILE.sss", .kind = SSS_CLI_STRING, .dest = &a->path}};
+    const sss_cli cli = {
+        .tool = TOOL, .opts = opts, .nopts = SSS_CLI_COUNT(opts), .pos = pos, .npos = SSS_CLI_COUNT(pos),
+        .min_pos = 1, .usage = usage,
+        .need_msg = "%s: %s needs a value (see --help)\n",
+        .extra_msg = "%s: unexpected argument '%s'\n",
+        .missing_msg = "%s: missing FILE.sss (see --help)\n",
+    };
+    return sss_cli_parse(&cli, argc, argv);
+}
+
+/* The combinations of options, checked once the file has been read (an
+ * unreadable file is reported first, exit status 1). 1 if they go together,
+ * else 0 after the message. */
+static int combinations_ok(const stat_args *a)
+{
+    if ((a->image_opt || a->ea.no_image || a->interp != SSS_INTERP_TRIANGLE) && !a->want_error) {
+        fprintf(stderr, "%s: --image-views, --image-size, --exposure, --error-images, --no-image and --interp go with --error\n", TOOL);
+        return 0;
+    }
+    if (a->ea.no_image && a->image_opt) {
+        fprintf(stderr, "%s: --no-image excludes the image options\n", TOOL);
+        return 0;
+    }
+    if (a->qvertex && a->want_error) {
+        fprintf(stderr, "%s: --query and --error exclude each other\n", TOOL);
+        return 0;
+    }
+    return 1;
+}
+
+int main(int argc, char **argv)
+{
+    stat_args a;
+    int rc = parse_args(argc, argv, &a);
+    if (rc != SSS_CLI_RUN) return rc;
+    if (!a.qvertex != !a.qlight) {
+        fprintf(stderr, "%s: %s needs %s (see --help)\n", TOOL, a.qvertex ? "--query" : "--light",
+                a.qvertex ? "--light X,Y,Z" : "--query VERTEX");
+        return 2;
+    }
+    sss_bake_file f;
+    sss_error err = {{0}};
+    if (sss_file_read(a.path, &f, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    if (!combinations_ok(&a)) rc = 2;
+    else if (a.qvertex) rc = query(a.path, &f, a.qvertex, a.qlight, a.json);
+    else if (a.want_error) {
+        a.ea.views = a.views;
+        a.ea.seed = a.seed;
+        a.ea.interp = (sss_interp)a.interp;
+        rc = error_report(a.path, &f, &a.ea, a.json);
+    } else {
+        rc = summary(a.path, &f, a.json);
+    }
+    sss_file_free(&f);
+    return rc;
 }
