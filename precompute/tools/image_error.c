@@ -39,7 +39,7 @@
 
 #include "image_io.h"
 #include "offscreen.h"
-#include "renderer.h"
+#include "sss/render.h"
 #include "sss/accuracy.h"
 #include "sss/random.h"
 #include "sss/recon.h"

@@ -27,7 +27,7 @@
 #include "fx_gpu.h"
 #include "genmesh.h"
 #include "offscreen.h"
-#include "renderer.h"
+#include "sss/render.h"
 #include "scene_view.h"
 #include "sss/bake_scene.h"
 #include "sss/import.h"

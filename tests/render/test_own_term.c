@@ -44,7 +44,7 @@
 #include "bvh.h"
 #include "genmesh.h"
 #include "offscreen.h"
-#include "renderer.h"
+#include "sss/render.h"
 #include "sss/bake.h"
 #include "sss/decode.h"
 #include "sss/import.h"

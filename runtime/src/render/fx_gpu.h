@@ -25,7 +25,7 @@
 #ifndef SSS_FX_GPU_H
 #define SSS_FX_GPU_H
 
-#include "renderer.h"
+#include "sss/render.h"
 #include "scene_view.h"
 
 typedef struct sss_fx_gpu sss_fx_gpu;

@@ -46,7 +46,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "renderer.h"
+#include "sss/render.h"
 #include "bvh.h"
 #include "gl_util.h"
 #include "shaders.h"

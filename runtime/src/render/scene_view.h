@@ -4,7 +4,7 @@
 #ifndef SSS_SCENE_VIEW_H
 #define SSS_SCENE_VIEW_H
 
-#include "renderer.h"
+#include "sss/render.h"
 #include "sss/format.h"
 #include "sss/scene.h"
 

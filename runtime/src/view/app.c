@@ -21,7 +21,7 @@
 
 #include "app.h"
 #include "font.h"
-#include "renderer.h"
+#include "sss/render.h"
 #include "shadow.h"
 
 #ifndef M_PI

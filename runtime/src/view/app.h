@@ -2,7 +2,7 @@
 #ifndef SSS_APP_H
 #define SSS_APP_H
 
-#include "renderer.h"
+#include "sss/render.h"
 
 typedef struct sss_app_options {
     const char *file_path;       /* for the title and overlay */

@@ -13,7 +13,7 @@
 #include "fx_gpu.h"
 #include "image_io.h"
 #include "offscreen.h"
-#include "renderer.h"
+#include "sss/render.h"
 #include "scene_view.h"
 #include "shadow.h"
 #include "sss/format.h"
