@@ -37,12 +37,10 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "image_io.h"
-#include "offscreen.h"
-#include "sss/render.h"
 #include "sss/accuracy.h"
 #include "sss/random.h"
 #include "sss/recon.h"
+#include "sss/render.h"
 
 static double now_s(void)
 {

@@ -13,7 +13,7 @@
 
 #include "cli_util.h"
 #include "image_error.h"
-#include "shadow.h" /* SSS_SHADOW_SIZE, the viewer's default map */
+#include "sss/render.h" /* SSS_SHADOW_SIZE, the viewer's default map */
 #include "sss/decode.h"
 #include "sss/accuracy.h"
 #include "sss/exact.h"

@@ -15,7 +15,6 @@
 #include <unistd.h>
 
 #include "genmesh.h"
-#include "offscreen.h"
 #include "sss/render.h"
 #include "sss/bake.h"
 #include "sss/compress.h"

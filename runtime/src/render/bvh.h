@@ -21,40 +21,9 @@
 #ifndef SSS_BVH_H
 #define SSS_BVH_H
 
-#include <stdint.h>
-#include "sss/result.h"
+#include "sss/render.h" /* sss_bvh, sss_bvh_node, SSS_BVH_STACK, sss_bvh_build, sss_bvh_occluded */
 
 #define SSS_BVH_MAX_LEAF 4   /* triangles per leaf, at most */
-#define SSS_BVH_STACK 64     /* the shader's traversal stack; the build keeps the depth below it */
 #define SSS_BVH_PAD 1e-6     /* box padding, of the box diagonal */
-
-typedef struct sss_bvh_node {
-    float lo[3];
-    uint32_t a;  /* inner: first child; leaf: first triangle */
-    float hi[3];
-    uint32_t b;  /* (triangle count << 2) | split axis */
-} sss_bvh_node;
-
-typedef struct sss_bvh {
-    sss_bvh_node *node;
-    uint32_t nnode;
-    float *tri;       /* 12 floats per triangle, leaf order */
-    uint32_t *prim;   /* the mesh triangle of each, leaf order */
-    uint32_t ntri;    /* triangles kept: those with finite vertices */
-    uint32_t depth;   /* root = 1 */
-} sss_bvh;
-
-/* Builds the hierarchy over the nf triangles (tri: 3 indices each into the
- * nv float3 positions pos). Deterministic: binned SAH on centroids (16
- * bins), object median where the tree grows deep. O(n log n). Triangles with
- * a non-finite vertex are left out, as Embree leaves them out. */
-sss_result sss_bvh_build(const float *pos, uint32_t nv, const uint32_t *tri, uint32_t nf, sss_bvh *out,
-                         sss_error *err);
-void sss_bvh_free(sss_bvh *b);
-
-/* The shader's occlusion query on the CPU, operation for operation (fused
- * where Embree fuses): 1 when the ray o + t d hits a triangle at t > tnear.
- * For tests. */
-int sss_bvh_occluded(const sss_bvh *b, const float o[3], const float d[3], float tnear);
 
 #endif

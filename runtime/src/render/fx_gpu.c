@@ -1,4 +1,14 @@
-/* fx_gpu.c: the scene's lights summed on the GPU (fx_gpu.h).
+/* fx_gpu.c: the scene's lights summed on the GPU (sss_fx_gpu_*, sss/render.h;
+ * docs/scenes.md "Viewer"), for `sss-view FILE.sss --scene S.json`.
+ *
+ * The CPU does only the vertex-independent work per frame (the shell rows
+ * and weights, the rotated probe coefficients), with the very functions
+ * the CPU path uses (sss_fx_point_weights, sss_scene_eval_light). Only the
+ * programs and buffers the file needs are built, from its effect set
+ * (format §5.10): the row program for QDIR or a direction set, the shell
+ * program and rows for PSHL, the environment program and transfer for ENVT.
+ * A file without PSHL has no shell program and no shell buffer; without
+ * ENVT, no environment program.
  *
  * Storage: the per-light data the file carries, uploaded once. QDIR's rows
  * and PSHL's S·n rows (one per shell and direction, nv·channels floats each)
@@ -23,10 +33,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fx_gpu.h"
 #include "gl_util.h"
 #include "shaders_fx.h"
 #include "sss/effects.h"
+#include "sss/render.h"
 
 struct sss_fx_gpu {
     const sss_bake_file *f;

@@ -2,6 +2,7 @@
  * and the overlay; failures become one-line errors (newlines of the driver
  * log folded to spaces). */
 #include "gl_util.h"
+#include "sss/render.h"
 
 GLuint sss_gl_compile(GLenum type, const char *prefix, const char *src, sss_error *err)
 {
@@ -45,6 +46,16 @@ GLuint sss_gl_link(GLuint a, GLuint b, sss_error *err)
     return p;
 }
 
+unsigned sss_gl_program(const char *vs, const char *fs, sss_error *err)
+{
+    GLuint v = sss_gl_compile(GL_VERTEX_SHADER, "", vs, err);
+    GLuint f = v ? sss_gl_compile(GL_FRAGMENT_SHADER, "", fs, err) : 0;
+    if (!f) {
+        if (v) glDeleteShader(v);
+        return 0;
+    }
+    return sss_gl_link(v, f, err);
+}
 
 GLuint sss_gl_ssbo(GLsizeiptr n, const void *data, GLenum usage)
 {

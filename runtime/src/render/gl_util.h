@@ -1,4 +1,5 @@
-/* gl_util.h: small OpenGL helpers shared by the renderer and the overlay. */
+/* gl_util.h: small OpenGL helpers of the renderer (the overlay gets
+ * sss_gl_program, sss/render.h). */
 #ifndef SSS_GL_UTIL_H
 #define SSS_GL_UTIL_H
 

@@ -1,5 +1,5 @@
-/* image_io.c: PNG (libpng) and OpenEXR (C API, openexr.h) writers. */
-#include "image_io.h"
+/* image_io.c: PNG (libpng) and OpenEXR (C API, openexr.h) writers (sss_write_*, sss/render.h). */
+#include "sss/render.h"
 
 #include <ctype.h>
 #include <math.h>

@@ -1,4 +1,4 @@
-/* offscreen.c: EGL surfaceless OpenGL context (see offscreen.h). epoxy's
+/* offscreen.c: EGL surfaceless OpenGL context (sss_offscreen_*, sss/render.h). epoxy's
  * EGL header must come before anything else EGL: the Khronos headers clash. */
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "offscreen.h"
+#include "sss/render.h"
 
 struct sss_offscreen {
     EGLDisplay dpy;

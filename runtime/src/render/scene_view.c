@@ -10,7 +10,7 @@
  * the reference of the GPU sum (fx_gpu.c), which takes each light's
  * parameters from sss_scene_eval_light as this file does.
  */
-#include "scene_view.h"
+#include "sss/render.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -27,13 +27,7 @@
 
 #include <epoxy/gl.h>
 #include <stdint.h>
-#include "sss/result.h"
-
-/* Map resolution (texels per side). 2048²: a texel is ~1/1000 of the
- * bounding diameter, below a twentieth of the mean edge of the 23K dragon
- * (18.5 texels), so only vertices within about a texel of a shadow's
- * outline disagree with a ray. 16 MiB of 32-bit float depth. */
-#define SSS_SHADOW_SIZE 2048
+#include "sss/render.h" /* SSS_SHADOW_SIZE: the default map resolution */
 /* R' = R · (1 + margin): the bounding sphere plus the normal offset. */
 #define SSS_SHADOW_MARGIN 0.02
 /* Lookup (shadow.c says why): the point tested is x_o + k_n · t · n_o, t the

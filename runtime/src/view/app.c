@@ -22,7 +22,6 @@
 #include "app.h"
 #include "font.h"
 #include "sss/render.h"
-#include "shadow.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

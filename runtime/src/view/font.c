@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "font.h"
-#include "gl_util.h"
+#include "sss/render.h"
 
 #define BANDS 6
 #define PER_BAND 16
@@ -148,14 +148,7 @@ sss_result sss_text_create(sss_text **out, sss_error *err)
     *out = NULL;
     sss_text *t = calloc(1, sizeof *t);
     if (!t) return sss_fail(err, SSS_ERR_NOMEM, "overlay: out of memory");
-    GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", text_vs, err);
-    GLuint fs = vs ? sss_gl_compile(GL_FRAGMENT_SHADER, "", text_fs, err) : 0;
-    if (!fs) {
-        if (vs) glDeleteShader(vs);
-        free(t);
-        return SSS_ERR_UNSUPPORTED;
-    }
-    t->prog = sss_gl_link(vs, fs, err);
+    t->prog = sss_gl_program(text_vs, text_fs, err);
     if (!t->prog) {
         sss_text_destroy(t);
         return SSS_ERR_UNSUPPORTED;

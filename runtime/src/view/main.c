@@ -10,13 +10,8 @@
 #include <time.h>
 
 #include "app.h"
-#include "fx_gpu.h"
-#include "image_io.h"
-#include "offscreen.h"
-#include "sss/render.h"
-#include "scene_view.h"
-#include "shadow.h"
 #include "sss/format.h"
+#include "sss/render.h"
 
 static const char *TOOL = "sss-view";
 
