@@ -58,8 +58,8 @@ double sss_view_bounds(const sss_mesh *m, double centre[3])
 
 sss_result sss_draw_create(sss_draw *d, sss_error *err)
 {
-    GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vs, err);
-    GLuint fs = vs ? sss_gl_compile(GL_FRAGMENT_SHADER, "", sss_glsl_shade_fs, err) : 0;
+    GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vert, err);
+    GLuint fs = vs ? sss_gl_compile(GL_FRAGMENT_SHADER, "", sss_glsl_shade_frag, err) : 0;
     d->prog_shade = fs ? sss_gl_link(vs, fs, err) : 0;
     if (!d->prog_shade) {
         if (vs && !fs) glDeleteShader(vs);

@@ -23,7 +23,7 @@
  * term adds exactly 0, so the sum is unchanged).
  *
  * Per frame, for each light in the scene's order, one dispatch adds the
- * light's term to the sum (shaders_fx.h). A direction-set light first runs
+ * light's term to the sum (shaders.h). A direction-set light first runs
  * the renderer's own §3.2 pass into its q buffer; the sum then goes to a
  * buffer of this module and is copied into q at the end.
  */
@@ -34,7 +34,7 @@
 #include <string.h>
 
 #include "gl_util.h"
-#include "shaders_fx.h"
+#include "shaders.h"
 #include "sss/effects.h"
 #include "sss/render.h"
 
@@ -59,7 +59,7 @@ static GLuint build(const char *defines, uint32_t C, uint32_t ncoef, sss_error *
 {
     char pre[160];
     snprintf(pre, sizeof pre, "%s#define CHANNELS %u\n#define NCOEF %u\n", defines, C, ncoef ? ncoef : 1u);
-    GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_fx_cs, err);
+    GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_scene_lights_comp, err);
     return cs ? sss_gl_link(cs, 0, err) : 0;
 }
 

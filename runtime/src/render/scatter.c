@@ -71,7 +71,7 @@ sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *
     const int no_set = f->fx.mask && !(f->fx.mask & SSS_FX_DIR_SET);
     if (!sh && !no_set) {
         GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, refs ? "#define LLOYD8 1\n#define REFS 1\n" : l8 ? "#define LLOYD8 1\n" : "",
-                                   sss_glsl_scatter_cs, err);
+                                   sss_glsl_scatter_comp, err);
         ok = cs && (s->prog_cs = sss_gl_link(cs, 0, err)) != 0;
     }
     if (ok && (sh || refs)) {
@@ -79,7 +79,7 @@ sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *
         snprintf(pre, sizeof pre, "#define CHANNELS %u\n#define NCOEF %u\n#define SH_LEVELS %u\n%s%s", C, shc->ncoef,
                  s->sh_levels ? s->sh_levels : 256u, shc->kind == SSS_SHQ_LLOYD4 ? "#define SH_NIBBLE 1\n" : "",
                  refs ? "#define REFS 1\n" : "");
-        GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_coded_cs, err);
+        GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_scatter_coded_comp, err);
         ok = cs && (s->prog_coded = sss_gl_link(cs, 0, err)) != 0;
     }
     if (!ok) return SSS_ERR_UNSUPPORTED;

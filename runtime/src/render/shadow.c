@@ -1,7 +1,7 @@
 /* shadow.c: depth-only shadow map from a directional light (shadow.h).
  *
  * The own-term pass with near_visibility = SSS_NEAR_MAP (renderer.c, GLSL
- * sss_glsl_own_vis_cs without RAYS; the default traces the ray itself,
+ * near_vis.comp.glsl without RAYS; the default traces the ray itself,
  * bvh.c) asks whether vertex
  * x_o sees the light, and must answer as the bake does: an Embree ray from
  * x_o + δ n_o, δ = 1e-5 of the box diagonal, towards ω, beyond t = δ, blocked
@@ -78,8 +78,8 @@ sss_result sss_shadow_create(GLuint vao, uint32_t nf, const double centre[3], do
     memcpy(s->centre, centre, sizeof s->centre);
     s->radius = (radius > 0 ? radius : 1.0) * (1.0 + SSS_SHADOW_MARGIN);
     s->size = size;
-    GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shadow_vs, err);
-    GLuint fs = vs ? sss_gl_compile(GL_FRAGMENT_SHADER, "", sss_glsl_shadow_fs, err) : 0;
+    GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shadow_vert, err);
+    GLuint fs = vs ? sss_gl_compile(GL_FRAGMENT_SHADER, "", sss_glsl_shadow_frag, err) : 0;
     s->prog = fs ? sss_gl_link(vs, fs, err) : 0;
     if (!s->prog) {
         if (vs && !fs) glDeleteShader(vs);

@@ -15,6 +15,7 @@
 
 #include "font.h"
 #include "sss/render.h"
+#include "view_glsl.h" /* runtime/shaders/text.{vert,frag}.glsl, embedded at build time */
 
 #define BANDS 6
 #define PER_BAND 16
@@ -118,37 +119,12 @@ struct sss_text {
     int width, height;
 };
 
-static const char *text_vs =
-    "layout(location = 0) in vec2 a_pos;\n"
-    "layout(location = 1) in vec2 a_uv;\n"
-    "layout(location = 2) in vec4 a_rgba;\n"
-    "uniform vec2 u_size; // framebuffer size in pixels\n"
-    "out vec2 v_uv;\n"
-    "out vec4 v_rgba;\n"
-    "void main() {\n"
-    "    v_uv = a_uv;\n"
-    "    v_rgba = a_rgba;\n"
-    "    // pixels, origin top-left, y down -> clip space\n"
-    "    gl_Position = vec4(2.0 * a_pos.x / u_size.x - 1.0, 1.0 - 2.0 * a_pos.y / u_size.y, 0.0, 1.0);\n"
-    "}\n";
-
-static const char *text_fs =
-    "uniform sampler2D u_atlas;\n"
-    "in vec2 v_uv;\n"
-    "in vec4 v_rgba;\n"
-    "out vec4 o_color;\n"
-    "void main() {\n"
-    "    float cover = texture(u_atlas, v_uv).r;\n"
-    "    if (cover <= 0.0) discard;\n"
-    "    o_color = vec4(v_rgba.rgb, v_rgba.a * cover);\n"
-    "}\n";
-
 sss_result sss_text_create(sss_text **out, sss_error *err)
 {
     *out = NULL;
     sss_text *t = calloc(1, sizeof *t);
     if (!t) return sss_fail(err, SSS_ERR_NOMEM, "overlay: out of memory");
-    t->prog = sss_gl_program(text_vs, text_fs, err);
+    t->prog = sss_gl_program(sss_glsl_text_vert, sss_glsl_text_frag, err);
     if (!t->prog) {
         sss_text_destroy(t);
         return SSS_ERR_UNSUPPORTED;

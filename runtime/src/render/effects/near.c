@@ -127,9 +127,9 @@ static sss_result near_build(sss_near_pass *r, const sss_gpu_mesh *m, sss_error 
     r->delta = (float)(1e-5 * sss_mesh_bounds(&f->mesh, lo, hi));
     char pre[48];
     snprintf(pre, sizeof pre, "#define CHANNELS %u\n", C);
-    GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, "", sss_glsl_own_vis_cs, err);
+    GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, "", sss_glsl_near_vis_comp, err);
     if (!cs || !(r->prog_vis = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
-    cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_own_near_cs, err);
+    cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_near_sum_comp, err);
     if (!cs || !(r->prog_near = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
     /* The BVH for the rays. Where its buffers exceed this GL's storage block
      * (above ~2.8M triangles at 48 bytes each in llvmpipe's 128 MiB), the
@@ -145,7 +145,7 @@ static sss_result near_build(sss_near_pass *r, const sss_gpu_mesh *m, sss_error 
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         r->bvh_ntri = bvh.ntri;
         snprintf(pre, sizeof pre, "#define RAYS 1\n#define SSS_BVH_STACK %d\n", SSS_BVH_STACK);
-        cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_own_vis_cs, err);
+        cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_near_vis_comp, err);
         if (!cs || !(r->prog_ray = sss_gl_link(cs, 0, err))) {
             sss_bvh_free(&bvh);
             return SSS_ERR_UNSUPPORTED;
