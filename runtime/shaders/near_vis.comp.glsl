@@ -4,7 +4,7 @@ layout(std430, binding = 1) readonly buffer Nrm { float nrm[]; };
 layout(std430, binding = 2) writeonly buffer Gv { float gv[]; };  // g V per vertex
 layout(std430, binding = 4) writeonly buffer Lit { uint lit[]; };
 uniform vec3 u_light;       // unit, towards the light
-uniform float u_delta;      // the bake's ray offset, 1e-5 of the bounding-box diagonal
+uniform float u_delta;      // the rays' offset, sss_mesh_ray_offset: the rule is applied here, not derived
 uniform float u_eta;
 uniform uint u_count;       // vertices
 // g = F_t(eta, c) max(0, c), c = n.w: sss_own_transfer, term for term

@@ -43,7 +43,7 @@ struct sss_near_pass {
     GLuint fan;         /* incident triangles per vertex: offsets (nv + 1), then triangle indices */
     GLuint fan_sin;     /* per vertex: sin of the largest angle between n_o and its triangles' normals */
     GLuint near_start, near_idx, near_w; /* sss_near: rows of (vertex, w̃ per channel) */
-    float delta;        /* the bake's ray offset, 1e-5 of the bounding-box diagonal (visibility.c) */
+    float delta;        /* the rays' offset δ, sss_mesh_ray_offset (sss/mesh.h) */
 };
 
 /* The near terms' resources: their rows and weights from the file's
@@ -122,9 +122,8 @@ static sss_result near_build(sss_near_pass *r, const sss_gpu_mesh *m, sss_error 
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     free(fs);
     free(fan);
-    double lo[3], hi[3];
-    /* as visibility.c computes it, so that the origins are the bake's floats */
-    r->delta = (float)(1e-5 * sss_mesh_bounds(&f->mesh, lo, hi));
+    /* the bake's own offset, so that the origins are the bake's floats */
+    r->delta = sss_mesh_ray_offset(&f->mesh);
     char pre[48];
     snprintf(pre, sizeof pre, "#define CHANNELS %u\n", C);
     GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, "", sss_glsl_near_vis_comp, err);
