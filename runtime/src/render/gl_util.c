@@ -6,9 +6,17 @@
 
 GLuint sss_gl_compile(GLenum type, const char *prefix, const char *src, sss_error *err)
 {
+    const char *parts[2] = {prefix, src};
+    return sss_gl_compile_parts(type, parts, 2, err);
+}
+
+GLuint sss_gl_compile_parts(GLenum type, const char *const *parts, int n, sss_error *err)
+{
     GLuint s = glCreateShader(type);
-    const char *parts[3] = {"#version 430 core\n", prefix, src};
-    glShaderSource(s, 3, parts, NULL);
+    const char *all[8] = {"#version 430 core\n"};
+    if (n > 7) n = 7;
+    for (int i = 0; i < n; i++) all[i + 1] = parts[i];
+    glShaderSource(s, n + 1, all, NULL);
     glCompileShader(s);
     GLint ok = 0;
     glGetShaderiv(s, GL_COMPILE_STATUS, &ok);

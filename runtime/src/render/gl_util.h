@@ -10,6 +10,10 @@
  * returns 0 and fills err on failure. */
 GLuint sss_gl_compile(GLenum type, const char *prefix, const char *src, sss_error *err);
 
+/* The same for "#version 430 core\n" + parts[0] + … + parts[n - 1] (n ≤ 7):
+ * a program composed of shared pieces and its own text. */
+GLuint sss_gl_compile_parts(GLenum type, const char *const *parts, int n, sss_error *err);
+
 /* Links a (and b when non-zero) into a program and deletes the shaders;
  * returns 0 and fills err on failure. */
 GLuint sss_gl_link(GLuint a, GLuint b, sss_error *err);

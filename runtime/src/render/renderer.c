@@ -12,7 +12,6 @@
 
 #include "effects/effects.h"
 #include "renderer.h"
-#include "sss/decode.h"
 
 /* The mesh's geometry and the per-vertex q buffer. */
 static void mesh_upload(sss_gpu_mesh *m)
@@ -40,6 +39,30 @@ static void mesh_upload(sss_gpu_mesh *m)
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
 }
 
+/* The passes over q of the effects f carries (the pass table's rows of
+ * light kind < 0), in table order. */
+static sss_result passes_create(sss_renderer *r, sss_error *err)
+{
+    sss_effect_ctx c = {&r->mesh, 0, 0, 0};
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &c.max_block);
+    for (unsigned i = 0; i < sss_pass_table_n; i++) {
+        const sss_effect *e = &sss_pass_table[i];
+        if (e->light_kind >= 0 || !sss_effect_present(e, r->mesh.f)) continue;
+        sss_result res = e->create(&c, &r->pass[i], err);
+        if (res != SSS_OK) return res;
+        r->pass_on |= 1u << i;
+    }
+    return SSS_OK;
+}
+
+/* The state of the near terms' pass (OWNT), NULL when the file has none. */
+static void *near_state(const sss_renderer *r)
+{
+    for (unsigned i = 0; i < sss_pass_table_n; i++)
+        if ((r->pass_on >> i & 1) && !strcmp(sss_pass_table[i].section, "OWNT")) return r->pass[i];
+    return NULL;
+}
+
 sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err)
 {
     *out = NULL;
@@ -60,7 +83,7 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
     if (res == SSS_OK) {
         mesh_upload(m);
         glGenQueries(3, r->queries);
-        if (f->own_term) res = sss_near_pass_create(m, &r->near, err);
+        res = passes_create(r, err);
     }
     if (res != SSS_OK) {
         sss_renderer_destroy(r);
@@ -78,7 +101,8 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
 void sss_renderer_destroy(sss_renderer *r)
 {
     if (!r) return;
-    sss_near_pass_destroy(r->near);
+    for (unsigned i = 0; i < sss_pass_table_n; i++)
+        if ((r->pass_on >> i & 1) && sss_pass_table[i].destroy) sss_pass_table[i].destroy(r->pass[i]);
     sss_scatter_destroy(&r->scatter);
     sss_draw_destroy(&r->draw);
     GLuint bufs[4] = {r->mesh.vbo_pos, r->mesh.vbo_nrm, r->mesh.ebo, r->mesh.qbuf};
@@ -88,10 +112,18 @@ void sss_renderer_destroy(sss_renderer *r)
     free(r);
 }
 
-/* The passes over q of the effects the file carries, for unit light l. */
+/* The passes over q of the effects the file carries, for unit light l, in
+ * table order; the near terms' timer is queries[2]. */
 static void q_passes(sss_renderer *r, const double l[3], const sss_view_params *p)
 {
-    if (r->near && p->own_term && sss_near_pass_run(r->near, &r->mesh, l, p, r->queries[2])) r->have_times |= 4;
+    sss_effect_frame fr;
+    memset(&fr, 0, sizeof fr);
+    fr.light = l;
+    fr.p = p;
+    fr.query = r->queries[2];
+    fr.r = r;
+    for (unsigned i = 0; i < sss_pass_table_n; i++)
+        if ((r->pass_on >> i & 1) && sss_pass_table[i].frame(r->pass[i], &fr)) r->have_times |= 4;
 }
 
 void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
@@ -133,14 +165,20 @@ void sss_renderer_read_q(sss_renderer *r, float *out)
 
 void sss_renderer_read_own_visibility(sss_renderer *r, uint8_t *lit)
 {
-    if (!r->near) {
+    const void *near = near_state(r);
+    if (!near) {
         memset(lit, 1, r->mesh.nv); /* no own term: nothing was tested */
         return;
     }
-    sss_near_pass_read_visibility(r->near, r->mesh.nv, lit);
+    sss_near_read_visibility(near, r->mesh.nv, lit);
 }
 
-int sss_renderer_has_own_term(const sss_renderer *r) { return r->near != NULL; }
+int sss_renderer_has_own_term(const sss_renderer *r)
+{
+    for (unsigned i = 0; i < sss_pass_table_n; i++)
+        if ((r->pass_on >> i & 1) && !strcmp(sss_pass_table[i].section, "OWNT")) return 1;
+    return 0;
+}
 
 sss_frame_times sss_renderer_times(const sss_renderer *r)
 {
@@ -192,6 +230,6 @@ void sss_renderer_upload_q(sss_renderer *r, const float *q)
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     /* the light is not known here: the next draw adds the near terms */
-    r->own_pending = r->near != NULL;
+    r->own_pending = r->pass_on != 0;
     r->have_times &= ~4;
 }

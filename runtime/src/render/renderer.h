@@ -10,7 +10,7 @@
  *   sss_draw      draw.c: camera, shading draw, tone map, the float
  *                 framebuffer and whole offscreen images;
  * and the passes over q of the effects the file carries (effects/effects.h:
- * the near terms of section OWNT).
+ * the near terms of section OWNT), created from the pass table.
  */
 #ifndef SSS_RENDERER_INTERNAL_H
 #define SSS_RENDERER_INTERNAL_H
@@ -75,17 +75,19 @@ void sss_draw_destroy(sss_draw *d);
 void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p, int width, int height,
                     GLuint query);
 
-struct sss_near_pass;
+/* The capacity of the pass table (effects/table.c). */
+#define SSS_EFFECTS_MAX 8
 
 struct sss_renderer {
     sss_gpu_mesh mesh;
     sss_scatter scatter;
     sss_draw draw;
-    struct sss_near_pass *near; /* files with OWNT only (effects/near.c) */
+    void *pass[SSS_EFFECTS_MAX]; /* the passes over q the file has, by table row (effects/effects.h) */
+    unsigned pass_on;            /* bit i: table row i was created */
     GLuint queries[3];  /* scatter, draw, near terms */
     int have_times;     /* bits of the queries that hold a result */
     int last_path;
-    int own_pending;    /* q was uploaded: the next draw adds the near terms for its light */
+    int own_pending;    /* q was uploaded: the next draw runs the passes over q (near terms) for its light */
 };
 
 static inline void sss_normalize3(double v[3])

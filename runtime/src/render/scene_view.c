@@ -8,7 +8,9 @@
  * Only the parts a file carries are evaluated: a light kind the scene does
  * not have costs nothing per frame. This CPU sum is the fallback (--cpu) and
  * the reference of the GPU sum (fx_gpu.c), which takes each light's
- * parameters from sss_scene_eval_light as this file does.
+ * parameters from sss_scene_eval_light as this file does; each light's term
+ * is the cpu hook of its pass in the pass table (effects/), next to the
+ * pass's GPU side.
  */
 #include "sss/render.h"
 
@@ -17,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sss/decode.h"
+#include "effects/effects.h"
 #include "sss/effects.h"
 
 typedef struct lightref {
@@ -172,37 +174,27 @@ void sss_scene_eval_light(const sss_scene_eval *e, uint32_t i, double angle, sss
     }
 }
 
+void sss_pass_cpu_add_row(const sss_bake_file *f, const double w[3], const float *src, float *q)
+{
+    const uint32_t nv = f->mesh.nv, C = f->channels;
+    for (uint32_t v = 0; v < nv; v++)
+        for (uint32_t c = 0; c < C; c++) q[(size_t)v * C + c] += (float)(w[c] * src[(size_t)v * C + c]);
+}
+
 /* The CPU path and the reference of the GPU path (fx_gpu.c): lights in
- * order, each term rounded to float and added to q. */
+ * order, each term rounded to float and added to q by the pass of its kind
+ * (effects/: the cpu hook of the pass table). */
 void sss_scene_eval_frame(sss_scene_eval *e, double angle, float *q)
 {
     const sss_bake_file *f = e->f;
-    const uint32_t nv = f->mesh.nv, C = f->channels;
-    const size_t n = (size_t)nv * C;
+    const size_t n = (size_t)f->mesh.nv * f->channels;
+    const sss_effect_scratch scratch = {e->tmp, e->env};
     memset(q, 0, n * sizeof *q);
     for (uint32_t i = 0; i < e->n; i++) {
         sss_scene_light_frame lf;
         sss_scene_eval_light(e, i, angle, &lf);
-        const float *src = NULL;
-        if (lf.kind == 0) {
-            src = sss_fx_exact(f, lf.exact);
-        } else if (lf.kind == 1) {
-            sss_decode_all(f, lf.dir, e->tmp);
-            src = e->tmp;
-        } else if (lf.kind == 2) {
-            sss_fx_point(f, lf.pos, e->tmp);
-            src = e->tmp;
-        } else {
-            sss_fx_env(f, lf.env_L, e->env);
-            for (uint32_t v = 0; v < nv; v++)
-                for (uint32_t c = 0; c < C; c++)
-                    q[(size_t)v * C + c] += C == 3 ? e->env[3 * (size_t)v + c]
-                                                   : (e->env[3 * (size_t)v] + e->env[3 * (size_t)v + 1] + e->env[3 * (size_t)v + 2]) / 3.0f;
-            continue;
-        }
-        if (!src) continue;
-        for (uint32_t v = 0; v < nv; v++)
-            for (uint32_t c = 0; c < C; c++) q[(size_t)v * C + c] += (float)(lf.w[c] * src[(size_t)v * C + c]);
+        const sss_effect *fx = sss_effect_for_light(lf.kind);
+        if (fx && fx->cpu) fx->cpu(f, &lf, &scratch, q);
     }
 }
 

@@ -58,20 +58,25 @@
  * sss_near_sum's float sum in its order, `precise`, then q += s, as
  * sss_near_add does. Needs "#define CHANNELS n". */
 
-/* scene_lights.comp.glsl (fx_gpu.c): the scene-effect evaluation on the GPU
- * (format 1.2 effects, docs/scenes.md). One compute shader source, compiled
- * per effect with one of these defines in front (plus CHANNELS, and NCOEF
- * for the environment):
- *   FX_ROWS  q += float(w_c · src[e]): a static light's stored QDIR row
- *            (directional-exact), or the direction-set value the renderer's
- *            own compute pass has just interpolated (Hao–Varshney 2004 §3.2);
- *   FX_SHELL q += float(w_c · float((Σ_k w_k row_k[e]) / r²)): the point
- *            light's six shell rows (§3.3, directions × distance shells);
- *   FX_ENV   q += max(0, Σ_i T_i L_i) per vertex and RGB channel (the
- *            environment's SH transfer dotted with the probe's SH).
+/* The scene-light kernels (fx_gpu.c and effects/; format 1.2 effects,
+ * docs/scenes.md), each composed as "#define CHANNELS n" (and "#define
+ * NCOEF K" for the environment), light_sum.glsl, then its own file
+ * (sss_pass_light_program):
+ *   light_sum.glsl          the shared part: the frame's sum at binding 6,
+ *                           u_count, u_first (1 starts the sum at 0: the
+ *                           first light of a frame), u_w, and light_add;
+ *   light_row.comp.glsl     q += float(w_c · src[e]): a static light's stored
+ *                           QDIR row (directional-exact), or the
+ *                           direction-set value the renderer's own compute
+ *                           pass has just interpolated (Hao–Varshney 2004 §3.2);
+ *   point_shells.comp.glsl  q += float(w_c · float((Σ_k w_k row_k[e]) / r²)):
+ *                           the point light's six shell rows (§3.3,
+ *                           directions × distance shells);
+ *   env_sh.comp.glsl        q += max(0, Σ_i T_i L_i) per vertex and RGB
+ *                           channel (the environment's SH transfer dotted
+ *                           with the probe's SH).
  * Every sum is `precise` and in double, in the order of the C evaluator
  * (common/src/fx_eval.c, runtime/src/render/scene_view.c), so on an IEEE
- * GPU the two agree to the bit. Target buffer at binding 6; u_first = 1
- * starts the sum at 0 (the first light of a frame). */
+ * GPU the two agree to the bit. */
 
 #endif

@@ -32,7 +32,7 @@
 #include "shadow.h"
 #include "sss/ownterm.h"
 
-struct sss_near_pass {
+typedef struct sss_near_pass {
     sss_shadow *shadow; /* created on the first pass that asks for the map */
     GLuint prog_vis, prog_ray, prog_near; /* pass 1 (map or rays): V and g V per vertex; pass 2: the rows' sums into q */
     GLuint bvh_node, bvh_tri; /* the mesh's BVH (bvh.h) for prog_ray */
@@ -44,23 +44,23 @@ struct sss_near_pass {
     GLuint fan_sin;     /* per vertex: sin of the largest angle between n_o and its triangles' normals */
     GLuint near_start, near_idx, near_w; /* sss_near: rows of (vertex, w̃ per channel) */
     float delta;        /* the rays' offset δ, sss_mesh_ray_offset (sss/mesh.h) */
-};
+} sss_near_pass;
 
 /* The near terms' resources: their rows and weights from the file's
  * geometry and material (sss_near_build: the file stores no bytes for
  * them), the mesh's BVH for the rays, each vertex's incident triangles for
  * the map, the per-vertex V and g V buffers and the programs. The shadow
  * map itself waits for a pass that asks for it. */
-static sss_result near_build(sss_near_pass *r, const sss_gpu_mesh *m, sss_error *err)
+static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_error *err)
 {
+    const sss_gpu_mesh *m = c->mesh;
     const sss_bake_file *f = m->f;
     const uint32_t nv = m->nv, nf = m->nf, C = m->C;
     sss_near nr;
     sss_result res = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, C, f->own_rings, &nr, err);
     if (res != SSS_OK) return res;
     const uint64_t nent = nr.start[nv];
-    GLint64 max_block = 0;
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    const GLint64 max_block = c->max_block;
     if (max_block > 0 && nent * C * sizeof(float) > (uint64_t)max_block) {
         sss_near_free(&nr);
         return sss_fail(err, SSS_ERR_UNSUPPORTED,
@@ -154,22 +154,11 @@ static sss_result near_build(sss_near_pass *r, const sss_gpu_mesh *m, sss_error 
     return SSS_OK;
 }
 
-sss_result sss_near_pass_create(const sss_gpu_mesh *m, sss_near_pass **out, sss_error *err)
-{
-    *out = NULL;
-    sss_near_pass *r = calloc(1, sizeof *r);
-    if (!r) return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory");
-    sss_result res = near_build(r, m, err);
-    if (res != SSS_OK) {
-        sss_near_pass_destroy(r);
-        return res;
-    }
-    *out = r;
-    return SSS_OK;
-}
+int sss_pass_near_present(const sss_bake_file *f) { return f->own_term != 0; }
 
-void sss_near_pass_destroy(sss_near_pass *r)
+void sss_pass_near_destroy(void *state)
 {
+    sss_near_pass *r = state;
     if (!r) return;
     GLuint bufs[9] = {r->lit, r->gv, r->fan, r->near_start, r->near_idx, r->near_w, r->fan_sin, r->bvh_node,
                       r->bvh_tri};
@@ -179,6 +168,20 @@ void sss_near_pass_destroy(sss_near_pass *r)
     if (r->prog_near) glDeleteProgram(r->prog_near);
     sss_shadow_destroy(r->shadow);
     free(r);
+}
+
+sss_result sss_pass_near_create(const sss_effect_ctx *c, void **state, sss_error *err)
+{
+    *state = NULL;
+    sss_near_pass *r = calloc(1, sizeof *r);
+    if (!r) return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory");
+    sss_result res = near_build(r, c, err);
+    if (res != SSS_OK) {
+        sss_pass_near_destroy(r);
+        return res;
+    }
+    *state = r;
+    return SSS_OK;
 }
 
 /* The shadow map of the size asked for (clamped to 256 … 8192), created or
@@ -201,10 +204,16 @@ static int own_map(sss_near_pass *r, const sss_gpu_mesh *m, int size)
 /* Adds the near terms for unit light l to q (binding 3) and records every
  * vertex's V, on the GPU whichever path evaluated q: by the bake's ray
  * through the BVH, or from the shadow map when p asks for it (or when
- * there is no BVH, or no map can be had: the other one then). */
-int sss_near_pass_run(sss_near_pass *r, const sss_gpu_mesh *m, const double l[3], const sss_view_params *p,
-                      GLuint query)
+ * there is no BVH, or no map can be had: the other one then). 1 when it
+ * ran (under the timer query), 0 when there is no light or no test. */
+GLuint sss_pass_near_frame(void *state, const sss_effect_frame *fr)
 {
+    sss_near_pass *r = state;
+    const sss_gpu_mesh *m = &fr->r->mesh;
+    const double *l = fr->light;
+    const sss_view_params *p = fr->p;
+    const GLuint query = fr->query;
+    if (!p->own_term) return 0; /* the view asks for q as evaluated or uploaded */
     const float lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
     if (!(lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2] > 0.5f)) return 0; /* zero or NaN light: no light */
     int map = p->near_visibility == SSS_NEAR_MAP || !r->prog_ray;
@@ -273,8 +282,15 @@ int sss_near_pass_run(sss_near_pass *r, const sss_gpu_mesh *m, const double l[3]
     return 1;
 }
 
-void sss_near_pass_read_visibility(const sss_near_pass *r, uint32_t nv, uint8_t *lit)
+const char *sss_pass_near_describe(const void *state)
 {
+    const sss_near_pass *r = state;
+    return r->prog_ray ? "near terms: rays (shadow map on request)" : "near terms: shadow map";
+}
+
+void sss_near_read_visibility(const void *state, uint32_t nv, uint8_t *lit)
+{
+    const sss_near_pass *r = state;
     uint32_t *u = malloc((size_t)nv * sizeof *u + 1);
     if (!u) {
         memset(lit, 0, nv);
