@@ -1,11 +1,12 @@
 /* shadow.c: depth-only shadow map from a directional light (shadow.h).
  *
- * The own-term pass with near_visibility = SSS_NEAR_MAP (renderer.c, GLSL
- * near_vis.comp.glsl without RAYS; the default traces the ray itself,
+ * The own-term pass with near_visibility = SSS_NEAR_MAP (effects/near.c,
+ * GLSL near_vis.comp.glsl without RAYS; the default traces the ray itself,
  * bvh.c) asks whether vertex
  * x_o sees the light, and must answer as the bake does: an Embree ray from
- * x_o + δ n_o, δ = 1e-5 of the box diagonal, towards ω, beyond t = δ, blocked
- * by any hit of the mesh (precompute/src/visibility.c). It answers in two
+ * x_o + δ n_o, δ = sss_mesh_ray_offset (1e-5 of the box diagonal), towards
+ * ω, beyond t = δ, blocked by any hit of the mesh
+ * (precompute/src/visibility.c). It answers in two
  * parts.
  *
  * Near field, exactly: the bake's ray against the triangles around x_o

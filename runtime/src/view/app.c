@@ -343,7 +343,7 @@ static void draw_overlay(app *a, int fw, int fh)
     base = base ? base + 1 : a->opt->file_path;
     /* files baked with --own-term runtime: the near terms the viewer adds
      * back, with the visibility of the bake's rays or of a shadow map
-     * (renderer.h) */
+     * (sss/render.h) */
     char own[160] = "", vis[48] = "rays";
     if (a->p.near_visibility == SSS_NEAR_MAP)
         snprintf(vis, sizeof vis, "shadow map %d^2", a->p.shadow_size ? a->p.shadow_size : SSS_SHADOW_SIZE);
