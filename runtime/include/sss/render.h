@@ -67,8 +67,8 @@ typedef struct sss_offscreen sss_offscreen;
 sss_result sss_offscreen_create(sss_offscreen **out, sss_error *err);
 void sss_offscreen_destroy(sss_offscreen *o);
 
-/* GL_RENDERER string of the current context (static storage owned by GL;
- * "unknown" when none is current). */
+/* GL_RENDERER string of the current context (storage owned by GL;
+ * "unknown" when GL returns none). */
 const char *sss_gl_renderer_name(void);
 
 /* ---- view parameters ---------------------------------------------------- */
