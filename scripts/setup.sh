@@ -8,6 +8,7 @@ PKGS=(build-essential cmake pkg-config git ca-certificates
       libopenmesh-dev libflann-dev liblz4-dev libembree-dev
       libcjson-dev libcmocka-dev libpng-dev libcgal-dev
       libglfw3-dev libepoxy-dev libegl-dev libgl-dev libopenexr-dev libgl1-mesa-dri libegl-mesa0
+      glslang-tools  # glslangValidator: every shader variant is validated at build time
       xvfb xauth xdotool clang libomp-dev
       libopenblas-dev openmpi-bin libopenmpi-dev  # issue 8: sgemm reference benchmarks, mpirun -np K sss-bake
       gnuplot-nox jq)  # gnuplot-nox, jq: tests/bench/accuracy_study.sh (plots, JSON fields)

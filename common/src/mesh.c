@@ -50,6 +50,12 @@ double sss_mesh_bounds(const sss_mesh *m, double lo[3], double hi[3])
     return sqrt(d2);
 }
 
+float sss_mesh_ray_offset(const sss_mesh *m)
+{
+    double lo[3], hi[3];
+    return (float)(1e-5 * sss_mesh_bounds(m, lo, hi));
+}
+
 /* (p1 − p0) × (p2 − p0) of triangle f in double: its length is twice the
  * triangle's area and its direction the face normal. */
 static void tri_cross(const sss_mesh *m, uint32_t f, double c[3])

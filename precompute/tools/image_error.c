@@ -37,12 +37,10 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "image_io.h"
-#include "offscreen.h"
-#include "renderer.h"
-#include "sss/vertex_error.h"
 #include "sss/random.h"
 #include "sss/reconstruct.h"
+#include "sss/render.h"
+#include "sss/vertex_error.h"
 
 static double now_s(void)
 {

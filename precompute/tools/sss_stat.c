@@ -14,7 +14,7 @@
 
 #include "sss/cli.h"
 #include "image_error.h"
-#include "shadow.h" /* SSS_SHADOW_SIZE, the viewer's default map */
+#include "sss/render.h" /* SSS_SHADOW_SIZE, the viewer's default map */
 #include "sss/decode.h"
 #include "sss/vertex_error.h"
 #include "sss/exact.h"

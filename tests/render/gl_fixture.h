@@ -6,7 +6,7 @@
 #define SSS_TEST_GL_FIXTURE_H
 
 #include <stdio.h>
-#include "offscreen.h"
+#include "sss/render.h"
 
 static sss_offscreen *gl_ctx;
 

@@ -24,14 +24,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "fx_gpu.h"
 #include "genmesh.h"
-#include "offscreen.h"
-#include "renderer.h"
-#include "scene_view.h"
 #include "sss/bake_scene.h"
 #include "sss/import.h"
 #include "sss/probe.h"
+#include "sss/render.h"
 
 static sss_offscreen *ctx;
 static char tmpdir[256];

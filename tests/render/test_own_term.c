@@ -41,15 +41,13 @@
 
 #include <epoxy/gl.h>
 
-#include "bvh.h"
 #include "genmesh.h"
-#include "offscreen.h"
-#include "renderer.h"
 #include "sss/bake.h"
 #include "sss/visibility.h"
 #include "sss/decode.h"
 #include "sss/import.h"
 #include "sss/ownterm.h"
+#include "sss/render.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

@@ -15,8 +15,7 @@
 #include <unistd.h>
 
 #include "genmesh.h"
-#include "offscreen.h"
-#include "renderer.h"
+#include "sss/render.h"
 #include "sss/bake.h"
 #include "sss/compress.h"
 #include "sss/decode.h"

@@ -49,6 +49,18 @@ void sss_mesh_vertex_areas(const sss_mesh *m, double *area);
 /* Axis-aligned bounds of the positions; returns the diagonal length. */
 double sss_mesh_bounds(const sss_mesh *m, double lo[3], double hi[3]);
 
+/* δ, the offset of the visibility rays cast from m's vertices, in mesh
+ * units: 1e-5 of the bounding-box diagonal (sss_mesh_bounds), rounded once
+ * to float. Every test that must give V(x, ω) (Hao–Varshney 2004 §3.1's
+ * shadowing, decided by rays) as the bake decides it applies one rule with
+ * this value: the ray from vertex x with unit normal n starts at
+ *     o = x + δ·n    (float; the product and the sum rounded separately),
+ * runs towards ω (float) and is blocked by any hit at t > δ (tnear = δ).
+ * The offset keeps the ray off the triangles that share x; a smaller δ lets
+ * grazing rays clip them. δ depends on m alone, so occluders added around
+ * it do not move the origins. 0 for an empty mesh. */
+float sss_mesh_ray_offset(const sss_mesh *m);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,416 @@
+/* sss/render.h: the OpenGL 4.3+ core renderer for baked translucent meshes
+ * (library sss_render), the one header its users include: the viewer
+ * (runtime/src/view/), sss-stat's image error and the tests.
+ *
+ * Per frame (Hao–Varshney 2004 §3.2, moved to the GPU as its §6 suggests):
+ * the CPU finds the direction-set triangle containing the light direction
+ * and its barycentric weights once (and, for the compressed forms of §4, the
+ * SH basis at the light); the GPU (compute shaders) or the CPU (the C decoder
+ * in libsss) reconstructs q(x_v, ω) for every vertex and channel into one
+ * buffer, from any storage form (float, lloyd8, sh, refs); the draw shades
+ *     L = E · q · F_t(η, n·ω_o)  +  Fresnel-weighted specular
+ * per colour channel, with exposure and tone mapping.
+ *
+ * Files baked with `--own-term runtime [--rings K]` (section OWNT,
+ * sss/ownterm.h) store q without its near terms, the vertex's own entry of
+ * the §3.1 sum and those of its K mesh rings; the renderer adds
+ * Σ_i w̃(o, i) · F_t(η, n_i·ω) max(0, n_i·ω) · V(x_i, ω) back for the actual
+ * light ω in two more compute passes, with every vertex's own visibility V
+ * from the bake's own ray, traced on the GPU through a BVH of the mesh, or
+ * on request from a shadow map along ω (the paper's visibility test, §3.1;
+ * docs/viewer.md). Files without OWNT build nothing of it and run no extra
+ * pass.
+ *
+ * Scene bakes (format 1.2, docs/scenes.md) carry other light
+ * parameterisations besides the direction set (static directional lights,
+ * point-light shells, environment SH transfer): sss_scene_eval_* sums a
+ * scene's lights on the CPU, sss_fx_gpu_* on the GPU into the renderer's q.
+ *
+ * Conventions:
+ *  - World space is the mesh's own space (mesh units). Directions need not
+ *    be normalised; a zero or non-finite light direction lights nothing.
+ *  - Per-vertex arrays are q[v * channels + c], channels = f->channels (1 or
+ *    3), nv = f->mesh.nv: the layout sss_decode_all (sss/decode.h) writes.
+ *  - Images are linear RGB floats, 3 per pixel, rows bottom-up as
+ *    glReadPixels returns them.
+ *  - Errors are values (sss/result.h): a failing call returns a code other
+ *    than SSS_OK and writes one line into err when err is non-NULL.
+ *  - Unless a function says otherwise it needs a current OpenGL context of
+ *    version ≥ 4.3 core (a window's, or sss_offscreen_create's) on the
+ *    calling thread, the same one for every call on an object; the renderer
+ *    never creates or destroys contexts.
+ */
+#ifndef SSS_RENDER_H
+#define SSS_RENDER_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "sss/format.h"
+#include "sss/result.h"
+#include "sss/scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- offscreen context ------------------------------------------------- */
+
+/* A windowless OpenGL 4.5 core context through EGL on the surfaceless
+ * platform (Mesa llvmpipe without a GPU, or a GPU driver's EGL device), for
+ * scripts, tests and benchmarks. */
+typedef struct sss_offscreen sss_offscreen;
+
+/* Creates the context and makes it current on this thread. Needs no
+ * context. Fails with SSS_ERR_UNSUPPORTED (err says what is missing) when no
+ * EGL display or no 4.5 core context can be had. Destroy with
+ * sss_offscreen_destroy (NULL-safe), after every GL object made in it. */
+sss_result sss_offscreen_create(sss_offscreen **out, sss_error *err);
+void sss_offscreen_destroy(sss_offscreen *o);
+
+/* GL_RENDERER string of the current context (storage owned by GL;
+ * "unknown" when GL returns none). */
+const char *sss_gl_renderer_name(void);
+
+/* ---- view parameters ---------------------------------------------------- */
+
+typedef struct sss_renderer sss_renderer;
+
+typedef enum sss_eval_path {
+    SSS_EVAL_GPU = 0, /* compute shader (default) */
+    SSS_EVAL_CPU = 1  /* sss_decode_all (OpenMP + SIMD), then upload */
+} sss_eval_path;
+
+/* Where the near terms' V(x_i, ω) comes from (sss_view_params.near_visibility). */
+enum {
+    SSS_NEAR_RAYS = 0, /* the bake's ray (precompute/src/visibility.c), traced on the GPU: V as baked (default) */
+    SSS_NEAR_MAP = 1   /* a shadow map of shadow_size² texels: wrong within about a texel of a shadow's outline */
+};
+
+/* The near terms' default shadow-map resolution (texels per side), used
+ * where sss_view_params.shadow_size is 0. 2048²: a texel is ~1/1000 of the
+ * bounding diameter, below a twentieth of the mean edge of the 23K dragon
+ * (18.5 texels), so only vertices within about a texel of a shadow's
+ * outline disagree with a ray. 16 MiB of 32-bit float depth. */
+#define SSS_SHADOW_SIZE 2048
+
+typedef enum sss_tonemap {
+    SSS_TONEMAP_CLAMP = 0,   /* clamp(exposure · L, 0, 1): the measurement convention */
+    SSS_TONEMAP_REINHARD = 1 /* x / (1 + x) after exposure: for viewing bright scenes */
+} sss_tonemap;
+
+/* Everything a frame depends on. Directions need not be normalised. */
+typedef struct sss_view_params {
+    double light[3];      /* towards the light, world (= mesh) space */
+    double light_rgb[3];  /* irradiance E per channel (default 1,1,1) */
+    double view[3];       /* from the object's centre towards the eye */
+    double distance;      /* eye distance in bounding radii (0: default 3.6: the bounding sphere fits a 35° view) */
+    double pan[2];        /* target offset in bounding radii, screen x/y */
+    double fov_deg;       /* vertical field of view (0: default 35) */
+    double exposure;      /* multiplies radiance before tone mapping (0: default 1) */
+    int scatter;          /* draw the subsurface term (default on: set by sss_view_params_default) */
+    int specular;         /* draw the surface reflection term */
+    int wireframe;        /* polygon mode line */
+    sss_tonemap tonemap;
+    sss_eval_path path;
+    float background[3];  /* clear colour, linear */
+    int own_term;         /* files with OWNT: add the near terms to q (default on; 0 leaves q as evaluated
+                           * or uploaded, for tools that draw a full q computed elsewhere); ignored otherwise */
+    int shadow_size;      /* files with OWNT and near_visibility SSS_NEAR_MAP: shadow map texels per side,
+                           * 256 … 8192 (0: SSS_SHADOW_SIZE); finer agrees with the bake's rays at more
+                           * vertices and costs more per light change (docs/viewer.md) */
+    int near_visibility;  /* files with OWNT: SSS_NEAR_RAYS (default) or SSS_NEAR_MAP (docs/viewer.md) */
+} sss_view_params;
+
+/* Fills the defaults: light and view (0, 0, 1), light_rgb (1, 1, 1),
+ * distance 3.6, fov 35°, exposure 1, scatter and specular on, clamp tone
+ * map, GPU path, own_term on, SSS_NEAR_RAYS, black background, no pan,
+ * no wireframe, shadow_size 0. Needs no context. */
+void sss_view_params_default(sss_view_params *p);
+
+/* The frame sss_view_params is measured in: the centre of m's bounding box
+ * into centre, and returns the bounding radius about it (1 when m has no
+ * extent). Needs no context. */
+double sss_view_bounds(const sss_mesh *m, double centre[3]);
+
+/* Applies the tone map t to one linear value x already multiplied by the
+ * exposure: clamp to [0, 1], or x / (1 + x). Needs no context. */
+float sss_tonemap_apply(sss_tonemap t, float x);
+
+/* ---- the renderer -------------------------------------------------------- */
+
+/* Frame timings in milliseconds (GPU timer queries for GPU work, wall
+ * clock for CPU work); values are of the previous completed frame. */
+typedef struct sss_frame_times {
+    double scatter_ms; /* evaluation of q for all vertices (incl. upload on the CPU path) */
+    double draw_ms;    /* the shading draw */
+    double own_ms;     /* files with OWNT: the near-term passes, the rays or the shadow map render
+                        * included when the light moved (GPU timer; 0 when none ran) */
+} sss_frame_times;
+
+/* Uploads geometry and scattering data of f (which must stay alive as long
+ * as the renderer: the CPU path decodes from it) and builds the programs f
+ * needs (only those of its storage form; the near-term passes and the
+ * mesh's BVH only for a file with OWNT). Fails with a message if GL is
+ * older than 4.3 or lacks something (SSS_ERR_UNSUPPORTED: a shader that does
+ * not compile, a buffer above GL_MAX_SHADER_STORAGE_BLOCK_SIZE), or a buffer
+ * cannot be allocated (SSS_ERR_NOMEM); *out is then NULL. */
+sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err);
+/* Deletes every GL object of r and frees it. NULL-safe. */
+void sss_renderer_destroy(sss_renderer *r);
+
+/* Reconstructs q for p->light on p->path into the per-vertex buffer; for a
+ * file with OWNT and p->own_term set, the full q: the stored rest plus the
+ * near terms with the visibility p->near_visibility asks for (rays traced,
+ * or the map re-rendered, when the light direction differs from the last
+ * one they were made for). */
+void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p);
+
+/* Draws into the currently bound framebuffer, viewport width × height
+ * pixels: clears it to p->background, then shades with depth test. The
+ * default framebuffer gets p->tonemap and sRGB encoding; the renderer's own
+ * float framebuffer (sss_renderer_bind_offscreen) gets linear radiance ×
+ * exposure. Call after sss_renderer_evaluate (or sss_renderer_upload_q). */
+void sss_renderer_draw(sss_renderer *r, const sss_view_params *p, int width, int height);
+
+/* Reads the per-vertex q buffer back into out (nv × channels floats,
+ * caller-owned): out[v * channels + c]. */
+void sss_renderer_read_q(sss_renderer *r, float *out);
+
+/* Every vertex's own visibility of the last near-term pass, one byte per
+ * vertex (nv, caller-owned): 1 where the test (the bake's ray through the
+ * BVH; or, with the map, that ray against the vertex's own triangles, then
+ * the shadow map) found x_o lit from that pass's light. Vertices with
+ * n_o·ω ≤ 0 are not tested (their g is 0) and read 0. Before any pass every
+ * vertex reads 0; a file without OWNT has no near terms and every vertex
+ * reads 1. For comparing the viewer's V with the bake's. */
+void sss_renderer_read_own_visibility(sss_renderer *r, uint8_t *lit);
+
+/* 1 when the file has OWNT, so the renderer built the near-term passes and
+ * the mesh's BVH (the shadow map follows on the first pass that asks for
+ * it). */
+int sss_renderer_has_own_term(const sss_renderer *r);
+
+/* Timings of the last evaluate + draw (waits for the GPU timer queries). */
+sss_frame_times sss_renderer_times(const sss_renderer *r);
+
+/* Renders one frame into an internal float framebuffer of width × height
+ * (each 1 … 16384, else SSS_ERR_ARG) and returns the tone-mapped linear RGB
+ * image (3 floats per pixel, rows bottom-up as OpenGL returns them; values
+ * in [0,1] for CLAMP) in *rgb, and, if hdr is non-NULL, the linear radiance
+ * × exposure before tone mapping. Both malloc'ed, caller frees; NULL on
+ * failure. Leaves the default framebuffer (0) bound. */
+sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, int width, int height, float **rgb,
+                                     float **hdr, sss_error *err);
+
+/* Replaces the per-vertex q buffer with q[v * channels + c] (nv × channels
+ * floats, the layout sss_decode_all writes; copied, the caller keeps q):
+ * values computed elsewhere (the exact evaluator, another interpolation) are
+ * then drawn exactly as the viewer draws its own (sss-stat --error's image
+ * error). For a file with OWNT the light is not known yet: the next
+ * sss_renderer_draw adds the near terms for its p->light when its
+ * p->own_term is set (once; nothing when it is 0), so q here is the rest,
+ * as the file's decoder returns it. */
+void sss_renderer_upload_q(sss_renderer *r, const float *q);
+
+/* sss_renderer_render_image with the per-vertex q supplied (uploaded with
+ * sss_renderer_upload_q) instead of evaluated from the file; for a file with
+ * OWNT the near terms for p->light are added when p->own_term is set.
+ * SSS_ERR_ARG when q is NULL. */
+sss_result sss_renderer_render_q_image(sss_renderer *r, const sss_view_params *p, const float *q, int width,
+                                       int height, float **rgb, float **hdr, sss_error *err);
+
+/* Creates (or resizes) the internal float framebuffer (RGBA32F colour,
+ * 32-bit float depth; width and height 1 … 16384) and binds it, so that
+ * sss_renderer_draw renders linear radiance × exposure into it. */
+sss_result sss_renderer_bind_offscreen(sss_renderer *r, int width, int height, sss_error *err);
+
+/* The GL name of the per-vertex q buffer (nv·channels floats, SSBO
+ * binding 3 of the draw), for evaluators that write it on the GPU
+ * (sss_fx_gpu: the scene's lights). Owned by r. */
+unsigned sss_renderer_q_buffer(const sss_renderer *r);
+
+/* Bytes per vertex of the scattering data as stored in the file (for the
+ * overlay). Needs no context. */
+double sss_renderer_bytes_per_vertex(const sss_renderer *r);
+
+/* Camera frame for p: eye position (world units) and unit right / up /
+ * forward vectors in world space (for mapping mouse drags to rotations).
+ * Needs no context. */
+void sss_renderer_camera(const sss_renderer *r, const sss_view_params *p, double eye[3], double right[3],
+                         double up[3], double fwd[3]);
+
+/* One-line description of f's storage form for the overlay and --bench:
+ * sss_quant_name, then for the compressed forms the SH order and code kind
+ * and the reference fraction, e.g. "refs 3.0% + SH 3 linear8, 16-bit
+ * weights". Always NUL-terminated (n > 0). Needs no context. */
+void sss_storage_describe(const sss_bake_file *f, char *buf, size_t n);
+
+/* ---- a scene's lights (format 1.2, docs/scenes.md "Viewer") ------------- */
+
+/* `sss-view FILE.sss --scene S.json`: the scene's lights summed per vertex
+ * from the parameterisation the file records for each, on the CPU. Needs no
+ * context. */
+typedef struct sss_scene_eval sss_scene_eval;
+
+/* Matches every light of sc to the effect data of f: a static directional
+ * light (or far static point light) to its QDIR entry by direction, a
+ * moving directional light to the direction set, a point light to PSHL, an
+ * environment to ENVT. A light f has no data for is an error naming it
+ * (SSS_ERR_ARG: the file was baked for another scene). f and sc must
+ * outlive the evaluator; destroy it with sss_scene_eval_destroy
+ * (NULL-safe). */
+sss_result sss_scene_eval_create(const sss_bake_file *f, const sss_scene *sc, sss_scene_eval **out, sss_error *err);
+void sss_scene_eval_destroy(sss_scene_eval *e);
+
+/* q for the frame into q[v * channels + c] (nv × channels floats,
+ * caller-owned; light colours and intensities folded in: render with
+ * light_rgb = 1). angle (radians) turns the moving lights about +z, so a
+ * benchmark's frames differ. The reference of the GPU sum. */
+void sss_scene_eval_frame(sss_scene_eval *e, double angle, float *q);
+
+/* One light's parameters for the frame at angle (the vertex-independent
+ * part of sss_scene_eval_frame), so that another evaluator (the GPU path,
+ * sss_fx_gpu) sums exactly the same terms in the same order. */
+typedef struct sss_scene_light_frame {
+    int kind;             /* 0 directional-exact, 1 direction-set, 2 point-shells, 3 environment-sh */
+    double w[3];          /* weight of channel c < channels (colour × intensity; a grey file: the mean) */
+    uint32_t exact;       /* kind 0: QDIR entry */
+    double dir[3];        /* kind 1: direction towards the light this frame */
+    double pos[3];        /* kind 2: position this frame (world units) */
+    float env_L[3 * 64];  /* kind 3: the probe's SH this frame (rotated about +z when moving); w unused */
+} sss_scene_light_frame;
+
+/* Number of lights evaluated (lights of zero intensity and environments
+ * after the first are dropped: the file's probe sums them), and light i's
+ * parameters (i < that number) at angle. */
+uint32_t sss_scene_eval_count(const sss_scene_eval *e);
+void sss_scene_eval_light(const sss_scene_eval *e, uint32_t i, double angle, sss_scene_light_frame *out);
+
+/* Which paths the file needs, e.g. "directional-exact + environment-sh"
+ * (owned by e). */
+const char *sss_scene_eval_paths(const sss_scene_eval *e);
+
+/* The scene's camera (if any; p unchanged otherwise) as view parameters:
+ * direction from the object's centre, distance in bounding radii, field of
+ * view. */
+void sss_scene_camera_params(const sss_scene *sc, const sss_bake_file *f, sss_view_params *p);
+
+/* The scene's lights summed on the GPU: the same terms as
+ * sss_scene_eval_frame (which stays the fallback, `--cpu`, and the
+ * reference), one compute dispatch per light in the scene's order, written
+ * straight into the renderer's per-vertex q buffer:
+ *   directional-exact  the light's QDIR row times its colour (format §5.11);
+ *   direction-set      the renderer's own §3.2 compute pass, then times its colour;
+ *   point-shells       Hao–Varshney 2004 §3.3: six shell rows weighted
+ *                      (directions × distance shells, trilinear), over r²;
+ *   environment-sh     Σ_i T_i L_i per vertex and channel (format §5.12),
+ *                      L rotated about +z on the CPU when the environment moves.
+ * Only the programs and buffers the file needs are built, from its effect
+ * set (format §5.10). Needs the renderer's context (GL 4.3 with double
+ * precision in shaders, core since 4.0). */
+typedef struct sss_fx_gpu sss_fx_gpu;
+
+/* Programs sss_fx_gpu_programs reports as built. */
+enum {
+    SSS_FXGPU_ROWS = 1u,  /* directional-exact and direction-set */
+    SSS_FXGPU_SHELL = 2u, /* point-shells */
+    SSS_FXGPU_ENV = 4u    /* environment-sh */
+};
+
+/* Builds what f needs for the lights of ev, drawing through r (f, ev and r
+ * must outlive it; destroy it first, with sss_fx_gpu_destroy, NULL-safe).
+ * Fails (the caller then sums on the CPU) when a program does not compile
+ * or a buffer exceeds this GL's limits. */
+sss_result sss_fx_gpu_create(const sss_bake_file *f, const sss_scene_eval *ev, sss_renderer *r, sss_fx_gpu **out,
+                             sss_error *err);
+void sss_fx_gpu_destroy(sss_fx_gpu *g);
+
+/* Sums the lights at angle (radians: the moving lights turn about +z, as in
+ * sss_scene_eval_frame) into the renderer's q buffer, ready to draw
+ * (sss_renderer_draw; or sss_renderer_read_q). */
+void sss_fx_gpu_frame(sss_fx_gpu *g, double angle);
+
+/* SSS_FXGPU_* bits of the programs built. */
+unsigned sss_fx_gpu_programs(const sss_fx_gpu *g);
+
+/* The programs built, e.g. "rows + env" ("none" when no light needs one;
+ * owned by g). */
+const char *sss_fx_gpu_describe(const sss_fx_gpu *g);
+
+/* ---- images ---------------------------------------------------------------
+ * Input pixels are linear RGB floats, 3 per pixel, rows bottom-up (as
+ * glReadPixels returns them). The files are written in place; a failure
+ * (SSS_ERR_IO, naming the path) can leave a partial file. Need no context. */
+
+/* 8-bit sRGB PNG of values clamped to [0, 1]. */
+sss_result sss_write_png(const char *path, const float *rgb, int width, int height, sss_error *err);
+
+/* 32-bit float RGB OpenEXR (ZIP compression), through the
+ * OpenEXR C API. Values are written as they are (no clamp, no curve). */
+sss_result sss_write_exr(const char *path, const float *rgb, int width, int height, sss_error *err);
+
+/* Chooses PNG (from ldr) or EXR (from hdr, or ldr when hdr is NULL) by the
+ * extension, case-insensitive; SSS_ERR_ARG for any other. */
+sss_result sss_write_image(const char *path, const float *ldr, const float *hdr, int width, int height,
+                           sss_error *err);
+
+/* sRGB transfer function of a linear value, clamped to [0, 1] first. */
+float sss_srgb_encode(float x);
+
+/* ---- GL programs for overlays -------------------------------------------- */
+
+/* Compiles the GLSL bodies vs and fs (vertex and fragment stage; the line
+ * "#version 430 core" is put in front of each) and links them into a
+ * program: its GL name, or 0 with err set (the driver's log on one line,
+ * SSS_ERR_UNSUPPORTED). The shaders are deleted either way; the program is
+ * the caller's (glDeleteProgram). */
+unsigned sss_gl_program(const char *vs, const char *fs, sss_error *err);
+
+/* ---- the BVH the near terms trace, on the CPU ------------------------------
+ * The near terms' rays (SSS_NEAR_RAYS) run on the GPU through a bounding
+ * volume hierarchy of the mesh's triangles, built on the CPU. The same
+ * hierarchy and the shader's occlusion query, operation for operation, are
+ * here for checking the GPU against the bake's Embree rays (test_own_term).
+ * Need no context. */
+
+#define SSS_BVH_STACK 64 /* the shader's traversal stack; the build keeps the depth below it */
+
+/* An inner node's children are node[a] and node[a + 1], split axis b & 3;
+ * a leaf holds the b >> 2 triangles from a. 32 bytes, as the shader reads
+ * it (std430). */
+typedef struct sss_bvh_node {
+    float lo[3];
+    uint32_t a;  /* inner: first child; leaf: first triangle */
+    float hi[3];
+    uint32_t b;  /* (triangle count << 2) | split axis */
+} sss_bvh_node;
+
+typedef struct sss_bvh {
+    sss_bvh_node *node; /* nnode nodes, root at 0; owned */
+    uint32_t nnode;
+    float *tri;       /* 12 floats per triangle, leaf order (v0, e1, e2, Ng as Embree forms them); owned */
+    uint32_t *prim;   /* the mesh triangle of each, leaf order; owned */
+    uint32_t ntri;    /* triangles kept: those with finite vertices */
+    uint32_t depth;   /* root = 1; at most SSS_BVH_STACK */
+} sss_bvh;
+
+/* Builds the hierarchy over the nf triangles (tri: 3 indices each into the
+ * nv float3 positions pos, mesh units). Deterministic: binned SAH on
+ * centroids (16 bins), object median where the tree grows deep. O(n log n).
+ * Triangles with a non-finite vertex are left out, as Embree leaves them
+ * out. SSS_ERR_NOMEM on allocation failure, SSS_ERR_UNSUPPORTED when the
+ * tree would be deeper than SSS_BVH_STACK. Free with sss_bvh_free
+ * (NULL-safe). */
+sss_result sss_bvh_build(const float *pos, uint32_t nv, const uint32_t *tri, uint32_t nf, sss_bvh *out,
+                         sss_error *err);
+void sss_bvh_free(sss_bvh *b);
+
+/* The shader's occlusion query on the CPU, operation for operation (fused
+ * where Embree fuses): 1 when the ray o + t d hits a triangle at t > tnear
+ * (d in float as given, not normalised here; tnear in mesh units). */
+int sss_bvh_occluded(const sss_bvh *b, const float o[3], const float d[3], float tnear);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

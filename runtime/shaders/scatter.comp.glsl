@@ -1,0 +1,40 @@
+layout(local_size_x = 256) in;
+#ifdef LLOYD8
+layout(std430, binding = 0) readonly buffer RowA { uint row_a[]; };
+layout(std430, binding = 1) readonly buffer RowB { uint row_b[]; };
+layout(std430, binding = 2) readonly buffer RowC { uint row_c[]; };
+// three folded tables, rewritten per frame: levels[(r * channels + c) * 256 + x] = w_r * level_c[x]
+layout(std430, binding = 4) readonly buffer Levels { float levels[]; };
+uint byte_at(uint word, uint i) { return (word >> ((i & 3u) * 8u)) & 255u; }
+#else
+layout(std430, binding = 0) readonly buffer RowA { float row_a[]; };
+layout(std430, binding = 1) readonly buffer RowB { float row_b[]; };
+layout(std430, binding = 2) readonly buffer RowC { float row_c[]; };
+#endif
+layout(std430, binding = 3) writeonly buffer Q { float q[]; };
+#ifdef REFS
+// reference values for pass 2, and which vertex each reference is
+layout(std430, binding = 5) writeonly buffer Refs { float refq[]; };
+layout(std430, binding = 6) readonly buffer RefVertex { uint ref_vertex[]; };
+#endif
+uniform vec3 u_w;       // barycentric weights of the three direction samples (float rows)
+uniform uint u_count;   // row entries: (vertices or references) x channels
+uniform uint u_channels;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= u_count) return;
+#ifdef LLOYD8
+    // three loads and two adds in this order: the C decoder's sum, to the bit
+    uint ch = i % u_channels, k = i >> 2u, t = 256u * u_channels, base = 256u * ch;
+    precise float x = levels[base + byte_at(row_a[k], i)] + levels[t + base + byte_at(row_b[k], i)]
+                    + levels[2u * t + base + byte_at(row_c[k], i)];
+#else
+    float x = u_w.x * row_a[i] + u_w.y * row_b[i] + u_w.z * row_c[i];
+#endif
+#ifdef REFS
+    refq[i] = x;
+    q[ref_vertex[i / u_channels] * u_channels + ch] = x;
+#else
+    q[i] = x;
+#endif
+}

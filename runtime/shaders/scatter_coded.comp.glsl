@@ -1,0 +1,58 @@
+layout(local_size_x = 256) in;
+const uint C = uint(CHANNELS), N = uint(NCOEF), L = uint(SH_LEVELS);
+#ifdef SH_NIBBLE
+const uint BITS = 4u;
+#else
+const uint BITS = 8u;
+#endif
+const uint PER = 32u / BITS, W = (C * N + PER - 1u) / PER; // codes per word, words per vertex
+layout(std430, binding = 3) writeonly buffer Q { float q[]; };
+#if NCOEF > 0
+// each coded vertex's C * N codes in file order (channel-major), packed from the
+// low bits up, starting on a word of its own: codes[k * W + b / PER]
+layout(std430, binding = 0) readonly buffer Codes { uint codes[]; };
+// dequantisation tables times y_i(light), rewritten per frame: sh_t[(c * N + i) * L + code]
+layout(std430, binding = 4) readonly buffer ShTable { float sh_t[]; };
+#endif
+#ifdef REFS
+// per coded vertex: vertex index, reference triangle, weight codes (low 16 bits w0, high w1)
+layout(std430, binding = 1) readonly buffer Coded { uint rec[]; };
+layout(std430, binding = 2) readonly buffer RefTri { uint ref_tri[]; };
+layout(std430, binding = 5) readonly buffer Refs { float refq[]; };
+// weight of each code, w_lo + (w_hi - w_lo) * code / (2^bits - 1), computed by the CPU as the C decoder does
+layout(std430, binding = 6) readonly buffer Weights { double wtab[]; };
+#endif
+uniform uint u_count;   // coded vertices
+void main() {
+    uint k = gl_GlobalInvocationID.x, v = k;
+    if (k >= u_count) return;
+#ifdef REFS
+    // the channels share the triangle and the weights (§4.2)
+    v = rec[3u * k];
+    uint t = 3u * rec[3u * k + 1u], wc = rec[3u * k + 2u];
+    uint r0 = ref_tri[t] * C, r1 = ref_tri[t + 1u] * C, r2 = ref_tri[t + 2u] * C;
+    double w0 = wtab[wc & 65535u], w1 = wtab[wc >> 16u];
+    precise double w2 = 1.0lf - w0 - w1;
+#endif
+#if NCOEF > 0
+    uint words[W];
+    for (uint n = 0u; n < W; n++) words[n] = codes[k * W + n];
+#endif
+    for (uint ch = 0u; ch < C; ch++) {
+        precise float x = 0.0;
+#ifdef REFS
+        precise double b = w0 * double(refq[r0 + ch]) + w1 * double(refq[r1 + ch]) + w2 * double(refq[r2 + ch]);
+        x = float(b);
+#endif
+#if NCOEF > 0
+        precise float acc = 0.0;
+        for (uint j = 0u; j < N; j++) {
+            uint e = ch * N + j;
+            uint code = (words[e / PER] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
+            acc += sh_t[(ch * N + j) * L + code];
+        }
+        x += acc;
+#endif
+        q[v * C + ch] = x > 0.0 ? x : 0.0; // q >= 0 physically; the C decoder clamps the same way
+    }
+}

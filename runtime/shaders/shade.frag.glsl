@@ -1,0 +1,51 @@
+in vec3 v_pos;
+in vec3 v_nrm;
+in vec3 v_q;
+uniform vec3 u_eye;
+uniform vec3 u_light;     // unit, towards the light
+uniform vec3 u_light_rgb; // irradiance E per channel
+uniform float u_eta;
+uniform float u_exposure;
+uniform int u_scatter;
+uniform int u_specular;
+uniform int u_tonemap;    // 0 clamp, 1 Reinhard, -1 none (HDR readback)
+uniform int u_srgb;       // encode for an 8-bit display framebuffer
+uniform int u_flat;       // wireframe: constant colour
+out vec4 o_color;
+const float PI = 3.14159265358979;
+// Unpolarised Fresnel reflectance entering a medium of relative index eta
+// (physics sheet §3); 1 under total internal reflection.
+float fresnel_r(float eta, float c) {
+    c = clamp(c, 0.0, 1.0);
+    float g2 = eta * eta - 1.0 + c * c;
+    if (g2 < 0.0 || c <= 0.0) return 1.0;
+    float g = sqrt(g2);
+    float a = (g - c) / (g + c);
+    float b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
+    return min(1.0, 0.5 * a * a * (1.0 + b * b));
+}
+void main() {
+    if (u_flat != 0) { o_color = vec4(0.9, 0.9, 0.9, 1.0); return; }
+    vec3 n = normalize(v_nrm);
+    vec3 v = normalize(u_eye - v_pos);
+    float nv = dot(n, v);
+    vec3 L = vec3(0.0);
+    // Subsurface term: L = E q F_t(eta, n.w_o) (Hao–Varshney 2004 §3.1)
+    if (u_scatter != 0) L += u_light_rgb * v_q * (1.0 - fresnel_r(u_eta, nv));
+    // Surface reflection: Fresnel-weighted normalised Blinn-Phong lobe.
+    if (u_specular != 0) {
+        vec3 h = normalize(u_light + v);
+        float nl = max(dot(n, u_light), 0.0);
+        const float s = 80.0;
+        float d = (s + 8.0) / (8.0 * PI) * pow(max(dot(n, h), 0.0), s);
+        L += u_light_rgb * (fresnel_r(u_eta, dot(v, h)) * d * nl);
+    }
+    vec3 x = u_exposure * L;
+    if (u_tonemap == 0) x = clamp(x, 0.0, 1.0);
+    else if (u_tonemap == 1) x = x / (1.0 + x);
+    if (u_srgb != 0) {
+        x = clamp(x, 0.0, 1.0);
+        x = mix(12.92 * x, 1.055 * pow(x, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), x));
+    }
+    o_color = vec4(x, 1.0);
+}

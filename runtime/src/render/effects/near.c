@@ -1,0 +1,305 @@
+/* near.c: the run-time near terms of files with section OWNT (format 1.3;
+ * sss/ownterm.h, docs/viewer.md).
+ *
+ * The rows of such a file hold q minus the largest entries of the §3.1 sum
+ * (Hao–Varshney 2004), the vertex's own w̃(o,o) g_o(ω_j) V(x_o, ω_j) and
+ * those of its `own_rings` mesh rings: the entries that jump where x_o or a
+ * neighbour enters a cast shadow, and that §3.2's interpolation between
+ * direction samples would smear. After q is evaluated (either path) or
+ * uploaded, two more compute passes add them back for the actual light: the
+ * first finds every vertex's own visibility V(x_i, ω) and its transfer
+ * g_i V_i; the second adds each vertex's row Σ_i w̃(o, i) g_i V_i, in
+ * sss_near_sum's order. V is, by default, the bake's own ray traced on the
+ * GPU through a BVH of the mesh built here once (bvh.c): a vertex that gets
+ * V wrong is off by about half of its q, so only the bake's rule itself
+ * keeps the image error at the bake's. On request (near_visibility = 1) V
+ * comes from a shadow map instead (shadow.c, the paper's own test, §3.1,
+ * plus the bake's ray against the vertex's own triangles), created on first
+ * use and re-rendered only when the light direction changes. Pass 1 depends
+ * on the light direction alone, so it runs only when that (or the
+ * visibility asked for) changes. A file without OWNT gets none of it: no
+ * weights, no BVH, no map, no programs, no passes.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bvh.h"
+#include "effects.h"
+#include "gl_util.h"
+#include "shaders.h"
+#include "shadow.h"
+#include "sss/ownterm.h"
+
+typedef struct sss_near_pass {
+    sss_shadow *shadow; /* created on the first pass that asks for the map */
+    GLuint prog_vis, prog_ray, prog_near; /* pass 1 (map or rays): V and g V per vertex; pass 2: the rows' sums into q */
+    GLuint bvh_node, bvh_tri; /* the mesh's BVH (bvh.h) for prog_ray */
+    uint32_t bvh_ntri;
+    int vis_valid, vis_map, vis_size; /* what pass 1 last computed: map or rays, map size, */
+    float vis_dir[3];                 /* and light: lit and gv hold it */
+    GLuint lit, gv;     /* V (uint) and g V (float) per vertex */
+    GLuint fan;         /* incident triangles per vertex: offsets (nv + 1), then triangle indices */
+    GLuint fan_sin;     /* per vertex: sin of the largest angle between n_o and its triangles' normals */
+    GLuint near_start, near_idx, near_w; /* sss_near: rows of (vertex, w̃ per channel) */
+    float delta;        /* the rays' offset δ, sss_mesh_ray_offset (sss/mesh.h) */
+} sss_near_pass;
+
+/* The near terms' resources: their rows and weights from the file's
+ * geometry and material (sss_near_build: the file stores no bytes for
+ * them), the mesh's BVH for the rays, each vertex's incident triangles for
+ * the map, the per-vertex V and g V buffers and the programs. The shadow
+ * map itself waits for a pass that asks for it. */
+static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_error *err)
+{
+    const sss_gpu_mesh *m = c->mesh;
+    const sss_bake_file *f = m->f;
+    const uint32_t nv = m->nv, nf = m->nf, C = m->C;
+    sss_near nr;
+    sss_result res = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, C, f->own_rings, &nr, err);
+    if (res != SSS_OK) return res;
+    const uint64_t nent = nr.start[nv];
+    const GLint64 max_block = c->max_block;
+    if (max_block > 0 && nent * C * sizeof(float) > (uint64_t)max_block) {
+        sss_near_free(&nr);
+        return sss_fail(err, SSS_ERR_UNSUPPORTED,
+                        "renderer: the near terms of %u rings need a %.1f MiB storage buffer, above this GL's limit "
+                        "of %.1f MiB (bake with fewer --rings)",
+                        f->own_rings, (double)(nent * C * sizeof(float)) / 1048576.0,
+                        (double)max_block / 1048576.0);
+    }
+    r->near_start = sss_gl_ssbo((GLsizeiptr)(((size_t)nv + 1) * sizeof(uint32_t)), nr.start, GL_STATIC_DRAW);
+    r->near_idx = sss_gl_ssbo((GLsizeiptr)(nent * sizeof(uint32_t)), nr.idx, GL_STATIC_DRAW);
+    r->near_w = sss_gl_ssbo((GLsizeiptr)(nent * C * sizeof(float)), nr.w, GL_STATIC_DRAW);
+    sss_near_free(&nr);
+    r->gv = sss_gl_ssbo((GLsizeiptr)nv * sizeof(float), NULL, GL_DYNAMIC_COPY);
+    r->lit = sss_gl_ssbo((GLsizeiptr)nv * sizeof(uint32_t), NULL, GL_DYNAMIC_COPY);
+    glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    /* each vertex's incident triangles, for pass 1's exact test of the
+     * bake's ray against them (shadow.c: the map cannot resolve them) */
+    const uint64_t nfan = (uint64_t)nv + 1 + 3 * (uint64_t)nf;
+    if (nfan > UINT32_MAX) return sss_fail(err, SSS_ERR_UNSUPPORTED, "renderer: mesh too large for the near terms");
+    uint32_t *fan = calloc(nfan, sizeof *fan);
+    if (!fan) return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the vertices' triangle fans");
+    for (size_t k = 0; k < 3 * (size_t)nf; k++) fan[f->mesh.tri[k] + 1]++;
+    fan[0] = nv + 1;
+    for (uint32_t v = 0; v < nv; v++) fan[v + 1] += fan[v];
+    for (size_t k = 0; k < 3 * (size_t)nf; k++) fan[fan[f->mesh.tri[k]]++] = (uint32_t)(k / 3);
+    for (uint32_t v = nv; v > 0; v--) fan[v] = fan[v - 1]; /* the fill advanced each start to its end */
+    fan[0] = nv + 1;
+    r->fan = sss_gl_ssbo((GLsizeiptr)(nfan * sizeof *fan), fan, GL_STATIC_DRAW);
+    /* The ray cannot hit a triangle of the fan while ω is above every
+     * triangle's plane, which holds when n_o·ω > sin α, α the largest angle
+     * between n_o and a triangle's normal: the pass then skips the fan
+     * (most vertices, most lights). sin α = 1 (never skip) where a triangle
+     * faces away from n_o or is degenerate. */
+    float *fs = malloc((size_t)nv * sizeof *fs + 1);
+    if (!fs) {
+        free(fan);
+        return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the vertices' triangle fans");
+    }
+    for (uint32_t v = 0; v < nv; v++) {
+        const float *n = &f->mesh.nrm[3 * (size_t)v];
+        double cmin = 1.0;
+        for (uint32_t k = fan[v]; k < fan[v + 1]; k++) {
+            const uint32_t *t = &f->mesh.tri[3 * (size_t)fan[k]];
+            double e1[3], e2[3], fnrm[3];
+            for (int i = 0; i < 3; i++) {
+                e1[i] = (double)f->mesh.pos[3 * (size_t)t[1] + i] - f->mesh.pos[3 * (size_t)t[0] + i];
+                e2[i] = (double)f->mesh.pos[3 * (size_t)t[2] + i] - f->mesh.pos[3 * (size_t)t[0] + i];
+            }
+            sss_cross3(e1, e2, fnrm);
+            const double len = sqrt(fnrm[0] * fnrm[0] + fnrm[1] * fnrm[1] + fnrm[2] * fnrm[2]);
+            const double c = len > 0 ? (n[0] * fnrm[0] + n[1] * fnrm[1] + n[2] * fnrm[2]) / len : -1.0;
+            if (c < cmin) cmin = c;
+        }
+        /* a margin of 1e-3 for the float arithmetic of the pass */
+        fs[v] = cmin > 0.0 ? (float)fmin(1.0, sqrt(fmax(0.0, 1.0 - cmin * cmin)) + 1e-3) : 1.0f;
+    }
+    r->fan_sin = sss_gl_ssbo((GLsizeiptr)nv * sizeof *fs, fs, GL_STATIC_DRAW);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    free(fs);
+    free(fan);
+    /* the bake's own offset, so that the origins are the bake's floats */
+    r->delta = sss_mesh_ray_offset(&f->mesh);
+    char pre[48];
+    snprintf(pre, sizeof pre, "#define CHANNELS %u\n", C);
+    GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, "", sss_glsl_near_vis_comp, err);
+    if (!cs || !(r->prog_vis = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
+    cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_near_sum_comp, err);
+    if (!cs || !(r->prog_near = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
+    /* The BVH for the rays. Where its buffers exceed this GL's storage block
+     * (above ~2.8M triangles at 48 bytes each in llvmpipe's 128 MiB), the
+     * renderer keeps working with the shadow map alone (prog_ray stays 0). */
+    sss_bvh bvh;
+    res = sss_bvh_build(f->mesh.pos, nv, f->mesh.tri, nf, &bvh, err);
+    if (res != SSS_OK) return res;
+    const uint64_t node_bytes = (uint64_t)bvh.nnode * sizeof *bvh.node;
+    const uint64_t tri_bytes = (uint64_t)bvh.ntri * 12 * sizeof(float);
+    if (max_block <= 0 || (node_bytes <= (uint64_t)max_block && tri_bytes <= (uint64_t)max_block)) {
+        r->bvh_node = sss_gl_ssbo((GLsizeiptr)node_bytes, bvh.node, GL_STATIC_DRAW);
+        r->bvh_tri = sss_gl_ssbo((GLsizeiptr)tri_bytes, bvh.tri, GL_STATIC_DRAW);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        r->bvh_ntri = bvh.ntri;
+        snprintf(pre, sizeof pre, "#define RAYS 1\n#define SSS_BVH_STACK %d\n", SSS_BVH_STACK);
+        cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_near_vis_comp, err);
+        if (!cs || !(r->prog_ray = sss_gl_link(cs, 0, err))) {
+            sss_bvh_free(&bvh);
+            return SSS_ERR_UNSUPPORTED;
+        }
+    }
+    sss_bvh_free(&bvh);
+    return SSS_OK;
+}
+
+int sss_pass_near_present(const sss_bake_file *f) { return f->own_term != 0; }
+
+void sss_pass_near_destroy(void *state)
+{
+    sss_near_pass *r = state;
+    if (!r) return;
+    GLuint bufs[9] = {r->lit, r->gv, r->fan, r->near_start, r->near_idx, r->near_w, r->fan_sin, r->bvh_node,
+                      r->bvh_tri};
+    glDeleteBuffers(9, bufs);
+    if (r->prog_vis) glDeleteProgram(r->prog_vis);
+    if (r->prog_ray) glDeleteProgram(r->prog_ray);
+    if (r->prog_near) glDeleteProgram(r->prog_near);
+    sss_shadow_destroy(r->shadow);
+    free(r);
+}
+
+sss_result sss_pass_near_create(const sss_effect_ctx *c, void **state, sss_error *err)
+{
+    *state = NULL;
+    sss_near_pass *r = calloc(1, sizeof *r);
+    if (!r) return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory");
+    sss_result res = near_build(r, c, err);
+    if (res != SSS_OK) {
+        sss_pass_near_destroy(r);
+        return res;
+    }
+    *state = r;
+    return SSS_OK;
+}
+
+/* The shadow map of the size asked for (clamped to 256 … 8192), created or
+ * replaced here on first use; 0 when none can be had (the old one is kept
+ * when a new size fails). */
+static int own_map(sss_near_pass *r, const sss_gpu_mesh *m, int size)
+{
+    size = size > 0 ? (size < 256 ? 256 : size > 8192 ? 8192 : size) : SSS_SHADOW_SIZE;
+    if (!r->shadow || size != sss_shadow_size(r->shadow)) {
+        sss_shadow *ns = NULL;
+        sss_error e = {{0}};
+        if (sss_shadow_create(m->vao, m->nf, m->centre, m->radius, size, &ns, &e) == SSS_OK) {
+            sss_shadow_destroy(r->shadow);
+            r->shadow = ns;
+        }
+    }
+    return r->shadow != NULL;
+}
+
+/* Adds the near terms for unit light l to q (binding 3) and records every
+ * vertex's V, on the GPU whichever path evaluated q: by the bake's ray
+ * through the BVH, or from the shadow map when p asks for it (or when
+ * there is no BVH, or no map can be had: the other one then). 1 when it
+ * ran (under the timer query), 0 when there is no light or no test. */
+GLuint sss_pass_near_frame(void *state, const sss_effect_frame *fr)
+{
+    sss_near_pass *r = state;
+    const sss_gpu_mesh *m = &fr->r->mesh;
+    const double *l = fr->light;
+    const sss_view_params *p = fr->p;
+    const GLuint query = fr->query;
+    if (!p->own_term) return 0; /* the view asks for q as evaluated or uploaded */
+    const float lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
+    if (!(lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2] > 0.5f)) return 0; /* zero or NaN light: no light */
+    int map = p->near_visibility == SSS_NEAR_MAP || !r->prog_ray;
+    if (map && !own_map(r, m, p->shadow_size)) map = 0;
+    if (!map && !r->prog_ray) return 0;
+    const int size = map ? sss_shadow_size(r->shadow) : 0;
+    /* lit and gv depend on the light direction and the test alone */
+    const int fresh = !(r->vis_valid && r->vis_map == map && r->vis_size == size && r->vis_dir[0] == lf[0] &&
+                        r->vis_dir[1] == lf[1] && r->vis_dir[2] == lf[2]);
+    if (map) sss_shadow_update(r->shadow, lf, query); /* begins the timer query */
+    else glBeginQuery(GL_TIME_ELAPSED, query);
+    if (fresh) {
+        /* pass 1: V and g V per vertex */
+        GLuint pr = map ? r->prog_vis : r->prog_ray;
+        glUseProgram(pr);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m->vbo_pos);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m->vbo_nrm);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r->gv);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->lit);
+        if (map) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m->ebo);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, r->fan);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->fan_sin);
+            glActiveTexture(GL_TEXTURE0);
+            glBindTexture(GL_TEXTURE_2D, sss_shadow_texture(r->shadow));
+            glUniform1i(glGetUniformLocation(pr, "u_depth"), 0);
+            glUniformMatrix4fv(glGetUniformLocation(pr, "u_shadow"), 1, GL_FALSE, sss_shadow_matrix(r->shadow));
+            glUniform1i(glGetUniformLocation(pr, "u_size"), sss_shadow_size(r->shadow));
+            glUniform1f(glGetUniformLocation(pr, "u_offset"),
+                        (float)(SSS_SHADOW_NORMAL_OFFSET * sss_shadow_texel(r->shadow)));
+            glUniform1f(glGetUniformLocation(pr, "u_bias_c"), (float)SSS_SHADOW_BIAS_CONST);
+            glUniform1f(glGetUniformLocation(pr, "u_bias_s"), (float)SSS_SHADOW_BIAS_SLOPE);
+            glUniform1f(glGetUniformLocation(pr, "u_tan_max"), (float)SSS_SHADOW_TAN_MAX);
+        } else {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r->bvh_node);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, r->bvh_tri);
+            /* the unit light in double too: the bake's facing test, n·ω > 0,
+             * is evaluated in double (transfer.c, bake.c) */
+            glUniform3d(glGetUniformLocation(pr, "u_light_d"), l[0], l[1], l[2]);
+            glUniform1ui(glGetUniformLocation(pr, "u_ntri"), r->bvh_ntri);
+        }
+        glUniform1f(glGetUniformLocation(pr, "u_delta"), r->delta);
+        glUniform3f(glGetUniformLocation(pr, "u_light"), lf[0], lf[1], lf[2]);
+        glUniform1f(glGetUniformLocation(pr, "u_eta"), (float)m->f->material.eta);
+        glUniform1ui(glGetUniformLocation(pr, "u_count"), m->nv);
+        glDispatchCompute((m->nv + 63) / 64, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        if (map) glBindTexture(GL_TEXTURE_2D, 0);
+        r->vis_valid = 1;
+        r->vis_map = map;
+        r->vis_size = size;
+        memcpy(r->vis_dir, lf, sizeof lf);
+    }
+    /* pass 2: q[o] += Σ_i w̃(o, i) g_i V_i over o's row */
+    GLuint pr = r->prog_near;
+    glUseProgram(pr);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r->near_start);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r->near_idx);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r->gv);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m->qbuf);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->near_w);
+    glUniform1ui(glGetUniformLocation(pr, "u_count"), m->nv);
+    glDispatchCompute((m->nv + 255) / 256, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glEndQuery(GL_TIME_ELAPSED);
+    return 1;
+}
+
+const char *sss_pass_near_describe(const void *state)
+{
+    const sss_near_pass *r = state;
+    return r->prog_ray ? "near terms: rays (shadow map on request)" : "near terms: shadow map";
+}
+
+void sss_near_read_visibility(const void *state, uint32_t nv, uint8_t *lit)
+{
+    const sss_near_pass *r = state;
+    uint32_t *u = malloc((size_t)nv * sizeof *u + 1);
+    if (!u) {
+        memset(lit, 0, nv);
+        return;
+    }
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->lit);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)nv * sizeof *u, u);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    for (uint32_t v = 0; v < nv; v++) lit[v] = u[v] != 0;
+    free(u);
+}

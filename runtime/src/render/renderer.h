@@ -1,0 +1,107 @@
+/* renderer.h: the renderer's parts (internal to sss_render; the API is
+ * sss/render.h). One sss_renderer holds three subsystems, each with its own
+ * state and file, plus the glue (renderer.c) that creates them and orders
+ * their work in a frame:
+ *   sss_gpu_mesh  the mesh as the GPU holds it (geometry, the per-vertex q
+ *                 buffer) and its view frame, shared by every pass;
+ *   sss_scatter   scatter.c: q for the light from the direction set's rows,
+ *                 every storage form, GPU or CPU path (Hao–Varshney 2004
+ *                 §3.2, §4);
+ *   sss_draw      draw.c: camera, shading draw, tone map, the float
+ *                 framebuffer and whole offscreen images;
+ * and the passes over q of the effects the file carries (effects/effects.h:
+ * the near terms of section OWNT), created from the pass table.
+ */
+#ifndef SSS_RENDERER_INTERNAL_H
+#define SSS_RENDERER_INTERNAL_H
+
+#include <epoxy/gl.h>
+#include <math.h>
+#include <stdint.h>
+
+#include "sss/render.h"
+
+/* The mesh on the GPU, created and owned by the renderer; passes read it. */
+typedef struct sss_gpu_mesh {
+    const sss_bake_file *f;
+    uint32_t nv, nf, C;
+    double centre[3], radius; /* sss_view_bounds */
+    GLuint vao, vbo_pos, vbo_nrm, ebo;
+    GLuint qbuf;              /* per-vertex q, nv·C floats */
+} sss_gpu_mesh;
+
+/* scatter.c: the direction set's rows on the GPU (any storage form) and
+ * the CPU path's scratch. */
+typedef struct sss_scatter {
+    GLuint rows;        /* all direction rows, padded (float, lloyd8, or the references' rows) */
+    GLsizeiptr row_bytes, row_stride;
+    uint32_t row_n;     /* entries per row / channels: nv, or nref for the reference form */
+    GLuint levels;      /* lloyd8 / reference rows: the three level tables times the weights, per frame */
+    float *fold_l;      /* CPU copy of those, 3·C·256 */
+    const float *lvl;   /* the file's level tables (f->levels or f->ref.levels), C·256 */
+    GLuint prog_cs;
+    /* compressed forms */
+    GLuint prog_coded;  /* second pass: coded vertices */
+    uint32_t ncoded, sh_levels;
+    GLuint sh_codes;    /* SH codes, each coded vertex's starting on a new word */
+    GLuint sh_tab;      /* SH tables times y_i(light), per frame */
+    float *fold_sh;     /* CPU copy of those, C·ncoef·levels */
+    GLuint ref_q;       /* reference values of the frame, nref·C */
+    GLuint ref_vertex, ref_tri, coded_rec, wtab;
+    float *cpu_q;       /* CPU path scratch */
+    double cpu_ms;      /* the CPU path's last evaluation and upload, wall clock */
+} sss_scatter;
+
+/* Checks that m->f's storage form can be drawn and builds its programs and
+ * buffers; on failure s holds what was made (sss_scatter_destroy frees it). */
+sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *err);
+void sss_scatter_destroy(sss_scatter *s);
+/* q for the unit light l into m->qbuf: on the GPU, the compute passes
+ * under the GL_TIME_ELAPSED query `query`; on the CPU, sss_decode_all and an
+ * upload, timed into s->cpu_ms. */
+void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], GLuint query);
+void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3]);
+
+/* draw.c: the shading program and the float framebuffer. */
+typedef struct sss_draw {
+    GLuint prog_shade;
+    GLuint fbo, fbo_color, fbo_depth;
+    int fbo_w, fbo_h;
+} sss_draw;
+
+sss_result sss_draw_create(sss_draw *d, sss_error *err);
+void sss_draw_destroy(sss_draw *d);
+/* The shading draw of m's q into the bound framebuffer under `query`. */
+void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p, int width, int height,
+                    GLuint query);
+
+/* The capacity of the pass table (effects/table.c). */
+#define SSS_EFFECTS_MAX 8
+
+struct sss_renderer {
+    sss_gpu_mesh mesh;
+    sss_scatter scatter;
+    sss_draw draw;
+    void *pass[SSS_EFFECTS_MAX]; /* the passes over q the file has, by table row (effects/effects.h) */
+    unsigned pass_on;            /* bit i: table row i was created */
+    GLuint queries[3];  /* scatter, draw, near terms */
+    int have_times;     /* bits of the queries that hold a result */
+    int last_path;
+    int own_pending;    /* q was uploaded: the next draw runs the passes over q (near terms) for its light */
+};
+
+static inline void sss_normalize3(double v[3])
+{
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0)
+        for (int k = 0; k < 3; k++) v[k] /= l;
+}
+
+static inline void sss_cross3(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+#endif

@@ -1,0 +1,452 @@
+/* sss-view: interactive and offscreen viewer of baked translucent meshes.
+ * See `sss-view --help`. */
+#include <epoxy/gl.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "app.h"
+#include "sss/format.h"
+#include "sss/render.h"
+
+static const char *TOOL = "sss-view";
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: sss-view FILE.sss [options]\n"
+        "       sss-view FILE.sss --offscreen --out IMG.png|IMG.exr [--size WxH] [--light X,Y,Z] [--view X,Y,Z] [--exposure E]\n"
+        "Shows a baked translucent mesh: every frame reconstructs each vertex's scattering q for the\n"
+        "light direction (GPU compute shader by default, or the CPU decoder) and shades\n"
+        "L = E q F_t(eta, n.w_o) + Fresnel-weighted specular. Any storage form: float, lloyd8, and the\n"
+        "compressed sh and refs (SH codes; reference rows + SH-coded deltas), decoded per frame.\n\n"
+        "options:\n"
+        "  --offscreen          render one image without a window (EGL surfaceless) and exit\n"
+        "  --out FILE           image to write: .png (8-bit sRGB, tone-mapped) or .exr (linear float)\n"
+        "  --size WxH           image or window size (default 800x600)\n"
+        "  --light X,Y,Z        direction towards the light (default 0,0,1)\n"
+        "  --view X,Y,Z         direction from the object towards the camera (default 0,0,1)\n"
+        "  --exposure E         radiance multiplier before tone mapping (default 1)\n"
+        "  --intensity I        light irradiance E (default 1)\n"
+        "  --tonemap clamp|reinhard   (default clamp: values in [0,1], the measurement convention)\n"
+        "  --cpu                evaluate on the CPU (C decoder; with --scene, the CPU sum of the lights)\n"
+        "  --no-scatter, --no-specular   drop one of the two terms\n"
+        "  --no-own-term        files baked with --own-term runtime: draw the stored rows alone, without\n"
+        "                       the near terms the viewer adds back (for comparison)\n"
+        "  --near-visibility rays|map   where those near terms' visibility comes from: the bake's own ray,\n"
+        "                       traced on the GPU (default), or a shadow map (cheaper on a software GL,\n"
+        "                       wrong near shadow outlines: docs/viewer.md)\n"
+        "  --shadow-size N      that shadow map's texels per side, 256 ... 8192 (default 2048; finer agrees\n"
+        "                       with the bake's rays at more vertices)\n"
+        "  --wireframe          draw edges over the surface\n"
+        "  --screenshot FILE    where the P key saves a PNG (window mode)\n"
+        "  --bench N            offscreen: time N frames and print JSON timings on stdout\n"
+        "  --scene S.json       the scene's lights (summed, each from the effect the file records)\n"
+        "                       and camera instead of --light/--view (docs/scenes.md)\n"
+        "  -h, --help           this text\n\n"
+        "window controls:\n%s",
+        sss_app_controls_help);
+}
+
+static int parse_triple(const char *opt, const char *s, double out[3])
+{
+    char *end;
+    const char *p = s;
+    for (int k = 0; k < 3; k++) {
+        errno = 0;
+        out[k] = strtod(p, &end);
+        if (end == p || errno || !isfinite(out[k]) || (k < 2 ? *end != ',' : *end != 0)) {
+            fprintf(stderr, "%s: %s: '%s' must be three numbers X,Y,Z\n", TOOL, opt, s);
+            return 0;
+        }
+        p = end + 1;
+    }
+    if (out[0] == 0 && out[1] == 0 && out[2] == 0) {
+        fprintf(stderr, "%s: %s: '%s' is not a direction\n", TOOL, opt, s);
+        return 0;
+    }
+    return 1;
+}
+
+static int parse_positive(const char *opt, const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || errno || !isfinite(v) || !(v > 0)) {
+        fprintf(stderr, "%s: %s: '%s' must be a number > 0\n", TOOL, opt, s);
+        return 0;
+    }
+    *out = v;
+    return 1;
+}
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return 1e3 * (double)ts.tv_sec + 1e-6 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* --bench: N frames of evaluate + draw, each timed on the wall clock after
+ * glFinish (so it measures completed work), plus GPU timer queries. */
+static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, int w, int h, int n)
+{
+    double *scatter = malloc(sizeof(double) * (size_t)n), *draw = malloc(sizeof(double) * (size_t)n),
+           *frame = malloc(sizeof(double) * (size_t)n);
+    float *rgb, *hdr;
+    sss_error err;
+    sss_renderer_render_image(r, p, w, h, &rgb, &hdr, &err); /* warms caches */
+    free(rgb);
+    free(hdr);
+    sss_renderer_bind_offscreen(r, w, h, &err); /* draw into a real framebuffer: a surfaceless context has none */
+    for (int i = 0; i < n; i++) {
+        /* move the light a little each frame so every frame really works */
+        double a = 0.05 * i;
+        p->light[0] = sin(a);
+        p->light[1] = 0.3;
+        p->light[2] = cos(a);
+        glFinish();
+        double t0 = now_ms();
+        sss_renderer_evaluate(r, p);
+        glFinish();
+        double t1 = now_ms();
+        sss_renderer_draw(r, p, w, h);
+        glFinish();
+        double t2 = now_ms();
+        scatter[i] = t1 - t0;
+        draw[i] = t2 - t1;
+        frame[i] = t2 - t0;
+    }
+    sss_frame_times gt = sss_renderer_times(r);
+    char storage[128], own[96];
+    sss_storage_describe(f, storage, sizeof storage);
+    /* the near terms (OWNT) run inside the evaluation, so scatter_ms holds
+     * them; own_term says whether they ran */
+    if (!f->own_term) snprintf(own, sizeof own, "none");
+    else if (!p->own_term) snprintf(own, sizeof own, "off (--no-own-term)");
+    else if (p->near_visibility == SSS_NEAR_MAP)
+        snprintf(own, sizeof own, "%u ring(s), shadow map %d", f->own_rings, p->shadow_size ? p->shadow_size : SSS_SHADOW_SIZE);
+    else snprintf(own, sizeof own, "%u ring(s), rays", f->own_rings);
+    printf("{\"vertices\":%u,\"channels\":%u,\"quant\":\"%s\",\"storage\":\"%s\",\"path\":\"%s\",\"renderer\":\"%s\",\"frames\":%d,"
+           "\"width\":%d,\"height\":%d,\"own_term\":\"%s\",\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,"
+           "\"frame_ms_median\":%.4f,\"scatter_vertices_per_s\":%.6g,\"fps\":%.3f,\"gpu_timer_scatter_ms_last\":%.4f,"
+           "\"gpu_timer_draw_ms_last\":%.4f,\"gpu_timer_own_ms_last\":%.4f,\"bytes_per_vertex\":%.3f}\n",
+           f->mesh.nv, f->channels, sss_quant_name(f->quant), storage,
+           p->path == SSS_EVAL_CPU ? "cpu" : "gpu", sss_gl_renderer_name(), n, w, h, own, median(scatter, n),
+           median(draw, n), median(frame, n), f->mesh.nv / (1e-3 * median(scatter, n)), 1e3 / median(frame, n),
+           gt.scatter_ms, gt.draw_ms, gt.own_ms, sss_renderer_bytes_per_vertex(r));
+    free(scatter);
+    free(draw);
+    free(frame);
+}
+
+/* Loads the scene, prepares its light sum for file f and takes its camera;
+ * the lights' colours are folded into q. Non-zero (message printed) on failure. */
+static int scene_open(const sss_bake_file *f, const char *scene_path, sss_view_params *p, sss_scene *sc,
+                      sss_scene_eval **ev)
+{
+    sss_error err = {{0}};
+    if (sss_scene_load(scene_path, sc, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    if (sss_scene_eval_create(f, sc, ev, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_scene_free(sc);
+        return 1;
+    }
+    sss_scene_camera_params(sc, f, p);
+    for (int k = 0; k < 3; k++) p->light_rgb[k] = 1.0;
+    return 0;
+}
+
+/* --scene: the scene's lights summed from the file's effects, on the GPU
+ * (fx_gpu.c: only the programs the file's sections need) or, with --cpu or
+ * when the GPU path cannot be built, on the CPU (scene_view.c), then drawn
+ * with the shading program; --bench times the evaluation of every light
+ * and the draw. */
+static int scene_offscreen(const sss_bake_file *f, const char *path, const char *scene_path, sss_view_params *p,
+                           const char *out, int w, int h, int nbench)
+{
+    sss_error err = {{0}};
+    sss_scene sc;
+    sss_scene_eval *ev = NULL;
+    if (scene_open(f, scene_path, p, &sc, &ev) != 0) return 2;
+    sss_offscreen *ctx = NULL;
+    sss_renderer *r = NULL;
+    float *q = malloc((size_t)f->mesh.nv * f->channels * sizeof(float));
+    int rc = 1;
+    if (!q) { fprintf(stderr, "%s: out of memory\n", TOOL); goto done; }
+    if (sss_offscreen_create(&ctx, &err) != SSS_OK || sss_renderer_create(f, &r, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
+        goto done;
+    }
+    rc = 0;
+    sss_fx_gpu *g = NULL;
+    if (p->path != SSS_EVAL_CPU && sss_fx_gpu_create(f, ev, r, &g, &err) != SSS_OK)
+        fprintf(stderr, "%s: %s: the scene's lights are summed on the CPU (%s)\n", TOOL, path, err.msg);
+    char evals[96];
+    snprintf(evals, sizeof evals, g ? "gpu (programs: %s)" : "cpu%s", g ? sss_fx_gpu_describe(g) : "");
+    if (nbench) {
+        double *ev_ms = malloc(sizeof(double) * (size_t)nbench), *draw = malloc(sizeof(double) * (size_t)nbench),
+               *frame = malloc(sizeof(double) * (size_t)nbench);
+        float *rgb, *hdr;
+        sss_scene_eval_frame(ev, 0.0, q);
+        if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) == SSS_OK) { free(rgb); free(hdr); }
+        sss_renderer_bind_offscreen(r, w, h, &err);
+        for (int i = 0; ev_ms && draw && frame && i < nbench; i++) {
+            glFinish();
+            double t0 = now_ms();
+            if (g) {
+                sss_fx_gpu_frame(g, 0.05 * i);
+            } else {
+                sss_scene_eval_frame(ev, 0.05 * i, q);
+                sss_renderer_upload_q(r, q);
+            }
+            glFinish();
+            double t1 = now_ms();
+            sss_renderer_draw(r, p, w, h);
+            glFinish();
+            double t2 = now_ms();
+            ev_ms[i] = t1 - t0;
+            draw[i] = t2 - t1;
+            frame[i] = t2 - t0;
+        }
+        if (ev_ms && draw && frame)
+            printf("{\"vertices\":%u,\"channels\":%u,\"paths\":\"%s\",\"eval\":\"%s\",\"gpu_programs\":\"%s\","
+                   "\"renderer\":\"%s\",\"frames\":%d,\"width\":%d,"
+                   "\"height\":%d,\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,\"frame_ms_median\":%.4f,"
+                   "\"bytes_per_vertex\":%.3f}\n", f->mesh.nv, f->channels, sss_scene_eval_paths(ev),
+                   g ? "gpu" : "cpu", g ? sss_fx_gpu_describe(g) : "none", sss_gl_renderer_name(), nbench, w, h, median(ev_ms, nbench), median(draw, nbench),
+                   median(frame, nbench), sss_file_integral_bytes_per_vertex(f));
+        free(ev_ms);
+        free(draw);
+        free(frame);
+    }
+    if (out) {
+        float *rgb, *hdr;
+        if (g) {
+            /* the GPU sum, read back so that the one image path draws it */
+            sss_fx_gpu_frame(g, 0.0);
+            sss_renderer_read_q(r, q);
+        } else {
+            sss_scene_eval_frame(ev, 0.0, q);
+        }
+        if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) != SSS_OK ||
+            sss_write_image(out, rgb, hdr, w, h, &err) != SSS_OK) {
+            fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+            rc = 1;
+        } else {
+            fprintf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, out, w, h,
+                    sss_gl_renderer_name(), evals, scene_path, sss_scene_eval_paths(ev));
+            free(rgb);
+            free(hdr);
+        }
+    }
+    sss_fx_gpu_destroy(g);
+done:
+    free(q);
+    sss_renderer_destroy(r);
+    sss_offscreen_destroy(ctx);
+    sss_scene_eval_destroy(ev);
+    sss_scene_free(&sc);
+    return rc;
+}
+
+/* --scene in the window: the scene's lights every frame (moving ones turn
+ * about +z at 0.3 rad/s), the scene's camera as the start view; summed on
+ * the GPU (built on the first frame, in the window's context) unless --cpu
+ * or the GPU path cannot be built. */
+typedef struct scene_win {
+    const sss_bake_file *f;
+    sss_scene_eval *ev;
+    sss_fx_gpu *g;
+    int cpu;
+    char desc[192];
+} scene_win;
+
+static void scene_frame(void *user, double t, float *q) { sss_scene_eval_frame(((scene_win *)user)->ev, 0.3 * t, q); }
+
+static const char *scene_frame_gpu(void *user, sss_renderer *r, double t)
+{
+    scene_win *s = user;
+    if (!r) {
+        sss_fx_gpu_destroy(s->g);
+        s->g = NULL;
+        return NULL;
+    }
+    if (s->cpu) return NULL;
+    if (!s->g) {
+        sss_error err = {{0}};
+        if (sss_fx_gpu_create(s->f, s->ev, r, &s->g, &err) != SSS_OK) {
+            fprintf(stderr, "%s: the scene's lights are summed on the CPU (%s)\n", TOOL, err.msg);
+            s->cpu = 1;
+            return NULL;
+        }
+        snprintf(s->desc, sizeof s->desc, "%s on the GPU (programs: %s)", sss_scene_eval_paths(s->ev),
+                 sss_fx_gpu_describe(s->g));
+        fprintf(stderr, "%s: scene lights: %s\n", TOOL, s->desc);
+    }
+    sss_fx_gpu_frame(s->g, 0.3 * t);
+    return s->desc;
+}
+
+static int scene_window(const sss_bake_file *f, const char *path, const char *scene_path, sss_view_params *p, int w,
+                        int h, const char *shot)
+{
+    sss_scene sc;
+    sss_scene_eval *ev = NULL;
+    if (scene_open(f, scene_path, p, &sc, &ev) != 0) return 2;
+    p->background[0] = p->background[1] = p->background[2] = 0.02f;
+    scene_win sw = {f, ev, NULL, p->path == SSS_EVAL_CPU, ""};
+    sss_app_options ao = {path, w, h, shot, scene_frame, &sw, scene_frame_gpu};
+    int rc = sss_app_run(f, p, &ao);
+    sss_scene_eval_destroy(ev);
+    sss_scene_free(&sc);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    const char *path = NULL, *out = NULL, *shot = NULL, *scene_path = NULL;
+    int offscreen = 0, w = 800, h = 600, nbench = 0;
+    double intensity = 1.0;
+    sss_view_params p;
+    sss_view_params_default(&p);
+    p.background[0] = p.background[1] = p.background[2] = 0.0f;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEED() do { if (!v) { fprintf(stderr, "%s: %s needs a value\n", TOOL, a); return 2; } i++; } while (0)
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) { usage(stdout); return 0; }
+        else if (!strcmp(a, "--offscreen")) offscreen = 1;
+        else if (!strcmp(a, "--out")) { NEED(); out = v; }
+        else if (!strcmp(a, "--screenshot")) { NEED(); shot = v; }
+        else if (!strcmp(a, "--size")) {
+            NEED();
+            char tail;
+            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384) {
+                fprintf(stderr, "%s: --size: '%s' must be WxH with each in [1, 16384]\n", TOOL, v);
+                return 2;
+            }
+        }
+        else if (!strcmp(a, "--light")) { NEED(); if (!parse_triple(a, v, p.light)) return 2; }
+        else if (!strcmp(a, "--view")) { NEED(); if (!parse_triple(a, v, p.view)) return 2; }
+        else if (!strcmp(a, "--exposure")) { NEED(); if (!parse_positive(a, v, &p.exposure)) return 2; }
+        else if (!strcmp(a, "--intensity")) { NEED(); if (!parse_positive(a, v, &intensity)) return 2; }
+        else if (!strcmp(a, "--tonemap")) {
+            NEED();
+            if (!strcmp(v, "clamp")) p.tonemap = SSS_TONEMAP_CLAMP;
+            else if (!strcmp(v, "reinhard")) p.tonemap = SSS_TONEMAP_REINHARD;
+            else { fprintf(stderr, "%s: --tonemap: '%s' must be clamp or reinhard\n", TOOL, v); return 2; }
+        }
+        else if (!strcmp(a, "--cpu")) p.path = SSS_EVAL_CPU;
+        else if (!strcmp(a, "--scene")) { NEED(); scene_path = v; }
+        else if (!strcmp(a, "--no-scatter")) p.scatter = 0;
+        else if (!strcmp(a, "--no-specular")) p.specular = 0;
+        else if (!strcmp(a, "--no-own-term")) p.own_term = 0;
+        else if (!strcmp(a, "--near-visibility")) {
+            NEED();
+            if (!strcmp(v, "rays")) p.near_visibility = SSS_NEAR_RAYS;
+            else if (!strcmp(v, "map")) p.near_visibility = SSS_NEAR_MAP;
+            else { fprintf(stderr, "%s: --near-visibility: '%s' must be rays or map\n", TOOL, v); return 2; }
+        }
+        else if (!strcmp(a, "--shadow-size")) {
+            NEED();
+            char *end;
+            long n = strtol(v, &end, 10);
+            if (end == v || *end || n < 256 || n > 8192) {
+                fprintf(stderr, "%s: --shadow-size: '%s' must be an integer 256 ... 8192\n", TOOL, v);
+                return 2;
+            }
+            p.shadow_size = (int)n;
+        }
+        else if (!strcmp(a, "--wireframe")) p.wireframe = 1;
+        else if (!strcmp(a, "--bench")) {
+            NEED();
+            char *end;
+            long n = strtol(v, &end, 10);
+            if (*end || n < 1 || n > 100000) { fprintf(stderr, "%s: --bench: '%s' must be an integer in [1, 100000]\n", TOOL, v); return 2; }
+            nbench = (int)n;
+        }
+        else if (a[0] == '-' && a[1]) { fprintf(stderr, "%s: unknown option '%s' (see --help)\n", TOOL, a); return 2; }
+        else if (!path) path = a;
+        else { fprintf(stderr, "%s: unexpected argument '%s'\n", TOOL, a); return 2; }
+#undef NEED
+    }
+    if (!path) { fprintf(stderr, "%s: missing FILE.sss (see --help)\n", TOOL); return 2; }
+    if (offscreen && !out && !nbench) { fprintf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL); return 2; }
+    for (int k = 0; k < 3; k++) p.light_rgb[k] = intensity;
+
+    sss_bake_file f;
+    sss_error err = {{0}};
+    if (sss_file_read(path, &f, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    if (scene_path && !offscreen) {
+        int rc = scene_window(&f, path, scene_path, &p, w, h, shot);
+        sss_file_free(&f);
+        return rc;
+    }
+    if (scene_path) {
+        int rc = scene_offscreen(&f, path, scene_path, &p, out, w, h, nbench);
+        sss_file_free(&f);
+        return rc;
+    }
+    if (!offscreen) {
+        sss_app_options ao = {path, w, h, shot, NULL, NULL, NULL};
+        p.background[0] = p.background[1] = p.background[2] = 0.02f;
+        int rc = sss_app_run(&f, &p, &ao);
+        sss_file_free(&f);
+        return rc;
+    }
+    sss_offscreen *ctx;
+    sss_renderer *r;
+    if (sss_offscreen_create(&ctx, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_file_free(&f);
+        return 1;
+    }
+    if (sss_renderer_create(&f, &r, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
+        sss_offscreen_destroy(ctx);
+        sss_file_free(&f);
+        return 1;
+    }
+    int rc = 0;
+    if (nbench) bench(r, &f, &p, w, h, nbench);
+    if (out) {
+        float *rgb, *hdr;
+        if (sss_renderer_render_image(r, &p, w, h, &rgb, &hdr, &err) != SSS_OK ||
+            sss_write_image(out, rgb, hdr, w, h, &err) != SSS_OK) {
+            fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+            rc = 1;
+        } else {
+            fprintf(stderr, "%s: %s: %dx%d, %s, %s path\n", TOOL, out, w, h, sss_gl_renderer_name(),
+                    p.path == SSS_EVAL_CPU ? "CPU" : "GPU");
+            free(rgb);
+            free(hdr);
+        }
+    }
+    sss_renderer_destroy(r);
+    sss_offscreen_destroy(ctx);
+    sss_file_free(&f);
+    return rc;
+}
