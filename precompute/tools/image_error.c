@@ -17,10 +17,10 @@
  *    99.9th percentile of the positive exact q over all vertices and
  *    channels pooled over the six axis light directions, so that the
  *    brightest 0.1 % of lit values reach 1;
- *  - light directions never on a direction sample (sss_accuracy_draw_direction);
+ *  - light directions never on a direction sample (sss_vertex_error_draw_direction);
  *  - a file with OWNT (near terms at run time): the renderer adds them as
  *    the viewer does (its GPU rays, or its shadow map on request), or the
- *    tool adds them with the bake's ray on the CPU (sss_recon_eval).
+ *    tool adds them with the bake's ray on the CPU (sss_reconstruct_eval).
  *
  * The renderer is given a geometry-only view of the file (no direction
  * rows): q is always supplied per vertex (sss_renderer_upload_q), so the
@@ -128,14 +128,14 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     float *qx = malloc(nv * C * sizeof *qx), *qa = malloc(nv * C * sizeof *qa);
     double *rms = malloc(views * sizeof *rms);
     float *worst[4] = {NULL, NULL, NULL, NULL}; /* exact ldr, exact hdr, approx ldr, approx hdr */
-    /* what a reader shows (sss/recon.h): the rows, plus the own term of an
+    /* what a reader shows (sss/reconstruct.h): the rows, plus the own term of an
      * OWNT file with the vertex's own visibility by a ray */
-    sss_recon *rc = NULL;
+    sss_reconstruct *rc = NULL;
     if (!qx || !qa || !rms) {
         res = sss_fail(err, SSS_ERR_NOMEM, "image error: out of memory for %zu vertices", nv);
         goto done;
     }
-    if ((res = sss_recon_create(f, &rc, err)) != SSS_OK) goto done;
+    if ((res = sss_reconstruct_create(f, &rc, err)) != SSS_OK) goto done;
     out->exposure = o->exposure > 0.0 ? o->exposure : auto_exposure(e, nv * C, qx);
     out->views = views;
     out->width = W;
@@ -156,11 +156,11 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     for (uint32_t v = 0; v < views; v++) {
         double view[3], light[3];
         sss_rng_direction(&state, view);
-        sss_accuracy_draw_direction(&f->dirs, &state, light);
+        sss_vertex_error_draw_direction(&f->dirs, &state, light);
         for (int k = 0; k < 3; k++) p.view[k] = view[k], p.light[k] = light[k];
         sss_exact_eval(e, light, qx);
-        if (map_vis) sss_recon_eval_rows(rc, light, o->interp, qa);
-        else sss_recon_eval(rc, light, o->interp, qa);
+        if (map_vis) sss_reconstruct_eval_rows(rc, light, o->interp, qa);
+        else sss_reconstruct_eval(rc, light, o->interp, qa);
         float *ex = NULL, *exh = NULL, *ap = NULL, *aph = NULL;
         p.own_term = 0; /* the exact q is whole */
         res = sss_renderer_render_q_image(ren, &p, qx, W, H, &ex, &exh, err);
@@ -238,7 +238,7 @@ done:
     free(qx);
     free(qa);
     free(rms);
-    sss_recon_destroy(rc);
+    sss_reconstruct_destroy(rc);
     sss_renderer_destroy(ren);
     sss_offscreen_destroy(ctx);
     out->seconds = now_s() - t0;

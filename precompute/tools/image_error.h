@@ -29,7 +29,7 @@ typedef struct sss_image_error_opts {
     const char *images_dir; /* if set: the worst view's exact, approx and error images go here */
     /* Files with OWNT: whose visibility the near terms of the approximate
      * image use — 0: the viewer's default (the renderer's GPU rays, what
-     * sss-view shows); 1: the bake's ray on the CPU (sss_recon_eval, as the
+     * sss-view shows); 1: the bake's ray on the CPU (sss_reconstruct_eval, as the
      * per-vertex error); 2: the renderer's shadow map of shadow_size². */
     int near_mode;
     int shadow_size;        /* near_mode 2: texels per side (0: the renderer's default) */

@@ -130,8 +130,8 @@ static int query(const char *path, const sss_bake_file *f, const char *vs, const
         fprintf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
         return 1;
     }
-    sss_recon *rc = NULL;
-    if (sss_recon_create(f, &rc, &err) != SSS_OK) {
+    sss_reconstruct *rc = NULL;
+    if (sss_reconstruct_create(f, &rc, &err) != SSS_OK) {
         fprintf(stderr, "%s: %s: reconstruction: %s\n", TOOL, path, err.msg);
         sss_exact_destroy(e);
         return 1;
@@ -139,8 +139,8 @@ static int query(const char *path, const sss_bake_file *f, const char *vs, const
     const uint32_t C = f->channels;
     float ex[SSS_MAX_CHANNELS], rec[SSS_MAX_CHANNELS];
     sss_exact_eval_vertex(e, v, light, ex);
-    sss_recon_eval_vertex(rc, v, light, rec); /* the stored rows, plus the own term of an OWNT file */
-    sss_recon_destroy(rc);
+    sss_reconstruct_eval_vertex(rc, v, light, rec); /* the stored rows, plus the own term of an OWNT file */
+    sss_reconstruct_destroy(rc);
     /* the unit direction and the nearest stored sample, so a reader can see
      * whether the light sits on a sample (where a float file has no
      * interpolation error) */

@@ -153,7 +153,7 @@ Conventions that move the numbers, so that they can be compared with care:
   triangle test; docs/viewer.md), which agreed with the CPU ray on every
   tested vertex; \`--image-visibility map\` uses the viewer's optional
   shadow map instead (rows "shadow map 2048"), \`rays\` the CPU ray
-  (\`sss_recon_eval\`, \`precompute/src/recon.c\`, which the per-vertex
+  (\`sss_reconstruct_eval\`, \`precompute/src/measure/reconstruct.c\`, which the per-vertex
   error always uses).
 
 \`sss-stat FILE --error --error-images DIR\` writes the worst view's exact,

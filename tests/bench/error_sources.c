@@ -193,7 +193,7 @@ int main(int argc, char **argv)
     uint64_t state = seed;
     for (uint32_t t = 0; t < ndirs; t++) {
         double d[3];
-        sss_accuracy_draw_direction(&f.dirs, &state, d);
+        sss_vertex_error_draw_direction(&f.dirs, &state, d);
         sss_exact_set_shadows(e, 1);
         sss_exact_eval(e, d, x);
         measure(&f, f.q, x, area, d, vis, &ts);

@@ -369,8 +369,7 @@ static void dragonVisibilityMatchesRays(void **state)
     assert_int_equal(sss_bvh_build(g.mesh.pos, nv, g.mesh.tri, g.mesh.nf, &bvh, &err), SSS_OK);
     assert_int_equal(bvh.ntri, g.mesh.nf);
     assert_true(bvh.depth <= SSS_BVH_STACK);
-    double lo[3], hi[3];
-    const float delta = (float)(1e-5 * sss_mesh_bounds(&g.mesh, lo, hi)); /* visibility.c's */
+    const float delta = sss_mesh_ray_offset(&g.mesh); /* the bake's rule */
     sss_renderer *r;
     if (sss_renderer_create(&g, &r, &err) != SSS_OK) fail_msg("renderer: %s", err.msg);
     float *zero = calloc((size_t)nv * 3, sizeof *zero);

@@ -106,9 +106,9 @@ static void samples_restore_q(const sss_bake_file *own, double min_share)
     const uint32_t nv = own->mesh.nv, C = own->channels, nd = own->dirs.n;
     const size_t row = (size_t)nv * C;
     sss_error err = {{0}};
-    sss_recon *rc;
-    assert_int_equal(sss_recon_create(own, &rc, &err), SSS_OK);
-    assert_true(sss_recon_has_own_term(rc));
+    sss_reconstruct *rc;
+    assert_int_equal(sss_reconstruct_create(own, &rc, &err), SSS_OK);
+    assert_true(sss_reconstruct_has_own_term(rc));
     float *r = malloc(row * sizeof *r);
     assert_non_null(r);
     double qmax = 0.0, worst = 0.0, taken = 0.0, total = 0.0;
@@ -120,7 +120,7 @@ static void samples_restore_q(const sss_bake_file *own, double min_share)
         total += g_plain.q[k];
     }
     for (uint32_t j = 0; j < nd; j++) {
-        sss_recon_eval(rc, own->dirs.dir + 3 * (size_t)j, SSS_INTERP_TRIANGLE, r);
+        sss_reconstruct_eval(rc, own->dirs.dir + 3 * (size_t)j, SSS_INTERP_TRIANGLE, r);
         for (size_t k = 0; k < row; k++) worst = fmax(worst, fabs((double)r[k] - g_plain.q[(size_t)j * row + k]));
     }
     print_message("%u rings: near terms %.1f %% of all q; rows + near terms vs unsplit q at the samples: max |diff| "
@@ -130,13 +130,13 @@ static void samples_restore_q(const sss_bake_file *own, double min_share)
     /* one vertex at a time (sss-stat --query) gives the same floats */
     float one[SSS_MAX_CHANNELS];
     const double *d = own->dirs.dir + 3 * (size_t)(nd / 3);
-    sss_recon_eval(rc, d, SSS_INTERP_TRIANGLE, r);
+    sss_reconstruct_eval(rc, d, SSS_INTERP_TRIANGLE, r);
     for (uint32_t v = 0; v < nv; v += 37) {
-        sss_recon_eval_vertex(rc, v, d, one);
+        sss_reconstruct_eval_vertex(rc, v, d, one);
         for (uint32_t c = 0; c < C; c++) assert_float_equal(one[c], r[(size_t)v * C + c], 1e-6 * qmax);
     }
     free(r);
-    sss_recon_destroy(rc);
+    sss_reconstruct_destroy(rc);
 }
 
 static void samplesRestoreQ(void **state)

@@ -1,8 +1,8 @@
-/* sss/accuracy.h: how far a .sss file's reconstruction of q is from the
+/* sss/vertex_error.h: how far a .sss file's reconstruction of q is from the
  * exact evaluator (sss/exact.h), per vertex, at random light directions
  * (issue 5; the paper's error protocol is Hao–Varshney 2004 §3.3). */
-#ifndef SSS_ACCURACY_H
-#define SSS_ACCURACY_H
+#ifndef SSS_VERTEX_ERROR_H
+#define SSS_VERTEX_ERROR_H
 #include <stdint.h>
 #include "sss/decode.h"
 #include "sss/dirset.h"
@@ -37,7 +37,7 @@ sss_result sss_vertex_error_vs_exact_interp(const sss_bake_file *f, const sss_ex
 
 /* The random light directions of both error measures: sss_rng_direction
  * from *state, redrawn while within 1e-6 rad of a sample of s. */
-void sss_accuracy_draw_direction(const sss_dirset *s, uint64_t *state, double d[3]);
+void sss_vertex_error_draw_direction(const sss_dirset *s, uint64_t *state, double d[3]);
 
 #ifdef __cplusplus
 }

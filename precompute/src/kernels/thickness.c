@@ -54,8 +54,7 @@ sss_result sss_thin_count(const sss_mesh *mesh, double limit, const sss_cancel_f
         rtcReleaseDevice(dev);
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "thickness: Embree scene build failed");
     }
-    double lo[3], hi[3];
-    const float delta = (float)(1e-5 * sss_mesh_bounds(mesh, lo, hi));
+    const float delta = sss_mesh_ray_offset(mesh);
     uint64_t n = 0;
     double best = INFINITY;
 #pragma omp parallel for schedule(dynamic, 1024) reduction(+ : n) reduction(min : best)

@@ -2,9 +2,10 @@
  * Hao–Varshney 2004 §3.1 uses shadow maps; we trace exact occlusion rays
  * with Embree 3 against the mesh itself.
  *
- * Ray origin: x_i pushed off the surface along n_i by δ = 1e-5 of the
- * bounding-box diagonal (mesh units), and tnear = δ, so a ray does not hit the
- * triangles that share x_i; a smaller δ lets grazing rays clip them.
+ * Ray origin: x_i pushed off the surface along n_i by δ, and tnear = δ,
+ * with δ = sss_mesh_ray_offset (1e-5 of the bounding-box diagonal, mesh
+ * units: the one rule the viewer's near-term rays share), so a ray does not
+ * hit the triangles that share x_i; a smaller δ lets grazing rays clip them.
  */
 #include "sss/visibility.h"
 
@@ -66,8 +67,7 @@ sss_result sss_vis_create_scene(const sss_mesh *mesh, int self, const sss_mesh *
     }
     /* the offset depends on the object whose vertices cast the rays only,
      * so adding occluders does not move the origins */
-    double lo[3], hi[3];
-    vis->delta = (float)(1e-5 * sss_mesh_bounds(mesh, lo, hi));
+    vis->delta = sss_mesh_ray_offset(mesh);
     vis->mesh = mesh;
     *out = vis;
     return SSS_OK;

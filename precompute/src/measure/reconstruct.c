@@ -1,4 +1,5 @@
-/* recon.c: a file's reconstruction of q as a reader shows it (sss/recon.h). */
+/* reconstruct.c: a file's reconstruction of q as a reader shows it
+ * (sss/reconstruct.h). */
 #include "sss/reconstruct.h"
 
 #include <math.h>
@@ -8,25 +9,25 @@
 #include "sss/visibility.h"
 #include "sss/ownterm.h"
 
-struct sss_recon {
+struct sss_reconstruct {
     const sss_bake_file *f;
     int near_on;  /* the file splits off the near terms */
     sss_near nr;  /* their rows and weights */
     sss_vis *vis; /* the file's mesh: the bake's ray rule */
 };
 
-sss_result sss_recon_create(const sss_bake_file *f, sss_recon **out, sss_error *err)
+sss_result sss_reconstruct_create(const sss_bake_file *f, sss_reconstruct **out, sss_error *err)
 {
     *out = NULL;
     if (!f) return sss_fail(err, SSS_ERR_ARG, "reconstruction: NULL file");
-    sss_recon *r = calloc(1, sizeof *r);
+    sss_reconstruct *r = calloc(1, sizeof *r);
     if (!r) return sss_fail(err, SSS_ERR_NOMEM, "reconstruction: out of memory");
     r->f = f;
     if (f->own_term) {
         sss_result e = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, f->channels, f->own_rings, &r->nr, err);
         if (e == SSS_OK) e = sss_vis_create(&f->mesh, &r->vis, err);
         if (e != SSS_OK) {
-            sss_recon_destroy(r);
+            sss_reconstruct_destroy(r);
             return e;
         }
         r->near_on = 1;
@@ -35,7 +36,7 @@ sss_result sss_recon_create(const sss_bake_file *f, sss_recon **out, sss_error *
     return SSS_OK;
 }
 
-int sss_recon_has_own_term(const sss_recon *r) { return r && r->near_on; }
+int sss_reconstruct_has_own_term(const sss_reconstruct *r) { return r && r->near_on; }
 
 /* Unit light, or 0 for a zero or non-finite one (then nothing is added). */
 static int unit(const double l[3], double d[3])
@@ -47,13 +48,13 @@ static int unit(const double l[3], double d[3])
 }
 
 /* Own visibility of vertex v, one vertex of sss_vis_lit_all. */
-static uint8_t lit_one(const sss_recon *r, uint32_t v, const double d[3])
+static uint8_t lit_one(const sss_reconstruct *r, uint32_t v, const double d[3])
 {
     const float *n = r->f->mesh.nrm + 3 * (size_t)v;
     return n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0.0 && !sss_vis_occluded(r->vis, v, d);
 }
 
-void sss_recon_own_lit(const sss_recon *r, const double light[3], uint8_t *lit)
+void sss_reconstruct_own_lit(const sss_reconstruct *r, const double light[3], uint8_t *lit)
 {
     const uint32_t nv = r->f->mesh.nv;
     double d[3];
@@ -64,12 +65,12 @@ void sss_recon_own_lit(const sss_recon *r, const double light[3], uint8_t *lit)
     sss_vis_lit_all(r->vis, &r->f->mesh, d, lit);
 }
 
-void sss_recon_eval_rows(const sss_recon *r, const double light[3], sss_interp interp, float *out)
+void sss_reconstruct_eval_rows(const sss_reconstruct *r, const double light[3], sss_interp interp, float *out)
 {
     sss_decode_all_interp(r->f, light, interp, out);
 }
 
-void sss_recon_eval(const sss_recon *r, const double light[3], sss_interp interp, float *out)
+void sss_reconstruct_eval(const sss_reconstruct *r, const double light[3], sss_interp interp, float *out)
 {
     sss_decode_all_interp(r->f, light, interp, out);
     double d[3];
@@ -78,14 +79,14 @@ void sss_recon_eval(const sss_recon *r, const double light[3], sss_interp interp
     uint8_t *lit = malloc(nv + 1u);
     float *gv = malloc((size_t)nv * sizeof *gv + 1);
     if (lit && gv) {
-        sss_recon_own_lit(r, d, lit);
+        sss_reconstruct_own_lit(r, d, lit);
         sss_near_transfer(r->f->mesh.nrm, nv, (float)r->f->material.eta, d, lit, gv);
         sss_near_add(&r->nr, gv, out);
     } else {
         /* without memory for the per-vertex arrays: vertex by vertex */
         for (uint32_t v = 0; v < nv; v++) {
             float s[SSS_MAX_CHANNELS];
-            sss_recon_eval_vertex(r, v, d, s);
+            sss_reconstruct_eval_vertex(r, v, d, s);
             for (uint32_t c = 0; c < r->f->channels; c++) out[(size_t)v * r->f->channels + c] = s[c];
         }
     }
@@ -93,7 +94,7 @@ void sss_recon_eval(const sss_recon *r, const double light[3], sss_interp interp
     free(gv);
 }
 
-void sss_recon_eval_vertex(const sss_recon *r, uint32_t v, const double light[3], float *out)
+void sss_reconstruct_eval_vertex(const sss_reconstruct *r, uint32_t v, const double light[3], float *out)
 {
     sss_decode_vertex(r->f, v, light, out);
     double d[3];
@@ -112,7 +113,7 @@ void sss_recon_eval_vertex(const sss_recon *r, uint32_t v, const double light[3]
     for (uint32_t c = 0; c < C; c++) out[c] += s[c];
 }
 
-void sss_recon_destroy(sss_recon *r)
+void sss_reconstruct_destroy(sss_reconstruct *r)
 {
     if (!r) return;
     sss_vis_destroy(r->vis);

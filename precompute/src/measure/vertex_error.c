@@ -1,5 +1,5 @@
-/* accuracy.c: error of a file's reconstruction against the exact evaluator
- * (see sss/accuracy.h). The exact q has no direction interpolation (§3.2)
+/* vertex_error.c: error of a file's reconstruction against the exact
+ * evaluator, per vertex (see sss/vertex_error.h). The exact q has no direction interpolation (§3.2)
  * and no compression (§4), so this one number covers every approximation
  * the file makes. */
 #include "sss/vertex_error.h"
@@ -14,7 +14,7 @@
 
 /* A random unit direction not within 1e-6 rad of a direction sample (at a
  * sample the interpolation error vanishes, which would flatter the file). */
-void sss_accuracy_draw_direction(const sss_dirset *s, uint64_t *state, double d[3])
+void sss_vertex_error_draw_direction(const sss_dirset *s, uint64_t *state, double d[3])
 {
     for (;;) {
         sss_rng_direction(state, d);
@@ -52,8 +52,8 @@ sss_result sss_vertex_error_vs_exact_interp(const sss_bake_file *f, const sss_ex
         return sss_fail(err, SSS_ERR_NOMEM, "vertex error: out of memory for %zu vertices", nv);
     }
     /* what a reader shows: the rows, plus the own term for an OWNT file */
-    sss_recon *rc = NULL;
-    sss_result res = sss_recon_create(f, &rc, err);
+    sss_reconstruct *rc = NULL;
+    sss_result res = sss_reconstruct_create(f, &rc, err);
     if (res != SSS_OK) {
         free(area);
         free(x);
@@ -66,15 +66,15 @@ sss_result sss_vertex_error_vs_exact_interp(const sss_bake_file *f, const sss_ex
     uint64_t state = seed;
     for (uint32_t t = 0; t < ndirs; t++) {
         double d[3];
-        sss_accuracy_draw_direction(&f->dirs, &state, d);
+        sss_vertex_error_draw_direction(&f->dirs, &state, d);
         sss_exact_eval(e, d, x);
-        sss_recon_eval(rc, d, interp, r);
+        sss_reconstruct_eval(rc, d, interp, r);
         sss_err_accum_add(&acc, area, r, x, (uint32_t)nv);
     }
     out->channels = (uint32_t)C;
     out->ndirs = ndirs;
     sss_err_accum_result(&acc, out->rms, out->rel_rms, out->max_abs, out->rms_exact);
-    sss_recon_destroy(rc);
+    sss_reconstruct_destroy(rc);
     free(area);
     free(x);
     free(r);
