@@ -25,15 +25,6 @@ float sss_own_transfer(float eta, const float n[3], const float d[3])
 
 /* ---- near terms: own term and mesh rings --------------------------------- */
 
-void sss_near_free(sss_near *n)
-{
-    if (!n) return;
-    free(n->start);
-    free(n->idx);
-    free(n->w);
-    memset(n, 0, sizeof *n);
-}
-
 static int cmp_u32(const void *a, const void *b)
 {
     uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
@@ -64,7 +55,7 @@ static int cmp_pos(const void *x, const void *y)
 }
 
 sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
-                          uint32_t rings, sss_near *out, sss_error *err)
+                          uint32_t rings, sss_weights *out, sss_error *err)
 {
     if (out) memset(out, 0, sizeof *out);
     if (!mesh || !mat || !out || (channels != 1 && channels != 3) || rings > 8 || !(mm_per_unit > 0.0) ||
@@ -172,7 +163,7 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
             double garea = 0.0;
             for (uint32_t g = grp[o]; g < gend[o]; g++) garea += area[order[g]];
             const double gdisk = garea > 0.0 ? sss_rd_disk(&dip, sqrt(garea * s * s / M_PI)) / M_PI : 0.0;
-            for (uint32_t a = out->start[o]; a < out->start[o + 1]; a++) {
+            for (uint64_t a = out->start[o]; a < out->start[o + 1]; a++) {
                 const uint32_t i = out->idx[a];
                 const double dA = area[i] * s * s, rho = sqrt(dA / M_PI);
                 double w;
@@ -192,9 +183,8 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
         }
     }
     if (r == SSS_OK) {
-        out->nv = nv;
+        out->nrows = nv;
         out->channels = C;
-        out->rings = rings;
     }
     goto done;
 nomem:
@@ -208,7 +198,7 @@ done:
     free(order);
     free(grp);
     free(gend);
-    if (r != SSS_OK) sss_near_free(out);
+    if (r != SSS_OK) sss_weights_free(out);
     return r;
 }
 
@@ -222,23 +212,23 @@ void sss_near_transfer(const float *nrm, uint32_t nv, float eta, const double d[
         gv[v] = lit && !lit[v] ? 0.0f : sss_own_transfer(eta, nrm + 3 * (size_t)v, df);
 }
 
-void sss_near_sum(const sss_near *n, uint32_t o, const float *gv, float *s)
+void sss_near_sum(const sss_weights *n, uint32_t o, const float *gv, float *s)
 {
     const uint32_t C = n->channels;
     for (uint32_t c = 0; c < C; c++) s[c] = 0.0f;
-    for (uint32_t a = n->start[o]; a < n->start[o + 1]; a++) {
+    for (uint64_t a = n->start[o]; a < n->start[o + 1]; a++) {
         const float g = gv[n->idx[a]];
         for (uint32_t c = 0; c < C; c++) s[c] += n->w[(size_t)a * C + c] * g;
     }
 }
 
-void sss_near_add(const sss_near *n, const float *gv, float *out)
+void sss_near_add(const sss_weights *n, const float *gv, float *out)
 {
     const uint32_t C = n->channels;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(static) if (n->nv >= 16384)
+#pragma omp parallel for schedule(static) if (n->nrows >= 16384)
 #endif
-    for (int64_t o = 0; o < (int64_t)n->nv; o++) {
+    for (int64_t o = 0; o < (int64_t)n->nrows; o++) {
         float s[3];
         sss_near_sum(n, (uint32_t)o, gv, s);
         for (uint32_t c = 0; c < C; c++) out[(size_t)o * C + c] += s[c];

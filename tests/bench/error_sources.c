@@ -66,7 +66,7 @@ static double dotn(const float *n, const double *d) { return n[0] * d[0] + n[1] 
 
 /* The near terms at rings 0, 1, 2 (sss/ownterm.h) and the vertices' own
  * visibility by rays under the bake's rule. */
-static sss_near g_near[NEAR];
+static sss_weights g_near[NEAR];
 
 static void transfer_all(const sss_bake_file *f, const sss_vis *vis, const double *d, uint8_t *lit, float *gv)
 {

@@ -75,7 +75,7 @@ int main(int argc, char **argv)
     uint32_t ns = (nv + stride - 1) / stride;
     uint32_t *sub = malloc((size_t)ns * sizeof *sub);
     for (uint32_t k = 0; k < ns; k++) sub[k] = k * stride;
-    sss_nbhd nb;
+    sss_weights nb;
     t = sss_now();
     if (sss_nbhd_build(&mesh, s, dip, C, R, sub, ns, 0, NULL, &nb, &err) != SSS_OK) {
         fprintf(stderr, "gather_compare: %s\n", err.msg);
@@ -87,7 +87,7 @@ int main(int argc, char **argv)
     sss_integrate(&nb, G, D, qd);
     const double t_int = sss_now() - t;
     const double mean_nb = (double)nb.start[ns] / ns;
-    sss_nbhd_free(&nb);
+    sss_weights_free(&nb);
 
     float *qt = malloc((size_t)nv * D * C * sizeof(float));
     char *th = strdup(argv[5]);

@@ -109,7 +109,7 @@ static void unit3(const double l[3], double d[3])
  * for light l over `base` (the rows as evaluated or uploaded): base +
  * sss_near_add(sss_near_transfer(lit)). Worst difference of got from it,
  * relative to its largest value. */
-static double near_reference_diff(const sss_near *nr, const sss_bake_file *f, const double l[3], const float *base,
+static double near_reference_diff(const sss_weights *nr, const sss_bake_file *f, const double l[3], const float *base,
                                   const uint8_t *lit, const float *got)
 {
     const size_t n = (size_t)f->mesh.nv * f->channels;
@@ -170,7 +170,7 @@ static void check_mesh(const sss_mesh *m, const char *material, double mm, uint3
     const size_t n = (size_t)nv * C;
     sss_vis *vis;
     if (sss_vis_create(&f.mesh, &vis, &err) != SSS_OK) fail_msg("vis: %s", err.msg);
-    sss_near nr;
+    sss_weights nr;
     assert_int_equal(sss_near_build(&f.mesh, &f.material, f.mm_per_unit, C, rings, &nr, &err), SSS_OK);
     sss_renderer *r;
     if (sss_renderer_create(&f, &r, &err) != SSS_OK) fail_msg("renderer: %s", err.msg);
@@ -305,7 +305,7 @@ static void check_mesh(const sss_mesh *m, const char *material, double mm, uint3
     }
 
     sss_renderer_destroy(r);
-    sss_near_free(&nr);
+    sss_weights_free(&nr);
     sss_vis_destroy(vis);
     sss_file_free(&f);
     sss_file_free(&src);
@@ -447,7 +447,7 @@ static void uploadedQGetsOwnTermOnlyWhenAsked(void **state)
     bake(&m, "marble", 20.0, 40, SSS_QUANT_FLOAT, 1, &f);
     const uint32_t nv = f.mesh.nv, C = f.channels;
     const size_t n = (size_t)nv * C;
-    sss_near nr;
+    sss_weights nr;
     assert_int_equal(sss_near_build(&f.mesh, &f.material, f.mm_per_unit, C, f.own_rings, &nr, &err), SSS_OK);
     float *up = malloc(n * sizeof *up), *q = malloc(n * sizeof *q), *q2 = malloc(n * sizeof *q2);
     uint8_t *lit = malloc(nv);
@@ -501,7 +501,7 @@ static void uploadedQGetsOwnTermOnlyWhenAsked(void **state)
     free(rgb0);
     free(rgb1);
     sss_renderer_destroy(r);
-    sss_near_free(&nr);
+    sss_weights_free(&nr);
     sss_file_free(&f);
     sss_mesh_free(&m);
     free(up);

@@ -38,7 +38,7 @@ static double slab_centre_q(const sss_material *m, int c, double size, double h,
     assert_int_equal(sss_gen_plane(&mesh, size, size, n, n, &err), SSS_OK);
     uint32_t centre = (n / 2) * (n + 1) + n / 2;
     assert_true(mesh.pos[3 * centre] == 0.0f && mesh.pos[3 * centre + 1] == 0.0f);
-    sss_nbhd nb;
+    sss_weights nb;
     assert_int_equal(sss_nbhd_build(&mesh, 1.0, d, 3, R, &centre, 1, 0, NULL, &nb, &err), SSS_OK);
     sss_vis *vis;
     assert_int_equal(sss_vis_create(&mesh, &vis, &err), SSS_OK);
@@ -50,7 +50,7 @@ static double slab_centre_q(const sss_material *m, int c, double size, double h,
     sss_integrate(&nb, G, 1, q);
     free(G);
     sss_vis_destroy(vis);
-    sss_nbhd_free(&nb);
+    sss_weights_free(&nb);
     sss_mesh_free(&mesh);
     return q[c];
 }
@@ -66,7 +66,7 @@ static void centre_q(sss_mesh *mesh, const sss_material *m, uint32_t centre, flo
         R = fmax(R, sss_rd_radius(&d[k], 1e-3, 1e4));
     }
     sss_error err = {{0}};
-    sss_nbhd nb;
+    sss_weights nb;
     assert_int_equal(sss_nbhd_build(mesh, 1.0, d, 3, R, &centre, 1, 0, NULL, &nb, &err), SSS_OK);
     sss_vis *vis;
     assert_int_equal(sss_vis_create(mesh, &vis, &err), SSS_OK);
@@ -77,7 +77,7 @@ static void centre_q(sss_mesh *mesh, const sss_material *m, uint32_t centre, flo
     sss_integrate(&nb, G, 1, q);
     free(G);
     sss_vis_destroy(vis);
-    sss_nbhd_free(&nb);
+    sss_weights_free(&nb);
 }
 
 /* An unwelded mesh (every triangle with its own three vertices, as in STL

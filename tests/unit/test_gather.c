@@ -4,7 +4,6 @@
  * the error shrinks as θ tightens; the far field's Taylor weights on a
  * flat plate; bytes identical for 1 and 2 threads and in direction chunks;
  * the memory refusal. */
-#define _POSIX_C_SOURCE 200809L /* setenv */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -65,13 +64,13 @@ static void compare(const sss_mesh *mesh, double s, uint32_t D, uint32_t stride,
     uint32_t *sub = malloc((size_t)ns * sizeof *sub);
     assert_non_null(sub);
     for (uint32_t k = 0; k < ns; k++) sub[k] = k * stride;
-    sss_nbhd nb;
+    sss_weights nb;
     assert_int_equal(sss_nbhd_build(mesh, s, dip, C, R, sub, ns, 0, NULL, &nb, &err), SSS_OK);
     float *qd = malloc((size_t)ns * D * C * sizeof(float)), *qt = malloc((size_t)nv * D * C * sizeof(float));
     assert_non_null(qd);
     assert_non_null(qt);
     sss_integrate(&nb, G, D, qd);
-    sss_nbhd_free(&nb);
+    sss_weights_free(&nb);
     for (int ti = 0; ti < nth; ti++) {
         sss_gather_params p = {.theta = thetas[ti]};
         sss_gather_tree *t;
@@ -309,10 +308,9 @@ static void tree_refuses_when_memory_is_short(void **state)
     memset(&o, 0, sizeof o);
     o.n_dirs = 2000;
     o.gather = SSS_GATHER_TREE;
+    o.memory_limit = (uint64_t)20 << 20; /* what sss-bake makes of SSS_MEMORY_LIMIT_MB=20 */
     sss_bake_file f;
-    setenv("SSS_MEMORY_LIMIT_MB", "20", 1);
     assert_int_equal(sss_bake(&m, "sphere", &mat, &o, &f, NULL, &err), SSS_ERR_NOMEM);
-    unsetenv("SSS_MEMORY_LIMIT_MB");
     assert_non_null(strstr(err.msg, "gather tree"));
     sss_mesh_free(&m);
 }

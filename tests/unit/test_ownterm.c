@@ -259,22 +259,22 @@ static void nearRowsHoldRingsAndCopies(void **state)
     assert_int_equal(sss_material_preset("skin1", &mat, &err), SSS_OK);
     sss_mesh plane;
     assert_int_equal(sss_gen_plane(&plane, 1.0, 1.0, 4, 4, &err), SSS_OK); /* 5 x 5 vertices */
-    sss_near n0, n1;
+    sss_weights n0, n1;
     assert_int_equal(sss_near_build(&plane, &mat, 10.0, 3, 0, &n0, &err), SSS_OK);
     assert_int_equal(sss_near_build(&plane, &mat, 10.0, 3, 1, &n1, &err), SSS_OK);
     for (uint32_t o = 0; o < plane.nv; o++) {
         assert_int_equal(n0.start[o + 1] - n0.start[o], 1);
         assert_int_equal(n0.idx[n0.start[o]], o);
         assert_int_equal(n1.idx[n1.start[o]], o);
-        for (uint32_t a = n1.start[o] + 2; a < n1.start[o + 1]; a++) assert_true(n1.idx[a] > n1.idx[a - 1]);
+        for (uint64_t a = n1.start[o] + 2; a < n1.start[o + 1]; a++) assert_true(n1.idx[a] > n1.idx[a - 1]);
         /* the own weight does not depend on the rings */
         for (uint32_t c = 0; c < 3; c++) assert_float_equal(n0.w[n0.start[o] * 3 + c], n1.w[n1.start[o] * 3 + c], 0.0);
     }
     /* the centre vertex of a 4 x 4 quad grid: 6 edge neighbours (two
      * triangles per quad), so 7 entries */
     assert_int_equal(n1.start[13] - n1.start[12], 7);
-    sss_near_free(&n0);
-    sss_near_free(&n1);
+    sss_weights_free(&n0);
+    sss_weights_free(&n1);
     sss_mesh_free(&plane);
 
     /* two triangles meeting along an edge whose ends are duplicated (a
@@ -285,7 +285,7 @@ static void nearRowsHoldRingsAndCopies(void **state)
     const uint32_t T[6] = {0, 1, 2, 3, 5, 4};
     memcpy(seam.pos, P, sizeof P);
     memcpy(seam.tri, T, sizeof T);
-    sss_near ns;
+    sss_weights ns;
     assert_int_equal(sss_near_build(&seam, &mat, 10.0, 1, 0, &ns, &err), SSS_OK);
     assert_int_equal(ns.start[2] - ns.start[1], 2); /* vertex 1 and its copy 3 */
     assert_int_equal(ns.idx[ns.start[1]], 1);
@@ -294,14 +294,14 @@ static void nearRowsHoldRingsAndCopies(void **state)
     /* the copies share the disk of their summed area: each gets its share */
     sss_dipole dip;
     assert_int_equal(sss_dipole_init(&dip, mat.sigma_a[1], mat.sigmap_s[1], mat.eta), SSS_OK);
-    sss_near g1;
+    sss_weights g1;
     assert_int_equal(sss_near_build(&seam, &mat, 10.0, 3, 0, &g1, &err), SSS_OK);
     const double garea = 2.0 * (0.5 / 3.0) * 100.0; /* mm²: a third of each triangle's 0.5, twice */
     const double whole = sss_rd_disk(&dip, sqrt(garea / 3.14159265358979323846)) / 3.14159265358979323846;
     const double got = (double)g1.w[g1.start[1] * 3 + 1] + g1.w[(g1.start[1] + 1) * 3 + 1];
     assert_float_equal(got, whole, 1e-6 * whole);
-    sss_near_free(&ns);
-    sss_near_free(&g1);
+    sss_weights_free(&ns);
+    sss_weights_free(&g1);
     sss_mesh_free(&seam);
 }
 

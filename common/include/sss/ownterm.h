@@ -29,6 +29,7 @@
 #include "sss/dipole.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
+#include "sss/weights.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -51,14 +52,9 @@ float sss_own_transfer(float eta, const float n[3], const float d[3]);
  * at 200 directions the per-vertex error falls from 15.5 % (all baked) to
  * 2.3 % (own term) and 0.23 % (own + 1-ring): docs/accuracy.md. The weights
  * come from the file's geometry and material alone (no bytes stored). */
-typedef struct sss_near {
-    uint32_t nv, channels, rings;
-    uint32_t *start; /* nv + 1: row o is entries [start[o], start[o+1]) */
-    uint32_t *idx;   /* start[nv] vertex indices; entry start[o] is o itself, then its rings ascending */
-    float *w;        /* start[nv] × channels: w̃(o, i) */
-} sss_near;
 
-/* Builds the rows for rings 0 … 8 (0: the own term alone, w̃(o,o) = (1/π)
+/* Builds the weight rows (sss/weights.h; row o: entry 0 is o itself, then
+ * its ring neighbours ascending) for rings 0 … 8 (0: the own term alone, w̃(o,o) = (1/π)
  * ∫ R_d over a disk of x_o's own area, shared by area with coincident
  * copies as nbhd.c's self term). Ring neighbours are vertices reachable over at most
  * `rings` triangle edges; their weight follows nbhd.c: (1/π) ∫ R_d over
@@ -66,8 +62,7 @@ typedef struct sss_near {
  * (Hao–Varshney 2004 §3.1). Deterministic. Errors: SSS_ERR_ARG,
  * SSS_ERR_NOMEM. */
 sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
-                          uint32_t rings, sss_near *out, sss_error *err);
-void sss_near_free(sss_near *n);
+                          uint32_t rings, sss_weights *out, sss_error *err);
 
 /* gv[v] = sss_own_transfer(η, n_v, d) · lit[v] for every vertex (lit NULL:
  * all lit): the transfer of each vertex towards light d, once per frame. */
@@ -75,10 +70,10 @@ void sss_near_transfer(const float *nrm, uint32_t nv, float eta, const double d[
 
 /* s[c] = Σ_{a in row o} w[a, c] · gv[idx[a]], accumulated in float in row
  * order — the one sum the bake subtracts and every reader adds. */
-void sss_near_sum(const sss_near *n, uint32_t o, const float *gv, float *s);
+void sss_near_sum(const sss_weights *n, uint32_t o, const float *gv, float *s);
 
 /* out[o * channels + c] += sss_near_sum for every vertex o. */
-void sss_near_add(const sss_near *n, const float *gv, float *out);
+void sss_near_add(const sss_weights *n, const float *gv, float *out);
 
 #ifdef __cplusplus
 }

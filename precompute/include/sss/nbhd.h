@@ -10,23 +10,19 @@
 #include "sss/dipole.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
+#include "sss/weights.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/* Scattering neighbourhoods N(x_o) in compressed-row form with the per-channel
- * weights w_c(o, i) = (1/π) R_d,c(‖x_i − x_o‖) ΔA(x_i) (mm² · 1/mm² = sr⁻¹ units
- * of q), and for i = o the self term (1/π) ∫_disk R_d dA over a disk of x_o's
- * own area (docs/physics.md §2). Rows list neighbours in increasing index
- * order, so sums are taken in the same order whatever the thread count. */
-typedef struct sss_nbhd {
-    uint32_t nrows;       /* number of target vertices */
-    uint32_t channels;
-    uint64_t *start;      /* nrows + 1 offsets into idx / w */
-    uint32_t *idx;        /* neighbour vertex indices */
-    float *w;             /* channels weights per entry, interleaved */
-} sss_nbhd;
+/* Scattering neighbourhoods N(x_o) as weight rows (sss/weights.h): for
+ * every receiver the vertices within the search radius and their
+ * per-channel weights w_c(o, i) = (1/π) R_d,c(‖x_i − x_o‖) ΔA(x_i) (mm² ·
+ * 1/mm² = sr⁻¹ units of q), and for i = o the self term (1/π) ∫_disk R_d dA
+ * over a disk of x_o's own area (docs/physics.md §4). Rows list neighbours
+ * in increasing index order, so sums are taken in the same order whatever
+ * the thread count. */
 
 /* Builds neighbourhoods for `targets` (ntargets vertex indices; NULL means all
  * vertices in order). mesh must have area computed. radius_mm is the search
@@ -35,8 +31,7 @@ typedef struct sss_nbhd {
  * giving the size before allocating them. Polls cancel (sss/result.h). */
 sss_result sss_nbhd_build(const sss_mesh *mesh, double mm_per_unit, const sss_dipole *dip, uint32_t channels,
                           double radius_mm, const uint32_t *targets, uint32_t ntargets, uint64_t max_bytes,
-                          const sss_cancel_flag *cancel, sss_nbhd *out, sss_error *err);
-void sss_nbhd_free(sss_nbhd *nb);
+                          const sss_cancel_flag *cancel, sss_weights *out, sss_error *err);
 
 /* The neighbourhood radius rule, shared by the bake, the exact evaluator and
  * the scene passes so that all of them find the same neighbourhoods: per

@@ -28,7 +28,7 @@ sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const 
 
 /* q for every neighbourhood row and direction: q[(j * nrows + r) * channels + c]
  * = Σ_i w_c(r, i) G[i * n + j], accumulated in double. */
-void sss_integrate(const sss_nbhd *nb, const float *G, uint32_t n, float *q);
+void sss_integrate(const sss_weights *nb, const float *G, uint32_t n, float *q);
 
 #ifdef __cplusplus
 }

@@ -157,7 +157,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     sss_dipole dip[SSS_MAX_CHANNELS];
     for (uint32_t c = 0; c < C; c++) sss_dipole_init(&dip[c], mat->sigma_a[c], mat->sigmap_s[c], mat->eta);
 
-    sss_nbhd nb = {0};
+    sss_weights nb = {0};
     float *G = NULL;
     r = copy_mesh(mesh_in, &out->mesh, err);
     if (r != SSS_OK) goto fail;
@@ -264,7 +264,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     G = NULL;
     if (st.t_integrals > 0) st.gather_gflops = 2.0 * (double)st.neighbours_total * o.n_dirs * C / st.t_integrals * 1e-9;
     st.predicted_peak_bytes = fixed + st.neighbours_total * (4u + 4u * C);
-    sss_nbhd_free(&nb);
+    sss_weights_free(&nb);
     if (sss_cancelled(o.cancel)) { r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals"); goto fail; }
 
 quantise:
@@ -318,7 +318,7 @@ quantise:
 
 fail:
     free(G);
-    sss_nbhd_free(&nb);
+    sss_weights_free(&nb);
     sss_file_free(out);
     return r;
 }

@@ -105,7 +105,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     /* the radius rule of bake.c, so the exact evaluator (which recomputes
      * it from the file) finds the same neighbourhoods */
     st.search_radius_mm = sss_nbhd_radii(c.mesh, out->mm_per_unit, dip, c.C, eps, st.radius_mm);
-    sss_nbhd nb = {0};
+    sss_weights nb = {0};
     sss_vis *vis = NULL;
     const sss_mesh **occ = NULL;
     double t = sss_now();
@@ -136,7 +136,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
 done:
     sss_vis_destroy(vis);
     free(occ);
-    sss_nbhd_free(&nb);
+    sss_weights_free(&nb);
     if (r != SSS_OK) sss_file_free(out);
     return r;
 }

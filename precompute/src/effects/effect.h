@@ -27,7 +27,7 @@ typedef struct sss_pass_ctx {
     const sss_scene *scene;
     const sss_object_plan *plan;
     const sss_mesh *mesh;      /* the object, world units, normals and areas */
-    const sss_nbhd *nb;        /* N(x_o) for every vertex */
+    const sss_weights *nb;        /* N(x_o) for every vertex */
     const sss_vis *vis;        /* NULL: no visibility rays */
     double eta;
     uint32_t C;

@@ -22,7 +22,7 @@ sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, c
                                 const sss_dirset *ds, float *q, uint64_t *rays, sss_error *err)
 {
     const uint32_t nv = mesh->nv, D = ds->n;
-    sss_near nr;
+    sss_weights nr;
     sss_result r = sss_near_build(mesh, mat, o->mm_per_unit, C, o->own_rings, &nr, err);
     if (r != SSS_OK) return r;
     sss_vis *vis = NULL;
@@ -53,6 +53,6 @@ sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, c
     sss_vis_destroy(vis);
     free(lit);
     free(gv);
-    sss_near_free(&nr);
+    sss_weights_free(&nr);
     return r;
 }

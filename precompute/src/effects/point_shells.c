@@ -127,7 +127,7 @@ sss_result sss_point_exact(const sss_bake_file *f, int self_shadow, const double
     if (!m.area) { sss_mesh_free(&m); return sss_fail(err, SSS_ERR_NOMEM, "out of memory"); }
     sss_mesh_vertex_areas(&m, m.area);
     const double R = sss_nbhd_radii(&m, f->mm_per_unit, dip, C, eps, NULL);
-    sss_nbhd nb = {0};
+    sss_weights nb = {0};
     sss_vis *vis = NULL;
     float *G = malloc((size_t)m.nv * sizeof(float) + 1);
     r = G ? sss_nbhd_build(&m, f->mm_per_unit, dip, C, R, NULL, 0, 0, NULL, &nb, err) : sss_fail(err, SSS_ERR_NOMEM, "out of memory");
@@ -141,7 +141,7 @@ sss_result sss_point_exact(const sss_bake_file *f, int self_shadow, const double
     }
     free(G);
     sss_vis_destroy(vis);
-    sss_nbhd_free(&nb);
+    sss_weights_free(&nb);
     sss_mesh_free(&m);
     return r;
 }

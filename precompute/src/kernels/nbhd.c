@@ -36,15 +36,6 @@ static int same_position(const sss_mesh *m, uint32_t i, uint32_t o)
 #define M_PI 3.14159265358979323846
 #endif
 
-void sss_nbhd_free(sss_nbhd *nb)
-{
-    if (!nb) return;
-    free(nb->start);
-    free(nb->idx);
-    free(nb->w);
-    memset(nb, 0, sizeof *nb);
-}
-
 static int cmp_int(const void *a, const void *b)
 {
     int x = *(const int *)a, y = *(const int *)b;
@@ -53,7 +44,7 @@ static int cmp_int(const void *a, const void *b)
 
 sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip, uint32_t channels,
                           double radius_mm, const uint32_t *targets, uint32_t ntargets, uint64_t max_bytes,
-                          const sss_cancel_flag *cancel, sss_nbhd *out, sss_error *err)
+                          const sss_cancel_flag *cancel, sss_weights *out, sss_error *err)
 {
     memset(out, 0, sizeof *out);
     if (!mesh->area || mesh->nv == 0 || channels < 1 || channels > SSS_MAX_CHANNELS || !(s > 0) ||
@@ -68,7 +59,7 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
     uint32_t *cnt = calloc((size_t)nt + 1, sizeof *cnt);
     out->start = calloc((size_t)nt + 1, sizeof(uint64_t));
     if (!pts || !cnt || !out->start) {
-        free(pts); free(cnt); sss_nbhd_free(out);
+        free(pts); free(cnt); sss_weights_free(out);
         return sss_fail(err, SSS_ERR_NOMEM, "neighbourhoods: out of memory for %u vertices", mesh->nv);
     }
     for (size_t k = 0; k < (size_t)mesh->nv * 3; k++) pts[k] = (float)(mesh->pos[k] * s);
@@ -83,7 +74,7 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
     float speedup = 0;
     flann_index_t index = flann_build_index_float(pts, (int)mesh->nv, 3, &speedup, &p);
     if (!index) {
-        free(pts); free(cnt); sss_nbhd_free(out);
+        free(pts); free(cnt); sss_weights_free(out);
         return sss_fail(err, SSS_ERR_NOMEM, "neighbourhoods: FLANN index build failed");
     }
 
@@ -105,7 +96,7 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
             uint64_t bytes = total * (sizeof(uint32_t) + channels * sizeof(float));
             if (max_bytes && bytes > max_bytes) {
                 flann_free_index_float(index, &p);
-                free(pts); free(cnt); sss_nbhd_free(out);
+                free(pts); free(cnt); sss_weights_free(out);
                 return sss_fail(err, SSS_ERR_NOMEM,
                                 "neighbourhoods need %.2f GiB (%.1f neighbours per vertex within %.3g mm) but only %.2f GiB "
                                 "may be used: raise --mm-per-unit or --eps",
@@ -226,12 +217,12 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
     free(pts);
     free(cnt);
     if (sss_cancelled(cancel)) {
-        sss_nbhd_free(out);
+        sss_weights_free(out);
         return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during neighbourhoods");
     }
     if (failed) {
         uint64_t total = out->start[nt];
-        sss_nbhd_free(out);
+        sss_weights_free(out);
         return sss_fail(err, SSS_ERR_NOMEM, "neighbourhoods: out of memory (%llu neighbour entries)",
                         (unsigned long long)total);
     }

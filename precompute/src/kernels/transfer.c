@@ -68,7 +68,7 @@ sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const 
     return sss_transfer_rows(mesh, vis, dirs, n, eta, 0, mesh->nv, cancel, G, rays_out, occ_out, err);
 }
 
-void sss_integrate(const sss_nbhd *nb, const float *G, uint32_t n, float *q)
+void sss_integrate(const sss_weights *nb, const float *G, uint32_t n, float *q)
 {
     const uint32_t C = nb->channels;
 #pragma omp parallel

@@ -26,7 +26,7 @@ struct sss_exact {
     uint32_t channels;
     double eta;
     double eps, search_radius_mm;
-    sss_nbhd nb;     /* one row per vertex, rows in vertex order */
+    sss_weights nb;     /* one row per vertex, rows in vertex order */
     sss_vis *vis;    /* refers to mesh */
     int shadows;     /* 0: V ≡ 1 (sss_exact_set_shadows; diagnostics only) */
 };
@@ -124,7 +124,7 @@ void sss_exact_destroy(sss_exact *e)
 {
     if (!e) return;
     sss_vis_destroy(e->vis);
-    sss_nbhd_free(&e->nb);
+    sss_weights_free(&e->nb);
     sss_mesh_free(&e->mesh);
     free(e);
 }

@@ -12,7 +12,7 @@
 struct sss_reconstruct {
     const sss_bake_file *f;
     int near_on;  /* the file splits off the near terms */
-    sss_near nr;  /* their rows and weights */
+    sss_weights nr;  /* their rows and weights */
     sss_vis *vis; /* the file's mesh: the bake's ray rule */
 };
 
@@ -104,7 +104,7 @@ void sss_reconstruct_eval_vertex(const sss_reconstruct *r, uint32_t v, const dou
     const float df[3] = {(float)d[0], (float)d[1], (float)d[2]};
     const uint32_t C = r->f->channels;
     float s[SSS_MAX_CHANNELS] = {0};
-    for (uint32_t a = r->nr.start[v]; a < r->nr.start[v + 1]; a++) {
+    for (uint64_t a = r->nr.start[v]; a < r->nr.start[v + 1]; a++) {
         const uint32_t i = r->nr.idx[a];
         const float g = lit_one(r, i, d) ? sss_own_transfer((float)r->f->material.eta, r->f->mesh.nrm + 3 * (size_t)i, df)
                                          : 0.0f;
@@ -117,6 +117,6 @@ void sss_reconstruct_destroy(sss_reconstruct *r)
 {
     if (!r) return;
     sss_vis_destroy(r->vis);
-    sss_near_free(&r->nr);
+    sss_weights_free(&r->nr);
     free(r);
 }

@@ -42,7 +42,7 @@ typedef struct sss_near_pass {
     GLuint lit, gv;     /* V (uint) and g V (float) per vertex */
     GLuint fan;         /* incident triangles per vertex: offsets (nv + 1), then triangle indices */
     GLuint fan_sin;     /* per vertex: sin of the largest angle between n_o and its triangles' normals */
-    GLuint near_start, near_idx, near_w; /* sss_near: rows of (vertex, w̃ per channel) */
+    GLuint near_start, near_idx, near_w; /* sss_weights: rows of (vertex, w̃ per channel) */
     float delta;        /* the rays' offset δ, sss_mesh_ray_offset (sss/mesh.h) */
 } sss_near_pass;
 
@@ -56,23 +56,32 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     const sss_gpu_mesh *m = c->mesh;
     const sss_bake_file *f = m->f;
     const uint32_t nv = m->nv, nf = m->nf, C = m->C;
-    sss_near nr;
+    sss_weights nr;
     sss_result res = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, C, f->own_rings, &nr, err);
     if (res != SSS_OK) return res;
     const uint64_t nent = nr.start[nv];
     const GLint64 max_block = c->max_block;
     if (max_block > 0 && nent * C * sizeof(float) > (uint64_t)max_block) {
-        sss_near_free(&nr);
+        sss_weights_free(&nr);
         return sss_fail(err, SSS_ERR_UNSUPPORTED,
                         "renderer: the near terms of %u rings need a %.1f MiB storage buffer, above this GL's limit "
                         "of %.1f MiB (bake with fewer --rings)",
                         f->own_rings, (double)(nent * C * sizeof(float)) / 1048576.0,
                         (double)max_block / 1048576.0);
     }
-    r->near_start = sss_gl_ssbo((GLsizeiptr)(((size_t)nv + 1) * sizeof(uint32_t)), nr.start, GL_STATIC_DRAW);
+    /* the shader's offsets are 32-bit: the entries fit, as the buffer
+     * limit above holds them */
+    uint32_t *start32 = malloc(((size_t)nv + 1) * sizeof *start32);
+    if (!start32) {
+        sss_weights_free(&nr);
+        return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the near terms of %u vertices", nv);
+    }
+    for (uint32_t v = 0; v <= nv; v++) start32[v] = (uint32_t)nr.start[v];
+    r->near_start = sss_gl_ssbo((GLsizeiptr)(((size_t)nv + 1) * sizeof(uint32_t)), start32, GL_STATIC_DRAW);
+    free(start32);
     r->near_idx = sss_gl_ssbo((GLsizeiptr)(nent * sizeof(uint32_t)), nr.idx, GL_STATIC_DRAW);
     r->near_w = sss_gl_ssbo((GLsizeiptr)(nent * C * sizeof(float)), nr.w, GL_STATIC_DRAW);
-    sss_near_free(&nr);
+    sss_weights_free(&nr);
     r->gv = sss_gl_ssbo((GLsizeiptr)nv * sizeof(float), NULL, GL_DYNAMIC_COPY);
     r->lit = sss_gl_ssbo((GLsizeiptr)nv * sizeof(uint32_t), NULL, GL_DYNAMIC_COPY);
     glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
