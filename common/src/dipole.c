@@ -6,15 +6,12 @@
  * All quantities per colour channel, lengths in mm, coefficients in 1/mm.
  */
 #include "sss/dipole.h"
+#include "sss/vec3.h"
 
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 /* Jensen 2001 measured parameters, σ′s and σa in 1/mm, η = 1.3. */
 static const struct {
@@ -164,7 +161,7 @@ static double rd_term(double sigma_tr, double z, double r)
 
 double sss_rd(const sss_dipole *d, double r)
 {
-    return d->alpha_p / (4.0 * M_PI) * (rd_term(d->sigma_tr, d->z_r, r) + rd_term(d->sigma_tr, d->z_v, r));
+    return d->alpha_p / (4.0 * SSS_PI) * (rd_term(d->sigma_tr, d->z_r, r) + rd_term(d->sigma_tr, d->z_v, r));
 }
 
 /* e^{−σz} − z e^{−σd}/d for one source, written without cancellation for
@@ -213,8 +210,8 @@ double sss_rd_disk_offset(const sss_dipole *d, double r, double rho)
         const double L = hi - lo;
         for (int k = 0; k < 16; k++) {
             const double x = k < 8 ? -GL_X[7 - k] : GL_X[k - 8], w = k < 8 ? GL_W[7 - k] : GL_W[k - 8];
-            const double t = 0.5 * M_PI * (x + 1.0);
-            const double sv = lo + 0.5 * L * (1.0 - cos(t)), ds = 0.5 * L * sin(t) * 0.5 * M_PI;
+            const double t = 0.5 * SSS_PI * (x + 1.0);
+            const double sv = lo + 0.5 * L * (1.0 - cos(t)), ds = 0.5 * L * sin(t) * 0.5 * SSS_PI;
             if (!(sv > 0.0)) continue;
             double c = (sv * sv + r * r - rho * rho) / (2.0 * sv * r);
             c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;

@@ -24,6 +24,7 @@
  */
 #include "sss/dirset.h"
 #include "sss/random.h"
+#include "sss/vec3.h"
 
 #include <float.h>
 #include <math.h>
@@ -507,7 +508,6 @@ sss_result sss_dirset_fibonacci(sss_dirset *s, uint32_t n, sss_error *err)
 /* Lookup                                                                   */
 /* ------------------------------------------------------------------------ */
 
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /* det(x, y, z) = x · (y × z). */
 static double det3(const double *x, const double *y, const double *z)
@@ -562,7 +562,7 @@ int32_t sss_dirset_lookup(const sss_dirset *s, const double d[3], uint32_t idx[3
     double mx = fmax(fabs(d[0]), fmax(fabs(d[1]), fabs(d[2])));
     if (!(mx > 0.0) || !isfinite(mx) || isnan(d[0]) || isnan(d[1]) || isnan(d[2])) return -1;
     double dn[3] = {d[0] / mx, d[1] / mx, d[2] / mx};
-    double len = sqrt(dot3(dn, dn));
+    double len = sqrt(sss_dot3(dn, dn));
     for (int k = 0; k < 3; k++) dn[k] /= len;
     d = dn;
 
@@ -573,12 +573,12 @@ int32_t sss_dirset_lookup(const sss_dirset *s, const double d[3], uint32_t idx[3
     const double *dir = s->dir;
     uint32_t i = 0;
     for (; i + 1 < s->n; i += 2) {
-        double t0 = dot3(d, dir + 3 * (size_t)i), t1 = dot3(d, dir + 3 * (size_t)i + 3);
+        double t0 = sss_dot3(d, dir + 3 * (size_t)i), t1 = sss_dot3(d, dir + 3 * (size_t)i + 3);
         if (t0 > bestdot) bestdot = t0, near = i;
         if (t1 > bestdot1) bestdot1 = t1, near1 = i + 1;
     }
     if (i < s->n) {
-        double t0 = dot3(d, dir + 3 * (size_t)i);
+        double t0 = sss_dot3(d, dir + 3 * (size_t)i);
         if (t0 > bestdot) bestdot = t0, near = i;
     }
     if (bestdot1 > bestdot || (bestdot1 == bestdot && near1 < near)) near = near1;
@@ -679,13 +679,13 @@ int sss_dirset_nearest4(const sss_dirset *s, const double d[3], uint32_t idx[4],
     double mx = fmax(fabs(d[0]), fmax(fabs(d[1]), fabs(d[2])));
     if (!(mx > 0.0) || !isfinite(mx) || isnan(d[0]) || isnan(d[1]) || isnan(d[2])) return 0;
     double dn[3] = {d[0] / mx, d[1] / mx, d[2] / mx};
-    double len = sqrt(dot3(dn, dn));
+    double len = sqrt(sss_dot3(dn, dn));
     for (int k = 0; k < 3; k++) dn[k] /= len;
     /* the four largest cosines, kept sorted (ties to the lower index) */
     double best[4] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
     const int m = s->n < 4 ? (int)s->n : 4;
     for (uint32_t j = 0; j < s->n; j++) {
-        double c = dot3(dn, s->dir + 3 * (size_t)j);
+        double c = sss_dot3(dn, s->dir + 3 * (size_t)j);
         if (!(c > best[m - 1])) continue;
         int k = m - 1;
         while (k > 0 && c > best[k - 1]) {
@@ -701,7 +701,7 @@ int sss_dirset_nearest4(const sss_dirset *s, const double d[3], uint32_t idx[4],
     for (int k = 0; k < m; k++) {
         const double *v = s->dir + 3 * (size_t)idx[k];
         double e[3] = {dn[0] - v[0], dn[1] - v[1], dn[2] - v[2]};
-        double theta = 2.0 * asin(fmin(1.0, 0.5 * sqrt(dot3(e, e))));
+        double theta = 2.0 * asin(fmin(1.0, 0.5 * sqrt(sss_dot3(e, e))));
         if (theta < 1e-9) {
             for (int t = 0; t < 4; t++) w[t] = 0.0;
             w[0] = 1.0;

@@ -1,7 +1,7 @@
 /* ownterm.c: the vertex's own term of q, split off at bake time and added
  * back at run time (sss/ownterm.h; Hao–Varshney 2004 §3.1). */
-#define _DEFAULT_SOURCE /* M_PI */
 #include "sss/ownterm.h"
+#include "sss/vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -162,10 +162,10 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
             /* the copies' common disk, shared by area (nbhd.c) */
             double garea = 0.0;
             for (uint32_t g = grp[o]; g < gend[o]; g++) garea += area[order[g]];
-            const double gdisk = garea > 0.0 ? sss_rd_disk(&dip, sqrt(garea * s * s / M_PI)) / M_PI : 0.0;
+            const double gdisk = garea > 0.0 ? sss_rd_disk(&dip, sqrt(garea * s * s / SSS_PI)) / SSS_PI : 0.0;
             for (uint64_t a = out->start[o]; a < out->start[o + 1]; a++) {
                 const uint32_t i = out->idx[a];
-                const double dA = area[i] * s * s, rho = sqrt(dA / M_PI);
+                const double dA = area[i] * s * s, rho = sqrt(dA / SSS_PI);
                 double w;
                 if (grp[i] == grp[o]) {
                     w = garea > 0.0 ? gdisk * (area[i] / garea) : 0.0;
@@ -176,7 +176,7 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
                         d2 += dx * dx;
                     }
                     const double dist = sqrt(d2);
-                    w = dist < rho ? sss_rd_disk_offset(&dip, dist, rho) / M_PI : sss_rd(&dip, dist) * dA / M_PI;
+                    w = dist < rho ? sss_rd_disk_offset(&dip, dist, rho) / SSS_PI : sss_rd(&dip, dist) * dA / SSS_PI;
                 }
                 out->w[(size_t)a * C + c] = (float)w;
             }

@@ -10,6 +10,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "sss/scene.h"
+#include "sss/vec3.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -17,10 +18,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 /* A JSON path under construction plus where to report. */
 typedef struct ctx {
@@ -443,7 +440,7 @@ sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mes
     if (r != SSS_OK) return r;
     /* R = Rz · Ry · Rx (x first), in double, rounded once per coordinate */
     double a[3];
-    for (int k = 0; k < 3; k++) a[k] = o->rotate_deg[k] * (M_PI / 180.0);
+    for (int k = 0; k < 3; k++) a[k] = o->rotate_deg[k] * (SSS_PI / 180.0);
     const double cx = cos(a[0]), sx = sin(a[0]), cy = cos(a[1]), sy = sin(a[1]), cz = cos(a[2]), sz = sin(a[2]);
     const double R[9] = {cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx,
                          sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx,

@@ -4,6 +4,7 @@
  * (Hao–Varshney 2004 §4.1; conventions in physics sheet §7 and sss/sh.h).
  */
 #include "sss/sh.h"
+#include "sss/vec3.h"
 
 #include <float.h>
 #include <math.h>
@@ -145,14 +146,6 @@ double sss_sh_reconstruct(uint32_t order, const double *coeffs, const double d[3
 /* Spherical Voronoi areas                                                  */
 /* ------------------------------------------------------------------------ */
 
-static void cross3(const double *a, const double *b, double *c)
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /* Signed solid angle of the spherical triangle (a, b, c) of unit vectors:
  * tan(E/2) = a·(b×c) / (1 + a·b + b·c + c·a) (Van Oosterom–Strackee);
@@ -160,8 +153,8 @@ static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1]
 static double sph_tri_area(const double *a, const double *b, const double *c)
 {
     double bc[3];
-    cross3(b, c, bc);
-    double num = dot3(a, bc), den = 1.0 + dot3(a, b) + dot3(b, c) + dot3(c, a);
+    sss_cross3(b, c, bc);
+    double num = sss_dot3(a, bc), den = 1.0 + sss_dot3(a, b) + sss_dot3(b, c) + sss_dot3(c, a);
     return 2.0 * atan2(num, den);
 }
 
@@ -199,8 +192,8 @@ static sss_result voronoi_areas(const sss_dirset *s, double *area, uint32_t *bad
                      *c = s->dir + 3 * (size_t)s->tri[3 * t + 2];
         double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
         double *w = cc + 3 * (size_t)t;
-        cross3(u, v, w);
-        double len = sqrt(dot3(w, w));
+        sss_cross3(u, v, w);
+        double len = sqrt(sss_dot3(w, w));
         if (!(len > 0.0)) len = 1.0; /* degenerate triangle: caught by the fan sum below */
         w[0] /= len;
         w[1] /= len;

@@ -1,13 +1,10 @@
 /* genmesh.c: procedural test meshes (see genmesh.h). */
 #include "genmesh.h"
+#include "sss/vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 /* Growable mesh builder with a vertex-weld table keyed by exact position. */
 typedef struct builder {
@@ -175,7 +172,7 @@ sss_result sss_gen_torus(sss_mesh *m, double R, double r, unsigned nu, unsigned 
     builder b = {0};
     for (unsigned i = 0; i < nu; i++)
         for (unsigned j = 0; j < nv; j++) {
-            double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
+            double u = 2 * SSS_PI * i / nu, v = 2 * SSS_PI * j / nv;
             b_vertex(&b, (R + r * cos(v)) * cos(u), (R + r * cos(v)) * sin(u), r * sin(v));
         }
     for (unsigned i = 0; i < nu; i++)

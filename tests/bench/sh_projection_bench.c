@@ -32,6 +32,7 @@
 #include "sss/random.h"
 #include "sss/dirset.h"
 #include "sss/sh.h"
+#include "sss/vec3.h"
 
 #define PI 3.14159265358979323846
 #define NEVAL 10000
@@ -39,9 +40,7 @@
 #define MAXO 8
 
 static uint64_t rng_state;
-static void random_dir(double d[3]) { sss_rng_direction(&rng_state, d); }
 
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 typedef struct orient {
     double n[3], t[3];
@@ -50,8 +49,8 @@ typedef struct orient {
 /* kind 0: lobe, 1: shadow */
 static double f_eval(int kind, const orient *o, const double w[3])
 {
-    double c = fmax(0.0, dot3(o->n, w));
-    if (kind == 1 && !(dot3(o->t, w) > 0.2)) return 0.0;
+    double c = fmax(0.0, sss_dot3(o->n, w));
+    if (kind == 1 && !(sss_dot3(o->t, w) > 0.2)) return 0.0;
     return c;
 }
 
@@ -89,11 +88,11 @@ int main(int argc, char **argv)
         return 1;
     }
     for (int k = 0; k < K; k++) {
-        random_dir(ori[k].n);
-        random_dir(ori[k].t);
+        sss_rng_direction(&rng_state, ori[k].n);
+        sss_rng_direction(&rng_state, ori[k].t);
     }
     for (int e = 0; e < NEVAL; e++) {
-        random_dir(ev + 3 * e);
+        sss_rng_direction(&rng_state, ev + 3 * e);
         sss_sh_eval(MAXO, ev + 3 * e, yev + 64 * (size_t)e);
     }
 

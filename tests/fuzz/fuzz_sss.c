@@ -16,11 +16,10 @@
 
 #include "sss/decode.h"
 #include "sss/format.h"
+#include "test_util.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static uint32_t rd32(const uint8_t *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
-static uint64_t rd64(const uint8_t *p) { return (uint64_t)rd32(p) | (uint64_t)rd32(p + 4) << 32; }
 static void wr32(uint8_t *p, uint32_t v)
 {
     for (int i = 0; i < 4; i++) p[i] = (uint8_t)(v >> (8 * i));
@@ -30,11 +29,11 @@ static void wr32(uint8_t *p, uint32_t v)
 static void repair_crcs(uint8_t *b, size_t len)
 {
     if (len < 28) return;
-    uint32_t n = rd32(b + 12);
+    uint32_t n = test_rd32(b + 12);
     if (n > 32 || 28 + 40 * (size_t)n > len) return;
     for (uint32_t i = 0; i < n; i++) {
         uint8_t *e = b + 24 + 40 * (size_t)i;
-        uint64_t off = rd64(e + 8), sz = rd64(e + 16);
+        uint64_t off = test_rd64(e + 8), sz = test_rd64(e + 16);
         if (off <= len && sz <= len - off) wr32(e + 32, sss_crc32(0, b + off, (size_t)sz));
     }
     wr32(b + 24 + 40 * (size_t)n, sss_crc32(0, b, 24 + 40 * (size_t)n));

@@ -49,30 +49,9 @@
 #include "sss/ownterm.h"
 #include "sss/render.h"
 
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
-
 #include "gl_fixture.h"
-
-/* own < 0: a plain bake; else own_term runtime with `own` rings. */
-static void bake(const sss_mesh *m, const char *material, double mm, uint32_t dirs, sss_quant q, int own,
-                 sss_bake_file *f)
-{
-    sss_material mat;
-    assert_int_equal(sss_material_preset(material, &mat, NULL), SSS_OK);
-    sss_bake_options o;
-    memset(&o, 0, sizeof o);
-    o.mm_per_unit = mm;
-    o.n_dirs = dirs;
-    o.quant = q;
-    o.threads = 2;
-    if (own >= 0) o.own_term = SSS_OWN_TERM_RUNTIME, o.own_rings = (uint32_t)own;
-    sss_error err = {{0}};
-    if (sss_bake(m, "test", &mat, &o, f, NULL, &err) != SSS_OK) fail_msg("bake: %s", err.msg);
-    assert_int_equal(f->own_term, own >= 0 ? SSS_OWN_TERM_RUNTIME : 0u);
-    if (own >= 0) assert_int_equal(f->own_rings, (uint32_t)own);
-}
+#include "sss/vec3.h"
+#include "test_util.h"
 
 /* Ray visibility of every vertex from d, as the bake decides it (the ray is
  * traced only where n·d > 0, sss_transfer_one); front[] marks those. */
@@ -87,17 +66,7 @@ static void ray_visibility(const sss_mesh *m, const sss_vis *vis, const double d
 }
 
 static uint64_t rng = 0x6f776e7465726d31ull; /* "ownterm1" */
-static double urand(void)
-{
-    rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
 
-static void random_dir(double d[3])
-{
-    double z = 2 * urand() - 1, phi = 2 * M_PI * urand(), s = sqrt(1 - z * z);
-    d[0] = s * cos(phi); d[1] = s * sin(phi); d[2] = z;
-}
 
 static void unit3(const double l[3], double d[3])
 {
@@ -164,8 +133,8 @@ static void check_mesh(const sss_mesh *m, const char *material, double mm, uint3
 {
     sss_error err = {{0}};
     sss_bake_file src, f;
-    bake(m, material, mm, dirs, SSS_QUANT_FLOAT, -1, &src);
-    bake(m, material, mm, dirs, SSS_QUANT_FLOAT, (int)rings, &f);
+    bake_preset(m, material, 0, mm, dirs, SSS_QUANT_FLOAT, -1, &src);
+    bake_preset(m, material, 0, mm, dirs, SSS_QUANT_FLOAT, (int)rings, &f);
     const uint32_t nv = f.mesh.nv, C = f.channels;
     const size_t n = (size_t)nv * C;
     sss_vis *vis;
@@ -191,7 +160,7 @@ static void check_mesh(const sss_mesh *m, const char *material, double mm, uint3
         const int on_sample = t < 8;
         const uint32_t j = on_sample ? (uint32_t)((t * 37 + 5) % (int)f.dirs.n) : 0;
         if (on_sample) memcpy(p.light, &f.dirs.dir[3 * (size_t)j], sizeof p.light);
-        else random_dir(p.light);
+        else test_random_dir(&rng, p.light);
         double d[3];
         unit3(p.light, d);
         ray_visibility(&f.mesh, vis, d, lit_ray, front);
@@ -285,12 +254,12 @@ static void check_mesh(const sss_mesh *m, const char *material, double mm, uint3
     if (with_lloyd8) {
         /* any storage form: the passes run after the lloyd8 compute pass too */
         sss_bake_file l8;
-        bake(m, material, mm, dirs, SSS_QUANT_LLOYD8, (int)rings, &l8);
+        bake_preset(m, material, 0, mm, dirs, SSS_QUANT_LLOYD8, (int)rings, &l8);
         sss_renderer *r8;
         if (sss_renderer_create(&l8, &r8, &err) != SSS_OK) fail_msg("renderer: %s", err.msg);
         double worst8 = 0;
         for (int t = 0; t < 6; t++) {
-            random_dir(p.light);
+            test_random_dir(&rng, p.light);
             p.path = t % 2 ? SSS_EVAL_CPU : SSS_EVAL_GPU;
             sss_renderer_evaluate(r8, &p);
             sss_renderer_read_q(r8, q);
@@ -382,7 +351,7 @@ static void dragonVisibilityMatchesRays(void **state)
     agreement all = {0, 0, 0, 0}, all_map = {0, 0, 0, 0}, all_cpu = {0, 0, 0, 0};
     double worst = 100.0, worst_map = 100.0;
     for (int t = 0; t < 12; t++) {
-        random_dir(p.light);
+        test_random_dir(&rng, p.light);
         ray_visibility(&g.mesh, vis, p.light, lit_ray, front);
         for (int m = 0; m < 2; m++) {
             p.near_visibility = m ? SSS_NEAR_MAP : SSS_NEAR_RAYS;
@@ -444,7 +413,7 @@ static void uploadedQGetsOwnTermOnlyWhenAsked(void **state)
     sss_error err = {{0}};
     assert_int_equal(sss_gen_blob(&m, 1.0, 3, &err), SSS_OK);
     sss_bake_file f;
-    bake(&m, "marble", 20.0, 40, SSS_QUANT_FLOAT, 1, &f);
+    bake_preset(&m, "marble", 0, 20.0, 40, SSS_QUANT_FLOAT, 1, &f);
     const uint32_t nv = f.mesh.nv, C = f.channels;
     const size_t n = (size_t)nv * C;
     sss_weights nr;
@@ -454,7 +423,7 @@ static void uploadedQGetsOwnTermOnlyWhenAsked(void **state)
     assert_true(up && q && q2 && lit);
     sss_renderer *r;
     assert_int_equal(sss_renderer_create(&f, &r, &err), SSS_OK);
-    for (size_t i = 0; i < n; i++) up[i] = (float)(0.01 + 0.1 * urand());
+    for (size_t i = 0; i < n; i++) up[i] = (float)(0.01 + 0.1 * test_urand(&rng));
     sss_view_params p;
     sss_view_params_default(&p);
     p.light[0] = 0.3, p.light[1] = -0.5, p.light[2] = 0.8;
@@ -520,7 +489,7 @@ static void fileWithoutOwnTermIsUnchanged(void **state)
     sss_error err = {{0}};
     assert_int_equal(sss_gen_blob(&m, 1.0, 3, &err), SSS_OK);
     sss_bake_file f;
-    bake(&m, "skin1", 20.0, 40, SSS_QUANT_FLOAT, -1, &f);
+    bake_preset(&m, "skin1", 0, 20.0, 40, SSS_QUANT_FLOAT, -1, &f);
     sss_renderer *r;
     assert_int_equal(sss_renderer_create(&f, &r, &err), SSS_OK);
     assert_false(sss_renderer_has_own_term(r));
@@ -533,7 +502,7 @@ static void fileWithoutOwnTermIsUnchanged(void **state)
     size_t same = 0, total = 0;
     double worst = 0;
     for (int t = 0; t < 6; t++) {
-        random_dir(p.light);
+        test_random_dir(&rng, p.light);
         p.path = t % 2 ? SSS_EVAL_CPU : SSS_EVAL_GPU;
         p.own_term = 1;
         sss_renderer_evaluate(r, &p);

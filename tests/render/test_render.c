@@ -21,40 +21,12 @@
 #include "sss/decode.h"
 #include "sss/import.h"
 
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
-
 #include "gl_fixture.h"
-
-static void bake(const sss_mesh *m, const char *material, int grey, double mm, uint32_t dirs, sss_quant q,
-                 sss_bake_file *f)
-{
-    sss_material mat;
-    assert_int_equal(sss_material_preset(material, &mat, NULL), SSS_OK);
-    if (grey)
-        for (int c = 1; c < 3; c++) mat.sigma_a[c] = mat.sigma_a[0], mat.sigmap_s[c] = mat.sigmap_s[0];
-    sss_bake_options o;
-    memset(&o, 0, sizeof o);
-    o.mm_per_unit = mm;
-    o.n_dirs = dirs;
-    o.quant = q;
-    sss_error err = {{0}};
-    assert_int_equal(sss_bake(m, "test", &mat, &o, f, NULL, &err), SSS_OK);
-}
+#include "sss/vec3.h"
+#include "test_util.h"
 
 static uint64_t rng = 12345;
-static double urand(void)
-{
-    rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
 
-static void random_dir(double d[3])
-{
-    double z = 2 * urand() - 1, phi = 2 * M_PI * urand(), s = sqrt(1 - z * z);
-    d[0] = s * cos(phi); d[1] = s * sin(phi); d[2] = z;
-}
 
 /* GPU q read back vs sss_decode_all for light directions on direction
  * samples, at both poles (where every m ≠ 0 SH term vanishes) and random:
@@ -79,7 +51,7 @@ static void check_gpu_vs_c(const sss_bake_file *f, const char *label)
     for (int t = 0; t < 40; t++) {
         if ((uint32_t)t < f->dirs.n && t < 5) memcpy(p.light, &f->dirs.dir[3 * t], sizeof p.light); /* exactly on samples too */
         else if (t == 5 || t == 6) p.light[0] = 0, p.light[1] = 0, p.light[2] = t == 5 ? 1 : -1;
-        else random_dir(p.light);
+        else test_random_dir(&rng, p.light);
         sss_renderer_evaluate(r, &p);
         sss_renderer_read_q(r, g);
         sss_decode_all(f, p.light, c);
@@ -111,7 +83,7 @@ static void gpuEvaluationMatchesCDecoderPerVertex(void **state)
     for (int q = 0; q < 2; q++)
         for (int grey = 0; grey < 2; grey++) {
             sss_bake_file f;
-            bake(&m, "skin1", grey, 20.0, 100, (sss_quant)q, &f);
+            bake_preset(&m, "skin1", grey, 20.0, 100, (sss_quant)q, -1, &f);
             assert_int_equal(f.channels, grey ? 1u : 3u);
             check_gpu_vs_c(&f, sss_quant_name(f.quant));
             sss_file_free(&f);
@@ -163,8 +135,8 @@ static void gpuEvaluationMatchesCDecoderCompressed(void **state)
         {0, 0, 0.1, SSS_SHQ_LINEAR8, 8, 0},  /* references only, no SH part */
     };
     sss_bake_file src[2];
-    bake(&m, "skin1", 0, 20.0, 100, SSS_QUANT_FLOAT, &src[0]);
-    bake(&m, "skin1", 1, 20.0, 100, SSS_QUANT_FLOAT, &src[1]);
+    bake_preset(&m, "skin1", 0, 20.0, 100, SSS_QUANT_FLOAT, -1, &src[0]);
+    bake_preset(&m, "skin1", 1, 20.0, 100, SSS_QUANT_FLOAT, -1, &src[1]);
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         sss_bake_file f;
         compress(&src[cases[k].grey], cases[k].order, cases[k].fraction, cases[k].kind, cases[k].wbits, cases[k].ls,
@@ -231,7 +203,7 @@ static void offscreenSphereMatchesCDecoderImage(void **state)
     sss_error err = {{0}};
     assert_int_equal(sss_gen_sphere(&m, 1.0, 4, &err), SSS_OK);
     sss_bake_file f;
-    bake(&m, "marble", 0, 30.0, 200, SSS_QUANT_LLOYD8, &f);
+    bake_preset(&m, "marble", 0, 30.0, 200, SSS_QUANT_LLOYD8, -1, &f);
     check_images(&f, "sphere");
     sss_file_free(&f);
     sss_mesh_free(&m);
@@ -245,7 +217,7 @@ static void offscreenCompressedSphereMatchesCDecoderImage(void **state)
     sss_error err = {{0}};
     assert_int_equal(sss_gen_sphere(&m, 1.0, 4, &err), SSS_OK);
     sss_bake_file src, f;
-    bake(&m, "marble", 0, 30.0, 200, SSS_QUANT_FLOAT, &src);
+    bake_preset(&m, "marble", 0, 30.0, 200, SSS_QUANT_FLOAT, -1, &src);
     compress(&src, 3, 0.05, SSS_SHQ_LINEAR8, 16, 0, &f);
     check_images(&f, "sphere, refs 5% + SH 3");
     sss_file_free(&f);
@@ -265,7 +237,7 @@ static void offscreenBunnyMatchesCDecoderImage(void **state)
     sss_error err = {{0}};
     assert_int_equal(sss_import_mesh(path, &m, NULL, &err), SSS_OK);
     sss_bake_file f;
-    bake(&m, "marble", 0, 10.0, 200, SSS_QUANT_FLOAT, &f);
+    bake_preset(&m, "marble", 0, 10.0, 200, SSS_QUANT_FLOAT, -1, &f);
     check_images(&f, "bunny");
     sss_file_free(&f);
     sss_mesh_free(&m);

@@ -17,10 +17,7 @@
 #include "sss/nbhd.h"
 #include "sss/visibility.h"
 #include "sss/transfer.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 /* q at the centre of a flat square of side `size` mm tessellated with
  * spacing h mm, lit head-on, for channel c, through the bake's own
@@ -171,7 +168,7 @@ static void check_slab(const char *name, double h)
         double R;
         slab_centre_q(&m, c, 1.0, 1.0, &R); /* radius only */
         double q = slab_centre_q(&m, c, 2.0 * R + 4.0 * h, h, NULL);
-        double want = sss_ft(m.eta, 1.0) * sss_rd_total(&d) / M_PI;
+        double want = sss_ft(m.eta, 1.0) * sss_rd_total(&d) / SSS_PI;
         double rel = fabs(q - want) / want;
         printf("slab %s channel %d: h %.3g mm, radius %.2f mm, q %.6g, expected %.6g, rel %.2e\n", name, c, h, R, q, want, rel);
         assert_true(rel <= 0.02);
@@ -189,7 +186,7 @@ static void planarSlabConvergesAsTessellationRefines(void **state)
     for (int c = 0; c < 3; c++) {
         sss_dipole d;
         assert_int_equal(sss_dipole_init(&d, m.sigma_a[c], m.sigmap_s[c], m.eta), SSS_OK);
-        double R, want = sss_ft(m.eta, 1.0) * sss_rd_total(&d) / M_PI, e[3];
+        double R, want = sss_ft(m.eta, 1.0) * sss_rd_total(&d) / SSS_PI, e[3];
         slab_centre_q(&m, c, 1.0, 1.0, &R);
         const double h[3] = {2.0, 1.0, 0.5};
         for (int k = 0; k < 3; k++) e[k] = fabs(slab_centre_q(&m, c, 2.0 * R + 4.0 * h[k], h[k], NULL) - want) / want;
@@ -237,7 +234,7 @@ static void closedSphereScattersNoMoreThanEnters(void **state)
             const float *n = f.mesh.nrm + 3 * (size_t)v;
             double c = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
             in += area[v] * sss_ft(m.eta, c) * fmax(0.0, c);
-            out += area[v] * M_PI * f.q[(size_t)j * f.mesh.nv + v];
+            out += area[v] * SSS_PI * f.q[(size_t)j * f.mesh.nv + v];
         }
         const double ratio = out / in;
         if (j == 0) print_message("white furnace: scattered / entering = %.4f\n", ratio);
@@ -349,7 +346,7 @@ static void bakedIntegralsAreFiniteNonNegativeAndShadowed(void **state)
         sss_dipole d;
         sss_dipole_init(&d, m.sigma_a[c], m.sigmap_s[c], m.eta);
         assert_true(maxq[c] > 0.0);
-        assert_true(maxq[c] <= 1.5 * sss_ft(m.eta, 1.0) * sss_rd_total(&d) / M_PI);
+        assert_true(maxq[c] <= 1.5 * sss_ft(m.eta, 1.0) * sss_rd_total(&d) / SSS_PI);
     }
     assert_true(st.occluded_fraction > 0.01); /* the blob has concavities */
     assert_true(st.neighbours_mean > 2.0);

@@ -20,6 +20,7 @@
 #include "sss/decode.h"
 #include "sss/random.h"
 #include "sss/sh.h"
+#include "test_util.h"
 
 /* One small float bake shared by every test: blob (subdiv 3), skin1,
  * 20 mm per unit, 50 directions, RGB. */
@@ -446,7 +447,6 @@ static void garbageInputsRejected(void **state)
 
 /* ---- damaged compressed files --------------------------------------------- */
 
-static uint32_t rd32(const uint8_t *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
 static void wr32(uint8_t *p, uint32_t v)
 {
     for (int i = 0; i < 4; i++) p[i] = (uint8_t)(v >> (8 * i));
@@ -455,12 +455,12 @@ static void wr32(uint8_t *p, uint32_t v)
 /* Offset and size of the section with this tag; recomputes checksums. */
 static uint8_t *section(uint8_t *b, const char *tag, uint64_t *size)
 {
-    uint32_t n = rd32(b + 12);
+    uint32_t n = test_rd32(b + 12);
     for (uint32_t i = 0; i < n; i++) {
         uint8_t *e = b + 24 + 40 * (size_t)i;
         if (!memcmp(e, tag, 4)) {
-            *size = rd32(e + 16);
-            return b + rd32(e + 8);
+            *size = test_rd32(e + 16);
+            return b + test_rd32(e + 8);
         }
     }
     fail_msg("no section %s", tag);
@@ -469,10 +469,10 @@ static uint8_t *section(uint8_t *b, const char *tag, uint64_t *size)
 
 static void fix_crcs(uint8_t *b)
 {
-    uint32_t n = rd32(b + 12);
+    uint32_t n = test_rd32(b + 12);
     for (uint32_t i = 0; i < n; i++) {
         uint8_t *e = b + 24 + 40 * (size_t)i;
-        wr32(e + 32, sss_crc32(0, b + rd32(e + 8), rd32(e + 16)));
+        wr32(e + 32, sss_crc32(0, b + test_rd32(e + 8), test_rd32(e + 16)));
     }
     wr32(b + 24 + 40 * (size_t)n, sss_crc32(0, b, 24 + 40 * (size_t)n));
 }

@@ -10,13 +10,10 @@
 #include <string.h>
 
 #include "sss/dipole.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 static const sss_dipole *g_dip;
-static double integrand(double r) { return sss_rd(g_dip, r) * 2.0 * M_PI * r; }
+static double integrand(double r) { return sss_rd(g_dip, r) * 2.0 * SSS_PI * r; }
 
 /* Adaptive Simpson on [a, b]. */
 static double simpson(double a, double b, double fa, double fm, double fb, double whole, double tol, int depth)
@@ -89,7 +86,7 @@ static double arc_offset_disk(const sss_dipole *d, double r, double rho, int n)
     double sum = 0.0;
     for (int i = 0; i < n; i++) {
         double sv = (i + 0.5) * h, th;
-        if (sv <= rho - r) th = M_PI;
+        if (sv <= rho - r) th = SSS_PI;
         else {
             double c = (sv * sv + r * r - rho * rho) / (2.0 * sv * r);
             th = acos(c > 1 ? 1 : c < -1 ? -1 : c);
@@ -129,13 +126,13 @@ static void offsetDiskIntegralMatchesQuadrature(void **state)
                 }
                 /* far away the disk is a point, up to the second-order term
                  * of e^{−σtr r} averaged over the disk, ≈ (σtr ρ)² / 8 */
-                double far = 40.0 * rho, pt = sss_rd(&d, far) * M_PI * rho * rho, got = sss_rd_disk_offset(&d, far, rho);
+                double far = 40.0 * rho, pt = sss_rd(&d, far) * SSS_PI * rho * rho, got = sss_rd_disk_offset(&d, far, rho);
                 double tol = 0.01 + 0.25 * (d.sigma_tr * rho) * (d.sigma_tr * rho);
                 if (d.sigma_tr * rho <= 1.0 && !(fabs(got - pt) <= tol * pt + 1e-300))
                     fail_msg("%s far: %.9g vs point %.9g", mats[m], got, pt);
                 /* a coincident vertex never holds more than the whole area's disk integral */
                 assert_true(at0 <= sss_rd_total(&d));
-                if (rho >= 1.0) assert_true(at0 < sss_rd(&d, 0.0) * M_PI * rho * rho);
+                if (rho >= 1.0) assert_true(at0 < sss_rd(&d, 0.0) * SSS_PI * rho * rho);
             }
         }
     sss_dipole d;

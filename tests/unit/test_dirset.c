@@ -41,7 +41,6 @@ static double above(const double *a, const double *b, const double *c, const dou
 }
 
 static uint64_t rng_state;
-static void random_dir(double d[3]) { sss_rng_direction(&rng_state, d); }
 
 static int cmp_u64(const void *a, const void *b)
 {
@@ -291,7 +290,7 @@ static void randomDirectionsTriangulateAsDelaunay(void **state)
     const uint32_t n = 600;
     double *d = malloc(3 * n * sizeof *d);
     assert_non_null(d);
-    for (uint32_t i = 0; i < n; i++) random_dir(d + 3 * i);
+    for (uint32_t i = 0; i < n; i++) sss_rng_direction(&rng_state, d + 3 * i);
     sss_dirset s;
     make_dirs(&s, n, d);
     free(d);
@@ -300,7 +299,7 @@ static void randomDirectionsTriangulateAsDelaunay(void **state)
     /* Indices carry no spatial order here: lookup must still work. */
     for (int q = 0; q < 20000; q++) {
         double d[3];
-        random_dir(d);
+        sss_rng_direction(&rng_state, d);
         uint32_t idx[3];
         double w[3];
         check_lookup(&s, d, sss_dirset_lookup(&s, d, idx, w), idx, w);
@@ -331,7 +330,7 @@ static void lookupStaysCorrectWhenTrianglesAreReordered(void **state)
     rng_state = 77;
     for (int q = 0; q < 20000; q++) {
         double d[3];
-        random_dir(d);
+        sss_rng_direction(&rng_state, d);
         uint32_t idx[3];
         double w[3];
         check_lookup(&s, d, sss_dirset_lookup(&s, d, idx, w), idx, w);
@@ -462,7 +461,7 @@ static void triangulateRejectsDirectionsInOneHemisphere(void **state)
     const uint32_t n = 50;
     double d[150];
     for (uint32_t i = 0; i < n; i++) {
-        random_dir(d + 3 * i);
+        sss_rng_direction(&rng_state, d + 3 * i);
         d[3 * i + 2] = fabs(d[3 * i + 2]); /* reflect into z ≥ 0 */
     }
     sss_dirset s;
@@ -497,7 +496,7 @@ static void lookupRandomDirectionsGiveValidBarycentrics(void **state)
     rng_state = 2024;
     for (int q = 0; q < 100000; q++) {
         double d[3];
-        random_dir(d);
+        sss_rng_direction(&rng_state, d);
         if (q % 7 == 0) d[0] *= 3.0, d[1] *= 3.0, d[2] *= 3.0; /* need not be normalised */
         uint32_t idx[3];
         double w[3];

@@ -22,10 +22,7 @@
 #include "gather/gather_internal.h"
 #include "sss/dipole.h"
 #include "sss/random.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 static uint64_t rng = 0x9E3779B97F4A7C15ull;
 static float urand(void)
@@ -197,11 +194,11 @@ static double profile_error(const sss_dipole *d, double R)
     sss_rdtab_init(&t, d, R * R);
     const double rmin = sqrt(ldexp(1.0, t.e0)); /* the first octave's start */
     double worst = 0;
-    const double floor = 1e-3 * sss_rd(d, 0.0) / M_PI;
+    const double floor = 1e-3 * sss_rd(d, 0.0) / SSS_PI;
     for (int k = 0; k <= 20000; k++) {
         const double r = rmin * pow(R / rmin, k / 20000.0);
         const float x = (float)(r * r);
-        const double want = sss_rd(d, sqrt((double)x)) / M_PI, got = sss_rdtab_eval(&t, x);
+        const double want = sss_rd(d, sqrt((double)x)) / SSS_PI, got = sss_rdtab_eval(&t, x);
         const double e = fabs(got - want) / (want > floor ? want : floor);
         if (e > worst) worst = e;
     }
@@ -237,7 +234,7 @@ static void profile_outside_its_range_is_finite(void **state)
     assert_int_equal(sss_dipole_init(&d, 0.0021, 2.19, 1.5), SSS_OK);
     sss_rdtab t;
     sss_rdtab_init(&t, &d, 30.0 * 30.0);
-    const double f0 = sss_rd(&d, 0.0) / M_PI;
+    const double f0 = sss_rd(&d, 0.0) / SSS_PI;
     /* below the first octave: R_d's value at r = 0 to 10⁻⁴ */
     assert_true(fabs(sss_rdtab_eval(&t, 0.0f) - f0) <= 1e-4 * f0);
     assert_true(fabs(sss_rdtab_eval(&t, 1e-30f) - f0) <= 1e-4 * f0);

@@ -18,10 +18,7 @@
 
 #include "genmesh.h"
 #include "sss/import.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 /* ---------------------------------------------------------------------------
  * Temporary files
@@ -883,7 +880,7 @@ static void importWarnsOnNonOrientableStrip(void **state)
     char text[4096];
     size_t n = (size_t)snprintf(text, sizeof text, "OFF\n%d %d 0\n", 2 * K, K);
     for (int i = 0; i < K; i++) {
-        double a = 2 * M_PI * i / K, h = a / 2;
+        double a = 2 * SSS_PI * i / K, h = a / 2;
         for (int s = -1; s <= 1; s += 2) {
             double r = 2 + 0.5 * s * cos(h);
             n += (size_t)snprintf(text + n, sizeof text - n, "%.9g %.9g %.9g\n", r * cos(a), r * sin(a), 0.5 * s * sin(h));
@@ -994,7 +991,7 @@ static void importEarClipsNonConvexPolygons(void **state)
     char text[512];
     size_t n = (size_t)snprintf(text, sizeof text, "OFF\n5 1 0\n");
     for (int k = 0; k < 5; k++)
-        n += (size_t)snprintf(text + n, sizeof text - n, "%.9g %.9g 0\n", cos(2 * M_PI * k / 5), sin(2 * M_PI * k / 5));
+        n += (size_t)snprintf(text + n, sizeof text - n, "%.9g %.9g 0\n", cos(2 * SSS_PI * k / 5), sin(2 * SSS_PI * k / 5));
     snprintf(text + n, sizeof text - n, "5 0 2 4 1 3\n");
     assert_int_equal(import(write_text("star.off", text), &m, &rep, &err), SSS_OK);
     assert_int_equal(rep.polygons_ear_clipped + rep.polygons_unclipped, 1);

@@ -19,8 +19,8 @@
 #include "sss/decode.h"
 #include "sss/dirset.h"
 #include "sss/random.h"
+#include "sss/vec3.h"
 
-static double dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /* Random directions: the four indices are the four largest cosines (brute
  * force), weights positive, decreasing with angle, summing to 1. */
@@ -45,10 +45,10 @@ static void nearest4PicksNearestWithInverseAngleWeights(void **state)
         }
         assert_true(fabs(sum - 1.0) < 1e-12);
         /* no other sample is nearer than the fourth */
-        const double c4 = dot(d, s.dir + 3 * (size_t)idx[3]);
+        const double c4 = sss_dot3(d, s.dir + 3 * (size_t)idx[3]);
         for (uint32_t j = 0; j < s.n; j++) {
             if (j == idx[0] || j == idx[1] || j == idx[2] || j == idx[3]) continue;
-            assert_true(dot(d, s.dir + 3 * (size_t)j) <= c4 + 1e-15);
+            assert_true(sss_dot3(d, s.dir + 3 * (size_t)j) <= c4 + 1e-15);
         }
         /* the length of d does not matter */
         double d2[3] = {5 * d[0], 5 * d[1], 5 * d[2]}, w2[4];

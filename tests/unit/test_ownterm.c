@@ -33,6 +33,7 @@
 #include "sss/exact.h"
 #include "sss/ownterm.h"
 #include "sss/reconstruct.h"
+#include "test_util.h"
 
 static sss_mesh g_mesh;
 static sss_bake_file g_plain, g_own, g_ring; /* the same bake: all baked, own term split, own + 1-ring split
@@ -185,7 +186,6 @@ static void threadsGiveSameBytes(void **state)
     free(b2);
 }
 
-static uint32_t rd32(const uint8_t *p) { return p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
 static void wr32(uint8_t *p, uint32_t v)
 {
     for (int k = 0; k < 4; k++) p[k] = (uint8_t)(v >> (8 * k));
@@ -200,14 +200,14 @@ static void readerAndWriterRefuse(void **state)
     uint8_t *buf;
     size_t len;
     assert_int_equal(sss_file_encode(&g_own, &buf, &len, &err), SSS_OK);
-    const uint32_t nsec = rd32(buf + 12);
+    const uint32_t nsec = test_rd32(buf + 12);
     int found = 0;
     for (uint32_t i = 0; i < nsec; i++) {
         uint8_t *e = buf + 24 + 40 * (size_t)i;
         if (memcmp(e, "OWNT", 4) != 0) continue;
         found = 1;
-        assert_true(rd32(e + 4) & 1u); /* required: an older reader must refuse */
-        const uint64_t off = rd32(e + 8) | (uint64_t)rd32(e + 12) << 32;
+        assert_true(test_rd32(e + 4) & 1u); /* required: an older reader must refuse */
+        const uint64_t off = test_rd32(e + 8) | (uint64_t)test_rd32(e + 12) << 32;
         wr32(buf + off, 2);
         wr32(e + 32, sss_crc32(0, buf + off, 8));
     }

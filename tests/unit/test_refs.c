@@ -20,6 +20,7 @@
 #include "genmesh.h"
 #include "sss/import.h"
 #include "sss/refs.h"
+#include "test_util.h"
 
 /* ---- helpers ------------------------------------------------------------ */
 
@@ -956,13 +957,7 @@ static void closestWeightsMatchBarycentricsAndClampOutside(void **state)
 }
 
 static uint64_t rng_state = 0x2545F4914F6CDD1Dull;
-static double urand(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
-}
+static double urand(void) { return test_urand(&rng_state); }
 
 /* Random triangles (every third one a thin sliver) and points: the weighted
  * point is never farther from p than any point of a dense barycentric grid

@@ -22,10 +22,7 @@
 #include "sss/compress.h"
 #include "sss/decode.h"
 #include "sss/import.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 static sss_material material(const char *preset)
 {
@@ -64,7 +61,7 @@ static double slab_q(const sss_material *m, int c)
 {
     sss_dipole d;
     sss_dipole_init(&d, m->sigma_a[c], m->sigmap_s[c], m->eta);
-    return sss_ft(m->eta, 1.0) * sss_rd_total(&d) / M_PI;
+    return sss_ft(m->eta, 1.0) * sss_rd_total(&d) / SSS_PI;
 }
 
 static void bake(const sss_mesh *mesh, const sss_material *m, const sss_bake_options *o, sss_bake_file *f, sss_bake_stats *st)

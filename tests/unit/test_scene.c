@@ -14,10 +14,6 @@
 #include <unistd.h>
 #include <omp.h>
 
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
-
 #include "genmesh.h"
 #include "sss/bake_scene.h"
 #include "sss/effects.h"
@@ -25,6 +21,7 @@
 #include "sss/import.h"
 #include "sss/probe.h"
 #include "sss/sh.h"
+#include "sss/vec3.h"
 
 static char tmpdir[256];
 
@@ -364,7 +361,7 @@ static void environmentBakeMatchesBruteForceOverProbe(void **state)
         double L0[3 * 16], L1[3 * 16];
         sss_probe_sh(&p, 4, L0);
         sss_probe_sh(&sp, 4, L1);
-        for (int c = 0; c < 3; c++) sss_sh_rotate_z(4, 2 * M_PI * kshift / p.w, &L0[c * K]);
+        for (int c = 0; c < 3; c++) sss_sh_rotate_z(4, 2 * SSS_PI * kshift / p.w, &L0[c * K]);
         for (uint32_t i = 0; i < 3 * K; i++) assert_float_equal(L0[i], L1[i], 1e-9);
         sss_probe_free(&sp);
     }

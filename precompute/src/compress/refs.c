@@ -25,6 +25,7 @@
 
 #include "compress/refs_closest.h"
 #include "compress/refs_decimate.h"
+#include "sss/vec3.h"
 
 #define NONE UINT32_MAX
 
@@ -40,24 +41,17 @@ void sss_refs_free(sss_refs *r)
 
 /* ---- weights of the closest point --------------------------------------- */
 
-static double dot3(const double *x, const double *y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; }
-static void sub3(double *r, const double *x, const double *y)
-{
-    r[0] = x[0] - y[0];
-    r[1] = x[1] - y[1];
-    r[2] = x[2] - y[2];
-}
 
 /* Closest point of segment s0 s1 to p as s0 + t (s1 − s0), t clamped to
  * [0, 1]; a zero-length segment gives t = 0. */
 static double segment_t(const double *p, const double *s0, const double *s1)
 {
     double d[3], sp[3];
-    sub3(d, s1, s0);
-    sub3(sp, p, s0);
-    double dd = dot3(d, d);
+    sss_sub3(d, s1, s0);
+    sss_sub3(sp, p, s0);
+    double dd = sss_dot3(d, d);
     if (!(dd > 0.0)) return 0.0;
-    double t = dot3(sp, d) / dd;
+    double t = sss_dot3(sp, d) / dd;
     return t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
 }
 
@@ -68,8 +62,8 @@ static void nearest_corner(const double *p, const double *const c[3], double w[3
     double bd = INFINITY;
     for (int k = 0; k < 3; k++) {
         double d[3];
-        sub3(d, p, c[k]);
-        double dd = dot3(d, d);
+        sss_sub3(d, p, c[k]);
+        double dd = sss_dot3(d, d);
         if (dd < bd) {
             bd = dd;
             best = k;
@@ -91,13 +85,13 @@ void sss_refs_closest_weights(const double p[3], const double a[3], const double
         }
 
     double ab[3], ac[3], bc[3], n[3];
-    sub3(ab, b, a);
-    sub3(ac, c, a);
-    sub3(bc, c, b);
+    sss_sub3(ab, b, a);
+    sss_sub3(ac, c, a);
+    sss_sub3(bc, c, b);
     n[0] = ab[1] * ac[2] - ab[2] * ac[1];
     n[1] = ab[2] * ac[0] - ab[0] * ac[2];
     n[2] = ab[0] * ac[1] - ab[1] * ac[0];
-    double lab = dot3(ab, ab), lac = dot3(ac, ac), lbc = dot3(bc, bc);
+    double lab = sss_dot3(ab, ab), lac = sss_dot3(ac, ac), lbc = sss_dot3(bc, bc);
     double lmax = fmax(lab, fmax(lac, lbc));
 
     if (!(lmax > 0.0)) { /* all three corners coincide */
@@ -105,7 +99,7 @@ void sss_refs_closest_weights(const double p[3], const double a[3], const double
         w[1] = w[2] = 0.0;
         return;
     }
-    if (!(sqrt(dot3(n, n)) > 1e-12 * lmax)) {
+    if (!(sqrt(sss_dot3(n, n)) > 1e-12 * lmax)) {
         /* Collinear (or nearly): the triangle is its longest edge, which
          * covers the other two; its closest point is the triangle's. */
         int i, j;
@@ -124,12 +118,12 @@ void sss_refs_closest_weights(const double p[3], const double a[3], const double
      * Edge parameters come from segment_t, the clamped projection (equal to
      * Ericson's d1 / (d1 − d3) and kin, but never 0/0). */
     double ap[3], bp[3], cp[3];
-    sub3(ap, p, a);
-    double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
-    sub3(bp, p, b);
-    double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
-    sub3(cp, p, c);
-    double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    sss_sub3(ap, p, a);
+    double d1 = sss_dot3(ab, ap), d2 = sss_dot3(ac, ap);
+    sss_sub3(bp, p, b);
+    double d3 = sss_dot3(ab, bp), d4 = sss_dot3(ac, bp);
+    sss_sub3(cp, p, c);
+    double d5 = sss_dot3(ab, cp), d6 = sss_dot3(ac, cp);
     double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
 
     if (d1 <= 0.0 && d2 <= 0.0) {

@@ -21,10 +21,7 @@
 #include "sss/probe.h"
 #include "sss/effects.h"
 #include "sss/sh.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 static int claim(const sss_scene *s, const sss_object_plan *p, const sss_scene_light *L, char *reason, size_t n)
 {
@@ -52,7 +49,7 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
         sss_probe_sh(&pr, order, Ll);
         sss_probe_free(&pr);
         for (int ch = 0; ch < 3; ch++) {
-            sss_sh_rotate_z(order, L->rotation_deg * (M_PI / 180.0), &Ll[ch * K]);
+            sss_sh_rotate_z(order, L->rotation_deg * (SSS_PI / 180.0), &Ll[ch * K]);
             for (uint32_t i = 0; i < K; i++) Lsum[ch * K + i] += L->intensity * L->colour[ch] * Ll[ch * K + i];
         }
     }
@@ -75,7 +72,7 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
         r = sss_fail(err, SSS_ERR_NOMEM, "environment-sh pass: out of memory for %u vertices", nv);
         goto done;
     }
-    const double wq = 4.0 * M_PI / M;
+    const double wq = 4.0 * SSS_PI / M;
     for (uint32_t m = 0; m < M; m++) sss_sh_eval(order, &q.dir[3 * (size_t)m], &Y[(size_t)m * K]);
     uint64_t rays = 0;
     /* vertex-outer, directions in order: deterministic sums, one parallel

@@ -26,10 +26,7 @@
 
 #include "gather/gather_internal.h"
 #include "kernels/progress.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 /* The same near-disk rule as nbhd.c: a neighbour closer than its own
  * area-disk radius is integrated over the disk. */
@@ -170,7 +167,7 @@ static void near_d2(const double *restrict sx, const double *restrict sy, const 
         r2f[a] = (float)d2;
         const int in = d2 <= r2;
         inv[a] = (float)in;
-        flag[a] = (unsigned char)(in & ((float)d2 < dA[a] * (float)(1.01 / M_PI) + 1e-30f));
+        flag[a] = (unsigned char)(in & ((float)d2 < dA[a] * (float)(1.01 / SSS_PI) + 1e-30f));
     }
 }
 
@@ -213,14 +210,14 @@ static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const s
             const double ga = t->group_area[o];
             const double share = ga > 0.0 ? mesh->area[i] / ga : 0.0;
             for (uint32_t c = 0; c < C; c++) {
-                const double gd = ga > 0.0 ? sss_rd_disk(&dip[c], sqrt(ga * s * s / M_PI)) / M_PI : 0.0;
+                const double gd = ga > 0.0 ? sss_rd_disk(&dip[c], sqrt(ga * s * s / SSS_PI)) / SSS_PI : 0.0;
                 W[c * ldc + a] = (float)(gd * share);
             }
             continue;
         }
-        const double r = sqrt(d2), rho = sqrt(dAi / M_PI);
+        const double r = sqrt(d2), rho = sqrt(dAi / SSS_PI);
         if (r < NEAR_DISKS * rho)
-            for (uint32_t c = 0; c < C; c++) W[c * ldc + a] = (float)(sss_rd_disk_offset(&dip[c], r, rho) / M_PI);
+            for (uint32_t c = 0; c < C; c++) W[c * ldc + a] = (float)(sss_rd_disk_offset(&dip[c], r, rho) / SSS_PI);
     }
 }
 

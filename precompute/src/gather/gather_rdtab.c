@@ -30,10 +30,7 @@
 #include <string.h>
 
 #include "gather/gather_internal.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 void sss_rdtab_init(sss_rdtab *t, const sss_dipole *d, double xmax)
 {
@@ -50,12 +47,12 @@ void sss_rdtab_init(sss_rdtab *t, const sss_dipole *d, double xmax)
          * Chebyshev coefficients c_k = (2 / NP) Σ_m f(u_m) T_k(u_m) */
         double fu[NP], ch[NP];
         for (int m = 0; m < NP; m++) {
-            const double u = cos(M_PI * (m + 0.5) / NP);
-            fu[m] = sss_rd(d, sqrt(a * (1.0 + (u + 1.0) / 2.0))) / M_PI;
+            const double u = cos(SSS_PI * (m + 0.5) / NP);
+            fu[m] = sss_rd(d, sqrt(a * (1.0 + (u + 1.0) / 2.0))) / SSS_PI;
         }
         for (int k = 0; k < NP; k++) {
             double s = 0;
-            for (int m = 0; m < NP; m++) s += fu[m] * cos(M_PI * k * (m + 0.5) / NP);
+            for (int m = 0; m < NP; m++) s += fu[m] * cos(SSS_PI * k * (m + 0.5) / NP);
             ch[k] = 2.0 * s / NP;
         }
         ch[0] *= 0.5;

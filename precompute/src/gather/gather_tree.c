@@ -27,10 +27,7 @@
 
 #include "gather/gather_internal.h"
 #include "kernels/progress.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 #define MORTON_BITS 21
 /* Fewest sources in a far node. A far node costs 10 moment rows of the
@@ -324,7 +321,7 @@ sss_result sss_gather_tree_create(const sss_mesh *mesh, double s, const sss_gath
             const double a = mesh->area[i] * s2;
             A += a;
             for (int k = 0; k < 3; k++) c[k] += a * t->pmm[3 * (size_t)i + k];
-            rho2 = fmax(rho2, a / M_PI);
+            rho2 = fmax(rho2, a / SSS_PI);
         }
         if (A > 0) {
             for (int k = 0; k < 3; k++) c[k] /= A;
@@ -511,7 +508,7 @@ void sss_gkernel_init(sss_gkernel *k, const sss_dipole *d)
     k->z_v = (float)d->z_v;
     k->zr2 = (float)(d->z_r * d->z_r);
     k->zv2 = (float)(d->z_v * d->z_v);
-    k->coef = (float)(d->alpha_p / (4.0 * M_PI) / M_PI);
+    k->coef = (float)(d->alpha_p / (4.0 * SSS_PI) / SSS_PI);
 }
 
 /* R_d and its first two radial derivatives at distances r (r2 = r²),

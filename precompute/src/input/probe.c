@@ -11,10 +11,7 @@
 #include <string.h>
 
 #include "sss/sh.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 void sss_probe_free(sss_probe *p)
 {
@@ -158,13 +155,13 @@ sss_result sss_probe_write(const char *path, const sss_probe *p, sss_error *err)
 
 void sss_probe_pixel_dir(uint32_t w, uint32_t h, uint32_t x, uint32_t y, double d[3], double *domega)
 {
-    const double th = M_PI * (y + 0.5) / h, ph = 2.0 * M_PI * (x + 0.5) / w;
+    const double th = SSS_PI * (y + 0.5) / h, ph = 2.0 * SSS_PI * (x + 0.5) / w;
     d[0] = sin(th) * cos(ph);
     d[1] = sin(th) * sin(ph);
     d[2] = cos(th);
     /* exact solid angle of the pixel's latitude band slice */
-    const double t0 = M_PI * y / h, t1 = M_PI * (y + 1.0) / h;
-    *domega = (2.0 * M_PI / w) * (cos(t0) - cos(t1));
+    const double t0 = SSS_PI * y / h, t1 = SSS_PI * (y + 1.0) / h;
+    *domega = (2.0 * SSS_PI / w) * (cos(t0) - cos(t1));
 }
 
 void sss_probe_sh(const sss_probe *p, uint32_t order, double *L)

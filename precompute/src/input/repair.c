@@ -6,6 +6,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "input/import_internal.h"
+#include "sss/vec3.h"
 
 #include <math.h>
 
@@ -49,10 +50,6 @@ static int has_repeat(const int32_t *v, uint32_t n, sll *scratch)
  * themselves (a unit sphere at 10^6: spacing 1/16, 9,152 of 16,128 triangles
  * collapsed, 15 % of rays blocked). */
 #define RECENTRE_RATIO 16.0
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 /* used[v] != UINT32_MAX marks the vertices that faces of 3 or more corners
  * use; only those decide the box and move: they lie within h of c, so the
@@ -226,7 +223,7 @@ static int triangulate(const float *pos, const int32_t *v, uint32_t n, poly_scra
             double cr = last[0] * first[1] - last[1] * first[0], dt = last[0] * first[0] + last[1] * first[1];
             if (cr < -1e-12 * hypot(last[0], last[1]) * hypot(first[0], first[1])) convex = 0;
             turning += atan2(cr, dt);
-            if (fabs(turning - 2.0 * M_PI) > 1e-3) convex = 0;
+            if (fabs(turning - 2.0 * SSS_PI) > 1e-3) convex = 0;
         }
         if (!convex) status = n > SSS_IMPORT_EAR_MAX ? POLY_UNCLIPPED : POLY_EAR;
     }

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "kernels/progress.h"
+#include "sss/vec3.h"
 
 /* A neighbour closer than its own area-disk radius ρ = sqrt(ΔA/π) (its area
  * covers the receiving point: duplicate or nearly coincident vertices) is
@@ -31,10 +32,6 @@ static int same_position(const sss_mesh *m, uint32_t i, uint32_t o)
     return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 static int cmp_int(const void *a, const void *b)
 {
@@ -178,7 +175,7 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
                 }
                 double group_disk[SSS_MAX_CHANNELS];
                 for (uint32_t c = 0; c < channels; c++)
-                    group_disk[c] = group_area > 0.0 ? sss_rd_disk(&dip[c], sqrt(group_area * s * s / M_PI)) / M_PI : 0.0;
+                    group_disk[c] = group_area > 0.0 ? sss_rd_disk(&dip[c], sqrt(group_area * s * s / SSS_PI)) / SSS_PI : 0.0;
                 for (uint32_t a = 0; a < m; a++) {
                     uint32_t i = (uint32_t)ind[a];
                     out->idx[base + a] = i;
@@ -197,14 +194,14 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
                             d2 += dx * dx;
                         }
                         double r = sqrt(d2), dA = mesh->area[i] * s * s; /* mm, mm² */
-                        const double rho = sqrt(dA / M_PI); /* radius of x_i's area as a disk */
+                        const double rho = sqrt(dA / SSS_PI); /* radius of x_i's area as a disk */
                         if (r < NEAR_DISKS * rho) {
                             /* x_i's area covers x_o: integrate over it as a disk */
                             for (uint32_t c = 0; c < channels; c++)
-                                w[c] = (float)(sss_rd_disk_offset(&dip[c], r, rho) / M_PI);
+                                w[c] = (float)(sss_rd_disk_offset(&dip[c], r, rho) / SSS_PI);
                         } else {
                             /* (1/π) R_d(r) ΔA(x_i): Hao–Varshney 2004 §3.1 */
-                            for (uint32_t c = 0; c < channels; c++) w[c] = (float)(sss_rd(&dip[c], r) * dA / M_PI);
+                            for (uint32_t c = 0; c < channels; c++) w[c] = (float)(sss_rd(&dip[c], r) * dA / SSS_PI);
                         }
                     }
                 }

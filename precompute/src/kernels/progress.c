@@ -18,20 +18,6 @@ static _Atomic int64_t next_draw_ms;
 static atomic_flag drawing = ATOMIC_FLAG_INIT;
 static double t0;
 
-double sss_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-double sss_thread_cpu(void)
-{
-    struct timespec ts;
-    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return sss_now();
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 void sss_progress_enable(int on, const char *log_path)
 {
     bar = on && isatty(STDERR_FILENO);

@@ -14,6 +14,7 @@
 #define SSS_PROGRESS_H
 
 #include <stdint.h>
+#include "sss/clock.h" /* sss_now, sss_thread_cpu: the phases' timers */
 
 /* on: draw the bar when stderr is a terminal; log_path (may be NULL): the
  * log above, opened for appending (an unwritable one is no log). */
@@ -22,10 +23,5 @@ int sss_progress_active(void); /* a bar or a log is being drawn */
 void sss_progress_begin(const char *label, uint64_t total); /* label is copied */
 void sss_progress_tick(uint64_t n);
 void sss_progress_end(void);
-double sss_now(void); /* monotonic seconds */
-/* CPU seconds of the calling thread: what the gather's phase timings
- * count, so that a machine shared with other jobs (time slices taken away)
- * does not inflate them (monotonic seconds where unavailable). */
-double sss_thread_cpu(void);
 
 #endif

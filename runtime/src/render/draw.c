@@ -11,10 +11,7 @@
 #include "gl_util.h"
 #include "renderer.h"
 #include "shaders.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 void sss_view_params_default(sss_view_params *p)
 {
@@ -130,7 +127,7 @@ static void camera_mvp(const sss_gpu_mesh *m, const sss_view_params *p, int widt
     V[14] = fwd[0] * eye[0] + fwd[1] * eye[1] + fwd[2] * eye[2];
     double dist = (p->distance > 0 ? p->distance : 3.6) * m->radius;
     double zn = fmax(dist - 1.5 * m->radius, 1e-3 * m->radius), zf = dist + 1.5 * m->radius;
-    double fy = 1.0 / tan(0.5 * (p->fov_deg > 0 ? p->fov_deg : 35.0) * M_PI / 180.0);
+    double fy = 1.0 / tan(0.5 * (p->fov_deg > 0 ? p->fov_deg : 35.0) * SSS_PI / 180.0);
     double aspect = height > 0 ? (double)width / height : 1.0;
     double P[16] = {0};
     P[0] = fy / aspect;

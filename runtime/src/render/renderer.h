@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "sss/render.h"
+#include "sss/vec3.h"
 
 /* The mesh on the GPU, created and owned by the renderer; passes read it. */
 typedef struct sss_gpu_mesh {
@@ -89,19 +90,5 @@ struct sss_renderer {
     int last_path;
     int own_pending;    /* q was uploaded: the next draw runs the passes over q (near terms) for its light */
 };
-
-static inline void sss_normalize3(double v[3])
-{
-    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (l > 0)
-        for (int k = 0; k < 3; k++) v[k] /= l;
-}
-
-static inline void sss_cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 #endif

@@ -31,14 +31,10 @@
 #include "gl_util.h"
 #include "renderer.h"
 #include "shaders.h"
+#include "sss/clock.h"
 #include "sss/decode.h"
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return 1e3 * (double)ts.tv_sec + 1e-6 * (double)ts.tv_nsec;
-}
+static double now_ms(void) { return 1e3 * sss_now(); }
 
 sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *err)
 {

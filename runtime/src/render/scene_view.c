@@ -21,6 +21,7 @@
 
 #include "effects/effects.h"
 #include "sss/effects.h"
+#include "sss/vec3.h"
 
 typedef struct lightref {
     int kind;        /* 0 exact, 1 set, 2 point, 3 env */
@@ -36,13 +37,6 @@ struct sss_scene_eval {
     float *tmp, *env;
     char paths[160];
 };
-
-static double norm3(double v[3])
-{
-    double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (n > 0) for (int k = 0; k < 3; k++) v[k] /= n;
-    return n;
-}
 
 static void centre_of(const sss_bake_file *f, double c[3])
 {
@@ -86,7 +80,7 @@ sss_result sss_scene_eval_create(const sss_bake_file *f, const sss_scene *sc, ss
             ex = L->moving ? -1 : find_exact(f, d);
         } else if (L->kind == SSS_LIGHT_POINT) {
             for (int k = 0; k < 3; k++) d[k] = L->position[k] - c[k];
-            norm3(d);
+            sss_normalize3(d);
             ex = L->moving ? -1 : find_exact(f, d);
         }
         if (L->kind == SSS_LIGHT_ENVIRONMENT) {
@@ -205,7 +199,7 @@ void sss_scene_camera_params(const sss_scene *sc, const sss_bake_file *f, sss_vi
     const double rad = sss_view_bounds(&f->mesh, c);
     double d[3];
     for (int k = 0; k < 3; k++) d[k] = sc->camera.position[k] - c[k];
-    const double dist = norm3(d);
+    const double dist = sss_normalize3(d);
     if (dist > 0) {
         memcpy(p->view, d, sizeof d);
         p->distance = dist / rad;
