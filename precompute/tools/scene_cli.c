@@ -10,10 +10,21 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 
 #include "sss/bake_scene.h"
 #include "sss/import.h"
 #include "sss/planner.h"
+
+/* Wall-clock seconds for the per-object bake time. libsss_bake's own timer
+ * (sss_now) sits behind its private include directory, so the tool keeps
+ * this one. */
+static double monotonic_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 int scene_main(const char *tool, const char *scene_path, const char *outdir, int plan_only, int json, int quiet,
                const sss_bake_options *opt)
@@ -77,13 +88,13 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
         snprintf(path, sizeof path, "%s/%s.sss", outdir, sc.objects[i].name);
         sss_bake_file f;
         sss_bake_stats st;
-        double t0 = sss_cli_now();
+        double t0 = monotonic_seconds();
         if (sss_bake_object(&sc, &plan, world, i, opt, &f, &st, &err) != SSS_OK) {
             fprintf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc.path, i, err.msg);
             rc = 1;
             goto done;
         }
-        double tb = sss_cli_now() - t0;
+        double tb = monotonic_seconds() - t0;
         sss_result r = sss_file_write(path, &f, &err);
         if (r != SSS_OK) {
             fprintf(stderr, "%s: %s\n", tool, err.msg);
@@ -126,12 +137,4 @@ done:
     free(world);
     sss_scene_free(&sc);
     return rc;
-}
-
-#include <time.h>
-double sss_cli_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }

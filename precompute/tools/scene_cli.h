@@ -5,5 +5,4 @@
 /* Returns the process exit status: 0, 1 (bake or I/O failure), 2 (bad scene or options). */
 int scene_main(const char *tool, const char *scene_path, const char *outdir, int plan_only, int json, int quiet,
                const sss_bake_options *opt);
-double sss_cli_now(void);
 #endif

@@ -1,5 +1,9 @@
 /* sss-bake: bakes a mesh and a translucent material into a .sss file
- * (Hao–Varshney 2004 §3). See `sss-bake --help` and docs/usage.md. */
+ * (Hao–Varshney 2004 §3). See `sss-bake --help` and README.md ("Baking").
+ *
+ * main: parse() reads the command line into bake_args and checks its
+ * combinations, options() turns it into the bake's options, compression
+ * and material, run() imports, bakes, writes and reports. */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c11 */
 #include <cjson/cJSON.h>
 #include <stdint.h>
@@ -66,6 +70,167 @@ static void usage(FILE *f)
         "  -h, --help           this text\n");
 }
 
+/* The command line, as the option table fills it. A value left 0 (dirs,
+ * eps, mm_per_unit, theta, threads, gather) is the bake's own default. */
+typedef struct bake_args {
+    const char *mesh, *out, *scene;
+    const char *material; /* --material; NULL: marble unless --sigma-a/-s */
+    double sigma_a[3], sigma_s[3], eta;
+    int have_sigma_a, have_sigma_s, have_eta;
+    double mm_per_unit, eps, theta;
+    uint32_t dirs;
+    int threads;
+    int quant, have_quant; /* sss_quant */
+    int gather;
+    /* --own-term, --rings: runtime brings one ring unless --rings is given,
+     * before or after it; baked leaves the rings as they were */
+    uint32_t own_term, own_rings;
+    int own_term_given, rings_given;
+    /* compression: the sss_compress_opts fields, each with its given flag so
+     * that the preset fills only the rest (docs/compression.md) */
+    int preset, preset_given; /* sss_compress_preset */
+    uint32_t sh_order, weight_bits;
+    double refs, illum_weight;
+    int sh_quant, ls_weights; /* sss_shq */
+    int order_given, refs_given, sh_quant_given, wbits_given, ls_given, illum_given;
+    int compress; /* any compression option: the compressed form, not --quant */
+    int plan, json, quiet;
+} bake_args;
+
+/* --weight-bits: an integer in [8, 16] (that message first), then 8 or 16
+ * (the row's message), as the tool has always read it. */
+static int read_weight_bits(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
+{
+    uint32_t b;
+    const sss_cli_opt num = {.kind = SSS_CLI_U32, .dest = &b, .lo = o->lo, .hi = o->hi};
+    if (!sss_cli_value(cli, &num, opt, text)) return SSS_CLI_PRINTED;
+    if (b != 8 && b != 16) return 0;
+    *(uint32_t *)o->dest = b;
+    return 1;
+}
+
+/* --rings K: read as a number in [lo, hi] (that message on failure), then
+ * the row's "must be an integer" message after it, or after a fraction. */
+static int read_rings(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
+{
+    double k;
+    const sss_cli_opt num = {.kind = SSS_CLI_DOUBLE, .dest = &k, .lo = o->lo, .hi = o->hi};
+    if (!sss_cli_value(cli, &num, opt, text) || k != floor(k)) return 0;
+    *(uint32_t *)o->dest = (uint32_t)k;
+    return 1;
+}
+
+/* --own-term runtime|baked into bake_args (the row's dest): runtime sets one
+ * ring unless --rings came first; baked keeps whatever rings were set, so
+ * `--own-term runtime --own-term baked` bakes with own_rings 1, as ever. */
+static int read_own_term(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
+{
+    static const char *const modes[] = {"runtime", "baked", NULL};
+    static const int mode_values[] = {SSS_OWN_TERM_RUNTIME, 0};
+    bake_args *a = o->dest;
+    int mode;
+    const sss_cli_opt choice = {.kind = SSS_CLI_CHOICE, .dest = &mode, .choices = modes, .values = mode_values};
+    if (!sss_cli_value(cli, &choice, opt, text)) return SSS_CLI_PRINTED;
+    a->own_term = (uint32_t)mode;
+    if (mode == SSS_OWN_TERM_RUNTIME && !a->rings_given) a->own_rings = 1;
+    return 1;
+}
+
+/* Prints the one-line message of a combination of options that does not go
+ * together; returns the exit status 2. */
+static int refuse(const char *msg)
+{
+    fprintf(stderr, "%s: %s\n", TOOL, msg);
+    return 2;
+}
+
+/* Reads the command line into *a and checks its combinations. Returns
+ * SSS_CLI_RUN, or the exit status after --help (0) or a message (2). */
+static int parse(int argc, char **argv, bake_args *a)
+{
+    static const char *const quants[] = {"float", "lloyd8", NULL};
+    static const int quant_values[] = {SSS_QUANT_FLOAT, SSS_QUANT_LLOYD8};
+    static const char *const presets[] = {"paper", "compact", NULL};
+    static const int preset_values[] = {SSS_COMPRESS_PAPER, SSS_COMPRESS_COMPACT};
+    static const char *const shqs[] = {"linear8", "lloyd8", "lloyd4", NULL};
+    static const int shq_values[] = {SSS_SHQ_LINEAR8, SSS_SHQ_LLOYD8, SSS_SHQ_LLOYD4};
+    static const char *const gathers[] = {"direct", "tree", NULL};
+    static const int gather_values[] = {SSS_GATHER_DIRECT, SSS_GATHER_TREE};
+    memset(a, 0, sizeof *a);
+    a->eta = 1.3;
+    a->quant = SSS_QUANT_FLOAT;
+    a->gather = SSS_GATHER_AUTO;
+    sss_compress_opts co; /* what a compression option left unset starts from */
+    sss_compress_opts_default(&co);
+    a->sh_order = co.order;
+    a->refs = co.fraction;
+    a->sh_quant = (int)co.sh_kind;
+    a->weight_bits = co.wbits;
+    a->ls_weights = co.ls_weights;
+    a->illum_weight = co.illum_weight;
+    const sss_cli_opt opts[] = {
+        {.name = "--out", .alias = "-o", .kind = SSS_CLI_STRING, .dest = &a->out},
+        {.name = "--material", .kind = SSS_CLI_STRING, .dest = &a->material},
+        {.name = "--sigma-a", .kind = SSS_CLI_TRIPLE, .dest = a->sigma_a, .given = &a->have_sigma_a},
+        {.name = "--sigma-s", .kind = SSS_CLI_TRIPLE, .dest = a->sigma_s, .given = &a->have_sigma_s},
+        {.name = "--eta", .kind = SSS_CLI_DOUBLE, .dest = &a->eta, .lo = 1e-3, .hi = 1e3, .given = &a->have_eta},
+        {.name = "--mm-per-unit", .kind = SSS_CLI_DOUBLE, .dest = &a->mm_per_unit, .lo = 1e-12, .hi = 1e12},
+        {.name = "--dirs", .kind = SSS_CLI_U32, .dest = &a->dirs, .lo = 1, .hi = 100000},
+        {.name = "--eps", .kind = SSS_CLI_DOUBLE, .dest = &a->eps, .lo = 1e-12, .hi = 0.5},
+        {.name = "--quant", .kind = SSS_CLI_CHOICE, .dest = &a->quant, .choices = quants, .values = quant_values,
+         .given = &a->have_quant},
+        {.name = "--compress", .kind = SSS_CLI_CHOICE, .dest = &a->preset, .choices = presets,
+         .values = preset_values, .given = &a->preset_given},
+        {.name = "--sh-order", .kind = SSS_CLI_U32, .dest = &a->sh_order, .lo = 0, .hi = 8, .given = &a->order_given},
+        {.name = "--refs", .kind = SSS_CLI_DOUBLE, .dest = &a->refs, .lo = 0, .hi = 1, .given = &a->refs_given},
+        {.name = "--sh-quant", .kind = SSS_CLI_CHOICE, .dest = &a->sh_quant, .choices = shqs, .values = shq_values,
+         .given = &a->sh_quant_given},
+        {.name = "--weight-bits", .kind = SSS_CLI_CUSTOM, .dest = &a->weight_bits, .lo = 8, .hi = 16,
+         .parse = read_weight_bits, .given = &a->wbits_given, .msg = "%s: %s: '%s' must be 8 or 16\n"},
+        {.name = "--ls-weights", .kind = SSS_CLI_FLAG, .dest = &a->ls_weights, .given = &a->ls_given},
+        {.name = "--illum-refs", .kind = SSS_CLI_DOUBLE, .dest = &a->illum_weight, .lo = 1e-9, .hi = 1e9,
+         .given = &a->illum_given},
+        {.name = "--gather", .kind = SSS_CLI_CHOICE, .dest = &a->gather, .choices = gathers, .values = gather_values},
+        {.name = "--own-term", .kind = SSS_CLI_CUSTOM, .dest = a, .parse = read_own_term, .given = &a->own_term_given},
+        {.name = "--rings", .kind = SSS_CLI_CUSTOM, .dest = &a->own_rings, .lo = 0, .hi = SSS_OWN_RINGS_MAX,
+         .parse = read_rings, .given = &a->rings_given, .msg = "%s: %s: '%s' must be an integer %g ... %g\n"},
+        {.name = "--theta", .kind = SSS_CLI_DOUBLE, .dest = &a->theta, .lo = 1e-3, .hi = 0.95},
+        {.name = "--threads", .kind = SSS_CLI_INT, .dest = &a->threads, .lo = 1, .hi = 1024},
+        {.name = "--scene", .kind = SSS_CLI_STRING, .dest = &a->scene},
+        {.name = "--plan", .kind = SSS_CLI_FLAG, .dest = &a->plan},
+        {.name = "--json", .kind = SSS_CLI_FLAG, .dest = &a->json},
+        {.name = "--quiet", .alias = "-q", .kind = SSS_CLI_FLAG, .dest = &a->quiet},
+    };
+    /* MESH is optional here: "missing MESH" comes after the checks below */
+    const sss_cli_opt pos[] = {{.name = "MESH", .kind = SSS_CLI_STRING, .dest = &a->mesh}};
+    const sss_cli cli = {.tool = TOOL, .opts = opts, .nopts = SSS_CLI_COUNT(opts), .pos = pos,
+                         .npos = SSS_CLI_COUNT(pos), .usage = usage,
+                         .extra_msg = "%s: unexpected argument '%s' (one MESH only)\n"};
+    const int rc = sss_cli_parse(&cli, argc, argv);
+    if (rc != SSS_CLI_RUN) return rc;
+    a->compress = a->preset_given || a->order_given || a->refs_given || a->sh_quant_given || a->wbits_given ||
+                  a->ls_given || a->illum_given;
+
+    if (a->plan && !a->scene) return refuse("--plan needs --scene S.json");
+    if (a->rings_given && a->own_term != SSS_OWN_TERM_RUNTIME) return refuse("--rings needs --own-term runtime");
+    if (a->scene && a->own_term_given)
+        return refuse("--own-term applies to plain bakes, not to --scene (scene bakes keep the own term)");
+    if (a->scene) {
+        if (a->mesh) return refuse("--scene and a MESH argument exclude each other (the scene names the meshes)");
+        return SSS_CLI_RUN; /* the scene names meshes and materials: the rest is the plain bake's */
+    }
+    if (a->compress && a->have_quant)
+        return refuse("--quant and the compression options (--sh-order, --refs, ...) exclude each other");
+    if (a->compress && !a->refs_given && a->order_given && a->sh_order == 0)
+        return refuse("--sh-order 0 needs --refs FRACTION > 0 (nothing would be stored)");
+    if (a->compress && a->refs == 0.0 && a->sh_order == 0) return refuse("--refs 0 (SH only) needs --sh-order >= 1");
+    if (!a->mesh) return refuse("missing MESH (see --help)");
+    if (!a->out) return refuse("missing -o OUT.sss (see --help)");
+    if ((a->have_sigma_a || a->have_sigma_s) && (a->material || !a->have_sigma_a || !a->have_sigma_s))
+        return refuse("give either --material NAME or both --sigma-a and --sigma-s");
+    return SSS_CLI_RUN;
+}
+
 /* Set by SIGINT / SIGTERM; the bake polls it (sss_bake_options.cancel). */
 static volatile sig_atomic_t interrupted;
 
@@ -75,11 +240,32 @@ static void on_sigint(int sig)
     interrupted = 1;
 }
 
-/* What the environment says about this run: a memory limit (a share of a
- * machine used by others; the tests use it to exercise the refusal), a
- * progress log for scripts and tests, the gather's own figures. */
-static void options_from_env(sss_bake_options *opt)
+/* What the bake is given: its options, the compression they point to, the
+ * material. */
+typedef struct bake_setup {
+    sss_bake_options opt;
+    sss_compress_opts co; /* opt.compress points here when compressing */
+    sss_material mat;     /* a plain bake's; a scene names its own */
+} bake_setup;
+
+/* The options of the bake from the command line and the environment: a
+ * memory limit (a share of a machine used by others; the tests use it to
+ * exercise the refusal), a progress log for scripts and tests, the
+ * gather's own figures. Returns SSS_CLI_RUN, or 2 after a message on the
+ * material. */
+static int options(const bake_args *a, bake_setup *s)
 {
+    sss_bake_options *opt = &s->opt;
+    memset(opt, 0, sizeof *opt);
+    opt->mm_per_unit = a->mm_per_unit;
+    opt->n_dirs = a->dirs;
+    opt->eps = a->eps;
+    opt->quant = (sss_quant)a->quant;
+    opt->gather = a->gather;
+    opt->theta = a->theta;
+    opt->threads = a->threads;
+    opt->own_term = a->own_term;
+    opt->own_rings = a->own_rings;
     const char *lim = getenv("SSS_MEMORY_LIMIT_MB");
     if (lim && *lim) {
         char *end;
@@ -89,242 +275,78 @@ static void options_from_env(sss_bake_options *opt)
     const char *log = getenv("SSS_PROGRESS_LOG");
     if (log && *log) opt->progress_log = log;
     opt->verbose = getenv("SSS_GATHER_VERBOSE") != NULL;
+    opt->cancel = &interrupted;
+    sss_compress_opts_default(&s->co);
+    if (a->scene) { /* scene_main bakes every object with the scene's materials */
+        opt->progress = 0;
+        return SSS_CLI_RUN;
+    }
+
+    sss_error err = {{0}};
+    sss_material *mat = &s->mat;
+    if (a->have_sigma_a || a->have_sigma_s) { /* then both, and no --material: parse() */
+        memset(mat, 0, sizeof *mat);
+        snprintf(mat->name, sizeof mat->name, "custom");
+        for (int c = 0; c < 3; c++) {
+            mat->sigma_a[c] = a->sigma_a[c];
+            mat->sigmap_s[c] = a->sigma_s[c];
+        }
+        mat->eta = a->eta;
+    } else if (sss_material_preset(a->material ? a->material : "marble", mat, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 2;
+    } else if (a->have_eta) {
+        mat->eta = a->eta;
+    }
+    if (sss_material_validate(mat, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 2;
+    }
+    if (a->compress) {
+        sss_compress_opts *co = &s->co;
+        co->order = a->sh_order;
+        co->fraction = a->refs;
+        co->sh_kind = (uint32_t)a->sh_quant;
+        co->wbits = a->weight_bits;
+        co->ls_weights = a->ls_weights;
+        co->illum_weight = a->illum_weight;
+        /* a preset fills what the user did not set (docs/compression.md) */
+        const uint32_t given = (a->order_given ? SSS_CO_ORDER : 0) | (a->refs_given ? SSS_CO_FRACTION : 0) |
+                               (a->sh_quant_given ? SSS_CO_SH_KIND : 0) | (a->wbits_given ? SSS_CO_WBITS : 0) |
+                               (a->ls_given ? SSS_CO_LS_WEIGHTS : 0) | (a->illum_given ? SSS_CO_ILLUM : 0);
+        sss_compress_preset_apply(co, (sss_compress_preset)a->preset, sss_material_channels(mat), given);
+        opt->quant = SSS_QUANT_FLOAT;
+        opt->compress = co;
+    }
+    opt->progress = !a->quiet;
+    return SSS_CLI_RUN;
 }
 
-static double now_s(void)
+static double monotonic_seconds(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-int main(int argc, char **argv)
-{
-    const char *in = NULL, *outp = NULL, *preset = NULL;
-    double sa[3], ss[3], eta = 1.3;
-    int have_sa = 0, have_ss = 0, have_eta = 0, json = 0, quiet = 0, plan_only = 0;
-    const char *scene = NULL;
-    sss_bake_options opt;
-    memset(&opt, 0, sizeof opt);
-    sss_compress_opts co;
-    sss_compress_opts_default(&co);
-    int compress = 0, have_quant = 0, have_refs = 0, compact = 0, own_set = 0, rings_set = 0;
-    /* which compression options were given, so a preset only fills the rest */
-    int set_order = 0, set_kind = 0, set_wbits = 0, set_ls = 0, set_illum = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEED() do { if (!v) { fprintf(stderr, "%s: %s needs a value\n", TOOL, a); return 2; } i++; } while (0)
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) { usage(stdout); return 0; }
-        else if (!strcmp(a, "-o") || !strcmp(a, "--out")) { NEED(); outp = v; }
-        else if (!strcmp(a, "--material")) { NEED(); preset = v; }
-        else if (!strcmp(a, "--sigma-a")) { NEED(); if (!sss_cli_parse_triple(TOOL, a, v, sa)) return 2; have_sa = 1; }
-        else if (!strcmp(a, "--sigma-s")) { NEED(); if (!sss_cli_parse_triple(TOOL, a, v, ss)) return 2; have_ss = 1; }
-        else if (!strcmp(a, "--eta")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 1e-3, 1e3, &eta)) return 2; have_eta = 1; }
-        else if (!strcmp(a, "--mm-per-unit")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 1e-12, 1e12, &opt.mm_per_unit)) return 2; if (!(opt.mm_per_unit > 0)) { fprintf(stderr, "%s: --mm-per-unit must be > 0\n", TOOL); return 2; } }
-        else if (!strcmp(a, "--dirs")) { NEED(); if (!sss_cli_parse_u32(TOOL, a, v, 1, 100000, &opt.n_dirs)) return 2; }
-        else if (!strcmp(a, "--eps")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 1e-12, 0.5, &opt.eps)) return 2; }
-        else if (!strcmp(a, "--quant")) {
-            NEED();
-            if (!strcmp(v, "float")) opt.quant = SSS_QUANT_FLOAT;
-            else if (!strcmp(v, "lloyd8")) opt.quant = SSS_QUANT_LLOYD8;
-            else { fprintf(stderr, "%s: --quant: '%s' must be float or lloyd8\n", TOOL, v); return 2; }
-            have_quant = 1;
-        }
-        else if (!strcmp(a, "--compress")) {
-            NEED();
-            if (!strcmp(v, "paper")) compact = 0;
-            else if (!strcmp(v, "compact")) compact = 1;
-            else { fprintf(stderr, "%s: --compress: '%s' must be paper or compact\n", TOOL, v); return 2; }
-            compress = 1;
-        }
-        else if (!strcmp(a, "--sh-order")) { NEED(); if (!sss_cli_parse_u32(TOOL, a, v, 0, 8, &co.order)) return 2; compress = 1; set_order = 1; }
-        else if (!strcmp(a, "--refs")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 0.0, 1.0, &co.fraction)) return 2; compress = 1; have_refs = 1; }
-        else if (!strcmp(a, "--sh-quant")) {
-            NEED();
-            if (!strcmp(v, "linear8")) co.sh_kind = SSS_SHQ_LINEAR8;
-            else if (!strcmp(v, "lloyd8")) co.sh_kind = SSS_SHQ_LLOYD8;
-            else if (!strcmp(v, "lloyd4")) co.sh_kind = SSS_SHQ_LLOYD4;
-            else { fprintf(stderr, "%s: --sh-quant: '%s' must be linear8, lloyd8 or lloyd4\n", TOOL, v); return 2; }
-            compress = 1;
-            set_kind = 1;
-        }
-        else if (!strcmp(a, "--weight-bits")) {
-            NEED();
-            if (!sss_cli_parse_u32(TOOL, a, v, 8, 16, &co.wbits)) return 2;
-            if (co.wbits != 8 && co.wbits != 16) { fprintf(stderr, "%s: --weight-bits: '%s' must be 8 or 16\n", TOOL, v); return 2; }
-            compress = 1;
-            set_wbits = 1;
-        }
-        else if (!strcmp(a, "--ls-weights")) { co.ls_weights = 1; compress = 1; set_ls = 1; }
-        else if (!strcmp(a, "--illum-refs")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 1e-9, 1e9, &co.illum_weight)) return 2; compress = 1; set_illum = 1; }
-        else if (!strcmp(a, "--gather")) {
-            NEED();
-            if (!strcmp(v, "direct")) opt.gather = SSS_GATHER_DIRECT;
-            else if (!strcmp(v, "tree")) opt.gather = SSS_GATHER_TREE;
-            else { fprintf(stderr, "%s: --gather: '%s' must be direct or tree\n", TOOL, v); return 2; }
-        }
-        else if (!strcmp(a, "--own-term")) {
-            NEED();
-            if (!strcmp(v, "runtime")) opt.own_term = SSS_OWN_TERM_RUNTIME, opt.own_rings = rings_set ? opt.own_rings : 1;
-            else if (!strcmp(v, "baked")) opt.own_term = 0;
-            else { fprintf(stderr, "%s: --own-term: '%s' must be runtime or baked\n", TOOL, v); return 2; }
-            own_set = 1;
-        }
-        else if (!strcmp(a, "--rings")) {
-            NEED();
-            double k;
-            if (!sss_cli_parse_double(TOOL, a, v, 0, SSS_OWN_RINGS_MAX, &k) || k != floor(k)) {
-                fprintf(stderr, "%s: --rings: '%s' must be an integer 0 ... %u\n", TOOL, v, SSS_OWN_RINGS_MAX);
-                return 2;
-            }
-            opt.own_rings = (uint32_t)k;
-            rings_set = 1;
-        }
-        else if (!strcmp(a, "--theta")) { NEED(); if (!sss_cli_parse_double(TOOL, a, v, 1e-3, 0.95, &opt.theta)) return 2; }
-        else if (!strcmp(a, "--threads")) { uint32_t t; NEED(); if (!sss_cli_parse_u32(TOOL, a, v, 1, 1024, &t)) return 2; opt.threads = (int)t; }
-        else if (!strcmp(a, "--scene")) { NEED(); scene = v; }
-        else if (!strcmp(a, "--plan")) plan_only = 1;
-        else if (!strcmp(a, "--json")) json = 1;
-        else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) quiet = 1;
-        else if (a[0] == '-' && a[1]) { fprintf(stderr, "%s: unknown option '%s' (see --help)\n", TOOL, a); return 2; }
-        else if (!in) in = a;
-        else { fprintf(stderr, "%s: unexpected argument '%s' (one MESH only)\n", TOOL, a); return 2; }
-#undef NEED
-    }
-    options_from_env(&opt);
-    opt.cancel = &interrupted;
-    if (plan_only && !scene) {
-        fprintf(stderr, "%s: --plan needs --scene S.json\n", TOOL);
-        return 2;
-    }
-    if (rings_set && opt.own_term != SSS_OWN_TERM_RUNTIME) {
-        fprintf(stderr, "%s: --rings needs --own-term runtime\n", TOOL);
-        return 2;
-    }
-    if (scene && own_set) {
-        fprintf(stderr, "%s: --own-term applies to plain bakes, not to --scene (scene bakes keep the own term)\n",
-                TOOL);
-        return 2;
-    }
-    if (scene) {
-        if (in) {
-            fprintf(stderr, "%s: --scene and a MESH argument exclude each other (the scene names the meshes)\n", TOOL);
-            return 2;
-        }
-        opt.progress = 0;
-        return scene_main(TOOL, scene, outp, plan_only, json, quiet, &opt);
-    }
-    if (compress && have_quant) {
-        fprintf(stderr, "%s: --quant and the compression options (--sh-order, --refs, ...) exclude each other\n",
-                TOOL);
-        return 2;
-    }
-    if (compress && !have_refs && set_order && co.order == 0) {
-        fprintf(stderr, "%s: --sh-order 0 needs --refs FRACTION > 0 (nothing would be stored)\n", TOOL);
-        return 2;
-    }
-    if (compress && co.fraction == 0.0 && co.order == 0) {
-        fprintf(stderr, "%s: --refs 0 (SH only) needs --sh-order >= 1\n", TOOL);
-        return 2;
-    }
-    if (compress) opt.quant = SSS_QUANT_FLOAT;
-    if (!in || !outp) {
-        fprintf(stderr, "%s: %s (see --help)\n", TOOL, !in ? "missing MESH" : "missing -o OUT.sss");
-        return 2;
-    }
-    sss_error err = {{0}};
-    sss_material mat;
-    if (have_sa || have_ss) {
-        if (preset || !have_sa || !have_ss) {
-            fprintf(stderr, "%s: give either --material NAME or both --sigma-a and --sigma-s\n", TOOL);
-            return 2;
-        }
-        memset(&mat, 0, sizeof mat);
-        snprintf(mat.name, sizeof mat.name, "custom");
-        for (int c = 0; c < 3; c++) { mat.sigma_a[c] = sa[c]; mat.sigmap_s[c] = ss[c]; }
-        mat.eta = eta;
-    } else if (sss_material_preset(preset ? preset : "marble", &mat, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-        return 2;
-    } else if (have_eta) {
-        mat.eta = eta;
-    }
-    if (sss_material_validate(&mat, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-        return 2;
-    }
-    if (compress) {
-        /* a preset fills what the user did not set (docs/compression.md) */
-        const uint32_t given = (set_order ? SSS_CO_ORDER : 0) | (have_refs ? SSS_CO_FRACTION : 0) |
-                               (set_kind ? SSS_CO_SH_KIND : 0) | (set_wbits ? SSS_CO_WBITS : 0) |
-                               (set_ls ? SSS_CO_LS_WEIGHTS : 0) | (set_illum ? SSS_CO_ILLUM : 0);
-        sss_compress_preset_apply(&co, compact ? SSS_COMPRESS_COMPACT : SSS_COMPRESS_PAPER,
-                                  sss_material_channels(&mat), given);
-        opt.compress = &co;
-    }
-    opt.progress = !quiet;
-    /* under mpirun: split the receivers, rank 0 alone speaks and writes */
-    int mpi_rank = 0, mpi_n = 1;
-    sss_mpi_start(&argc, &argv, &mpi_rank, &mpi_n);
-    if (mpi_n > 1) {
-        opt.rank = mpi_rank;
-        opt.nranks = mpi_n;
-        opt.comm = sss_mpi_comm();
-        if (mpi_rank != 0) { opt.progress = 0; quiet = 1; json = 0; }
-    }
-    signal(SIGINT, on_sigint);
-    signal(SIGTERM, on_sigint);
-
-    double t0 = now_s();
-    sss_mesh mesh;
+/* What a plain bake produced, for its report. */
+typedef struct bake_result {
     sss_import_report rep;
-    if (sss_import_mesh(in, &mesh, &rep, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-        return 1;
-    }
-    double t_import = now_s() - t0;
-    {
-        char prefix[600];
-        snprintf(prefix, sizeof prefix, "%s: %s", TOOL, in);
-        if (!quiet) sss_import_print_repairs(&rep, prefix, stderr);
-        sss_import_print_warnings(&rep, prefix, stderr); /* also with -q, like the bake's warnings */
-    }
-    if (rep.recentred) opt.import_offset = rep.offset; /* provenance (docs/robustness.md B6) */
-
     sss_bake_file f;
     sss_bake_stats st;
-    if (sss_bake(&mesh, sss_cli_basename(in), &mat, &opt, &f, &st, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: %s\n", TOOL, in, err.msg);
-        sss_mesh_free(&mesh);
-        sss_mpi_abort(interrupted ? 130 : 1); /* the other ranks wait in a collective */
-        return interrupted ? 130 : 1;
-    }
-    if (mpi_n > 1 && mpi_rank != 0) { /* its part went to rank 0 */
-        sss_file_free(&f);
-        sss_mesh_free(&mesh);
-        sss_mpi_stop();
-        return 0;
-    }
-    const double t_compress = st.t_compress;
-    t0 = now_s();
-    /* a signal after the bake's last poll: still nothing is written */
-    sss_result r = interrupted ? sss_fail(&err, SSS_ERR_INTERRUPTED, "%s: interrupted, nothing written", outp)
-                                        : sss_file_write(outp, &f, &err);
-    double t_write = now_s() - t0;
-    if (r != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-        sss_file_free(&f);
-        sss_mesh_free(&mesh);
-        return r == SSS_ERR_INTERRUPTED ? 130 : 1;
-    }
-    FILE *fp = fopen(outp, "rb");
-    long long fsize = -1;
-    if (fp) { fseek(fp, 0, SEEK_END); fsize = ftell(fp); fclose(fp); }
-    const uint32_t nv = f.mesh.nv, C = f.channels, N = f.dirs.n;
-    double q_bytes = sss_file_integral_bytes_per_vertex(&f);
-    double total = t_import + st.t_neighbourhoods + st.t_tree + st.t_visibility + st.t_integrals + st.t_quantise + t_compress +
-                   t_write;
+    double t_import, t_write;
+    long long file_bytes; /* -1: the written file could not be opened */
+    int nranks;
+} bake_result;
+
+/* The summary and the warnings on stderr (the warnings also with -q). */
+static void report_text(const bake_args *a, const bake_setup *s, const bake_result *r, int quiet)
+{
+    const char *in = a->mesh, *outp = a->out;
+    const sss_bake_file *f = &r->f;
+    const sss_bake_stats *st = &r->st;
+    const uint32_t nv = f->mesh.nv, C = f->channels, N = f->dirs.n;
+    const long long fsize = r->file_bytes;
     if (!quiet)
         fprintf(stderr,
                 "%s: %s: %u vertices, %u triangles, %u directions, %u channels, %s\n"
@@ -332,120 +354,209 @@ int main(int argc, char **argv)
                 "  rays %llu (%.1f%% occluded)%s\n"
                 "  time: import %.3fs, neighbourhoods %.3fs, visibility %.3fs, integrals %.3fs, quantise %.3fs, compress %.3fs, write %.3fs\n"
                 "  %s: %lld bytes, %.1f bytes/vertex (integrals %.1f)\n",
-                TOOL, in, nv, f.mesh.nf, N, C, sss_quant_name(f.quant), st.radius_mm[0],
-                st.radius_mm[1], st.radius_mm[2], st.neighbours_mean, st.neighbours_max, (unsigned long long)st.rays,
-                100.0 * st.occluded_fraction, "", t_import, st.t_neighbourhoods, st.t_visibility, st.t_integrals,
-                st.t_quantise, t_compress, t_write, outp, fsize, (double)fsize / nv, q_bytes);
-    if (st.thin_vertices)
+                TOOL, in, nv, f->mesh.nf, N, C, sss_quant_name(f->quant), st->radius_mm[0],
+                st->radius_mm[1], st->radius_mm[2], st->neighbours_mean, st->neighbours_max, (unsigned long long)st->rays,
+                100.0 * st->occluded_fraction, "", r->t_import, st->t_neighbourhoods, st->t_visibility, st->t_integrals,
+                st->t_quantise, st->t_compress, r->t_write, outp, fsize, (double)fsize / nv,
+                sss_file_integral_bytes_per_vertex(f));
+    if (st->thin_vertices)
         fprintf(stderr, "%s: %s: warning: %u vertices lie on parts thinner than the scattering length 1/sigma_tr = %.3g mm "
                 "(thinnest %.3g mm): the semi-infinite dipole counts light gathered through them twice, so q there comes "
-                "out too large (docs/robustness.md B8)\n", TOOL, in, st.thin_vertices, st.thin_limit_mm, st.thinnest_mm);
+                "out too large (docs/robustness.md B8)\n", TOOL, in, st->thin_vertices, st->thin_limit_mm, st->thinnest_mm);
     if (!quiet)
         fprintf(stderr, "  gather %s%s: tree %.3fs, %.1f GFLOP/s%s; memory predicted %.0f MiB, peak RSS %.0f MiB%s\n",
-                st.gather == SSS_GATHER_TREE ? "tree" : "direct",
-                st.gather == SSS_GATHER_TREE ? "" : " (every neighbour)", st.t_tree, st.gather_gflops,
-                st.gather == SSS_GATHER_TREE ? " in the block products" : " multiply-adds x 2", st.predicted_peak_bytes / 1048576.0,
-                sss_cli_peak_rss_mib(), mpi_n > 1 ? " (rank 0)" : "");
-    if (!quiet && st.direction_chunks > 1) /* issue 8: the memory plan of bake_gather.c */
+                st->gather == SSS_GATHER_TREE ? "tree" : "direct",
+                st->gather == SSS_GATHER_TREE ? "" : " (every neighbour)", st->t_tree, st->gather_gflops,
+                st->gather == SSS_GATHER_TREE ? " in the block products" : " multiply-adds x 2", st->predicted_peak_bytes / 1048576.0,
+                sss_cli_peak_rss_mib(), r->nranks > 1 ? " (rank 0)" : "");
+    /* the memory plan (docs/benchmarks.md, "Memory: light directions in chunks") */
+    if (!quiet && st->direction_chunks > 1)
         fprintf(stderr, "  light directions in %u chunks of at most %u: the memory available would not hold the "
                 "transfer rows and tree moments of all %u at once (same output)\n",
-                st.direction_chunks, st.direction_chunk_width, N);
-    if (st.coarse_vertices)
+                st->direction_chunks, st->direction_chunk_width, N);
+    if (st->coarse_vertices)
         fprintf(stderr, "%s: %s: warning: %u vertices have an edge longer than %.3g mm, twice the scattering length "
                 "1/sigma_tr = %.3g mm (longest edge %.3g mm): the per-vertex sum does not resolve the profile there "
-                "and q comes out too large; resample the mesh finer\n", TOOL, in, st.coarse_vertices,
-                2.0 * st.range_mm, st.range_mm, st.longest_edge_mm);
-    if (!quiet && f.quant == SSS_QUANT_REFS)
+                "and q comes out too large; resample the mesh finer\n", TOOL, in, st->coarse_vertices,
+                2.0 * st->range_mm, st->range_mm, st->longest_edge_mm);
+    if (!quiet && f->quant == SSS_QUANT_REFS)
         fprintf(stderr, "  %u references (%.2f%%), %u reference triangles, SH order %u (%s), %u-bit %s weights\n",
-                f.ref.nref, 100.0 * f.ref.nref / nv, f.ref.nrt, f.sh.order, sss_shq_name(f.sh.kind), f.ref.wbits,
-                co.ls_weights ? "least-squares" : "barycentric");
-    if (!quiet && f.quant == SSS_QUANT_SH)
-        fprintf(stderr, "  SH order %u (%s) at every vertex\n", f.sh.order, sss_shq_name(f.sh.kind));
-    if (!quiet && f.quant == SSS_QUANT_LLOYD8)
-        fprintf(stderr, "  lloyd8 SNR %.2f dB (R %.2f, G %.2f, B %.2f)\n", st.lloyd_snr_db_all, st.lloyd_snr_db[0],
-                st.lloyd_snr_db[1], st.lloyd_snr_db[2]);
-    if (json) {
-        cJSON *o = cJSON_CreateObject();
-        cJSON_AddStringToObject(o, "mesh", in);
-        cJSON_AddStringToObject(o, "output", outp);
-        cJSON_AddNumberToObject(o, "vertices", nv);
-        cJSON_AddNumberToObject(o, "triangles", f.mesh.nf);
-        cJSON_AddNumberToObject(o, "directions", N);
-        cJSON_AddNumberToObject(o, "channels", C);
-        cJSON_AddStringToObject(o, "quant", sss_quant_name(f.quant));
-        if (compress) {
-            cJSON_AddNumberToObject(o, "sh_order", f.sh.order);
-            cJSON_AddStringToObject(o, "sh_quant", sss_shq_name(f.sh.kind));
-            cJSON_AddNumberToObject(o, "refs", f.quant == SSS_QUANT_REFS ? f.ref.nref : 0);
-        }
-        cJSON_AddStringToObject(o, "material", mat.name);
-        cJSON_AddNumberToObject(o, "mm_per_unit", f.mm_per_unit);
-        cJSON *rp = cJSON_AddObjectToObject(o, "repairs");
-        cJSON_AddNumberToObject(rp, "polygons_triangulated", (double)rep.polygons_triangulated);
-        cJSON_AddNumberToObject(rp, "faces_too_small", (double)rep.faces_too_small);
-        cJSON_AddNumberToObject(rp, "faces_repeated_index", (double)rep.faces_repeated_index);
-        cJSON_AddNumberToObject(rp, "faces_zero_area", (double)rep.faces_zero_area);
-        cJSON_AddNumberToObject(rp, "vertices_unreferenced", (double)rep.vertices_unreferenced);
-        cJSON_AddNumberToObject(rp, "polygons_ear_clipped", (double)rep.polygons_ear_clipped);
-        cJSON_AddNumberToObject(rp, "polygons_unclipped", (double)rep.polygons_unclipped);
-        cJSON_AddNumberToObject(rp, "faces_duplicate", (double)rep.faces_duplicate);
-        cJSON_AddNumberToObject(rp, "faces_flipped", (double)rep.faces_flipped);
-        cJSON_AddNumberToObject(rp, "surfaces_inside_out", (double)rep.surfaces_inside_out);
-        cJSON_AddNumberToObject(rp, "open_faces_flipped", (double)rep.open_faces_flipped);
-        cJSON_AddNumberToObject(rp, "orientation_conflicts", (double)rep.orientation_conflicts);
-        cJSON_AddNumberToObject(rp, "recentred", (double)rep.recentred);
-        if (rep.recentred) cJSON_AddItemToObject(rp, "offset", cJSON_CreateDoubleArray(rep.offset, 3));
-        cJSON_AddItemToObject(o, "radius_mm", cJSON_CreateDoubleArray(st.radius_mm, 3));
-        cJSON_AddNumberToObject(o, "coarse_vertices", st.coarse_vertices);
-        cJSON_AddNumberToObject(o, "thin_vertices", st.thin_vertices);
-        if (isfinite(st.thinnest_mm)) cJSON_AddNumberToObject(o, "thinnest_mm", st.thinnest_mm);
-        cJSON_AddNumberToObject(o, "longest_edge_mm", st.longest_edge_mm);
-        cJSON_AddNumberToObject(o, "scattering_length_mm", st.range_mm);
-        cJSON_AddNumberToObject(o, "neighbours_mean", st.neighbours_mean);
-        cJSON_AddNumberToObject(o, "neighbours_max", st.neighbours_max);
-        cJSON_AddNumberToObject(o, "rays", (double)st.rays);
-        cJSON_AddNumberToObject(o, "occluded_fraction", st.occluded_fraction);
-        cJSON *tm = cJSON_AddObjectToObject(o, "seconds");
-        cJSON_AddNumberToObject(tm, "import", t_import);
-        cJSON_AddNumberToObject(tm, "neighbourhoods", st.t_neighbourhoods);
-        cJSON_AddNumberToObject(tm, "visibility", st.t_visibility);
-        cJSON_AddNumberToObject(tm, "integrals", st.t_integrals);
-        cJSON_AddNumberToObject(tm, "quantise", st.t_quantise);
-        cJSON_AddNumberToObject(tm, "compress", t_compress);
-        cJSON_AddNumberToObject(tm, "write", t_write);
-        cJSON_AddNumberToObject(tm, "total", total);
-        cJSON_AddNumberToObject(o, "peak_rss_mib", sss_cli_peak_rss_mib());
-        /* issue 8: the gather, its sgemm rate and the memory predicted before starting */
-        cJSON_AddStringToObject(o, "gather", st.gather == SSS_GATHER_TREE ? "tree" : "direct");
-        if (st.gather == SSS_GATHER_TREE) {
-            cJSON_AddNumberToObject(o, "theta", st.theta);
-            cJSON_AddNumberToObject(o, "tree_nodes", st.tree_nodes);
-            cJSON_AddNumberToObject(o, "tree_blocks", st.tree_blocks);
-            cJSON_AddNumberToObject(o, "rows_per_block", st.rows_mean);
-            cJSON_AddNumberToObject(o, "far_nodes_per_vertex", st.far_pairs / (double)nv);
-            cJSON_AddNumberToObject(o, "sgemm_fraction", st.sgemm_fraction);
-            cJSON_AddNumberToObject(o, "direction_chunks", st.direction_chunks);
-            cJSON_AddNumberToObject(o, "direction_chunk_width", st.direction_chunk_width);
-            cJSON_AddNumberToObject(tm, "tree", st.t_tree);
-        }
-        cJSON_AddNumberToObject(o, "gather_gflops", st.gather_gflops);
-        if (st.gather == SSS_GATHER_TREE) cJSON_AddNumberToObject(o, "near_gflops", st.near_gflops);
-        cJSON_AddNumberToObject(o, "predicted_peak_mib", st.predicted_peak_bytes / 1048576.0);
-        cJSON_AddNumberToObject(o, "mpi_ranks", mpi_n);
-        cJSON_AddNumberToObject(o, "file_bytes", (double)fsize);
-        cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)fsize / nv);
-        cJSON_AddNumberToObject(o, "integral_bytes_per_vertex", q_bytes);
-        if (f.quant == SSS_QUANT_LLOYD8) {
-            cJSON_AddNumberToObject(o, "lloyd_snr_db", st.lloyd_snr_db_all);
-            cJSON_AddItemToObject(o, "lloyd_snr_db_per_channel", cJSON_CreateDoubleArray(st.lloyd_snr_db, 3));
-        }
-        char *s = cJSON_PrintUnformatted(o);
-        puts(s);
-        free(s);
-        cJSON_Delete(o);
+                f->ref.nref, 100.0 * f->ref.nref / nv, f->ref.nrt, f->sh.order, sss_shq_name(f->sh.kind), f->ref.wbits,
+                s->co.ls_weights ? "least-squares" : "barycentric");
+    if (!quiet && f->quant == SSS_QUANT_SH)
+        fprintf(stderr, "  SH order %u (%s) at every vertex\n", f->sh.order, sss_shq_name(f->sh.kind));
+    if (!quiet && f->quant == SSS_QUANT_LLOYD8)
+        fprintf(stderr, "  lloyd8 SNR %.2f dB (R %.2f, G %.2f, B %.2f)\n", st->lloyd_snr_db_all, st->lloyd_snr_db[0],
+                st->lloyd_snr_db[1], st->lloyd_snr_db[2]);
+}
+
+/* --json: one object on stdout. */
+static void report_json(const bake_args *a, const bake_setup *s, const bake_result *r)
+{
+    const sss_bake_file *f = &r->f;
+    const sss_bake_stats *st = &r->st;
+    const sss_import_report *rep = &r->rep;
+    const uint32_t nv = f->mesh.nv;
+    const double total = r->t_import + st->t_neighbourhoods + st->t_tree + st->t_visibility + st->t_integrals +
+                         st->t_quantise + st->t_compress + r->t_write;
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "mesh", a->mesh);
+    cJSON_AddStringToObject(o, "output", a->out);
+    cJSON_AddNumberToObject(o, "vertices", nv);
+    cJSON_AddNumberToObject(o, "triangles", f->mesh.nf);
+    cJSON_AddNumberToObject(o, "directions", f->dirs.n);
+    cJSON_AddNumberToObject(o, "channels", f->channels);
+    cJSON_AddStringToObject(o, "quant", sss_quant_name(f->quant));
+    if (a->compress) {
+        cJSON_AddNumberToObject(o, "sh_order", f->sh.order);
+        cJSON_AddStringToObject(o, "sh_quant", sss_shq_name(f->sh.kind));
+        cJSON_AddNumberToObject(o, "refs", f->quant == SSS_QUANT_REFS ? f->ref.nref : 0);
     }
-    sss_file_free(&f);
+    cJSON_AddStringToObject(o, "material", s->mat.name);
+    cJSON_AddNumberToObject(o, "mm_per_unit", f->mm_per_unit);
+    cJSON *rp = cJSON_AddObjectToObject(o, "repairs");
+    cJSON_AddNumberToObject(rp, "polygons_triangulated", (double)rep->polygons_triangulated);
+    cJSON_AddNumberToObject(rp, "faces_too_small", (double)rep->faces_too_small);
+    cJSON_AddNumberToObject(rp, "faces_repeated_index", (double)rep->faces_repeated_index);
+    cJSON_AddNumberToObject(rp, "faces_zero_area", (double)rep->faces_zero_area);
+    cJSON_AddNumberToObject(rp, "vertices_unreferenced", (double)rep->vertices_unreferenced);
+    cJSON_AddNumberToObject(rp, "polygons_ear_clipped", (double)rep->polygons_ear_clipped);
+    cJSON_AddNumberToObject(rp, "polygons_unclipped", (double)rep->polygons_unclipped);
+    cJSON_AddNumberToObject(rp, "faces_duplicate", (double)rep->faces_duplicate);
+    cJSON_AddNumberToObject(rp, "faces_flipped", (double)rep->faces_flipped);
+    cJSON_AddNumberToObject(rp, "surfaces_inside_out", (double)rep->surfaces_inside_out);
+    cJSON_AddNumberToObject(rp, "open_faces_flipped", (double)rep->open_faces_flipped);
+    cJSON_AddNumberToObject(rp, "orientation_conflicts", (double)rep->orientation_conflicts);
+    cJSON_AddNumberToObject(rp, "recentred", (double)rep->recentred);
+    if (rep->recentred) cJSON_AddItemToObject(rp, "offset", cJSON_CreateDoubleArray(rep->offset, 3));
+    cJSON_AddItemToObject(o, "radius_mm", cJSON_CreateDoubleArray(st->radius_mm, 3));
+    cJSON_AddNumberToObject(o, "coarse_vertices", st->coarse_vertices);
+    cJSON_AddNumberToObject(o, "thin_vertices", st->thin_vertices);
+    if (isfinite(st->thinnest_mm)) cJSON_AddNumberToObject(o, "thinnest_mm", st->thinnest_mm);
+    cJSON_AddNumberToObject(o, "longest_edge_mm", st->longest_edge_mm);
+    cJSON_AddNumberToObject(o, "scattering_length_mm", st->range_mm);
+    cJSON_AddNumberToObject(o, "neighbours_mean", st->neighbours_mean);
+    cJSON_AddNumberToObject(o, "neighbours_max", st->neighbours_max);
+    cJSON_AddNumberToObject(o, "rays", (double)st->rays);
+    cJSON_AddNumberToObject(o, "occluded_fraction", st->occluded_fraction);
+    cJSON *tm = cJSON_AddObjectToObject(o, "seconds");
+    cJSON_AddNumberToObject(tm, "import", r->t_import);
+    cJSON_AddNumberToObject(tm, "neighbourhoods", st->t_neighbourhoods);
+    cJSON_AddNumberToObject(tm, "visibility", st->t_visibility);
+    cJSON_AddNumberToObject(tm, "integrals", st->t_integrals);
+    cJSON_AddNumberToObject(tm, "quantise", st->t_quantise);
+    cJSON_AddNumberToObject(tm, "compress", st->t_compress);
+    cJSON_AddNumberToObject(tm, "write", r->t_write);
+    cJSON_AddNumberToObject(tm, "total", total);
+    cJSON_AddNumberToObject(o, "peak_rss_mib", sss_cli_peak_rss_mib());
+    /* the gather, its sgemm rate and the memory predicted before starting
+     * (docs/benchmarks.md) */
+    cJSON_AddStringToObject(o, "gather", st->gather == SSS_GATHER_TREE ? "tree" : "direct");
+    if (st->gather == SSS_GATHER_TREE) {
+        cJSON_AddNumberToObject(o, "theta", st->theta);
+        cJSON_AddNumberToObject(o, "tree_nodes", st->tree_nodes);
+        cJSON_AddNumberToObject(o, "tree_blocks", st->tree_blocks);
+        cJSON_AddNumberToObject(o, "rows_per_block", st->rows_mean);
+        cJSON_AddNumberToObject(o, "far_nodes_per_vertex", st->far_pairs / (double)nv);
+        cJSON_AddNumberToObject(o, "sgemm_fraction", st->sgemm_fraction);
+        cJSON_AddNumberToObject(o, "direction_chunks", st->direction_chunks);
+        cJSON_AddNumberToObject(o, "direction_chunk_width", st->direction_chunk_width);
+        cJSON_AddNumberToObject(tm, "tree", st->t_tree);
+    }
+    cJSON_AddNumberToObject(o, "gather_gflops", st->gather_gflops);
+    if (st->gather == SSS_GATHER_TREE) cJSON_AddNumberToObject(o, "near_gflops", st->near_gflops);
+    cJSON_AddNumberToObject(o, "predicted_peak_mib", st->predicted_peak_bytes / 1048576.0);
+    cJSON_AddNumberToObject(o, "mpi_ranks", r->nranks);
+    cJSON_AddNumberToObject(o, "file_bytes", (double)r->file_bytes);
+    cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)r->file_bytes / nv);
+    cJSON_AddNumberToObject(o, "integral_bytes_per_vertex", sss_file_integral_bytes_per_vertex(f));
+    if (f->quant == SSS_QUANT_LLOYD8) {
+        cJSON_AddNumberToObject(o, "lloyd_snr_db", st->lloyd_snr_db_all);
+        cJSON_AddItemToObject(o, "lloyd_snr_db_per_channel", cJSON_CreateDoubleArray(st->lloyd_snr_db, 3));
+    }
+    char *str = cJSON_PrintUnformatted(o);
+    puts(str);
+    free(str);
+    cJSON_Delete(o);
+}
+
+/* A plain bake: import, bake, write, report. Under mpirun the ranks split
+ * the receivers and rank 0 alone speaks and writes. Returns the exit
+ * status: 0, 1 (import, bake or write failed), 130 (interrupted). */
+static int run(const bake_args *a, bake_setup *s, int *argc, char ***argv)
+{
+    const char *in = a->mesh, *outp = a->out;
+    sss_bake_options *opt = &s->opt;
+    int quiet = a->quiet, json = a->json;
+    int mpi_rank = 0;
+    bake_result r;
+    memset(&r, 0, sizeof r);
+    sss_mpi_start(argc, argv, &mpi_rank, &r.nranks);
+    if (r.nranks > 1) {
+        opt->rank = mpi_rank;
+        opt->nranks = r.nranks;
+        opt->comm = sss_mpi_comm();
+        if (mpi_rank != 0) { opt->progress = 0; quiet = 1; json = 0; }
+    }
+    signal(SIGINT, on_sigint);
+    signal(SIGTERM, on_sigint);
+
+    sss_error err = {{0}};
+    double t0 = monotonic_seconds();
+    sss_mesh mesh;
+    if (sss_import_mesh(in, &mesh, &r.rep, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    r.t_import = monotonic_seconds() - t0;
+    {
+        char prefix[600];
+        snprintf(prefix, sizeof prefix, "%s: %s", TOOL, in);
+        if (!quiet) sss_import_print_repairs(&r.rep, prefix, stderr);
+        sss_import_print_warnings(&r.rep, prefix, stderr); /* also with -q, like the bake's warnings */
+    }
+    if (r.rep.recentred) opt->import_offset = r.rep.offset; /* provenance (docs/robustness.md B6) */
+
+    if (sss_bake(&mesh, sss_cli_basename(in), &s->mat, opt, &r.f, &r.st, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s: %s\n", TOOL, in, err.msg);
+        sss_mesh_free(&mesh);
+        sss_mpi_abort(interrupted ? 130 : 1); /* the other ranks wait in a collective */
+        return interrupted ? 130 : 1;
+    }
+    if (r.nranks > 1 && mpi_rank != 0) { /* its part went to rank 0 */
+        sss_file_free(&r.f);
+        sss_mesh_free(&mesh);
+        sss_mpi_stop();
+        return 0;
+    }
+    t0 = monotonic_seconds();
+    /* a signal after the bake's last poll: still nothing is written */
+    sss_result w = interrupted ? sss_fail(&err, SSS_ERR_INTERRUPTED, "%s: interrupted, nothing written", outp)
+                               : sss_file_write(outp, &r.f, &err);
+    r.t_write = monotonic_seconds() - t0;
+    if (w != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_file_free(&r.f);
+        sss_mesh_free(&mesh);
+        return w == SSS_ERR_INTERRUPTED ? 130 : 1;
+    }
+    FILE *fp = fopen(outp, "rb");
+    r.file_bytes = -1;
+    if (fp) { fseek(fp, 0, SEEK_END); r.file_bytes = ftell(fp); fclose(fp); }
+    report_text(a, s, &r, quiet);
+    if (json) report_json(a, s, &r);
+    sss_file_free(&r.f);
     sss_mesh_free(&mesh);
     sss_mpi_stop();
     return 0;
+}
+
+int main(int argc, char **argv)
+{
+    bake_args a;
+    bake_setup s;
+    int rc = parse(argc, argv, &a);
+    if (rc == SSS_CLI_RUN) rc = options(&a, &s);
+    if (rc != SSS_CLI_RUN) return rc;
+    return a.scene ? scene_main(TOOL, a.scene, a.out, a.plan, a.json, a.quiet, &s.opt) : run(&a, &s, &argc, &argv);
 }

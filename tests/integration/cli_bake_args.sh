@@ -1,0 +1,106 @@
+# sss-bake's command line: every refusal is the exact message below on
+# stderr (one line; --rings out of range prints two), nothing on stdout,
+# exit status 2, and nothing is imported or written; -h/--help prints the
+# usage on stdout with exit status 0 wherever it stands, unless an error
+# comes before it. Messages of other scripts (cli_bad_input, cli_bake_stat,
+# cli_scene) are matched there by pattern and repeated here exactly.
+. "$(dirname "$0")/lib.sh"
+# expect_arg_error MESSAGE CMD...: exit status 2, stderr exactly MESSAGE, stdout empty
+expect_arg_error() {
+  local msg=$1; shift
+  "$@" >"$TMP/out" 2>"$TMP/err"; local rc=$?
+  [ $rc -eq 2 ] || { cat "$TMP/err" >&2; fail "expected exit status 2, got $rc: $*"; }
+  [ "$(cat "$TMP/err")" = "$msg" ] && [ "$(tail -c 1 "$TMP/err")" = "" ] ||
+    { printf 'got:  %s\nwant: %s\n' "$(cat "$TMP/err")" "$msg" >&2; fail "message: $*"; }
+  [ ! -s "$TMP/out" ] || fail "stdout should be empty: $*"
+}
+expect_ok "$SSS_GENMESH" sphere 1 "$TMP/m.ply"
+cd "$TMP" || fail "cd $TMP"
+T=sss-bake
+B=(m.ply -o x.sss)
+
+# a value missing at the end of the line
+for o in -o --out --material --sigma-a --sigma-s --eta --mm-per-unit --dirs --eps --quant --compress --sh-order \
+         --refs --sh-quant --weight-bits --illum-refs --gather --own-term --rings --theta --threads --scene; do
+  expect_arg_error "$T: $o needs a value" "$SSS_BAKE" m.ply $o
+done
+
+# values out of range at both ends, or not numbers
+expect_arg_error "$T: --eta: '0.0009' must be a number in [0.001, 1000]" "$SSS_BAKE" "${B[@]}" --eta 0.0009
+expect_arg_error "$T: --eta: '1001' must be a number in [0.001, 1000]" "$SSS_BAKE" "${B[@]}" --eta 1001
+expect_arg_error "$T: --eta: 'nan' must be a number in [0.001, 1000]" "$SSS_BAKE" "${B[@]}" --eta nan
+expect_arg_error "$T: --mm-per-unit: '0' must be a number in [1e-12, 1e+12]" "$SSS_BAKE" "${B[@]}" --mm-per-unit 0
+expect_arg_error "$T: --mm-per-unit: '1e13' must be a number in [1e-12, 1e+12]" "$SSS_BAKE" "${B[@]}" --mm-per-unit 1e13
+expect_arg_error "$T: --dirs: '100001' must be an integer in [1, 100000]" "$SSS_BAKE" "${B[@]}" --dirs 100001
+expect_arg_error "$T: --dirs: '-1' must be an integer in [1, 100000]" "$SSS_BAKE" "${B[@]}" --dirs -1
+expect_arg_error "$T: --dirs: '1.0' must be an integer in [1, 100000]" "$SSS_BAKE" "${B[@]}" --dirs 1.0
+expect_arg_error "$T: --eps: '0' must be a number in [1e-12, 0.5]" "$SSS_BAKE" "${B[@]}" --eps 0
+expect_arg_error "$T: --eps: '0.6' must be a number in [1e-12, 0.5]" "$SSS_BAKE" "${B[@]}" --eps 0.6
+expect_arg_error "$T: --sh-order: '-1' must be an integer in [0, 8]" "$SSS_BAKE" "${B[@]}" --sh-order -1
+expect_arg_error "$T: --refs: '-0.1' must be a number in [0, 1]" "$SSS_BAKE" "${B[@]}" --refs -0.1
+expect_arg_error "$T: --weight-bits: '7' must be an integer in [8, 16]" "$SSS_BAKE" "${B[@]}" --weight-bits 7
+expect_arg_error "$T: --weight-bits: '17' must be an integer in [8, 16]" "$SSS_BAKE" "${B[@]}" --weight-bits 17
+expect_arg_error "$T: --weight-bits: '12' must be 8 or 16" "$SSS_BAKE" "${B[@]}" --weight-bits 12
+expect_arg_error "$T: --illum-refs: '0' must be a number in [1e-09, 1e+09]" "$SSS_BAKE" "${B[@]}" --illum-refs 0
+expect_arg_error "$T: --illum-refs: '2e9' must be a number in [1e-09, 1e+09]" "$SSS_BAKE" "${B[@]}" --illum-refs 2e9
+expect_arg_error "$T: --theta: '0' must be a number in [0.001, 0.95]" "$SSS_BAKE" "${B[@]}" --theta 0
+expect_arg_error "$T: --theta: '0.96' must be a number in [0.001, 0.95]" "$SSS_BAKE" "${B[@]}" --theta 0.96
+expect_arg_error "$T: --threads: '0' must be an integer in [1, 1024]" "$SSS_BAKE" "${B[@]}" --threads 0
+expect_arg_error "$T: --threads: '1025' must be an integer in [1, 1024]" "$SSS_BAKE" "${B[@]}" --threads 1025
+expect_arg_error "$T: --rings: '1.5' must be an integer 0 ... 8" "$SSS_BAKE" "${B[@]}" --own-term runtime --rings 1.5
+expect_arg_error "$T: --rings: '9' must be a number in [0, 8]
+$T: --rings: '9' must be an integer 0 ... 8" "$SSS_BAKE" "${B[@]}" --own-term runtime --rings 9
+expect_arg_error "$T: --sigma-a: '1,2' must be three numbers X,Y,Z" "$SSS_BAKE" "${B[@]}" --sigma-a 1,2
+expect_arg_error "$T: --sigma-s: 'inf,1,1' must be three numbers X,Y,Z" "$SSS_BAKE" "${B[@]}" --sigma-s inf,1,1
+
+# choices
+expect_arg_error "$T: --quant: 'bf16' must be float or lloyd8" "$SSS_BAKE" "${B[@]}" --quant bf16
+expect_arg_error "$T: --compress: 'tiny' must be paper or compact" "$SSS_BAKE" "${B[@]}" --compress tiny
+expect_arg_error "$T: --sh-quant: 'lloyd2' must be linear8, lloyd8 or lloyd4" "$SSS_BAKE" "${B[@]}" --sh-quant lloyd2
+expect_arg_error "$T: --gather: '' must be direct or tree" "$SSS_BAKE" "${B[@]}" --gather ''
+expect_arg_error "$T: --own-term: 'both' must be runtime or baked" "$SSS_BAKE" "${B[@]}" --own-term both
+expect_arg_error "$T: material 'jelly': unknown preset (known: apple, chicken1, chicken2, cream, ketchup, marble, potato, skimmilk, skin1, skin2, wholemilk)" \
+  "$SSS_BAKE" "${B[@]}" --material jelly
+
+# the arguments themselves
+expect_arg_error "$T: unknown option '--frobnicate' (see --help)" "$SSS_BAKE" "${B[@]}" --frobnicate
+expect_arg_error "$T: unknown option '--out=x.sss' (see --help)" "$SSS_BAKE" m.ply --out=x.sss
+expect_arg_error "$T: unexpected argument 'n.ply' (one MESH only)" "$SSS_BAKE" m.ply n.ply -o x.sss
+expect_arg_error "$T: missing MESH (see --help)" "$SSS_BAKE" -o x.sss
+expect_arg_error "$T: missing MESH (see --help)" "$SSS_BAKE"
+expect_arg_error "$T: missing -o OUT.sss (see --help)" "$SSS_BAKE" m.ply
+
+# combinations, in the order they are checked
+echo '{"objects": [{"name": "m", "mesh": "m.ply", "material": "marble"}]}' > s.json
+expect_arg_error "$T: --plan needs --scene S.json" "$SSS_BAKE" "${B[@]}" --plan --rings 2
+expect_arg_error "$T: --rings needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --rings 2
+expect_arg_error "$T: --rings needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --own-term runtime --own-term baked --rings 2
+expect_arg_error "$T: --own-term applies to plain bakes, not to --scene (scene bakes keep the own term)" \
+  "$SSS_BAKE" --scene s.json --own-term runtime m.ply
+expect_arg_error "$T: --scene and a MESH argument exclude each other (the scene names the meshes)" \
+  "$SSS_BAKE" --scene s.json m.ply --quant lloyd8 --sh-order 0
+for c in "--compress paper" "--sh-order 3" "--refs 0.1" "--sh-quant lloyd4" "--weight-bits 8" "--ls-weights" "--illum-refs 1"; do
+  expect_arg_error "$T: --quant and the compression options (--sh-order, --refs, ...) exclude each other" \
+    "$SSS_BAKE" "${B[@]}" --quant float $c --sh-order 0
+done
+expect_arg_error "$T: --sh-order 0 needs --refs FRACTION > 0 (nothing would be stored)" "$SSS_BAKE" "${B[@]}" --sh-order 0
+expect_arg_error "$T: --refs 0 (SH only) needs --sh-order >= 1" "$SSS_BAKE" "${B[@]}" --refs 0 --sh-order 0
+expect_arg_error "$T: --sh-order 0 needs --refs FRACTION > 0 (nothing would be stored)" "$SSS_BAKE" --sh-order 0
+expect_arg_error "$T: give either --material NAME or both --sigma-a and --sigma-s" "$SSS_BAKE" "${B[@]}" --sigma-a 1,1,1
+expect_arg_error "$T: give either --material NAME or both --sigma-a and --sigma-s" \
+  "$SSS_BAKE" "${B[@]}" --sigma-a 1,1,1 --sigma-s 1,1,1 --material marble
+expect_arg_error "$T: --scene needs -o DIR (one NAME.sss per object) or --plan" "$SSS_BAKE" --scene s.json
+[ ! -e x.sss ] || fail "a refused command line left x.sss"
+
+# -h / --help: the usage on stdout, exit 0, wherever it stands ("-o -h" takes
+# it as the file name); an error before it is reported instead
+for args in "-h" "--help" "m.ply -h" "-h m.ply n.ply" "--rings 2 -h" "-o -h -h"; do
+  read -r -a a <<<"$args"
+  "$SSS_BAKE" "${a[@]}" >"$TMP/out" 2>"$TMP/err" || fail "$args: exit status $?"
+  head -1 "$TMP/out" | grep -q '^usage: sss-bake MESH -o OUT.sss \[options\]$' || fail "$args: no usage on stdout"
+  [ ! -s "$TMP/err" ] || fail "$args: stderr should be empty"
+done
+expect_arg_error "$T: unknown option '--frobnicate' (see --help)" "$SSS_BAKE" --frobnicate -h
+expect_arg_error "$T: --dirs: '0' must be an integer in [1, 100000]" "$SSS_BAKE" "${B[@]}" --dirs 0 -h
+expect_arg_error "$T: missing MESH (see --help)" "$SSS_BAKE" -o -h
+echo "cli_bake_args: ok"
