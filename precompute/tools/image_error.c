@@ -26,7 +26,8 @@
  * rows): q is always supplied per vertex (sss_renderer_upload_q), so the
  * scattering data need not be uploaded, whatever its size.
  */
-#define _POSIX_C_SOURCE 200809L /* clock_gettime, mkdir under -std=c11 */
+#define _POSIX_C_SOURCE 200809L /* mkdir under -std=c11 */
+#include "sss/clock.h"
 #include "image_error.h"
 
 #include <errno.h>
@@ -35,19 +36,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include "sss/random.h"
 #include "sss/reconstruct.h"
 #include "sss/render.h"
 #include "sss/vertex_error.h"
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int cmp_float(const void *a, const void *b)
 {
@@ -98,7 +91,7 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
 {
     memset(out, 0, sizeof *out);
     if (!f || !e || !o) return sss_fail(err, SSS_ERR_ARG, "image error: NULL argument");
-    const double t0 = now_s();
+    const double t0 = sss_now();
     const uint32_t views = o->views ? o->views : 100;
     const int W = o->width > 0 ? o->width : 256, H = o->height > 0 ? o->height : 256;
     const size_t nv = f->mesh.nv, C = f->channels, npx = (size_t)W * H;
@@ -241,6 +234,6 @@ done:
     sss_reconstruct_destroy(rc);
     sss_renderer_destroy(ren);
     sss_offscreen_destroy(ctx);
-    out->seconds = now_s() - t0;
+    out->seconds = sss_now() - t0;
     return res;
 }

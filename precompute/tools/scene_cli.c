@@ -3,6 +3,7 @@
  * or bake each object on its own into DIR/NAME.sss (scattering stays inside
  * an object, seed 001 §2.1, so objects never share a file). */
 #define _POSIX_C_SOURCE 200809L
+#include "sss/clock.h"
 #include "scene_cli.h"
 
 #include <cjson/cJSON.h>
@@ -10,21 +11,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include "sss/bake_scene.h"
 #include "sss/import.h"
 #include "sss/planner.h"
-
-/* Wall-clock seconds for the per-object bake time. libsss_bake's own timer
- * (sss_now) sits behind its private include directory, so the tool keeps
- * this one. */
-static double monotonic_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int scene_main(const char *tool, const char *scene_path, const char *outdir, int plan_only, int json, int quiet,
                const sss_bake_options *opt)
@@ -88,13 +78,13 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
         snprintf(path, sizeof path, "%s/%s.sss", outdir, sc.objects[i].name);
         sss_bake_file f;
         sss_bake_stats st;
-        double t0 = monotonic_seconds();
+        double t0 = sss_now();
         if (sss_bake_object(&sc, &plan, world, i, opt, &f, &st, &err) != SSS_OK) {
             fprintf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc.path, i, err.msg);
             rc = 1;
             goto done;
         }
-        double tb = monotonic_seconds() - t0;
+        double tb = sss_now() - t0;
         sss_result r = sss_file_write(path, &f, &err);
         if (r != SSS_OK) {
             fprintf(stderr, "%s: %s\n", tool, err.msg);

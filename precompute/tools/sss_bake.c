@@ -4,7 +4,6 @@
  * main: parse() reads the command line into bake_args and checks its
  * combinations, options() turns it into the bake's options, compression
  * and material, run() imports, bakes, writes and reports. */
-#define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c11 */
 #include <cjson/cJSON.h>
 #include <stdint.h>
 #include <math.h>
@@ -12,8 +11,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "sss/clock.h"
 #include "bake_mpi.h"
 #include "sss/cli.h"
 #include "sss/bake.h"
@@ -322,13 +321,6 @@ static int options(const bake_args *a, bake_setup *s)
     return SSS_CLI_RUN;
 }
 
-static double monotonic_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* What a plain bake produced, for its report. */
 typedef struct bake_result {
     sss_import_report rep;
@@ -502,13 +494,13 @@ static int run(const bake_args *a, bake_setup *s, int *argc, char ***argv)
     signal(SIGTERM, on_sigint);
 
     sss_error err = {{0}};
-    double t0 = monotonic_seconds();
+    double t0 = sss_now();
     sss_mesh mesh;
     if (sss_import_mesh(in, &mesh, &r.rep, &err) != SSS_OK) {
         fprintf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
-    r.t_import = monotonic_seconds() - t0;
+    r.t_import = sss_now() - t0;
     {
         char prefix[600];
         snprintf(prefix, sizeof prefix, "%s: %s", TOOL, in);
@@ -529,11 +521,11 @@ static int run(const bake_args *a, bake_setup *s, int *argc, char ***argv)
         sss_mpi_stop();
         return 0;
     }
-    t0 = monotonic_seconds();
+    t0 = sss_now();
     /* a signal after the bake's last poll: still nothing is written */
     sss_result w = interrupted ? sss_fail(&err, SSS_ERR_INTERRUPTED, "%s: interrupted, nothing written", outp)
                                : sss_file_write(outp, &r.f, &err);
-    r.t_write = monotonic_seconds() - t0;
+    r.t_write = sss_now() - t0;
     if (w != SSS_OK) {
         fprintf(stderr, "%s: %s\n", TOOL, err.msg);
         sss_file_free(&r.f);

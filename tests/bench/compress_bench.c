@@ -19,25 +19,17 @@
  * area-weighted relative RMS against the uncompressed interpolation (per
  * channel and overall) over the test directions (fixed seed), and times.
  */
-#define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c11 */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "sss/clock.h"
 #include "sss/compress.h"
 #include "sss/decode.h"
 #include "sss/format.h"
 #include "sss/refs.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int usage(void)
 {
@@ -116,7 +108,7 @@ static int run_one(const char *path, sss_bake_file *f, sss_compress_opts o, cons
 {
     sss_error err = {{0}};
     sss_bake_file cf;
-    double t0 = now(), t_refs = 0.0;
+    double t0 = sss_now(), t_refs = 0.0;
     if (o.fraction > 0.0) {
         if (!cache->valid || cache->fraction != o.fraction || cache->illum != o.illum_weight) {
             sss_refs_free(&cache->refs);
@@ -130,13 +122,13 @@ static int run_one(const char *path, sss_bake_file *f, sss_compress_opts o, cons
             cache->illum = o.illum_weight;
         }
         o.refs = &cache->refs;
-        t_refs = now() - t0;
+        t_refs = sss_now() - t0;
     }
     if (sss_compress(f, &o, &cf, &err) != SSS_OK) {
         fprintf(stderr, "compress_bench: %s\n", err.msg);
         return 1;
     }
-    double t_compress = now() - t0;
+    double t_compress = sss_now() - t0;
     if (g->outpath && sss_file_write(g->outpath, &cf, &err) != SSS_OK) {
         fprintf(stderr, "compress_bench: %s\n", err.msg);
         return 1;
@@ -144,22 +136,22 @@ static int run_one(const char *path, sss_bake_file *f, sss_compress_opts o, cons
     sss_storage b;
     sss_file_storage(&cf, &b);
     double rel[SSS_MAX_CHANNELS + 1], rms[SSS_MAX_CHANNELS + 1], max_abs = 0;
-    t0 = now();
+    t0 = sss_now();
     if (sss_decode_error(&cf, f, (uint32_t)g->ndt, 12345, rel, rms, &max_abs, &err) != SSS_OK) {
         fprintf(stderr, "compress_bench: %s\n", err.msg);
         return 1;
     }
-    double t_error = now() - t0;
+    double t_error = sss_now() - t0;
     /* per-call evaluation time: median-free mean over 20 directions */
     float *out = malloc((size_t)cf.mesh.nv * cf.channels * sizeof *out);
     double t_eval = 0.0;
     if (out) {
-        t0 = now();
+        t0 = sss_now();
         for (int i = 0; i < 20; i++) {
             double a = 0.37 * i, light[3] = {sin(a), 0.3, cos(a)};
             sss_decode_all(&cf, light, out);
         }
-        t_eval = (now() - t0) / 20.0;
+        t_eval = (sss_now() - t0) / 20.0;
         free(out);
     }
     const uint32_t nv = cf.mesh.nv, C = cf.channels;

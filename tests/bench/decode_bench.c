@@ -6,24 +6,16 @@
  * directions, one thread and all threads), the bytes each frame must move
  * (3 direction rows read + the q output written) and the resulting bound.
  */
-#define _POSIX_C_SOURCE 200809L /* clock_gettime under -std=c11 */
 #include <math.h>
 #include <stdint.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "sss/clock.h"
 #include "sss/decode.h"
 #include "sss/format.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int cmpd(const void *a, const void *b)
 {
@@ -49,14 +41,14 @@ static void bandwidth(int threads, double *sum3_bps, double *copy_bps)
     for (size_t i = 0; i < n; i++) { a[i] = (float)(i & 1023); b[i] = 1; c[i] = 2; o[i] = 0; }
     double ts[9], tc[9];
     for (int r = 0; r < 9; r++) {
-        double t = now();
+        double t = sss_now();
 #pragma omp parallel for num_threads(threads)
         for (size_t i = 0; i < n; i++) o[i] = a[i] + b[i] + c[i];
-        ts[r] = now() - t;
-        t = now();
+        ts[r] = sss_now() - t;
+        t = sss_now();
 #pragma omp parallel for num_threads(threads)
         for (size_t i = 0; i < n; i++) o[i] = a[i];
-        tc[r] = now() - t;
+        tc[r] = sss_now() - t;
     }
     *sum3_bps = 16.0 * n / median(ts, 9);
     *copy_bps = 8.0 * n / median(tc, 9);
@@ -69,9 +61,9 @@ static double decode_ms(const sss_bake_file *f, float *out, int threads, int fra
     double *t = malloc(sizeof(double) * (size_t)frames);
     for (int i = -2; i < frames; i++) {
         double a = 0.37 * i, light[3] = {sin(a), 0.3, cos(a)};
-        double t0 = now();
+        double t0 = sss_now();
         sss_decode_all(f, light, out);
-        if (i >= 0) t[i] = 1e3 * (now() - t0);
+        if (i >= 0) t[i] = 1e3 * (sss_now() - t0);
     }
     double m = median(t, frames);
     free(t);
