@@ -2,14 +2,13 @@
  * See `sss-view --help`. */
 #include <epoxy/gl.h>
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 #include <time.h>
 
 #include "app.h"
+#include "sss/cli.h"
 #include "sss/format.h"
 #include "sss/render.h"
 
@@ -50,39 +49,6 @@ static void usage(FILE *f)
         "  -h, --help           this text\n\n"
         "window controls:\n%s",
         sss_app_controls_help);
-}
-
-static int parse_triple(const char *opt, const char *s, double out[3])
-{
-    char *end;
-    const char *p = s;
-    for (int k = 0; k < 3; k++) {
-        errno = 0;
-        out[k] = strtod(p, &end);
-        if (end == p || errno || !isfinite(out[k]) || (k < 2 ? *end != ',' : *end != 0)) {
-            fprintf(stderr, "%s: %s: '%s' must be three numbers X,Y,Z\n", TOOL, opt, s);
-            return 0;
-        }
-        p = end + 1;
-    }
-    if (out[0] == 0 && out[1] == 0 && out[2] == 0) {
-        fprintf(stderr, "%s: %s: '%s' is not a direction\n", TOOL, opt, s);
-        return 0;
-    }
-    return 1;
-}
-
-static int parse_positive(const char *opt, const char *s, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end || errno || !isfinite(v) || !(v > 0)) {
-        fprintf(stderr, "%s: %s: '%s' must be a number > 0\n", TOOL, opt, s);
-        return 0;
-    }
-    *out = v;
-    return 1;
 }
 
 static double now_ms(void)
@@ -323,76 +289,87 @@ static int scene_window(const sss_bake_file *f, const char *path, const char *sc
     return rc;
 }
 
+/* The command line: what the option table fills. The view parameters the
+ * options set go straight into p; --tonemap and --cpu are read as ints and
+ * moved into p's enumerations by parse(). */
+typedef struct view_args {
+    const char *path;  /* FILE.sss */
+    const char *out;   /* --out IMG.png|IMG.exr, or NULL */
+    const char *shot;  /* --screenshot, or NULL */
+    const char *scene; /* --scene S.json, or NULL */
+    int offscreen;     /* --offscreen */
+    int size[2];       /* --size W H */
+    int nbench;        /* --bench N (0: none) */
+    double intensity;  /* --intensity: every channel of p.light_rgb */
+    int tonemap, cpu;  /* --tonemap, --cpu */
+    sss_view_params p;
+} view_args;
+
+/* Reads argv into *a: the option table, then the one combination it cannot
+ * say. Returns SSS_CLI_RUN, or the exit status (0 after --help, 2 after a
+ * message on stderr). */
+static int parse(int argc, char **argv, view_args *a)
+{
+    *a = (view_args){.size = {800, 600}, .intensity = 1.0};
+    sss_view_params_default(&a->p);
+    a->p.background[0] = a->p.background[1] = a->p.background[2] = 0.0f;
+    a->tonemap = (int)a->p.tonemap;
+    static const char *const tonemaps[] = {"clamp", "reinhard", NULL};
+    static const int tonemap_values[] = {SSS_TONEMAP_CLAMP, SSS_TONEMAP_REINHARD};
+    static const char *const visibilities[] = {"rays", "map", NULL};
+    static const int near_values[] = {SSS_NEAR_RAYS, SSS_NEAR_MAP};
+    static const int off[] = {0};
+    /* sss-view's own wordings where they differ from the library's defaults */
+    static const char *const positive = "%s: %s: '%s' must be a number > 0\n";
+    const sss_cli_opt opts[] = {
+        {.name = "--offscreen", .kind = SSS_CLI_FLAG, .dest = &a->offscreen},
+        {.name = "--out", .kind = SSS_CLI_STRING, .dest = &a->out},
+        {.name = "--size", .kind = SSS_CLI_SIZE, .dest = a->size, .lo = 1, .hi = 16384},
+        {.name = "--light", .kind = SSS_CLI_TRIPLE, .dest = a->p.light, .flags = SSS_CLI_NONZERO},
+        {.name = "--view", .kind = SSS_CLI_TRIPLE, .dest = a->p.view, .flags = SSS_CLI_NONZERO},
+        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->p.exposure, .lo = 0, .hi = INFINITY,
+         .flags = SSS_CLI_ABOVE_LO, .msg = positive},
+        {.name = "--intensity", .kind = SSS_CLI_DOUBLE, .dest = &a->intensity, .lo = 0, .hi = INFINITY,
+         .flags = SSS_CLI_ABOVE_LO, .msg = positive},
+        {.name = "--tonemap", .kind = SSS_CLI_CHOICE, .dest = &a->tonemap, .choices = tonemaps,
+         .values = tonemap_values},
+        {.name = "--cpu", .kind = SSS_CLI_FLAG, .dest = &a->cpu},
+        {.name = "--no-scatter", .kind = SSS_CLI_FLAG, .dest = &a->p.scatter, .values = off},
+        {.name = "--no-specular", .kind = SSS_CLI_FLAG, .dest = &a->p.specular, .values = off},
+        {.name = "--no-own-term", .kind = SSS_CLI_FLAG, .dest = &a->p.own_term, .values = off},
+        {.name = "--near-visibility", .kind = SSS_CLI_CHOICE, .dest = &a->p.near_visibility, .choices = visibilities,
+         .values = near_values},
+        {.name = "--shadow-size", .kind = SSS_CLI_INT, .dest = &a->p.shadow_size, .lo = 256, .hi = 8192,
+         .msg = "%s: %s: '%s' must be an integer %d ... %d\n"},
+        {.name = "--wireframe", .kind = SSS_CLI_FLAG, .dest = &a->p.wireframe},
+        {.name = "--screenshot", .kind = SSS_CLI_STRING, .dest = &a->shot},
+        {.name = "--bench", .kind = SSS_CLI_INT, .dest = &a->nbench, .lo = 1, .hi = 100000},
+        {.name = "--scene", .kind = SSS_CLI_STRING, .dest = &a->scene},
+    };
+    const sss_cli_opt pos[] = {{.name = "FILE.sss", .kind = SSS_CLI_STRING, .dest = &a->path}};
+    const sss_cli cli = {.tool = TOOL, .opts = opts, .nopts = SSS_CLI_COUNT(opts), .pos = pos, .npos = 1,
+                         .min_pos = 1, .usage = usage, .extra_msg = "%s: unexpected argument '%s'\n",
+                         .missing_msg = "%s: missing FILE.sss (see --help)\n"};
+    int rc = sss_cli_parse(&cli, argc, argv);
+    if (rc != SSS_CLI_RUN) return rc;
+    if (a->offscreen && !a->out && !a->nbench) {
+        fprintf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL);
+        return 2;
+    }
+    for (int k = 0; k < 3; k++) a->p.light_rgb[k] = a->intensity;
+    a->p.tonemap = (sss_tonemap)a->tonemap;
+    if (a->cpu) a->p.path = SSS_EVAL_CPU;
+    return SSS_CLI_RUN;
+}
+
 int main(int argc, char **argv)
 {
-    const char *path = NULL, *out = NULL, *shot = NULL, *scene_path = NULL;
-    int offscreen = 0, w = 800, h = 600, nbench = 0;
-    double intensity = 1.0;
-    sss_view_params p;
-    sss_view_params_default(&p);
-    p.background[0] = p.background[1] = p.background[2] = 0.0f;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEED() do { if (!v) { fprintf(stderr, "%s: %s needs a value\n", TOOL, a); return 2; } i++; } while (0)
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) { usage(stdout); return 0; }
-        else if (!strcmp(a, "--offscreen")) offscreen = 1;
-        else if (!strcmp(a, "--out")) { NEED(); out = v; }
-        else if (!strcmp(a, "--screenshot")) { NEED(); shot = v; }
-        else if (!strcmp(a, "--size")) {
-            NEED();
-            char tail;
-            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384) {
-                fprintf(stderr, "%s: --size: '%s' must be WxH with each in [1, 16384]\n", TOOL, v);
-                return 2;
-            }
-        }
-        else if (!strcmp(a, "--light")) { NEED(); if (!parse_triple(a, v, p.light)) return 2; }
-        else if (!strcmp(a, "--view")) { NEED(); if (!parse_triple(a, v, p.view)) return 2; }
-        else if (!strcmp(a, "--exposure")) { NEED(); if (!parse_positive(a, v, &p.exposure)) return 2; }
-        else if (!strcmp(a, "--intensity")) { NEED(); if (!parse_positive(a, v, &intensity)) return 2; }
-        else if (!strcmp(a, "--tonemap")) {
-            NEED();
-            if (!strcmp(v, "clamp")) p.tonemap = SSS_TONEMAP_CLAMP;
-            else if (!strcmp(v, "reinhard")) p.tonemap = SSS_TONEMAP_REINHARD;
-            else { fprintf(stderr, "%s: --tonemap: '%s' must be clamp or reinhard\n", TOOL, v); return 2; }
-        }
-        else if (!strcmp(a, "--cpu")) p.path = SSS_EVAL_CPU;
-        else if (!strcmp(a, "--scene")) { NEED(); scene_path = v; }
-        else if (!strcmp(a, "--no-scatter")) p.scatter = 0;
-        else if (!strcmp(a, "--no-specular")) p.specular = 0;
-        else if (!strcmp(a, "--no-own-term")) p.own_term = 0;
-        else if (!strcmp(a, "--near-visibility")) {
-            NEED();
-            if (!strcmp(v, "rays")) p.near_visibility = SSS_NEAR_RAYS;
-            else if (!strcmp(v, "map")) p.near_visibility = SSS_NEAR_MAP;
-            else { fprintf(stderr, "%s: --near-visibility: '%s' must be rays or map\n", TOOL, v); return 2; }
-        }
-        else if (!strcmp(a, "--shadow-size")) {
-            NEED();
-            char *end;
-            long n = strtol(v, &end, 10);
-            if (end == v || *end || n < 256 || n > 8192) {
-                fprintf(stderr, "%s: --shadow-size: '%s' must be an integer 256 ... 8192\n", TOOL, v);
-                return 2;
-            }
-            p.shadow_size = (int)n;
-        }
-        else if (!strcmp(a, "--wireframe")) p.wireframe = 1;
-        else if (!strcmp(a, "--bench")) {
-            NEED();
-            char *end;
-            long n = strtol(v, &end, 10);
-            if (*end || n < 1 || n > 100000) { fprintf(stderr, "%s: --bench: '%s' must be an integer in [1, 100000]\n", TOOL, v); return 2; }
-            nbench = (int)n;
-        }
-        else if (a[0] == '-' && a[1]) { fprintf(stderr, "%s: unknown option '%s' (see --help)\n", TOOL, a); return 2; }
-        else if (!path) path = a;
-        else { fprintf(stderr, "%s: unexpected argument '%s'\n", TOOL, a); return 2; }
-#undef NEED
-    }
-    if (!path) { fprintf(stderr, "%s: missing FILE.sss (see --help)\n", TOOL); return 2; }
-    if (offscreen && !out && !nbench) { fprintf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL); return 2; }
-    for (int k = 0; k < 3; k++) p.light_rgb[k] = intensity;
+    view_args a;
+    int parsed = parse(argc, argv, &a);
+    if (parsed != SSS_CLI_RUN) return parsed;
+    const char *path = a.path, *out = a.out, *shot = a.shot, *scene_path = a.scene;
+    int offscreen = a.offscreen, w = a.size[0], h = a.size[1], nbench = a.nbench;
+    sss_view_params p = a.p;
 
     sss_bake_file f;
     sss_error err = {{0}};
