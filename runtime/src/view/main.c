@@ -2,14 +2,13 @@
  * See `sss-view --help`. */
 #include <epoxy/gl.h>
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 #include <time.h>
 
 #include "app.h"
+#include "sss/cli.h"
 #include "sss/format.h"
 #include "sss/render.h"
 
@@ -52,37 +51,80 @@ static void usage(FILE *f)
         sss_app_controls_help);
 }
 
-static int parse_triple(const char *opt, const char *s, double out[3])
-{
-    char *end;
-    const char *p = s;
-    for (int k = 0; k < 3; k++) {
-        errno = 0;
-        out[k] = strtod(p, &end);
-        if (end == p || errno || !isfinite(out[k]) || (k < 2 ? *end != ',' : *end != 0)) {
-            fprintf(stderr, "%s: %s: '%s' must be three numbers X,Y,Z\n", TOOL, opt, s);
-            return 0;
-        }
-        p = end + 1;
-    }
-    if (out[0] == 0 && out[1] == 0 && out[2] == 0) {
-        fprintf(stderr, "%s: %s: '%s' is not a direction\n", TOOL, opt, s);
-        return 0;
-    }
-    return 1;
-}
+/* The command line, as parse() fills it. The view parameters the options set
+ * go straight into p; --tonemap and --cpu are read as ints (a table row
+ * stores an int) and moved into p's enumerations by parse(). The run
+ * functions below take p as their working copy (scene cameras, --bench's
+ * moving light, the window's background). */
+typedef struct view_args {
+    const char *path;  /* FILE.sss */
+    const char *out;   /* --out IMG.png|IMG.exr, or NULL */
+    const char *shot;  /* --screenshot, or NULL */
+    const char *scene; /* --scene S.json, or NULL */
+    int offscreen;     /* --offscreen */
+    int size[2];       /* --size W H */
+    int nbench;        /* --bench N (0: none) */
+    double intensity;  /* --intensity: every channel of p.light_rgb */
+    int tonemap, cpu;  /* --tonemap, --cpu */
+    sss_view_params p;
+} view_args;
 
-static int parse_positive(const char *opt, const char *s, double *out)
+/* Reads argv into *a: the option table, then the one combination it cannot
+ * say. Returns SSS_CLI_RUN, or the exit status (0 after --help, 2 after a
+ * message on stderr). */
+static int parse(int argc, char **argv, view_args *a)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end || errno || !isfinite(v) || !(v > 0)) {
-        fprintf(stderr, "%s: %s: '%s' must be a number > 0\n", TOOL, opt, s);
-        return 0;
+    *a = (view_args){.size = {800, 600}, .intensity = 1.0};
+    sss_view_params_default(&a->p);
+    a->p.background[0] = a->p.background[1] = a->p.background[2] = 0.0f;
+    a->tonemap = (int)a->p.tonemap;
+    static const char *const tonemaps[] = {"clamp", "reinhard", NULL};
+    static const int tonemap_values[] = {SSS_TONEMAP_CLAMP, SSS_TONEMAP_REINHARD};
+    static const char *const visibilities[] = {"rays", "map", NULL};
+    static const int visibility_values[] = {SSS_NEAR_RAYS, SSS_NEAR_MAP};
+    static const int off[] = {0};
+    /* sss-view's own wordings where they differ from the library's defaults */
+    static const char *const positive = "%s: %s: '%s' must be a number > 0\n";
+    const sss_cli_opt opts[] = {
+        {.name = "--offscreen", .kind = SSS_CLI_FLAG, .dest = &a->offscreen},
+        {.name = "--out", .kind = SSS_CLI_STRING, .dest = &a->out},
+        /* 16384: the renderer's largest image side (sss/render.h) */
+        {.name = "--size", .kind = SSS_CLI_SIZE, .dest = a->size, .lo = 1, .hi = 16384},
+        {.name = "--light", .kind = SSS_CLI_TRIPLE, .dest = a->p.light, .flags = SSS_CLI_NONZERO},
+        {.name = "--view", .kind = SSS_CLI_TRIPLE, .dest = a->p.view, .flags = SSS_CLI_NONZERO},
+        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->p.exposure, .lo = 0, .hi = INFINITY,
+         .flags = SSS_CLI_ABOVE_LO, .msg = positive},
+        {.name = "--intensity", .kind = SSS_CLI_DOUBLE, .dest = &a->intensity, .lo = 0, .hi = INFINITY,
+         .flags = SSS_CLI_ABOVE_LO, .msg = positive},
+        {.name = "--tonemap", .kind = SSS_CLI_CHOICE, .dest = &a->tonemap, .choices = tonemaps,
+         .values = tonemap_values},
+        {.name = "--cpu", .kind = SSS_CLI_FLAG, .dest = &a->cpu},
+        {.name = "--no-scatter", .kind = SSS_CLI_FLAG, .dest = &a->p.scatter, .values = off},
+        {.name = "--no-specular", .kind = SSS_CLI_FLAG, .dest = &a->p.specular, .values = off},
+        {.name = "--no-own-term", .kind = SSS_CLI_FLAG, .dest = &a->p.own_term, .values = off},
+        {.name = "--near-visibility", .kind = SSS_CLI_CHOICE, .dest = &a->p.near_visibility,
+         .choices = visibilities, .values = visibility_values},
+        {.name = "--shadow-size", .kind = SSS_CLI_INT, .dest = &a->p.shadow_size, .lo = 256, .hi = 8192,
+         .msg = "%s: %s: '%s' must be an integer %d ... %d\n"},
+        {.name = "--wireframe", .kind = SSS_CLI_FLAG, .dest = &a->p.wireframe},
+        {.name = "--screenshot", .kind = SSS_CLI_STRING, .dest = &a->shot},
+        {.name = "--bench", .kind = SSS_CLI_INT, .dest = &a->nbench, .lo = 1, .hi = 100000},
+        {.name = "--scene", .kind = SSS_CLI_STRING, .dest = &a->scene},
+    };
+    const sss_cli_opt pos[] = {{.name = "FILE.sss", .kind = SSS_CLI_STRING, .dest = &a->path}};
+    const sss_cli cli = {.tool = TOOL, .opts = opts, .nopts = SSS_CLI_COUNT(opts), .pos = pos, .npos = 1,
+                         .min_pos = 1, .usage = usage, .extra_msg = "%s: unexpected argument '%s'\n",
+                         .missing_msg = "%s: missing FILE.sss (see --help)\n"};
+    int rc = sss_cli_parse(&cli, argc, argv);
+    if (rc != SSS_CLI_RUN) return rc;
+    if (a->offscreen && !a->out && !a->nbench) {
+        fprintf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL);
+        return 2;
     }
-    *out = v;
-    return 1;
+    for (int k = 0; k < 3; k++) a->p.light_rgb[k] = a->intensity;
+    a->p.tonemap = (sss_tonemap)a->tonemap;
+    if (a->cpu) a->p.path = SSS_EVAL_CPU;
+    return SSS_CLI_RUN;
 }
 
 static double now_ms(void)
@@ -157,6 +199,43 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
     free(frame);
 }
 
+/* --offscreen without --scene: --bench's timings (which leave the light
+ * where their last frame put it), then --out's image. */
+static int offscreen_render(const sss_bake_file *f, view_args *a)
+{
+    const int w = a->size[0], h = a->size[1];
+    sss_error err = {{0}};
+    sss_offscreen *ctx;
+    sss_renderer *r;
+    if (sss_offscreen_create(&ctx, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    if (sss_renderer_create(f, &r, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s: %s\n", TOOL, a->path, err.msg);
+        sss_offscreen_destroy(ctx);
+        return 1;
+    }
+    int rc = 0;
+    if (a->nbench) bench(r, f, &a->p, w, h, a->nbench);
+    if (a->out) {
+        float *rgb, *hdr;
+        if (sss_renderer_render_image(r, &a->p, w, h, &rgb, &hdr, &err) != SSS_OK ||
+            sss_write_image(a->out, rgb, hdr, w, h, &err) != SSS_OK) {
+            fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+            rc = 1;
+        } else {
+            fprintf(stderr, "%s: %s: %dx%d, %s, %s path\n", TOOL, a->out, w, h, sss_gl_renderer_name(),
+                    a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU");
+            free(rgb);
+            free(hdr);
+        }
+    }
+    sss_renderer_destroy(r);
+    sss_offscreen_destroy(ctx);
+    return rc;
+}
+
 /* Loads the scene, prepares its light sum for file f and takes its camera;
  * the lights' colours are folded into q. Non-zero (message printed) on failure. */
 static int scene_open(const sss_bake_file *f, const char *scene_path, sss_view_params *p, sss_scene *sc,
@@ -177,70 +256,77 @@ static int scene_open(const sss_bake_file *f, const char *scene_path, sss_view_p
     return 0;
 }
 
-/* --scene: the scene's lights summed from the file's effects, on the GPU
- * (fx_gpu.c: only the programs the file's sections need) or, with --cpu or
- * when the GPU path cannot be built, on the CPU (scene_view.c), then drawn
- * with the shading program; --bench times the evaluation of every light
- * and the draw. */
-static int scene_offscreen(const sss_bake_file *f, const char *path, const char *scene_path, sss_view_params *p,
-                           const char *out, int w, int h, int nbench)
+/* --scene --bench: N frames of the light sum (on the GPU with g, else on
+ * the CPU and uploaded) and the draw, timed as bench() times them. q is
+ * scratch of the file's nv x channels floats. */
+static void scene_bench(const sss_bake_file *f, sss_scene_eval *ev, sss_fx_gpu *g, sss_renderer *r,
+                        const sss_view_params *p, float *q, int w, int h, int n)
 {
+    double *ev_ms = malloc(sizeof(double) * (size_t)n), *draw = malloc(sizeof(double) * (size_t)n),
+           *frame = malloc(sizeof(double) * (size_t)n);
+    float *rgb, *hdr;
+    sss_error err = {{0}};
+    sss_scene_eval_frame(ev, 0.0, q);
+    if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) == SSS_OK) { free(rgb); free(hdr); }
+    sss_renderer_bind_offscreen(r, w, h, &err);
+    for (int i = 0; ev_ms && draw && frame && i < n; i++) {
+        glFinish();
+        double t0 = now_ms();
+        if (g) {
+            sss_fx_gpu_frame(g, 0.05 * i);
+        } else {
+            sss_scene_eval_frame(ev, 0.05 * i, q);
+            sss_renderer_upload_q(r, q);
+        }
+        glFinish();
+        double t1 = now_ms();
+        sss_renderer_draw(r, p, w, h);
+        glFinish();
+        double t2 = now_ms();
+        ev_ms[i] = t1 - t0;
+        draw[i] = t2 - t1;
+        frame[i] = t2 - t0;
+    }
+    if (ev_ms && draw && frame)
+        printf("{\"vertices\":%u,\"channels\":%u,\"paths\":\"%s\",\"eval\":\"%s\",\"gpu_programs\":\"%s\","
+               "\"renderer\":\"%s\",\"frames\":%d,\"width\":%d,"
+               "\"height\":%d,\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,\"frame_ms_median\":%.4f,"
+               "\"bytes_per_vertex\":%.3f}\n", f->mesh.nv, f->channels, sss_scene_eval_paths(ev),
+               g ? "gpu" : "cpu", g ? sss_fx_gpu_describe(g) : "none", sss_gl_renderer_name(), n, w, h,
+               median(ev_ms, n), median(draw, n), median(frame, n), sss_file_integral_bytes_per_vertex(f));
+    free(ev_ms);
+    free(draw);
+    free(frame);
+}
+
+/* --scene --offscreen: the scene's lights summed from the file's effects, on
+ * the GPU (fx_gpu.c: only the programs the file's sections need) or, with
+ * --cpu or when the GPU path cannot be built, on the CPU (scene_view.c), then
+ * drawn with the shading program: --bench's timings, then --out's image. */
+static int scene_offscreen(const sss_bake_file *f, view_args *a)
+{
+    const int w = a->size[0], h = a->size[1];
     sss_error err = {{0}};
     sss_scene sc;
     sss_scene_eval *ev = NULL;
-    if (scene_open(f, scene_path, p, &sc, &ev) != 0) return 2;
+    if (scene_open(f, a->scene, &a->p, &sc, &ev) != 0) return 2;
     sss_offscreen *ctx = NULL;
     sss_renderer *r = NULL;
     float *q = malloc((size_t)f->mesh.nv * f->channels * sizeof(float));
     int rc = 1;
     if (!q) { fprintf(stderr, "%s: out of memory\n", TOOL); goto done; }
     if (sss_offscreen_create(&ctx, &err) != SSS_OK || sss_renderer_create(f, &r, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
+        fprintf(stderr, "%s: %s: %s\n", TOOL, a->path, err.msg);
         goto done;
     }
     rc = 0;
     sss_fx_gpu *g = NULL;
-    if (p->path != SSS_EVAL_CPU && sss_fx_gpu_create(f, ev, r, &g, &err) != SSS_OK)
-        fprintf(stderr, "%s: %s: the scene's lights are summed on the CPU (%s)\n", TOOL, path, err.msg);
+    if (a->p.path != SSS_EVAL_CPU && sss_fx_gpu_create(f, ev, r, &g, &err) != SSS_OK)
+        fprintf(stderr, "%s: %s: the scene's lights are summed on the CPU (%s)\n", TOOL, a->path, err.msg);
     char evals[96];
     snprintf(evals, sizeof evals, g ? "gpu (programs: %s)" : "cpu%s", g ? sss_fx_gpu_describe(g) : "");
-    if (nbench) {
-        double *ev_ms = malloc(sizeof(double) * (size_t)nbench), *draw = malloc(sizeof(double) * (size_t)nbench),
-               *frame = malloc(sizeof(double) * (size_t)nbench);
-        float *rgb, *hdr;
-        sss_scene_eval_frame(ev, 0.0, q);
-        if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) == SSS_OK) { free(rgb); free(hdr); }
-        sss_renderer_bind_offscreen(r, w, h, &err);
-        for (int i = 0; ev_ms && draw && frame && i < nbench; i++) {
-            glFinish();
-            double t0 = now_ms();
-            if (g) {
-                sss_fx_gpu_frame(g, 0.05 * i);
-            } else {
-                sss_scene_eval_frame(ev, 0.05 * i, q);
-                sss_renderer_upload_q(r, q);
-            }
-            glFinish();
-            double t1 = now_ms();
-            sss_renderer_draw(r, p, w, h);
-            glFinish();
-            double t2 = now_ms();
-            ev_ms[i] = t1 - t0;
-            draw[i] = t2 - t1;
-            frame[i] = t2 - t0;
-        }
-        if (ev_ms && draw && frame)
-            printf("{\"vertices\":%u,\"channels\":%u,\"paths\":\"%s\",\"eval\":\"%s\",\"gpu_programs\":\"%s\","
-                   "\"renderer\":\"%s\",\"frames\":%d,\"width\":%d,"
-                   "\"height\":%d,\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,\"frame_ms_median\":%.4f,"
-                   "\"bytes_per_vertex\":%.3f}\n", f->mesh.nv, f->channels, sss_scene_eval_paths(ev),
-                   g ? "gpu" : "cpu", g ? sss_fx_gpu_describe(g) : "none", sss_gl_renderer_name(), nbench, w, h, median(ev_ms, nbench), median(draw, nbench),
-                   median(frame, nbench), sss_file_integral_bytes_per_vertex(f));
-        free(ev_ms);
-        free(draw);
-        free(frame);
-    }
-    if (out) {
+    if (a->nbench) scene_bench(f, ev, g, r, &a->p, q, w, h, a->nbench);
+    if (a->out) {
         float *rgb, *hdr;
         if (g) {
             /* the GPU sum, read back so that the one image path draws it */
@@ -249,13 +335,13 @@ static int scene_offscreen(const sss_bake_file *f, const char *path, const char 
         } else {
             sss_scene_eval_frame(ev, 0.0, q);
         }
-        if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) != SSS_OK ||
-            sss_write_image(out, rgb, hdr, w, h, &err) != SSS_OK) {
+        if (sss_renderer_render_q_image(r, &a->p, q, w, h, &rgb, &hdr, &err) != SSS_OK ||
+            sss_write_image(a->out, rgb, hdr, w, h, &err) != SSS_OK) {
             fprintf(stderr, "%s: %s\n", TOOL, err.msg);
             rc = 1;
         } else {
-            fprintf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, out, w, h,
-                    sss_gl_renderer_name(), evals, scene_path, sss_scene_eval_paths(ev));
+            fprintf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, a->out, w, h,
+                    sss_gl_renderer_name(), evals, a->scene, sss_scene_eval_paths(ev));
             free(rgb);
             free(hdr);
         }
@@ -308,145 +394,42 @@ static const char *scene_frame_gpu(void *user, sss_renderer *r, double t)
     return s->desc;
 }
 
-static int scene_window(const sss_bake_file *f, const char *path, const char *scene_path, sss_view_params *p, int w,
-                        int h, const char *shot)
+static int scene_window(const sss_bake_file *f, view_args *a)
 {
     sss_scene sc;
     sss_scene_eval *ev = NULL;
-    if (scene_open(f, scene_path, p, &sc, &ev) != 0) return 2;
-    p->background[0] = p->background[1] = p->background[2] = 0.02f;
-    scene_win sw = {f, ev, NULL, p->path == SSS_EVAL_CPU, ""};
-    sss_app_options ao = {path, w, h, shot, scene_frame, &sw, scene_frame_gpu};
-    int rc = sss_app_run(f, p, &ao);
+    if (scene_open(f, a->scene, &a->p, &sc, &ev) != 0) return 2;
+    a->p.background[0] = a->p.background[1] = a->p.background[2] = 0.02f;
+    scene_win sw = {f, ev, NULL, a->p.path == SSS_EVAL_CPU, ""};
+    sss_app_options ao = {a->path, a->size[0], a->size[1], a->shot, scene_frame, &sw, scene_frame_gpu};
+    int rc = sss_app_run(f, &a->p, &ao);
     sss_scene_eval_destroy(ev);
     sss_scene_free(&sc);
     return rc;
 }
 
+/* The window without --scene: the renderer's own evaluation for the light
+ * the mouse moves (app.c). */
+static int window(const sss_bake_file *f, view_args *a)
+{
+    sss_app_options ao = {a->path, a->size[0], a->size[1], a->shot, NULL, NULL, NULL};
+    a->p.background[0] = a->p.background[1] = a->p.background[2] = 0.02f;
+    return sss_app_run(f, &a->p, &ao);
+}
+
 int main(int argc, char **argv)
 {
-    const char *path = NULL, *out = NULL, *shot = NULL, *scene_path = NULL;
-    int offscreen = 0, w = 800, h = 600, nbench = 0;
-    double intensity = 1.0;
-    sss_view_params p;
-    sss_view_params_default(&p);
-    p.background[0] = p.background[1] = p.background[2] = 0.0f;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEED() do { if (!v) { fprintf(stderr, "%s: %s needs a value\n", TOOL, a); return 2; } i++; } while (0)
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) { usage(stdout); return 0; }
-        else if (!strcmp(a, "--offscreen")) offscreen = 1;
-        else if (!strcmp(a, "--out")) { NEED(); out = v; }
-        else if (!strcmp(a, "--screenshot")) { NEED(); shot = v; }
-        else if (!strcmp(a, "--size")) {
-            NEED();
-            char tail;
-            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384) {
-                fprintf(stderr, "%s: --size: '%s' must be WxH with each in [1, 16384]\n", TOOL, v);
-                return 2;
-            }
-        }
-        else if (!strcmp(a, "--light")) { NEED(); if (!parse_triple(a, v, p.light)) return 2; }
-        else if (!strcmp(a, "--view")) { NEED(); if (!parse_triple(a, v, p.view)) return 2; }
-        else if (!strcmp(a, "--exposure")) { NEED(); if (!parse_positive(a, v, &p.exposure)) return 2; }
-        else if (!strcmp(a, "--intensity")) { NEED(); if (!parse_positive(a, v, &intensity)) return 2; }
-        else if (!strcmp(a, "--tonemap")) {
-            NEED();
-            if (!strcmp(v, "clamp")) p.tonemap = SSS_TONEMAP_CLAMP;
-            else if (!strcmp(v, "reinhard")) p.tonemap = SSS_TONEMAP_REINHARD;
-            else { fprintf(stderr, "%s: --tonemap: '%s' must be clamp or reinhard\n", TOOL, v); return 2; }
-        }
-        else if (!strcmp(a, "--cpu")) p.path = SSS_EVAL_CPU;
-        else if (!strcmp(a, "--scene")) { NEED(); scene_path = v; }
-        else if (!strcmp(a, "--no-scatter")) p.scatter = 0;
-        else if (!strcmp(a, "--no-specular")) p.specular = 0;
-        else if (!strcmp(a, "--no-own-term")) p.own_term = 0;
-        else if (!strcmp(a, "--near-visibility")) {
-            NEED();
-            if (!strcmp(v, "rays")) p.near_visibility = SSS_NEAR_RAYS;
-            else if (!strcmp(v, "map")) p.near_visibility = SSS_NEAR_MAP;
-            else { fprintf(stderr, "%s: --near-visibility: '%s' must be rays or map\n", TOOL, v); return 2; }
-        }
-        else if (!strcmp(a, "--shadow-size")) {
-            NEED();
-            char *end;
-            long n = strtol(v, &end, 10);
-            if (end == v || *end || n < 256 || n > 8192) {
-                fprintf(stderr, "%s: --shadow-size: '%s' must be an integer 256 ... 8192\n", TOOL, v);
-                return 2;
-            }
-            p.shadow_size = (int)n;
-        }
-        else if (!strcmp(a, "--wireframe")) p.wireframe = 1;
-        else if (!strcmp(a, "--bench")) {
-            NEED();
-            char *end;
-            long n = strtol(v, &end, 10);
-            if (*end || n < 1 || n > 100000) { fprintf(stderr, "%s: --bench: '%s' must be an integer in [1, 100000]\n", TOOL, v); return 2; }
-            nbench = (int)n;
-        }
-        else if (a[0] == '-' && a[1]) { fprintf(stderr, "%s: unknown option '%s' (see --help)\n", TOOL, a); return 2; }
-        else if (!path) path = a;
-        else { fprintf(stderr, "%s: unexpected argument '%s'\n", TOOL, a); return 2; }
-#undef NEED
-    }
-    if (!path) { fprintf(stderr, "%s: missing FILE.sss (see --help)\n", TOOL); return 2; }
-    if (offscreen && !out && !nbench) { fprintf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL); return 2; }
-    for (int k = 0; k < 3; k++) p.light_rgb[k] = intensity;
-
+    view_args a;
+    int rc = parse(argc, argv, &a);
+    if (rc != SSS_CLI_RUN) return rc;
     sss_bake_file f;
     sss_error err = {{0}};
-    if (sss_file_read(path, &f, &err) != SSS_OK) {
+    if (sss_file_read(a.path, &f, &err) != SSS_OK) {
         fprintf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
-    if (scene_path && !offscreen) {
-        int rc = scene_window(&f, path, scene_path, &p, w, h, shot);
-        sss_file_free(&f);
-        return rc;
-    }
-    if (scene_path) {
-        int rc = scene_offscreen(&f, path, scene_path, &p, out, w, h, nbench);
-        sss_file_free(&f);
-        return rc;
-    }
-    if (!offscreen) {
-        sss_app_options ao = {path, w, h, shot, NULL, NULL, NULL};
-        p.background[0] = p.background[1] = p.background[2] = 0.02f;
-        int rc = sss_app_run(&f, &p, &ao);
-        sss_file_free(&f);
-        return rc;
-    }
-    sss_offscreen *ctx;
-    sss_renderer *r;
-    if (sss_offscreen_create(&ctx, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-        sss_file_free(&f);
-        return 1;
-    }
-    if (sss_renderer_create(&f, &r, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
-        sss_offscreen_destroy(ctx);
-        sss_file_free(&f);
-        return 1;
-    }
-    int rc = 0;
-    if (nbench) bench(r, &f, &p, w, h, nbench);
-    if (out) {
-        float *rgb, *hdr;
-        if (sss_renderer_render_image(r, &p, w, h, &rgb, &hdr, &err) != SSS_OK ||
-            sss_write_image(out, rgb, hdr, w, h, &err) != SSS_OK) {
-            fprintf(stderr, "%s: %s\n", TOOL, err.msg);
-            rc = 1;
-        } else {
-            fprintf(stderr, "%s: %s: %dx%d, %s, %s path\n", TOOL, out, w, h, sss_gl_renderer_name(),
-                    p.path == SSS_EVAL_CPU ? "CPU" : "GPU");
-            free(rgb);
-            free(hdr);
-        }
-    }
-    sss_renderer_destroy(r);
-    sss_offscreen_destroy(ctx);
+    if (a.offscreen) rc = a.scene ? scene_offscreen(&f, &a) : offscreen_render(&f, &a);
+    else rc = a.scene ? scene_window(&f, &a) : window(&f, &a);
     sss_file_free(&f);
     return rc;
 }
