@@ -5,10 +5,10 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
 
 #include "app.h"
 #include "sss/cli.h"
+#include "sss/clock.h"
 #include "sss/format.h"
 #include "sss/render.h"
 
@@ -127,12 +127,7 @@ static int parse(int argc, char **argv, view_args *a)
     return SSS_CLI_RUN;
 }
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return 1e3 * (double)ts.tv_sec + 1e-6 * (double)ts.tv_nsec;
-}
+static double now_ms(void) { return 1e3 * sss_now(); }
 
 static int cmp_double(const void *a, const void *b)
 {
