@@ -22,10 +22,7 @@
 #include "app.h"
 #include "font.h"
 #include "sss/render.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "sss/vec3.h"
 
 static const char *TOOL = "sss-view";
 
@@ -69,14 +66,7 @@ typedef struct app {
     int frames;
 } app;
 
-/* ---- small vector helpers ---------------------------------------------- */
-
-static void normalize3(double v[3])
-{
-    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (l > 0)
-        for (int k = 0; k < 3; k++) v[k] /= l;
-}
+/* ---- rotations ----------------------------------------------------------- */
 
 /* Rotates v by angle (radians, right-handed) around the unit axis a (Rodrigues). */
 static void rotate3(double v[3], const double a[3], double angle)
@@ -97,7 +87,7 @@ static double clampd(double x, double lo, double hi) { return x < lo ? lo : x > 
 static void orbit(app *a, double dx, double dy, double rad_per_px)
 {
     double v[3] = {a->p.view[0], a->p.view[1], a->p.view[2]};
-    normalize3(v);
+    sss_normalize3(v);
     double el = asin(clampd(v[1], -1, 1)), az = atan2(v[0], v[2]);
     az -= dx * rad_per_px;
     el = clampd(el + dy * rad_per_px, -1.50, 1.50);
@@ -110,7 +100,7 @@ static void orbit(app *a, double dx, double dy, double rad_per_px)
  * target is 2·d·tan(fov/2) bounding radii. */
 static void pan(app *a, double dx, double dy, int win_h)
 {
-    double fov = (a->p.fov_deg > 0 ? a->p.fov_deg : 35.0) * M_PI / 180.0;
+    double fov = (a->p.fov_deg > 0 ? a->p.fov_deg : 35.0) * SSS_PI / 180.0;
     double per_px = 2.0 * a->p.distance * tan(0.5 * fov) / win_h;
     a->p.pan[0] = clampd(a->p.pan[0] - dx * per_px, -10, 10);
     a->p.pan[1] = clampd(a->p.pan[1] + dy * per_px, -10, 10);
@@ -123,10 +113,10 @@ static void move_light(app *a, double yaw, double pitch)
 {
     double eye[3], right[3], up[3], fwd[3];
     sss_renderer_camera(a->r, &a->p, eye, right, up, fwd);
-    normalize3(a->p.light);
+    sss_normalize3(a->p.light);
     rotate3(a->p.light, up, yaw);
     rotate3(a->p.light, right, pitch);
-    normalize3(a->p.light);
+    sss_normalize3(a->p.light);
 }
 
 static void scale_intensity(app *a, double s)
@@ -142,7 +132,7 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     (void)mods;
     app *a = glfwGetWindowUserPointer(w);
     if (action == GLFW_RELEASE) return;
-    const double step = 5.0 * M_PI / 180.0;
+    const double step = 5.0 * SSS_PI / 180.0;
     const double world_up[3] = {0, 1, 0};
     double eye[3], right[3], up[3], fwd[3];
     /* Continuous adjustments follow key repeat; toggles act once per press
@@ -231,7 +221,7 @@ static void on_cursor(GLFWwindow *w, double x, double y)
     glfwGetWindowSize(w, &ww, &wh);
     if (a->drag == DRAG_NONE || wh < 1) return;
     /* a drag over the full window height turns by 180 degrees */
-    double k = M_PI / wh;
+    double k = SSS_PI / wh;
     if (a->drag == DRAG_ORBIT) orbit(a, dx, dy, k);
     else if (a->drag == DRAG_PAN) pan(a, dx, dy, wh);
     else move_light(a, dx * k, dy * k);
@@ -334,7 +324,7 @@ static void draw_overlay(app *a, int fw, int fh)
     const sss_bake_file *f = a->f;
     int s = fw > 1600 ? 2 : 1; /* stay legible on large framebuffers */
     double l[3] = {a->p.light[0], a->p.light[1], a->p.light[2]};
-    normalize3(l);
+    sss_normalize3(l);
     const char *terms = a->p.scatter && a->p.specular ? "scatter+reflection"
                         : a->p.scatter                ? "scatter only"
                         : a->p.specular               ? "reflection only"
