@@ -10,7 +10,7 @@ PKGS=(build-essential cmake pkg-config git ca-certificates
       libglfw3-dev libepoxy-dev libegl-dev libgl-dev libopenexr-dev libgl1-mesa-dri libegl-mesa0
       glslang-tools  # glslangValidator: every shader variant is validated at build time
       xvfb xauth xdotool clang libomp-dev
-      libopenblas-dev openmpi-bin libopenmpi-dev  # issue 8: sgemm reference benchmarks, mpirun -np K sss-bake
+      libopenblas-dev openmpi-bin libopenmpi-dev  # sgemm reference benchmarks, mpirun -np K sss-bake (docs/benchmarks.md)
       gnuplot-nox jq)  # gnuplot-nox, jq: tests/bench/accuracy_study.sh (plots, JSON fields)
 missing=()
 for p in "${PKGS[@]}"; do

@@ -1,7 +1,7 @@
 /* decode.c: q(x_v, ω) for an arbitrary light direction from a decoded .sss
  * file (Hao–Varshney 2004 §3.2; interpolation inside the spherical Delaunay
  * triangle of the direction samples, see sss/dirset.h; the paper's own
- * 4-nearest blend is kept beside it for the accuracy study, issue 5).
+ * 4-nearest blend is kept beside it for the accuracy study, docs/accuracy.md).
  *
  * The per-frame work is one weighted sum of three direction rows, each a
  * contiguous block of nv * channels values (format.h's direction-major

@@ -1,7 +1,7 @@
 /* dipole.c: the dipole diffusion profile of Jensen, Marschner, Levoy and
  * Hanrahan (SIGGRAPH 2001) as used by Hao–Varshney 2004 §3.1, with its
  * closed-form disk integral, total diffuse reflectance, Fresnel terms and the
- * measured materials of Jensen 2001 (Figure 5 there; physics sheet §5).
+ * measured materials of Jensen 2001 (Figure 5 there; docs/physics.md §5).
  *
  * All quantities per colour channel, lengths in mm, coefficients in 1/mm.
  */
@@ -102,7 +102,7 @@ sss_result sss_material_validate(const sss_material *m, sss_error *err)
     return SSS_OK;
 }
 
-/* F_dr: Jensen 2001 eq. (physics sheet §1); for η < 1 Egan & Hilgeman's fit. */
+/* F_dr: Jensen 2001 eq. (docs/physics.md §1); for η < 1 Egan & Hilgeman's fit. */
 double sss_fdr(double eta)
 {
     if (eta == 1.0) return 0.0; /* index-matched boundary reflects nothing; the fit says 0.0016 */
@@ -111,7 +111,7 @@ double sss_fdr(double eta)
 }
 
 /* Unpolarised Fresnel reflectance for light entering a medium of relative
- * index η at incidence cosine c (physics sheet §3); F_t = 1 − F_r. */
+ * index η at incidence cosine c (docs/physics.md §3); F_t = 1 − F_r. */
 double sss_ft(double eta, double c)
 {
     if (!(c > 0.0)) return 0.0; /* grazing or from behind: nothing enters */

@@ -6,7 +6,7 @@
  * nearest to the actual light direction. That blend is discontinuous: the
  * weights jump whenever the set of 4 nearest samples changes, which shows as
  * popping while a light moves. We instead interpolate barycentrically inside
- * the spherical Delaunay triangle that contains the direction (physics sheet
+ * the spherical Delaunay triangle that contains the direction (docs/physics.md
  * §7): the weights are continuous on the whole sphere (neighbouring triangles
  * agree on their shared edge, where the opposite weight is 0) and exact at
  * the samples (d = ω_i gives weight 1 on i).
@@ -515,7 +515,7 @@ static double det3(const double *x, const double *y, const double *z)
     return x[0] * (y[1] * z[2] - y[2] * z[1]) + x[1] * (y[2] * z[0] - y[0] * z[2]) + x[2] * (y[0] * z[1] - y[1] * z[0]);
 }
 
-/* Barycentrics of d in triangle t, normalised to sum 1 (physics sheet §7):
+/* Barycentrics of d in triangle t, normalised to sum 1 (docs/physics.md §7):
  * λ_a = det(d, v_b, v_c) / det(v_a, v_b, v_c) cyclically. The common
  * denominator cancels in the normalisation (as does the length of d), so mu
  * = (det(d,b,c), det(d,c,a), det(d,a,b)) / their sum. Returns min(mu), or

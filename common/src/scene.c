@@ -1,6 +1,6 @@
 /* scene.c: scene files (docs/scenes.md) parsed with cJSON into sss_scene.
  * Every check reports the JSON path of the element at fault (RFC 6901
- * pointer syntax), so a user can find it in a long file: design.md
+ * pointer syntax), so a user can find it in a long file: README.md, "Errors"
  * "Effects" makes the scene the input that decides what gets baked, so a
  * misread scene would silently bake the wrong effects.
  *
@@ -41,7 +41,7 @@ static sss_result fail_at(const ctx *c, const char *jpath, const char *fmt, ...)
     sss_result r = sss_fail(c->err, SSS_ERR_ARG, "%s: %s: %s", c->file, jpath[0] ? jpath : "/", msg);
     /* Keys and strings from the file are echoed in the message: a control
      * character there (a newline, found by fuzz_scene) would break the
-     * one-line contract of design.md, so it is shown as '?'. */
+     * one-line contract of README.md, "Errors", so it is shown as '?'. */
     if (c->err)
         for (char *q = c->err->msg; *q; q++)
             if ((unsigned char)*q < 0x20 || *q == 0x7f) *q = '?';

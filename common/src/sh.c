@@ -1,7 +1,7 @@
 /* sh.c: real spherical harmonics (Cartesian evaluation, no Condon–Shortley
  * phase), spherical Voronoi areas of a direction set, and the two
  * projections of baked samples onto the first n² harmonics
- * (Hao–Varshney 2004 §4.1; conventions in physics sheet §7 and sss/sh.h).
+ * (Hao–Varshney 2004 §4.1; conventions in docs/physics.md §7 and sss/sh.h).
  */
 #include "sss/sh.h"
 #include "sss/vec3.h"
@@ -74,7 +74,7 @@ static int sh_unit(const double d[3], double u[3])
  *   Q_m^m = (2m−1)!!,  Q_{m+1}^m = (2m+1) z Q_m^m,
  *   Q_l^m = ((2l−1) z Q_{l−1}^m − (l+m−1) Q_{l−2}^m) / (l−m).
  * Everything is a polynomial in (x, y, z): no angle, no division by sin θ
- * (physics sheet §7). */
+ * (docs/physics.md §7). */
 static void sh_eval_unit(uint32_t order, double x, double y, double z, double *out)
 {
     double cm = 1.0, sm = 0.0;  /* C_m, S_m */

@@ -1,4 +1,4 @@
-/* bake_mpi.c: the MPI side of sss-bake (issue 8). The bake itself
+/* bake_mpi.c: the MPI side of sss-bake (docs/benchmarks.md, "Bake at scale"). The bake itself
  * (libsss_bake) does not link MPI: it receives these collectives through
  * sss_bake_comm. Parts are moved in chunks of at most 1 GiB, since MPI
  * counts are ints. */

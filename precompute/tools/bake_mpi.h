@@ -1,4 +1,4 @@
-/* bake_mpi.h: sss-bake under mpirun (issue 8). Built with MPI when CMake
+/* bake_mpi.h: sss-bake under mpirun (docs/benchmarks.md, "Bake at scale"). Built with MPI when CMake
  * finds it (option SSS_MPI); otherwise every function says "one process". */
 #ifndef SSS_BAKE_MPI_H
 #define SSS_BAKE_MPI_H

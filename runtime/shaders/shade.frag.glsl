@@ -14,7 +14,7 @@ uniform int u_flat;       // wireframe: constant colour
 out vec4 o_color;
 const float PI = 3.14159265358979;
 // Unpolarised Fresnel reflectance entering a medium of relative index eta
-// (physics sheet §3); 1 under total internal reflection.
+// (docs/physics.md §3); 1 under total internal reflection.
 float fresnel_r(float eta, float c) {
     c = clamp(c, 0.0, 1.0);
     float g2 = eta * eta - 1.0 + c * c;

@@ -81,7 +81,7 @@ finished bakes and measurements under \`out/accuracy/\` are reused.) The
 results are in [\`docs/data/accuracy/results.csv\`](data/accuracy/results.csv)
 and \`results.jsonl\` (one row per configuration and interpolation, $N_CFG
 rows). This run: $NOW, commit $REV plus the uncommitted working tree of that day
-(issues 5–8 in progress), $CPU,
+(other work in progress), $CPU,
 2 cores **shared with other jobs running at the same time** (bake and frame
 times are noisy: frame times are medians of 10 frames, bake times single
 runs — compare them within this page, not across machines), GL renderer
@@ -168,7 +168,7 @@ The error sits on the **self-shadow boundaries** (see Figure 5 below).
 
 ### Why sss-stat links the renderer
 
-The design (\`/work/shared/reference/design.md\`) has precompute and runtime
+The architecture (\`docs/architecture.md\`) has precompute and runtime
 depend on common only. The image error must be drawn "with the same renderer
 the viewer uses", and the exact q comes from the precompute side. We keep
 the libraries apart: the renderer, shaders and EGL offscreen context are the

@@ -92,7 +92,7 @@ plot '$P/fig5_d23_triangle.dat' u 1:2 w lp lw 2 lc rgb 'blue' t 'dragon 23K, all
      '$P/fig5_sphere_triangle.dat' u 1:2 w lp lw 2 lc rgb 'black' t 'sphere, all baked', \
      '$P/fig5_sphere_ring1_triangle.dat' u 1:2 w lp lw 2 lc rgb 'black' dt 2 t 'sphere, near terms', \
      3e-3 w l lc rgb 'red' dt 3 t 'paper: 3e-3 at 200 directions', \
-     1e-3 w l lc rgb 'dark-green' dt 4 t 'issue 5 target: 1e-3'"
+     1e-3 w l lc rgb 'dark-green' dt 4 t 'target: 1e-3'"
 F200MAX=$(q 'map(select(.id=="d23_dirs200_float" and .interp=="triangle")) | .[0].image.rms_max // 0')
 F200MEAN=$(q 'map(select(.id=="d23_dirs200_float" and .interp=="triangle")) | .[0].image.rms_mean // 0')
 plot fig9_error_vs_references "

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# accuracy_study.sh: what accuracy costs (issue 5). Bakes the Stanford
+# accuracy_study.sh: what accuracy costs (docs/accuracy.md). Bakes the Stanford
 # meshes over the knobs — directions (25 → 800), neighbourhood cutoff ε,
 # quantisation (float / lloyd8), SH order, reference fraction, the
 # compression presets, and the direction interpolation (our spherical

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Bake-cost benchmark (issue 2): phases, peak memory, bytes/vertex and the
+# Bake-cost benchmark (docs/benchmarks.md): phases, peak memory, bytes/vertex and the
 # Lloyd quantiser's SNR for one mesh at given scales, float and lloyd8,
 # REPEAT runs each; prints a markdown table of medians and writes the raw
 # JSON lines to OUT.jsonl.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Bake at scale (issue 8): the Stanford dragon at 5,205 / 22,998 / 100,250 /
+# Bake at scale (docs/benchmarks.md, "Bake at scale"): the Stanford dragon at 5,205 / 22,998 / 100,250 /
 # 437,645 vertices, each scaled so that its longest bounding-box side is
 # 200 mm, marble (RGB) and a grey marble (mono: sigma_a 0.0041, sigma'_s
 # 2.62 /mm, one channel), 200 directions: bake time per phase and peak

@@ -1,5 +1,5 @@
 #!/bin/bash
-# compression_table.sh: the table of docs/compression.md (issue 3).
+# compression_table.sh: the table of docs/compression.md.
 #   tests/bench/compression_table.sh OUT.md FILE.sss [FILE.sss ...]
 # Each FILE is a float bake (sss-bake --quant float, RGB). For each it
 # measures, mono (channel 1, green, as a one-channel bake) and RGB:

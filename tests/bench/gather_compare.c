@@ -1,5 +1,5 @@
 /* gather_compare: the hierarchical gather (sss/gather.h) against the direct
- * sum (nbhd.c + sss_integrate) on one mesh, for several θ (issue 8).
+ * sum (nbhd.c + sss_integrate) on one mesh, for several θ (docs/benchmarks.md, "Bake at scale").
  *
  *   gather_compare MESH MATERIAL MM_PER_UNIT DIRS "THETAS" [STRIDE [grey]]
  *

@@ -1,7 +1,7 @@
 /* gemm_bench: the gather's block product (gather_gemm.c) against
  * OpenBLAS's sgemm on the same block shape, one thread, side by side.
  *   gemm_bench [M N K [REPEAT]]   (default 141 200 2742 200: the 100K
- *                                  dragon's mean RGB block, issue 8)
+ *                                  dragon's mean RGB block, docs/benchmarks.md, "Bake at scale")
  * Ψ's K rows are runs of 32 rows taken from a larger table, as a block's
  * near leaves are, so the sgemm column includes the copy of Ψ into one
  * matrix that a BLAS call needs (the old gather did the same). Prints

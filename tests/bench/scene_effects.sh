@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmark of scene-driven effects (issue 7, docs/scenes.md "Benchmark"):
+# Benchmark of scene-driven effects (docs/scenes.md "Benchmark"):
 # one mesh under scenes calling for different effect sets; per scene the
 # bake time, rays, bytes per vertex of the scattering data and the frame
 # time of sss-view --scene --bench (offscreen), with the lights summed on the

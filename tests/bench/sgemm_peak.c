@@ -1,4 +1,4 @@
-/* sgemm_peak: OpenBLAS sgemm's rate on this machine (issue 8), the
+/* sgemm_peak: OpenBLAS sgemm's rate on this machine (docs/benchmarks.md, "Bake at scale"), the
  * reference for the hierarchical gather's dense blocks. Each OpenMP thread
  * runs its own single-threaded sgemm, as the gather does.
  *   sgemm_peak [M N K [REPEAT]]   (default 1000 1000 1000 10; the gather's

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Viewer benchmark (issue 4): scatter-evaluation throughput of the CPU and
+# Viewer benchmark (docs/viewer.md): scatter-evaluation throughput of the CPU and
 # GPU paths and whole-frame time, with the memory-bandwidth bound, for the
 # dragon at 100,250 and 437,645 vertices, mono and RGB.
 #   tests/bench/view_bench.sh [OUTDIR]

@@ -1,5 +1,5 @@
 /* fuzz_mesh.c: libFuzzer harness for the mesh importers (PLY ascii and
- * binary, OBJ, OFF, STL; issue 6). The first input byte picks the format
+ * binary, OBJ, OFF, STL; docs/robustness.md). The first input byte picks the format
  * (extension), the rest is the file. sss_import_mesh must refuse it with a
  * message naming the file, or return a mesh whose indices are in range and
  * whose positions, normals and areas are finite. The importer reads paths

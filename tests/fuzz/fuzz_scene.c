@@ -1,5 +1,5 @@
-/* fuzz_scene.c: libFuzzer harness for the scene parser (issue 6: "the
- * scene/material parser"; scene files are issue 7, docs/scenes.md). The input
+/* fuzz_scene.c: libFuzzer harness for the scene parser (docs/robustness.md, "the
+ * scene/material parser"; scene files: docs/scenes.md). The input
  * is the text of a scene file. sss_scene_parse must refuse it with a message
  * that starts with the file name and names a JSON path, or return a scene
  * whose numbers are finite and inside the ranges docs/scenes.md promises:

@@ -1,4 +1,4 @@
-/* fuzz_sss.c: libFuzzer harness for the .sss reader (issue 6). The input is
+/* fuzz_sss.c: libFuzzer harness for the .sss reader (docs/robustness.md). The input is
  * a whole file image. sss_file_decode must refuse it with a message or
  * accept it; an accepted file must then decode to finite, non-negative q at
  * a few light directions through sss_decode_all and sss_decode_vertex, and

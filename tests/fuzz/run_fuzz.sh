@@ -1,5 +1,5 @@
 #!/bin/bash
-# run_fuzz.sh FUZZER SEED_CORPUS SECONDS: a bounded libFuzzer run (issue 6).
+# run_fuzz.sh FUZZER SEED_CORPUS SECONDS: a bounded libFuzzer run (docs/robustness.md).
 # The seed corpus is copied to a scratch directory (the committed one stays
 # as it is); new inputs found during the run are thrown away with it. Crash
 # inputs are kept in the current directory as crash-* and fail the run.

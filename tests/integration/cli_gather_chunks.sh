@@ -1,4 +1,4 @@
-# Hierarchical gather under a memory limit (issue 8): when the transfer rows
+# Hierarchical gather under a memory limit (docs/benchmarks.md, "Bake at scale"): when the transfer rows
 # and tree moments of every light direction do not fit next to q, the bake
 # takes the directions in chunks, and the file must be byte for byte the
 # unlimited bake's (1 and 2 threads, and 2 MPI ranks); when not even one

@@ -1,4 +1,4 @@
-# Hierarchical gather (issue 8): the same bytes with 1 and 2 threads, and
+# Hierarchical gather (docs/benchmarks.md, "Bake at scale"): the same bytes with 1 and 2 threads, and
 # from `mpirun -np 2` (receivers split across two ranks, rank 0 writes) as
 # from one process. Skip-proof: scripts/setup.sh installs openmpi-bin, and a
 # missing mpirun fails this test instead of skipping it.

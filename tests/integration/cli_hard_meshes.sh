@@ -1,4 +1,4 @@
-# Hard meshes and the rest of issue 6's cases at the command line
+# Hard meshes and the rest of the cases of docs/robustness.md at the command line
 # (docs/robustness.md): each is repaired and reported, warned with a count,
 # or refused naming the parameter, and whatever is baked reads back finite.
 . "$(dirname "$0")/lib.sh"

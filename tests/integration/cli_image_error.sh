@@ -1,4 +1,4 @@
-# sss-stat --error, image-space error (issue 5; Hao–Varshney 2004 §3.3):
+# sss-stat --error, image-space error (docs/accuracy.md; Hao–Varshney 2004 §3.3):
 # the JSON has the documented image keys; fewer directions mean a larger
 # image RMS (25 vs 200), a higher SH order a smaller one; --error-images
 # writes the worst view's images; the paper's 4-nearest interpolation runs;

@@ -1,7 +1,7 @@
 # A bake interrupted at any point (SIGINT, SIGTERM, SIGKILL) leaves either
 # the previous file or no file under the output name, never a partial one;
 # a bake that would not fit in memory says so before starting, with its
-# estimate (issue 6; docs/format.md §7 for the atomic write).
+# estimate (docs/robustness.md; docs/format.md §7 for the atomic write).
 . "$(dirname "$0")/lib.sh"
 mesh="$SSS_SOURCE/data/meshes/blob.ply"   # 10,242 vertices: a few seconds per bake
 slow=(--material marble --mm-per-unit 60 --gather direct -q)  # the direct sum: slow enough to be caught mid-bake

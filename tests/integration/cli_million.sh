@@ -1,4 +1,4 @@
-# A million-vertex mesh (issue 6, docs/robustness.md): the bake's memory
+# A million-vertex mesh (docs/robustness.md): the bake's memory
 # stays proportional to the vertex count and nothing overflows 32 bits.
 # A 1000 x 1000 vertex plane (1,996,002 triangles) with a short scattering
 # range (sigma_a = 1, sigma'_s = 10 /mm: radius ~1 mm at 1 mm spacing, about

@@ -1,4 +1,4 @@
-# Extreme bake parameters and materials (issue 6, docs/robustness.md): each
+# Extreme bake parameters and materials (docs/robustness.md): each
 # either bakes a file whose every value decodes finite and non-negative (the
 # reader refuses NaN/Inf; sss-stat --error recomputes and compares), or is
 # refused before baking with a message naming the parameter.

@@ -1,4 +1,4 @@
-# Progress and ETA (issue 8): the bake's progress log (SSS_PROGRESS_LOG,
+# Progress and ETA (docs/benchmarks.md, "Bake at scale"): the bake's progress log (SSS_PROGRESS_LOG,
 # the figures of the bar: label, fraction, elapsed s, ETA s) must move
 # forward only, end every phase at exactly 100 %, and in the tree gather
 # count work, not receivers. The mesh (`sss-genmesh pair`) makes receiver

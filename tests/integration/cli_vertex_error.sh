@@ -1,5 +1,5 @@
 # sss-stat --error: per-vertex error of a file against the exact evaluator
-# (issue 5). Fewer directions must mean more error; compressing must add
+# (docs/accuracy.md). Fewer directions must mean more error; compressing must add
 # error; the JSON has the documented keys; bad arguments fail cleanly.
 . "$(dirname "$0")/lib.sh"
 expect_ok "$SSS_GENMESH" blob 2 "$TMP/blob.ply"

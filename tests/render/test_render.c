@@ -30,7 +30,7 @@ static uint64_t rng = 12345;
 
 /* GPU q read back vs sss_decode_all for light directions on direction
  * samples, at both poles (where every m ≠ 0 SH term vanishes) and random:
- * within 1e-4 relative (issue 4), for each storage form and channel count.
+ * within 1e-4 relative (docs/viewer.md), for each storage form and channel count.
  * As before, a difference below 1e-30 counts as none (0 vs 1e-38 is no
  * error), else it is relative to the C value, so a compressed value that
  * the clamp at 0 zeroes on one side only fails. The renderer folds the
@@ -165,7 +165,7 @@ static double image_rms(const float *a, const float *b, size_t n, double *mean)
 }
 
 /* Offscreen image on the GPU path vs the image whose per-vertex q comes from
- * the C decoder: RMS ≤ 1e-3 on [0, 1] (issue 4), from several views and
+ * the C decoder: RMS ≤ 1e-3 on [0, 1] (docs/viewer.md), from several views and
  * lights, lit from behind included. */
 static void check_images(const sss_bake_file *f, const char *name)
 {

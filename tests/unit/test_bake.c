@@ -155,7 +155,7 @@ static void outOfRangeMaterialsRefused(void **state)
     assert_int_equal(sss_dipole_init(&d, 1e308, 1e308, 1.3), SSS_ERR_ARG);
 }
 
-/* physics sheet §4: an infinite flat surface lit head-on scatters
+/* docs/physics.md §4: an infinite flat surface lit head-on scatters
  * q = F_t(η, 1) · R_d,total / π (the 1−ε cutoff and the discretisation must
  * stay within 2%). */
 static void check_slab(const char *name, double h)
@@ -175,7 +175,7 @@ static void check_slab(const char *name, double h)
     }
 }
 
-/* Convergence under refinement (issue 6): the flat-slab error at 0.5 mm
+/* Convergence under refinement (docs/robustness.md): the flat-slab error at 0.5 mm
  * spacing is below that at 2 mm in every channel and below 3 % (skin1, the
  * shortest ranges, 1/σtr down to 0.68 mm in blue). */
 static void planarSlabConvergesAsTessellationRefines(void **state)
@@ -195,10 +195,10 @@ static void planarSlabConvergesAsTessellationRefines(void **state)
     }
 }
 
-/* White furnace (issue 6): a closed sphere of a nearly non-absorbing
+/* White furnace (docs/robustness.md): a closed sphere of a nearly non-absorbing
  * material (σa = 1e-4, σ′s = 1 /mm) scatters out at most what enters:
  * Σ_o ΔA_o π q_o(ω) ≤ Σ_i ΔA_i F_t(η, n_i·ω) max(0, n_i·ω) for every light
- * direction, since R_d,total < 1 (physics sheet §2); and most of it, since
+ * direction, since R_d,total < 1 (docs/physics.md §2); and most of it, since
  * almost nothing is absorbed. */
 static void closedSphereScattersNoMoreThanEnters(void **state)
 {

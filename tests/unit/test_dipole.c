@@ -1,5 +1,5 @@
 /* Dipole model tests: closed forms against quadrature and against the
- * physics sheet's sanity values (physics sheet §1–§3, §5). */
+ * reference values of docs/physics.md §5 (formulas §1–§3). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>

@@ -1,5 +1,5 @@
 /* test_dirset.c: the light-direction set (Hao–Varshney 2004 §3.2), its
- * spherical Delaunay triangulation and barycentric lookup (physics sheet §7). */
+ * spherical Delaunay triangulation and barycentric lookup (docs/physics.md §7). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>

@@ -1,4 +1,4 @@
-/* Hierarchical gather tests (issue 8): the tree's q against the direct sum
+/* Hierarchical gather tests (docs/benchmarks.md, "Bake at scale"): the tree's q against the direct sum
  * on a sphere, a self-shadowing blob, an unwelded (coincident-vertex)
  * sphere and the 22,998-vertex dragon when data/fetch.sh has fetched it;
  * the error shrinks as θ tightens; the far field's Taylor weights on a

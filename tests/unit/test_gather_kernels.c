@@ -1,4 +1,4 @@
-/* The hierarchical gather's kernels (issue 8).
+/* The hierarchical gather's kernels (docs/benchmarks.md, "Bake at scale").
  * The profile polynomials (precompute/src/gather_rdtab.c): within 10⁻⁶
  * relative of R_d / π in double over their 32 octaves (to the cutoff) for
  * several materials and radii, finite and bounded outside that range; the

@@ -716,8 +716,7 @@ static void printRepairsWritesOneLinePerNonZeroCounter(void **state)
 }
 
 /* ---------------------------------------------------------------------------
- * Orientation, duplicates, non-convex polygons, far-off meshes (issue 6,
- * docs/robustness.md B5-B7)
+ * Orientation, duplicates, non-convex polygons, far-off meshes (docs/robustness.md B5-B7)
  * ------------------------------------------------------------------------- */
 
 /* Writes m as OFF text (positions %.9g, or %.17g plus offset when far),

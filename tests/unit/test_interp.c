@@ -1,6 +1,6 @@
 /* test_interp.c: the paper's 4-nearest-direction interpolation
  * (Hao–Varshney 2004 §3.2, Fig. 3), kept beside our spherical-triangle
- * barycentrics for the accuracy study (issue 5): the lookup picks the four
+ * barycentrics for the accuracy study (docs/accuracy.md): the lookup picks the four
  * nearest samples with inverse-angle weights summing to 1 and is exact at
  * the samples; the decoder's NEAREST4 form blends the stored rows with
  * those weights, and its TRIANGLE form is sss_decode_all to the bit. */

@@ -501,7 +501,7 @@ static void buildReachesTargetOnNonManifoldMesh(void **state)
 }
 
 /* The Stanford dragons' zero-thickness flaps as the importer hands them on
- * since issue 6, which keeps one triangle of each reversed pair: a sphere
+ * since the importer keeps (docs/robustness.md B5) one triangle of each reversed pair: a sphere
  * with NFIN one-sided flaps, half hanging from one surface edge (a new tip
  * vertex outside), half folded over a surface vertex (on two surface edges
  * at once, the third edge free), the two kinds the 23K dragon has (1,052

@@ -1,4 +1,4 @@
-/* test_robustness.c: issue 6's hard inputs baked end to end
+/* test_robustness.c: the hard inputs of docs/robustness.md baked end to end
  * (docs/robustness.md): each either gives finite, bounded q with the
  * documented warning count, or the same q as its well-formed counterpart. */
 #define _POSIX_C_SOURCE 200809L

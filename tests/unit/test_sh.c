@@ -1,6 +1,6 @@
 /* test_sh.c: real spherical harmonics, spherical Voronoi areas and the two
  * projections of baked samples onto SH (Hao–Varshney 2004 §4.1; constants
- * and conventions from physics sheet §7; no Condon–Shortley phase). */
+ * and conventions from docs/physics.md §7; no Condon–Shortley phase). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>

@@ -28,7 +28,7 @@ typedef enum sss_interp {
     SSS_INTERP_NEAREST4 = 1  /* the paper's 4 nearest samples, inverse-angle weights (sss_dirset_nearest4) */
 } sss_interp;
 
-/* sss_decode_all with a choice of direction interpolation (issue 5: the
+/* sss_decode_all with a choice of direction interpolation (docs/accuracy.md: the
  * accuracy study compares the two). SSS_INTERP_TRIANGLE is sss_decode_all
  * to the bit. With SSS_INTERP_NEAREST4 the rows of float and lloyd8 files
  * and the reference rows of SSS_QUANT_REFS files are blended over the four

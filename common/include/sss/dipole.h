@@ -1,6 +1,6 @@
 /* sss/dipole.h: the dipole diffusion model (Jensen et al. 2001) per colour
  * channel, as used by Hao–Varshney 2004 §3.1. Units: lengths in mm,
- * coefficients in 1/mm, R_d in 1/mm². Formulas: shared physics sheet §1–§3.
+ * coefficients in 1/mm, R_d in 1/mm². Formulas: docs/physics.md §1–§3.
  */
 #ifndef SSS_DIPOLE_H
 #define SSS_DIPOLE_H
@@ -23,7 +23,7 @@ typedef struct sss_material {
     double eta;                         /* relative index of refraction */
 } sss_material;
 
-/* Derived dipole quantities for one channel (physics sheet §1). */
+/* Derived dipole quantities for one channel (docs/physics.md §1). */
 typedef struct sss_dipole {
     double sigma_a, sigmap_s;  /* inputs, 1/mm */
     double sigmap_t;           /* σ′t = σa + σ′s, 1/mm */
@@ -70,7 +70,7 @@ double sss_ft(double eta, double cos_theta);
  * finite. */
 sss_result sss_dipole_init(sss_dipole *d, double sigma_a, double sigmap_s, double eta);
 
-/* R_d(r), 1/mm² (physics sheet §2). Finite at r = 0. */
+/* R_d(r), 1/mm² (docs/physics.md §2). Finite at r = 0. */
 double sss_rd(const sss_dipole *d, double r);
 
 /* ∫_0^R R_d(r) 2πr dr, exact closed form (dimensionless). */

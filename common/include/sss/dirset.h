@@ -5,7 +5,7 @@
  * The paper interpolates from the 4 nearest samples, which is discontinuous
  * where the nearest set changes; we interpolate barycentrically inside the
  * spherical Delaunay triangle (= convex hull facet) containing the direction:
- * exact at the samples and continuous everywhere (physics sheet §7).
+ * exact at the samples and continuous everywhere (docs/physics.md §7).
  */
 #ifndef SSS_DIRSET_H
 #define SSS_DIRSET_H
@@ -43,7 +43,7 @@ sss_result sss_dirset_triangulate(sss_dirset *s, sss_error *err);
  * of the containing triangle and returns its index. For n < 4 (no
  * triangulation) returns −1 and weight 1 on the nearest sample (the other two
  * weights 0, indices repeated). λ_a = det(d, v_b, v_c) / det(v_a, v_b, v_c)
- * cyclically, normalised to sum 1 (physics sheet §7). A zero or non-finite d
+ * cyclically, normalised to sum 1 (docs/physics.md §7). A zero or non-finite d
  * also returns −1 (index 0, weights 1, 0, 0). tri must be as triangulate
  * leaves it (any valid closed triangulation works, only slower). Pure and
  * thread-safe. */
@@ -51,7 +51,7 @@ int32_t sss_dirset_lookup(const sss_dirset *s, const double d[3], uint32_t idx[3
 
 /* The paper's interpolation (Hao–Varshney 2004 §3.2, Fig. 3 and the
  * Find-Outgoing-Radiance pseudo-code: "find 4 nearest matches q_j ...
- * interpolate the 4 matched values"), kept for comparison (issue 5): the
+ * interpolate the 4 matched values"), kept for comparison (docs/accuracy.md): the
  * four samples nearest to d by angle θ_k and inverse-angle weights
  * w_k = (1/θ_k) / Σ 1/θ_m (the paper does not give its weights; this is
  * the plain Shepard choice). d on a sample (θ < 1e−9 rad) gives weight 1

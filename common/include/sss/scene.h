@@ -1,6 +1,6 @@
 /* sss/scene.h: scene files (JSON, schema in docs/scenes.md): the objects,
  * lights and camera a bake is for. The planner (sss/planner.h) turns a scene
- * into the effects to bake (design.md "Effects").
+ * into the effects to bake (docs/scenes.md).
  *
  * Errors are one line naming the file and the JSON path (RFC 6901) of the
  * element at fault: `scene.json: /lights/2/direction: expected 3 numbers`.

@@ -22,7 +22,7 @@
  *     include the phase have y_1^1 = −0.4886 x and flip the sign of every
  *     odd-m function.
  *
- * Evaluation is Cartesian (physics sheet §7): the z part by the associated
+ * Evaluation is Cartesian (docs/physics.md §7): the z part by the associated
  * Legendre recurrence, the φ part by C_m = x C_{m−1} − y S_{m−1},
  * S_m = x S_{m−1} + y C_{m−1} (C_m + i S_m = (x + iy)^m). No atan2, no
  * division by sin θ: exact at the poles, where every m ≠ 0 term is exactly 0.

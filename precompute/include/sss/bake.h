@@ -30,7 +30,7 @@ typedef struct sss_bake_options {
     sss_quant quant;     /* SSS_QUANT_FLOAT (default) or SSS_QUANT_LLOYD8 */
     int threads;         /* OpenMP threads (default: OpenMP's own) */
     int progress;        /* non-zero: progress bar with ETA on stderr when it is a terminal */
-    /* Integrals (issue 8, sss/gather.h): SSS_GATHER_DIRECT sums every
+    /* Integrals (docs/benchmarks.md, "Bake at scale"; sss/gather.h): SSS_GATHER_DIRECT sums every
      * neighbour (nbhd.c + sss_integrate); SSS_GATHER_TREE takes far sources
      * through an octree of flux moments and the rest as dense matrix-product
      * blocks (gather_gemm.c).

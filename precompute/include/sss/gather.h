@@ -32,7 +32,7 @@
  * order on every vector width, so q does not depend on the thread count,
  * on the number of MPI ranks or on the CPU's vector extensions.
  *
- * Directions in chunks (issue 8, memory): the hierarchy does not depend on
+ * Directions in chunks (docs/benchmarks.md, "Bake at scale"; memory): the hierarchy does not depend on
  * the light directions. A bake that cannot hold the transfer rows and the
  * moments of all directions next to q builds it once
  * (sss_gather_tree_create) and loads a chunk of directions at a time

@@ -38,7 +38,7 @@ typedef struct sss_import_report {
     uint64_t faces_repeated_index;   /* faces using one vertex twice, dropped */
     uint64_t faces_zero_area;        /* triangles of zero area, dropped */
     uint64_t vertices_unreferenced;  /* vertices used by no face, removed */
-    /* Added for issue 6 (docs/robustness.md B5-B7): */
+    /* docs/robustness.md B5-B7: */
     uint64_t polygons_ear_clipped;   /* of polygons_triangulated: non-convex, ear-clipped instead of fanned */
     uint64_t polygons_unclipped;     /* warning: non-convex polygons left fanned (self-intersecting,
                                       * more than SSS_IMPORT_EAR_MAX vertices, or past 2^28 steps of

@@ -1,4 +1,4 @@
-/* sss/planner.h: scene → effect set (design.md "Effects"). For every
+/* sss/planner.h: scene → effect set (docs/scenes.md). For every
  * object the planner decides, with a reason per decision, how many colour
  * channels to bake, whether visibility rays are traced against the object
  * itself and against the other objects, and which light parameterisation

@@ -1,6 +1,6 @@
 /* sss/vertex_error.h: how far a .sss file's reconstruction of q is from the
  * exact evaluator (sss/exact.h), per vertex, at random light directions
- * (issue 5; the paper's error protocol is Hao–Varshney 2004 §3.3). */
+ * (docs/accuracy.md; the paper's error protocol is Hao–Varshney 2004 §3.3). */
 #ifndef SSS_VERTEX_ERROR_H
 #define SSS_VERTEX_ERROR_H
 #include <stdint.h>

@@ -91,7 +91,7 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
              SSS_FORMAT_MAJOR, SSS_FORMAT_MINOR_PLAIN, esc, m->name, m->sigma_a[0], m->sigma_a[1], m->sigma_a[2],
              m->sigmap_s[0], m->sigmap_s[1], m->sigmap_s[2], m->eta, o->mm_per_unit, o->n_dirs, o->eps, channels,
              o->quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float", radius[0], radius[1], radius[2], search);
-    if (o->gather == SSS_GATHER_TREE) { /* issue 8: which gather made q (the direct bake's text is unchanged) */
+    if (o->gather == SSS_GATHER_TREE) { /* docs/benchmarks.md, "Bake at scale": which gather made q (the direct bake's text is unchanged) */
         const size_t L = strlen(buf);
         if (L > 0 && L + 64 < sizeof buf)
             snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"gather\":\"tree\",\"theta\":%.17g}", o->theta);

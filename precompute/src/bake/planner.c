@@ -1,5 +1,5 @@
-/* planner.c: scene → effect set with a reason per decision (design.md
- * "Effects"; docs/scenes.md lists the rules and their tests).
+/* planner.c: scene → effect set with a reason per decision (docs/scenes.md
+ * lists the rules and their tests).
  *
  * The rules run in table order over each object. Each one reads the scene
  * and the geometry facts computed once per object (size, centre,

@@ -34,7 +34,7 @@
 // meshes made of unwelded patches such as the teapot.
 //
 // Since the importer drops a triangle that repeats an earlier one's three
-// vertices in either winding (issue 6), each flap reaches this code as one
+// vertices in either winding (docs/robustness.md), each flap reaches this code as one
 // triangle, not a pair: a fin with a free edge, standing on an edge that the
 // surface already closes with two triangles of its own (peel_fins below).
 // Split like any other non-manifold triangle, every fin pinned its vertices
@@ -733,7 +733,7 @@ std::vector<uint32_t> cancel_reversed_pairs(const uint32_t *tri, uint32_t nf)
 // vertices are left that no collapse can remove (a lone triangle, or a rim
 // of three around the slit). The Stanford dragons' zero-thickness flaps look
 // like this once the importer has kept one triangle of each reversed pair
-// (issue 6): of the 1,052 such triangles of the 23K dragon, 867 are fins
+// (docs/robustness.md): of the 1,052 such triangles of the 23K dragon, 867 are fins
 // (most standing on two surface edges, the others on one), and they are
 // exactly the triangles left out here (5K dragon: 263 of 380; the others
 // lack a free or a shared edge and did not stop the decimation). Without

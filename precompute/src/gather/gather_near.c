@@ -206,7 +206,7 @@ static void near_weights(const sss_gather_tree *t, const sss_mesh *mesh, const s
         const double dAi = mesh->area[i] * s2;
         if (i == o || d2 == 0.0) {
             /* self term: R_d over a disk of the coincident group's area,
-             * this vertex's share of it (physics sheet §2 (a), robustness B4) */
+             * this vertex's share of it (docs/physics.md §2 (a), robustness B4) */
             const double ga = t->group_area[o];
             const double share = ga > 0.0 ? mesh->area[i] / ga : 0.0;
             for (uint32_t c = 0; c < C; c++) {

@@ -1,9 +1,9 @@
 /* gather_rdtab.c: the dipole profile of the near field as piecewise
- * polynomials (issue 8, near field at the machine's peak).
+ * polynomials (docs/benchmarks.md, "Bake at scale"; near field at the machine's peak).
  *
  * The near weights of the hierarchical gather are (1/π) R_d(r) ΔA for
  * every (receiver, source) pair of a block (Hao–Varshney 2004 §3.1; R_d of
- * Jensen et al. 2001, physics sheet §2). Evaluated directly, R_d costs two
+ * Jensen et al. 2001, docs/physics.md §2). Evaluated directly, R_d costs two
  * square roots, two divisions and two exponentials per channel and pair: a
  * quarter of the near field's time, the part that kept it from the
  * machine's peak (docs/benchmarks.md). Here f = R_d / π is a function of

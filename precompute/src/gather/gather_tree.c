@@ -514,7 +514,7 @@ void sss_gkernel_init(sss_gkernel *k, const sss_dipole *d)
 /* R_d and its first two radial derivatives at distances r (r2 = r²),
  * times coef, for n nodes at once. For one dipole source at depth z, with
  * e = e^{−σ d_z}, d_z = sqrt(r² + z²):
- *   g   = (1 + σd) e / d³                         (physics sheet §2)
+ *   g   = (1 + σd) e / d³                         (docs/physics.md §2)
  *   g′  = −e (σ²d² + 3σd + 3) / d⁴
  *   g″  =  e (σ³d³ + 5σ²d² + 12σd + 12) / d⁵
  *   ∂r g(d_z) = g′ r/d_z,  ∂²r g(d_z) = g″ r²/d_z² + g′ z²/d_z³. */

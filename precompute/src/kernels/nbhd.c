@@ -17,7 +17,7 @@
  * covers the receiving point: duplicate or nearly coincident vertices) is
  * integrated over that disk (sss_rd_disk_offset) instead of point-sampled:
  * R_d(r) ΔA would weight the whole area with the profile's peak, up to
- * R_d(0) ΔA, far more than the area can hold (physics sheet §6). Farther
+ * R_d(0) ΔA, far more than the area can hold (docs/physics.md §6). Farther
  * neighbours keep the paper's point sample (§3.1), which on a regular
  * tessellation is the second-order midpoint rule: integrating every
  * neighbour over a disk instead was measured worse on the planar-slab check
@@ -182,7 +182,7 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
                     float *w = &out->w[(base + a) * channels];
                     if (i == o || same_position(mesh, i, o)) {
                         /* Self term: R_d integrated over a disk of x_o's own
-                         * area (physics sheet §2 (a)); a point sample at
+                         * area (docs/physics.md §2 (a)); a point sample at
                          * r = 0 is wrong. With coincident copies, this
                          * vertex's share of their common disk. */
                         const double share = group_area > 0.0 ? mesh->area[i] / group_area : 0.0;

@@ -16,7 +16,7 @@ float sss_transfer_one(const sss_mesh *mesh, const sss_vis *vis, uint32_t i, con
                        int *traced, int *blocked);
 
 /* Rows [v0, v1) of the table of sss_transfer_compute (G[i * n + j], the
- * same indexing), for a rank that owns part of the vertices (issue 8, MPI)
+ * same indexing), for a rank that owns part of the vertices (docs/benchmarks.md, "Bake at scale"; MPI)
  * or the whole mesh (sss_transfer_compute). */
 sss_result sss_transfer_rows(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n, double eta,
                              uint32_t v0, uint32_t v1, const sss_cancel_flag *cancel, float *G, uint64_t *rays_out,

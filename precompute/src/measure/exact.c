@@ -106,7 +106,7 @@ sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *
     if (r != SSS_OK) { free(e); return r; }
 
     /* The bake's radius rule (bake.c): per channel the disk holding 1−ε of
-     * R_d,total (physics sheet §2 (b)), clamped to the object's diagonal;
+     * R_d,total (docs/physics.md §2 (b)), clamped to the object's diagonal;
      * the search uses the largest. Recomputed, not read from PARM, where it
      * is rounded to 9 digits: the membership test r ≤ radius must match. */
     e->search_radius_mm = sss_nbhd_radii(&e->mesh, f->mm_per_unit, dip, f->channels, eps, NULL);

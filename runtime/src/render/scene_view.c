@@ -1,5 +1,5 @@
-/* scene_view.c: the run-time sum over a scene's lights (design.md
- * "Effects": several lights → the sum), each evaluated with the
+/* scene_view.c: the run-time sum over a scene's lights (several lights:
+ * the sum), each evaluated with the
  * parameterisation the planner chose and the file records (docs/scenes.md):
  *   directional-exact  the stored values, no work per frame;
  *   direction-set      the §3.2 interpolation (sss_decode_all);
