@@ -116,7 +116,7 @@ visibility rays):
 
 - **per-vertex**: area-weighted relative RMS of q over 100 random light
   directions (\`vertex_error.rel_rms_all\`);
-- **image (§3.3)**: the viewer's renderer (\`runtime/src/renderer.c\`, EGL
+- **image (§3.3)**: the viewer's renderer (\`runtime/src/render/renderer.c\`, EGL
   offscreen) draws the subsurface term L = E·q·F_t(η, n·ω_o) twice per view,
   once with the exact q and once with the file's reconstruction, both
   supplied per vertex (\`sss_renderer_upload_q\`); images are clamped to

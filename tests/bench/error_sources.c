@@ -10,7 +10,7 @@
  * terminator), and the steps where a source's visibility V flips (cast
  * shadows). This tool separates them, at NDIRS random light directions
  * (default 100) that miss every sample, with the per-vertex, area-weighted
- * relative RMS of accuracy.h:
+ * relative RMS of sss/vertex_error.h:
  *
  *  - rows "shadows": the file's own rows against the exact evaluator;
  *  - rows "no shadows": the same physics with V ≡ 1 (sss_exact_set_shadows),

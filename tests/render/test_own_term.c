@@ -1,6 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 /* The run-time near terms (format 1.3, section OWNT; sss/ownterm.h) in the
- * renderer (runtime/src/renderer.c, bvh.c, shadow.c), offscreen on EGL.
+ * renderer (runtime/src/render/: renderer.c, effects/near.c, bvh.c, shadow.c), offscreen on EGL.
  * Files baked with the own term split off (sss_bake with own_term =
  * SSS_OWN_TERM_RUNTIME: what `sss-bake --own-term runtime [--rings K]`
  * writes) store q − Σ_{i in o's rings} w̃(o, i) g_i(ω_j) V(x_i, ω_j); the

@@ -233,7 +233,7 @@ static void tree_bytes_do_not_depend_on_threads(void **state)
     sss_mesh_free(&m);
 }
 
-/* Directions in chunks (the memory plan of bake_gather.c): the hierarchy
+/* Directions in chunks (the memory plan of bake_tree.c): the hierarchy
  * built once, the transfer rows and moments of a chunk loaded at a time,
  * each chunk's q written into the whole; the bytes must be those of one
  * pass over all directions, for chunks of every width down to one

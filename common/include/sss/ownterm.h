@@ -37,7 +37,7 @@ extern "C" {
 
 /* g = F_t(η, c) · max(0, c), c = n·ω (n and ω unit; ω towards the light):
  * the transfer factor of the own term without visibility, in float as
- * every reader evaluates it (the GLSL version in runtime/src/shaders.c
+ * every reader evaluates it (the GLSL version in runtime/shaders/near_vis.comp.glsl
  * computes the same expression). */
 float sss_own_transfer(float eta, const float n[3], const float d[3]);
 

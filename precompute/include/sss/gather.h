@@ -99,7 +99,7 @@ sss_result sss_gather_tree_build(const sss_mesh *mesh, double mm_per_unit, const
 /* The hierarchy alone (Morton order, nodes, receiver blocks): it does not
  * depend on the light directions, so a bake that cannot hold the transfer
  * rows and moments of every direction at once builds it once and loads
- * the directions a chunk at a time (bake_gather.c). */
+ * the directions a chunk at a time (bake_tree.c). */
 sss_result sss_gather_tree_create(const sss_mesh *mesh, double mm_per_unit, const sss_gather_params *p,
                                   sss_gather_tree **out, sss_error *err);
 /* Morton position → vertex (nv entries): row m of sss_gather_tree_rows is

@@ -23,7 +23,7 @@ typedef struct sss_gnode {
 
 struct sss_gather_tree {
     uint32_t nv;
-    uint32_t D;            /* directions loaded in Gm and mom (a chunk of the bake's, bake_gather.c) */
+    uint32_t D;            /* directions loaded in Gm and mom (a chunk of the bake's, bake_tree.c) */
     uint32_t cap_dirs;     /* directions Gm and mom have room for */
     double s;              /* mm per mesh unit */
     sss_gather_params p;

@@ -368,7 +368,7 @@ float *sss_gather_tree_rows(sss_gather_tree *t, uint32_t n_dirs)
 {
     if (n_dirs == 0) return NULL;
     /* The buffers keep the largest width asked for: a bake in direction
-     * chunks (bake_gather.c) loads chunk after chunk into the same memory. */
+     * chunks (bake_tree.c) loads chunk after chunk into the same memory. */
     if (n_dirs > t->cap_dirs) {
         free(t->Gm);
         free(t->mom);

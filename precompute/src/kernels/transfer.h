@@ -23,7 +23,7 @@ sss_result sss_transfer_rows(const sss_mesh *mesh, const sss_vis *vis, const dou
                              uint64_t *occ_out, sss_error *err);
 /* The same with row m (m0 <= m < m1) for vertex order[m] (NULL: vertex m):
  * the hierarchical gather fills its Morton-ordered rows directly
- * (bake_gather.c), each value computed as sss_transfer_one computes it, so
+ * (bake_tree.c), each value computed as sss_transfer_one computes it, so
  * with the same bits whichever rows or directions are computed together. */
 sss_result sss_transfer_rows_ordered(const sss_mesh *mesh, const sss_vis *vis, const double *dirs, uint32_t n,
                                      double eta, const uint32_t *order, uint32_t m0, uint32_t m1,
