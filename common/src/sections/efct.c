@@ -12,8 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "format_bytes.h"
-#include "format_effects.h"
+#include "../format_bytes.h"
+#include "../format_effects.h"
 
 #define CORRUPT SSS_ERR_CORRUPT
 

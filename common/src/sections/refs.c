@@ -9,13 +9,13 @@
  * section size before anything is allocated, and every index and value is
  * range-checked before the file is handed out.
  */
-#include "format_compressed.h"
+#include "../format_compressed.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "format_bytes.h"
+#include "../format_bytes.h"
 
 #define CORRUPT SSS_ERR_CORRUPT
 #define REFS_HEADER 28u /* channels, nref, nrt, tri_bytes, wbits, w_lo, w_hi */
