@@ -113,6 +113,7 @@
     X(ENVT, "ENVT", SSS_SEC_REQUIRED | SSS_SEC_CHECK_LAST,                      2, envt)       \
     X(PSHL, "PSHL", SSS_SEC_REQUIRED | SSS_SEC_CHECK_LAST,                      2, pshl)       \
     X(OWNT, "OWNT", SSS_SEC_REQUIRED,                                           3, ownt)       \
+    X(NBHD, "NBHD", SSS_SEC_REQUIRED,                                           4, nbhd)       \
     X(PARM, "PARM", SSS_SEC_EVERY_FILE | SSS_SEC_MAY_BE_EMPTY,                  0, parm)
 
 #define SSS_SEC_ENUM(id, tag, flags, since, codec) SSS_SEC_##id,
