@@ -1,7 +1,8 @@
 /* format_bytes.h (internal): little-endian packing and overflow-checked
- * 64-bit size arithmetic shared by the .sss encoder/decoder files
- * (format.c, format_compressed.c). Field by field, never struct dumps, so
- * host byte order and padding never reach a file (docs/format.md §1). */
+ * 64-bit size arithmetic shared by the .sss encoder and decoder (format.c
+ * and the section codecs in sections/). Field by field, never struct
+ * dumps, so host byte order and padding never reach a file
+ * (docs/format.md §1). */
 #ifndef SSS_FORMAT_BYTES_H
 #define SSS_FORMAT_BYTES_H
 #include <stdint.h>

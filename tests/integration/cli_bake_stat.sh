@@ -26,7 +26,7 @@ expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_refs.sss" --material skin1 -
   --sh-order 2 --refs 0.05 --sh-quant lloyd4 --weight-bits 8 --ls-weights --json -q
 contains "$TMP/out" '"quant":"refs"'
 expect_ok "$SSS_STAT" "$TMP/blob_refs.sss" --json
-contains "$TMP/out" '"format_version":"1.1"'
+contains "$TMP/out" '"format_version":"1.4"'
 for part in ref_vertex_indices ref_triangles vertex_triangle_indices weights ref_values sh_tables sh_codes directions; do
   contains "$TMP/out" "\"$part\":{\"bytes\":"
 done

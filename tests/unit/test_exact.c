@@ -289,9 +289,10 @@ static void lloyd8FileGivesSameExactValues(void **state)
     sss_file_free(&f8);
 }
 
-/* ε comes from PARM: a larger cutoff means a smaller radius; an empty PARM
- * means the bake's default; a PARM that is not JSON, or a bad "eps", is
- * refused with a message naming the section. */
+/* ε comes from section NBHD; in a file without it (before format 1.4) from
+ * PARM: a larger cutoff means a smaller radius; an empty PARM means the
+ * bake's default; a PARM that is not JSON, or a bad "eps", is refused with a
+ * message naming the section. */
 static void epsReadFromParams(void **state)
 {
     (void)state;
@@ -299,6 +300,19 @@ static void epsReadFromParams(void **state)
     const double r_default = sss_exact_search_radius_mm(g_exact);
     assert_true(r_default > 0.0);
     char *saved = g_file.params_json;
+    const double saved_eps = g_file.eps;
+    assert_true(saved_eps == 1e-3);
+    {   /* NBHD wins over PARM, whatever PARM holds */
+        g_file.eps = 0.05;
+        g_file.params_json = (char *)"not json";
+        sss_exact *e = NULL;
+        sss_error err = {{0}};
+        if (sss_exact_create(&g_file, &e, &err) != SSS_OK) fail_msg("%s", err.msg);
+        assert_true(sss_exact_eps(e) == 0.05);
+        assert_true(sss_exact_search_radius_mm(e) < r_default);
+        sss_exact_destroy(e);
+    }
+    g_file.eps = 0.0;
     const char *cases[] = {"", "{\"eps\":0.05}", "{\"mesh\":\"x\"}", "not json", "[1,2]", "{\"eps\":\"small\"}",
                            "{\"eps\":1.5}", "{\"eps\":0}"};
     for (size_t t = 0; t < sizeof cases / sizeof cases[0]; t++) {
@@ -320,6 +334,7 @@ static void epsReadFromParams(void **state)
         }
     }
     g_file.params_json = saved;
+    g_file.eps = saved_eps;
     sss_exact *e = NULL;
     sss_error err = {{0}};
     sss_bake_file empty;

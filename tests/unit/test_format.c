@@ -1067,6 +1067,161 @@ static void decodeRejectsNulInParams(void **state)
     free(b);
 }
 
+/* ---- NBHD: the neighbourhood cutoff (1.4) ------------------------------ */
+
+/* make_file's content with ε as a bake records it (0.01, as its PARM says). */
+static uint8_t *encode_with_eps(uint32_t ndirs, sss_quant quant, size_t *len)
+{
+    sss_bake_file f;
+    make_file(&f, ndirs, 3, quant);
+    f.eps = 0.01;
+    uint8_t *b = encode(&f, len);
+    sss_file_free(&f);
+    return b;
+}
+
+static void nbhdRoundTripsAndMakesTheFile1_4(void **state)
+{
+    (void)state;
+    for (int q = 0; q < 2; q++) {
+        sss_bake_file a, b;
+        make_file(&a, 12, 3, q ? SSS_QUANT_LLOYD8 : SSS_QUANT_FLOAT);
+        a.eps = 0.01;
+        size_t len;
+        uint8_t *buf = encode(&a, &len);
+        /* NBHD is required-flagged and makes the file 1.4, so a 1.0–1.3
+         * reader refuses it by name (§4) instead of ignoring ε */
+        assert_int_equal(buf[10] | buf[11] << 8, 4);
+        assert_int_equal(rd32(buf + 12), 6);
+        const uint8_t *e = buf + HDR + 4 * ENT; /* before PARM, the last */
+        assert_memory_equal(e, "NBHD", 4);
+        assert_int_equal(rd32(e + 4), 1);
+        assert_int_equal(rd64(e + 16), 8);
+        assert_int_equal(rd64(e + 24), 1);
+        uint64_t bits;
+        memcpy(&bits, &a.eps, 8);
+        assert_int_equal(rd64(buf + rd64(e + 8)), bits);
+        assert_memory_equal(buf + HDR + 5 * ENT, "PARM", 4);
+        expect_accept(buf, len, &b);
+        assert_same_file(&a, &b);
+        assert_true(b.eps == 0.01);
+        assert_int_equal(b.version_minor, 4);
+        size_t len2;
+        uint8_t *buf2 = encode(&b, &len2);
+        assert_int_equal(len, len2);
+        assert_memory_equal(buf, buf2, len);
+        free(buf);
+        free(buf2);
+        sss_file_free(&a);
+        sss_file_free(&b);
+    }
+}
+
+static void decodeRejectsNbhdOfWrongSizeOrCount(void **state)
+{
+    (void)state;
+    size_t len;
+    uint8_t *b = encode_with_eps(8, SSS_QUANT_FLOAT, &len);
+    for (size_t n = 0; n < 12; n += (n == 7 ? 2 : 1)) {
+        tfile t;
+        t_split(b, len, &t);
+        tsec *s = t_find(&t, "NBHD");
+        uint8_t *d = realloc(s->data, 16);
+        assert_non_null(d);
+        memset(d + 8, 0, 8);
+        s->data = d;
+        s->size = n;
+        char want[64];
+        snprintf(want, sizeof want, "section NBHD: %zu bytes, count 1 (expected 8 and 1)", n);
+        expect_reject_t(&t, SSS_ERR_CORRUPT, want);
+        t_free(&t);
+    }
+    tfile t;
+    t_split(b, len, &t);
+    t_find(&t, "NBHD")->count = 2;
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "section NBHD: 8 bytes, count 2");
+    t_free(&t);
+    free(b);
+}
+
+static void decodeRejectsNbhdEpsOutsideZeroOne(void **state)
+{
+    (void)state;
+    size_t len;
+    uint8_t *b = encode_with_eps(8, SSS_QUANT_LLOYD8, &len);
+    const double bad[] = {0.0, -0.01, 1.0, 7.5, NAN, INFINITY, -INFINITY};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        reject_edit_f64(b, len, "NBHD", 0, bad[i], "section NBHD: eps");
+    free(b);
+    /* the writer refuses what the reader would */
+    sss_bake_file f;
+    make_file(&f, 8, 3, SSS_QUANT_FLOAT);
+    uint8_t *buf = NULL;
+    sss_error err = {{0}};
+    for (size_t i = 1; i < sizeof bad / sizeof bad[0]; i++) {
+        f.eps = bad[i];
+        err.msg[0] = 0;
+        assert_int_equal(sss_file_encode(&f, &buf, &len, &err), SSS_ERR_ARG);
+        assert_null(buf);
+        assert_non_null(strstr(err.msg, "section NBHD: eps"));
+    }
+    sss_file_free(&f);
+}
+
+static void decodeRejects1_4FileWithoutNbhd(void **state)
+{
+    (void)state;
+    size_t len;
+    uint8_t *b = encode_with_eps(8, SSS_QUANT_FLOAT, &len);
+    tfile t;
+    t_split(b, len, &t);
+    assert_int_equal(t.minor, 4);
+    t_remove(&t, "NBHD");
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "t.sss: missing required section NBHD");
+    /* the same sections under minor 3, as a 1.3 writer wrote them, read */
+    t.minor = 3;
+    size_t n;
+    uint8_t *c = t_join(&t, &n);
+    sss_bake_file f;
+    expect_accept(c, n, &f);
+    assert_true(f.eps == 0.0);
+    sss_file_free(&f);
+    free(c);
+    t_free(&t);
+    free(b);
+}
+
+static void filesWithoutNbhdStillReadAndKeepTheirVersion(void **state)
+{
+    (void)state;
+    /* ε not given (another writer, or a file read from before 1.4): no NBHD,
+     * the old minor version, the old bytes; ε is then only in PARM */
+    for (int q = 0; q < 2; q++) {
+        sss_bake_file a, b;
+        make_file(&a, 12, 3, q ? SSS_QUANT_LLOYD8 : SSS_QUANT_FLOAT);
+        size_t len;
+        uint8_t *buf = encode(&a, &len);
+        assert_int_equal(buf[10], 0);
+        expect_accept(buf, len, &b);
+        assert_true(b.eps == 0.0);
+        assert_int_equal(b.nsections, 5);
+        assert_non_null(strstr(b.params_json, "\"eps\":0.01"));
+        free(buf);
+        sss_file_free(&a);
+        sss_file_free(&b);
+    }
+    /* a newer minor version without NBHD still reads (§4) */
+    size_t len;
+    uint8_t *b = encode_new(6, 3, SSS_QUANT_FLOAT, &len);
+    wr16(b + 10, 5);
+    fix_header_crc(b);
+    sss_bake_file f;
+    expect_accept(b, len, &f);
+    assert_true(f.eps == 0.0);
+    sss_file_free(&f);
+    free(b);
+}
+
 /* ---- encoder input checks ---------------------------------------------- */
 
 static void encodeRejectsInvalidInput(void **state)
@@ -1334,6 +1489,11 @@ int main(void)
         cmocka_unit_test(decodeRejectsBadDirections),
         cmocka_unit_test(decodeRejectsBadQuantisedValues),
         cmocka_unit_test(decodeRejectsNulInParams),
+        cmocka_unit_test(nbhdRoundTripsAndMakesTheFile1_4),
+        cmocka_unit_test(decodeRejectsNbhdOfWrongSizeOrCount),
+        cmocka_unit_test(decodeRejectsNbhdEpsOutsideZeroOne),
+        cmocka_unit_test(decodeRejects1_4FileWithoutNbhd),
+        cmocka_unit_test(filesWithoutNbhdStillReadAndKeepTheirVersion),
         cmocka_unit_test(decodeSampleReturnsStoredValues),
         cmocka_unit_test(decodeAllIsExactAtEveryDirectionSample),
         cmocka_unit_test(decodeAllInterpolatesWithLookupWeights),

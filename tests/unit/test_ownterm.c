@@ -94,9 +94,20 @@ static void fileIsMarked(void **state)
 {
     (void)state;
     assert_int_equal(g_plain.own_term, 0);
-    assert_int_equal(g_plain.version_minor, 0);
     assert_int_equal(g_own.own_term, SSS_OWN_TERM_RUNTIME);
-    assert_int_equal(g_own.version_minor, 3);
+    /* both record ε (section NBHD), which makes them 1.4 files; without it
+     * the own term alone makes a file 1.3 (docs/format.md §5.9) */
+    assert_int_equal(g_plain.version_minor, 4);
+    assert_int_equal(g_own.version_minor, 4);
+    assert_true(g_own.eps == 1e-3);
+    sss_bake_file h = g_own;
+    h.eps = 0.0;
+    uint8_t *buf;
+    size_t len;
+    sss_error err = {{0}};
+    assert_int_equal(sss_file_encode(&h, &buf, &len, &err), SSS_OK);
+    assert_int_equal(buf[10], 3);
+    free(buf);
     assert_non_null(strstr(g_own.params_json, "\"own_term\":\"runtime"));
 }
 

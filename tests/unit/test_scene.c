@@ -145,7 +145,8 @@ static void bake(const baked *b, uint32_t obj, sss_bake_file *f, sss_bake_stats 
     if (sss_file_encode(f, &buf, &len, &err) != SSS_OK) fail_msg("%s", err.msg);
     sss_bake_file g;
     if (sss_file_decode(buf, len, "mem.sss", &g, &err) != SSS_OK) fail_msg("%s", err.msg);
-    assert_int_equal(g.version_minor, 2);
+    assert_int_equal(g.version_minor, 4); /* 1.2 sections and ε (NBHD, 1.4) */
+    assert_true(g.eps == f->eps && g.eps > 0.0);
     assert_int_equal(g.fx.mask, f->fx.mask);
     sss_file_free(&g);
     free(buf);
@@ -435,7 +436,16 @@ static void effectFilesAreVersion12AndUnknownEffectsAreRefused(void **state)
     uint8_t *buf;
     size_t len;
     assert_int_equal(sss_file_encode(&f, &buf, &len, &err), SSS_OK);
-    assert_int_equal(buf[10], 2);
+    assert_int_equal(buf[10], 4); /* its ε (NBHD) makes it 1.4; the effect sections alone, 1.2 */
+    {
+        sss_bake_file h = f;
+        h.eps = 0.0;
+        uint8_t *b12;
+        size_t n12;
+        assert_int_equal(sss_file_encode(&h, &b12, &n12, &err), SSS_OK);
+        assert_int_equal(b12[10], 2);
+        free(b12);
+    }
     /* no direction set, no QFLT: a static light costs nv x channels floats */
     sss_bake_file g;
     assert_int_equal(sss_file_decode(buf, len, "x.sss", &g, &err), SSS_OK);
@@ -459,7 +469,8 @@ static void effectFilesAreVersion12AndUnknownEffectsAreRefused(void **state)
     assert_int_equal(sss_file_decode(buf, len, "x.sss", &g, &err), SSS_ERR_UNSUPPORTED);
     assert_non_null(strstr(err.msg, "x.sss: section EFCT: effect bit 9 is unknown to this reader"));
     free(buf);
-    /* a plain bake is still 1.0, byte for byte what it was */
+    /* a plain bake holds no 1.2 section: it is 1.4 for its ε (NBHD) alone,
+     * and 1.0 without it */
     sss_mesh m;
     assert_int_equal(sss_gen_sphere(&m, 1.0, 1, &err), SSS_OK);
     sss_bake_options o;
@@ -469,8 +480,12 @@ static void effectFilesAreVersion12AndUnknownEffectsAreRefused(void **state)
     sss_bake_stats pst;
     assert_int_equal(sss_bake(&m, "s", &b.sc.objects[0].material, &o, &plain, &pst, &err), SSS_OK);
     assert_int_equal(sss_file_encode(&plain, &buf, &len, &err), SSS_OK);
-    assert_int_equal(buf[10], 0);
+    assert_int_equal(buf[10], 4);
     assert_non_null(strstr(plain.params_json, "\"format\":\"1.1\""));
+    free(buf);
+    plain.eps = 0.0;
+    assert_int_equal(sss_file_encode(&plain, &buf, &len, &err), SSS_OK);
+    assert_int_equal(buf[10], 0);
     free(buf);
     sss_file_free(&plain);
     sss_mesh_free(&m);

@@ -1,6 +1,7 @@
 /* sss/format.h: the .sss baked-scattering file, format version 1 (minor 1
  * adds the compressed forms of Hao–Varshney 2004 §4, minor 2 the effect
- * sections of scene bakes, docs/scenes.md).
+ * sections of scene bakes, docs/scenes.md, minor 3 the near terms added at
+ * run time, minor 4 the neighbourhood cutoff ε as binary data).
  * Spec: docs/format.md. Little-endian, magic + version, a section table with
  * 64-bit offsets and sizes and a CRC-32 per section; written atomically.
  */
@@ -19,7 +20,7 @@ extern "C" {
 #endif
 
 #define SSS_FORMAT_MAJOR 1
-#define SSS_FORMAT_MINOR 3
+#define SSS_FORMAT_MINOR 4
 /* The minor version plain bakes record in PARM ("format"), kept at 1 so
  * that their bytes do not change with 1.2, which only scene bakes use. */
 #define SSS_FORMAT_MINOR_PLAIN 1
@@ -152,6 +153,10 @@ typedef struct sss_bake_file {
                                * which the reader adds for the actual light with every vertex's own
                                * visibility (sss/ownterm.h) */
     uint32_t own_rings;       /* (1.3) with own_term: mesh rings around the vertex split off too (0 … 8) */
+    double eps;               /* (1.4) the bake's neighbourhood energy cutoff ε in (0, 1) (section NBHD):
+                               * each vertex's neighbourhood is the disk holding 1 − ε of R_d's total, which
+                               * the exact evaluator needs to recompute q; 0 when the file does not hold it
+                               * (files before 1.4 keep ε only in params_json, "eps") */
     /* Filled by the reader (ignored by the writer): */
     uint64_t file_size;
     uint32_t nsections;

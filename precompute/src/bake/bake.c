@@ -310,6 +310,7 @@ quantise:
         *out = cf;
         st.t_compress = sss_now() - t;
     }
+    out->eps = o.eps;
     free(out->params_json);
     out->params_json = params_json(mesh_name, mat, &o, C, st.radius_mm, st.search_radius_mm);
     if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto fail; }

@@ -130,6 +130,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
         if (r != SSS_OK) goto done;
     }
     st.t_integrals = sss_now() - t;
+    out->eps = eps;
     out->params_json = params(scene, p, &c, eps, st.radius_mm);
     if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto done; }
     if (st_out) *st_out = st;

@@ -85,8 +85,10 @@ sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *
         return sss_fail(err, SSS_ERR_ARG, "exact evaluator: %u channels (1 or 3 expected)", f->channels);
     if (!(f->mm_per_unit > 0) || !isfinite(f->mm_per_unit))
         return sss_fail(err, SSS_ERR_ARG, "exact evaluator: mm per unit %g must be a finite number > 0", f->mm_per_unit);
-    double eps;
-    sss_result r = read_eps(f->params_json, &eps, err);
+    /* ε from section NBHD (docs/format.md §5.15); files before 1.4 hold it
+     * only in PARM */
+    double eps = f->eps;
+    sss_result r = eps != 0.0 ? SSS_OK : read_eps(f->params_json, &eps, err);
     if (r != SSS_OK) return r;
     sss_dipole dip[SSS_MAX_CHANNELS];
     for (uint32_t c = 0; c < f->channels; c++) {

@@ -1,4 +1,4 @@
-/* fx_eval.c: run-time side of the scene-bake effects (sss/effects.h). The
+/* effects.c: run-time side of the scene-bake effects (sss/effects.h). The
  * renderer sums one term per light (design.md "Effects": several lights →
  * the sum), each from the parameterisation the planner chose. */
 #include "sss/effects.h"
