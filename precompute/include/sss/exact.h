@@ -11,7 +11,8 @@
  * (docs/format.md §5.4). Everything it needs is in the file: the mesh with
  * its normals (GEOM; the areas ΔA are recomputed exactly from the float
  * positions), the material and mm per unit (MATL), and the neighbourhood
- * energy cutoff ε (PARM, "eps"). The stored integrals and directions are not
+ * energy cutoff ε (NBHD; PARM's "eps" in files before format 1.4). The
+ * stored integrals and directions are not
  * used, so any storage form works, and at a direction sample ω_j of a float
  * bake the result is the stored value.
  */
@@ -30,9 +31,10 @@ extern "C" {
  * their per-channel weights, and the occlusion BVH, built once. */
 typedef struct sss_exact sss_exact;
 
-/* Builds the evaluator for f (which may be freed afterwards). ε is read from
- * f->params_json ("eps"; 1e-3, the bake's default, when PARM is empty or has
- * no "eps"); the neighbourhood radius per channel is then recomputed as the
+/* Builds the evaluator for f (which may be freed afterwards). ε is f->eps
+ * (section NBHD) or, in files before format 1.4, read from f->params_json
+ * ("eps"; 1e-3, the bake's default, when PARM is empty or has no "eps"); the
+ * neighbourhood radius per channel is then recomputed as the
  * bake did (sss_rd_radius clamped to the bounding-box diagonal). Errors:
  * SSS_ERR_ARG (no mesh, bad channel count), SSS_ERR_CORRUPT (PARM is not a
  * JSON object, or "eps" is not a number in (0, 1)), SSS_ERR_NOMEM,
@@ -56,7 +58,7 @@ void sss_exact_eval_vertex(const sss_exact *e, uint32_t v, const double light[3]
 uint32_t sss_exact_vertices(const sss_exact *e);
 uint32_t sss_exact_channels(const sss_exact *e);
 
-/* ε used (from PARM or the default) and the neighbourhood search radius in
+/* ε used (from NBHD, PARM or the default) and the neighbourhood search radius in
  * mm it gives: reported by sss-stat --query. */
 double sss_exact_eps(const sss_exact *e);
 double sss_exact_search_radius_mm(const sss_exact *e);

@@ -73,6 +73,7 @@ static int copy_base(const sss_bake_file *s, sss_bake_file *d)
     if (sss_mesh_copy(&s->mesh, &d->mesh, NULL) != SSS_OK) return 0;
     d->material = s->material;
     d->mm_per_unit = s->mm_per_unit;
+    d->eps = s->eps;
     d->channels = s->channels;
     d->own_term = s->own_term; /* the rows compressed are what the source holds */
     d->own_rings = s->own_rings;

@@ -9,7 +9,7 @@
  * set ω_j and distance shells r_s around the object's centre c, stored as
  * r_s² q_pt (the shell's own 1/r² taken out, which leaves a quantity that
  * varies slowly with r), and interpolated at run time barycentrically over
- * directions and linearly over r, then divided by r² (common/src/fx_eval.c).
+ * directions and linearly over r, then divided by r² (common/src/effects.c).
  */
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -110,11 +110,15 @@ const sss_effect_unit sss_effect_point_shells = {SSS_PASS_POINT_SHELLS, "point-s
 
 sss_result sss_point_exact(const sss_bake_file *f, int self_shadow, const double P[3], float *out, sss_error *err)
 {
-    double eps = 1e-3;
-    cJSON *pj = cJSON_Parse(f->params_json ? f->params_json : "");
-    const cJSON *e = pj ? cJSON_GetObjectItemCaseSensitive(pj, "eps") : NULL;
-    if (cJSON_IsNumber(e)) eps = e->valuedouble;
-    cJSON_Delete(pj);
+    /* ε from NBHD (format 1.4), else PARM's text, else the bake's default */
+    double eps = f->eps;
+    if (!(eps > 0)) {
+        eps = 1e-3;
+        cJSON *pj = cJSON_Parse(f->params_json ? f->params_json : "");
+        const cJSON *e = pj ? cJSON_GetObjectItemCaseSensitive(pj, "eps") : NULL;
+        if (cJSON_IsNumber(e)) eps = e->valuedouble;
+        cJSON_Delete(pj);
+    }
     const uint32_t C = f->channels;
     sss_dipole dip[SSS_MAX_CHANNELS];
     for (uint32_t k = 0; k < C; k++)

@@ -76,7 +76,7 @@
  *                           channel (the environment's SH transfer dotted
  *                           with the probe's SH).
  * Every sum is `precise` and in double, in the order of the C evaluator
- * (common/src/fx_eval.c, runtime/src/render/scene_view.c), so on an IEEE
+ * (common/src/effects.c, runtime/src/render/scene_view.c), so on an IEEE
  * GPU the two agree to the bit. */
 
 #endif
