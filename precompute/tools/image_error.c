@@ -109,8 +109,8 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     g.q = NULL;
     /* with OWNT and the viewer's visibility the renderer adds the near terms
      * itself (its shadow map); otherwise q is supplied whole */
-    const int map_vis = f->own_term && o->near_mode != 1; /* the renderer adds the near terms */
-    if (!map_vis) g.own_term = 0;
+    const int map_vis = f->near_terms && o->near_mode != 1; /* the renderer adds the near terms */
+    if (!map_vis) g.near_terms = 0;
     sss_renderer *ren = NULL;
     res = sss_renderer_create(&g, &ren, err);
     if (res != SSS_OK) {
@@ -155,9 +155,9 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
         if (map_vis) sss_reconstruct_eval_rows(rc, light, o->interp, qa);
         else sss_reconstruct_eval(rc, light, o->interp, qa);
         float *ex = NULL, *exh = NULL, *ap = NULL, *aph = NULL;
-        p.own_term = 0; /* the exact q is whole */
+        p.near_terms = 0; /* the exact q is whole */
         res = sss_renderer_render_q_image(ren, &p, qx, W, H, &ex, &exh, err);
-        p.own_term = map_vis;
+        p.near_terms = map_vis;
         if (res == SSS_OK) res = sss_renderer_render_q_image(ren, &p, qa, W, H, &ap, &aph, err);
         if (res != SSS_OK) {
             free(ex); free(exh); free(ap); free(aph);

@@ -83,8 +83,8 @@ typedef struct bake_args {
     int gather;
     /* --own-term, --rings: runtime brings one ring unless --rings is given,
      * before or after it; baked leaves the rings as they were */
-    uint32_t own_term, own_rings;
-    int own_term_given, rings_given;
+    uint32_t near_terms, near_rings;
+    int near_terms_given, rings_given;
     /* compression: the sss_compress_opts fields, each with its given flag so
      * that the preset fills only the rest (docs/compression.md) */
     int preset, preset_given; /* sss_compress_preset */
@@ -121,17 +121,17 @@ static int read_rings(const sss_cli *cli, const sss_cli_opt *o, const char *opt,
 
 /* --own-term runtime|baked into bake_args (the row's dest): runtime sets one
  * ring unless --rings came first; baked keeps whatever rings were set, so
- * `--own-term runtime --own-term baked` bakes with own_rings 1, as ever. */
-static int read_own_term(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
+ * `--own-term runtime --own-term baked` bakes with near_rings 1, as ever. */
+static int read_near_terms(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
 {
     static const char *const modes[] = {"runtime", "baked", NULL};
-    static const int mode_values[] = {SSS_OWN_TERM_RUNTIME, 0};
+    static const int mode_values[] = {SSS_NEAR_TERMS_RUNTIME, 0};
     bake_args *a = o->dest;
     int mode;
     const sss_cli_opt choice = {.kind = SSS_CLI_CHOICE, .dest = &mode, .choices = modes, .values = mode_values};
     if (!sss_cli_value(cli, &choice, opt, text)) return SSS_CLI_PRINTED;
-    a->own_term = (uint32_t)mode;
-    if (mode == SSS_OWN_TERM_RUNTIME && !a->rings_given) a->own_rings = 1;
+    a->near_terms = (uint32_t)mode;
+    if (mode == SSS_NEAR_TERMS_RUNTIME && !a->rings_given) a->near_rings = 1;
     return 1;
 }
 
@@ -190,8 +190,8 @@ static int parse(int argc, char **argv, bake_args *a)
         {.name = "--illum-refs", .kind = SSS_CLI_DOUBLE, .dest = &a->illum_weight, .lo = 1e-9, .hi = 1e9,
          .given = &a->illum_given},
         {.name = "--gather", .kind = SSS_CLI_CHOICE, .dest = &a->gather, .choices = gathers, .values = gather_values},
-        {.name = "--own-term", .kind = SSS_CLI_CUSTOM, .dest = a, .parse = read_own_term, .given = &a->own_term_given},
-        {.name = "--rings", .kind = SSS_CLI_CUSTOM, .dest = &a->own_rings, .lo = 0, .hi = SSS_OWN_RINGS_MAX,
+        {.name = "--own-term", .kind = SSS_CLI_CUSTOM, .dest = a, .parse = read_near_terms, .given = &a->near_terms_given},
+        {.name = "--rings", .kind = SSS_CLI_CUSTOM, .dest = &a->near_rings, .lo = 0, .hi = SSS_NEAR_RINGS_MAX,
          .parse = read_rings, .given = &a->rings_given, .msg = "%s: %s: '%s' must be an integer %g ... %g\n"},
         {.name = "--theta", .kind = SSS_CLI_DOUBLE, .dest = &a->theta, .lo = 1e-3, .hi = 0.95},
         {.name = "--threads", .kind = SSS_CLI_INT, .dest = &a->threads, .lo = 1, .hi = 1024},
@@ -211,8 +211,8 @@ static int parse(int argc, char **argv, bake_args *a)
                   a->ls_given || a->illum_given;
 
     if (a->plan && !a->scene) return refuse("--plan needs --scene S.json");
-    if (a->rings_given && a->own_term != SSS_OWN_TERM_RUNTIME) return refuse("--rings needs --own-term runtime");
-    if (a->scene && a->own_term_given)
+    if (a->rings_given && a->near_terms != SSS_NEAR_TERMS_RUNTIME) return refuse("--rings needs --own-term runtime");
+    if (a->scene && a->near_terms_given)
         return refuse("--own-term applies to plain bakes, not to --scene (scene bakes keep the own term)");
     if (a->scene) {
         if (a->mesh) return refuse("--scene and a MESH argument exclude each other (the scene names the meshes)");
@@ -263,8 +263,8 @@ static int options(const bake_args *a, bake_setup *s)
     opt->gather = a->gather;
     opt->theta = a->theta;
     opt->threads = a->threads;
-    opt->own_term = a->own_term;
-    opt->own_rings = a->own_rings;
+    opt->near_terms = a->near_terms;
+    opt->near_rings = a->near_rings;
     const char *lim = getenv("SSS_MEMORY_LIMIT_MB");
     if (lim && *lim) {
         char *end;

@@ -300,12 +300,12 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
             cJSON_AddNumberToObject(im, "rms_max_covered", ie.rms_max_covered);
             cJSON_AddNumberToObject(im, "coverage_mean", ie.coverage_mean);
             /* files with OWNT: where the near terms' visibility came from */
-            if (f->own_term && a->near_mode == 1) cJSON_AddStringToObject(im, "near_visibility", "rays (CPU, Embree)");
-            else if (f->own_term && a->near_mode == 2) {
+            if (f->near_terms && a->near_mode == 1) cJSON_AddStringToObject(im, "near_visibility", "rays (CPU, Embree)");
+            else if (f->near_terms && a->near_mode == 2) {
                 char mv[48];
                 snprintf(mv, sizeof mv, "shadow map %d", a->shadow_size ? a->shadow_size : SSS_SHADOW_SIZE);
                 cJSON_AddStringToObject(im, "near_visibility", mv);
-            } else if (f->own_term)
+            } else if (f->near_terms)
                 cJSON_AddStringToObject(im, "near_visibility", "rays (viewer, GPU)");
             else
                 cJSON_AddNullToObject(im, "near_visibility");
@@ -379,8 +379,8 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         cJSON_AddStringToObject(o, "material", f->material.name);
         cJSON_AddNumberToObject(o, "mm_per_unit", f->mm_per_unit);
         /* null: every term baked (the paper); else the mesh rings whose
-         * terms a reader adds at run time (sss/ownterm.h) */
-        if (f->own_term) cJSON_AddNumberToObject(o, "runtime_rings", f->own_rings);
+         * terms a reader adds at run time (sss/nearterms.h) */
+        if (f->near_terms) cJSON_AddNumberToObject(o, "runtime_rings", f->near_rings);
         else cJSON_AddNullToObject(o, "runtime_rings");
         cJSON_AddNumberToObject(o, "file_bytes", (double)f->file_size);
         cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)f->file_size / nv);
@@ -429,9 +429,9 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         printf("  vertices %u, triangles %u, channels %u, directions %u, storage %s\n", f->mesh.nv, f->mesh.nf,
                f->channels, f->dirs.n, quant);
         printf("  material %s (eta %g), %g mm per unit\n", f->material.name, f->material.eta, f->mm_per_unit);
-        if (f->own_term)
+        if (f->near_terms)
             printf("  near terms added at run time: the vertex's own term and %u mesh ring%s (section OWNT)\n",
-                   f->own_rings, f->own_rings == 1 ? "" : "s");
+                   f->near_rings, f->near_rings == 1 ? "" : "s");
         printf("  %-6s %14s %12s %14s\n", "section", "bytes", "bytes/vertex", "count");
         for (uint32_t s = 0; s < f->nsections; s++)
             printf("  %-6s %14llu %12.2f %14llu\n", f->sections[s].tag, (unsigned long long)f->sections[s].size,

@@ -7,8 +7,8 @@ uniform vec3 u_light;       // unit, towards the light
 uniform float u_delta;      // the rays' offset, sss_mesh_ray_offset: the rule is applied here, not derived
 uniform float u_eta;
 uniform uint u_count;       // vertices
-// g = F_t(eta, c) max(0, c), c = n.w: sss_own_transfer, term for term
-float own_transfer(float eta, vec3 n, vec3 d) {
+// g = F_t(eta, c) max(0, c), c = n.w: sss_near_g, term for term
+float near_g(float eta, vec3 n, vec3 d) {
     precise float c = n.x * d.x + n.y * d.y + n.z * d.z;
     if (!(c > 0.0)) return 0.0;
     if (c > 1.0) c = 1.0;
@@ -113,7 +113,7 @@ void main() {
         vis = u_ntri == 0u || !occluded(o, u_light, u_delta) ? 1u : 0u;
     }
     lit[v] = vis;
-    gv[v] = vis != 0u ? own_transfer(u_eta, n, u_light) : 0.0;
+    gv[v] = vis != 0u ? near_g(u_eta, n, u_light) : 0.0;
 }
 #else
 layout(std430, binding = 5) readonly buffer Tri { uint tri[]; };
@@ -168,6 +168,6 @@ void main() {
         }
     }
     lit[v] = vis;
-    gv[v] = vis != 0u ? own_transfer(u_eta, n, u_light) : 0.0;
+    gv[v] = vis != 0u ? near_g(u_eta, n, u_light) : 0.0;
 }
 #endif

@@ -261,7 +261,7 @@ $(table_sources)
   mostly the lobe and terminator of the few neighbours that matter.
 
 So the bake can do this (\`sss-bake --own-term runtime [--rings K]\`,
-default K = 1; \`sss/ownterm.h\`, format 1.3 section OWNT, docs/format.md
+default K = 1; \`sss/nearterms.h\`, format 1.3 section OWNT, docs/format.md
 §5.14): it stores q_rest = q − N_o at every direction sample, N_o the sum of
 the near terms with the bake's visibility; a reader adds N_o(ω) back for the
 actual light, from every vertex's own visibility (one shadow test per vertex

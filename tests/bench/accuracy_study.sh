@@ -141,7 +141,7 @@ for m in $PRESET_MESHES; do
   [ "$m" = d100 ] && run "d100_dirs200_float" d100 preset "triangle" -- --dirs 200
   [ "$m" = d437 ] && run "d437_dirs200_lloyd8" d437 preset "triangle" -- --dirs 200 --quant lloyd8
 done
-# Near terms at run time (sss/ownterm.h, format 1.3): the vertex's own term
+# Near terms at run time (sss/nearterms.h, format 1.3): the vertex's own term
 # and its mesh rings split off in the bake and added back by the reader with
 # a shadow test per vertex. Rings 0 / 1 / 2 at 200 directions, and the
 # directions sweep again with the default ring (1).

@@ -47,7 +47,7 @@
 #include <string.h>
 
 #include "sss/vertex_error.h"
-#include "sss/ownterm.h"
+#include "sss/nearterms.h"
 #include "sss/visibility.h"
 #include "sss/exact.h"
 #include "sss/format.h"
@@ -64,7 +64,7 @@ static double det3(const double *a, const double *b, const double *c)
 
 static double dotn(const float *n, const double *d) { return n[0] * d[0] + n[1] * d[1] + n[2] * d[2]; }
 
-/* The near terms at rings 0, 1, 2 (sss/ownterm.h) and the vertices' own
+/* The near terms at rings 0, 1, 2 (sss/nearterms.h) and the vertices' own
  * visibility by rays under the bake's rule. */
 static sss_weights g_near[NEAR];
 

@@ -26,7 +26,7 @@ d=$("$SSS_PNGSTATS" "$TMP/c.png" "$TMP/c_cpu.png") || fail "cannot compare c.png
 awk -v d="$d" 'BEGIN { exit !(d < 0.001) }' || fail "GPU and CPU paths differ on $d of the pixels of c.png"
 expect_ok view "$TMP/c.sss" --offscreen --bench 3 --size 64x64
 contains "$TMP/out" '"quant":"refs"'
-# a file baked with its near terms split off (format 1.3, OWNT; sss/ownterm.h): the viewer adds them
+# a file baked with its near terms split off (format 1.3, OWNT; sss/nearterms.h): the viewer adds them
 # back with the visibility of the bake's rays (or of a shadow map), on both paths alike; --no-own-term
 # draws the stored rows alone, which lack them and are darker; --bench names the split and the
 # visibility, and a plain file has none

@@ -48,11 +48,11 @@ static void bake_preset(const sss_mesh *m, const char *material, int grey, doubl
     o.n_dirs = dirs;
     o.quant = q;
     o.threads = 2;
-    if (own >= 0) o.own_term = SSS_OWN_TERM_RUNTIME, o.own_rings = (uint32_t)own;
+    if (own >= 0) o.near_terms = SSS_NEAR_TERMS_RUNTIME, o.near_rings = (uint32_t)own;
     sss_error err = {{0}};
     if (sss_bake(m, "test", &mat, &o, f, NULL, &err) != SSS_OK) fail_msg("bake: %s", err.msg);
-    assert_int_equal(f->own_term, own >= 0 ? SSS_OWN_TERM_RUNTIME : 0u);
-    if (own >= 0) assert_int_equal(f->own_rings, (uint32_t)own);
+    assert_int_equal(f->near_terms, own >= 0 ? SSS_NEAR_TERMS_RUNTIME : 0u);
+    if (own >= 0) assert_int_equal(f->near_rings, (uint32_t)own);
 }
 
 #endif

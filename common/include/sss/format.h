@@ -25,9 +25,9 @@ extern "C" {
  * that their bytes do not change with 1.2, which only scene bakes use. */
 #define SSS_FORMAT_MINOR_PLAIN 1
 #define SSS_MAX_SECTIONS 32
-/* sss_bake_file.own_term: own term split off (section OWNT, format 1.3) */
-#define SSS_OWN_TERM_RUNTIME 1u
-#define SSS_OWN_RINGS_MAX 8u
+/* sss_bake_file.near_terms: own term split off (section OWNT, format 1.3) */
+#define SSS_NEAR_TERMS_RUNTIME 1u
+#define SSS_NEAR_RINGS_MAX 8u
 
 typedef enum sss_quant {
     SSS_QUANT_FLOAT = 0,   /* q stored as float32 */
@@ -148,11 +148,11 @@ typedef struct sss_bake_file {
     sss_refcode ref;          /* SSS_QUANT_REFS */
     char *params_json;        /* bake parameters as JSON text (provenance), NUL-terminated, owned */
     sss_effects fx;           /* (1.2) effect set of a scene bake; mask 0 for a plain bake */
-    uint32_t own_term;        /* (1.3) 0, or SSS_OWN_TERM_RUNTIME: section OWNT, the q rows (any storage
+    uint32_t near_terms;        /* (1.3) 0, or SSS_NEAR_TERMS_RUNTIME: section OWNT, the q rows (any storage
                                * form) hold q minus the near terms (the vertex's own term and its rings),
                                * which the reader adds for the actual light with every vertex's own
-                               * visibility (sss/ownterm.h) */
-    uint32_t own_rings;       /* (1.3) with own_term: mesh rings around the vertex split off too (0 … 8) */
+                               * visibility (sss/nearterms.h) */
+    uint32_t near_rings;       /* (1.3) with near_terms: mesh rings around the vertex split off too (0 … 8) */
     double eps;               /* (1.4) the bake's neighbourhood energy cutoff ε in (0, 1) (section NBHD):
                                * each vertex's neighbourhood is the disk holding 1 − ε of R_d's total, which
                                * the exact evaluator needs to recompute q; 0 when the file does not hold it

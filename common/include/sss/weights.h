@@ -4,7 +4,7 @@
  *   q(x_o, ω) = Σ_i w(x_o, x_i) · G(x_i, ω)   over the entries of row o.
  *
  * The bake's neighbourhoods (sss_nbhd_build, precompute) and the near terms
- * every reader adds at run time (sss_near_build, sss/ownterm.h) are both
+ * every reader adds at run time (sss_near_build, sss/nearterms.h) are both
  * such rows; this is their one type.
  */
 #ifndef SSS_WEIGHTS_H

@@ -42,13 +42,13 @@ typedef struct sss_bake_options {
      * and `comm` (set by the tool) moves the pieces; rank 0 gets all. */
     int rank, nranks;
     const struct sss_bake_comm *comm;
-    /* Near terms (sss/ownterm.h, docs/format.md §5.14): SSS_OWN_TERM_RUNTIME
-     * stores q minus the vertex's own term and its `own_rings` mesh rings
+    /* Near terms (sss/nearterms.h, docs/format.md §5.14): SSS_NEAR_TERMS_RUNTIME
+     * stores q minus the vertex's own term and its `near_rings` mesh rings
      * and marks the file (OWNT, format 1.3) so that readers add them back
      * with every vertex's own shadow test; 0 (default) stores q itself, as
      * the paper does. */
-    uint32_t own_term;
-    uint32_t own_rings;
+    uint32_t near_terms;
+    uint32_t near_rings;
     /* Compression (sss/compress.h) as the last stage, after any preset was
      * applied (sss_compress_preset); NULL: q stays as `quant` says (which
      * must then be SSS_QUANT_FLOAT when this is set). */

@@ -1,7 +1,7 @@
 /* sss/reconstruct.h: a file's reconstruction of q for any light direction, as a
  * reader shows it — the interpolated rows (sss_decode_all_interp, Hao–
  * Varshney 2004 §3.2) plus, for a file whose rows hold q minus the own
- * term (section OWNT, sss/ownterm.h), that term added back with the
+ * term (section OWNT, sss/nearterms.h), that term added back with the
  * vertex's own visibility traced by a ray under the bake's rule. The
  * measuring tools (vertex_error.h, sss-stat --query, the image error) use this
  * so that they measure what the file stores, not a different split. */
@@ -25,9 +25,9 @@ void sss_reconstruct_eval_vertex(const sss_reconstruct *r, uint32_t v, const dou
 void sss_reconstruct_eval_rows(const sss_reconstruct *r, const double light[3], sss_interp interp, float *out);
 /* Own visibility the reconstruction used for light direction light: 1 =
  * lit, per vertex (all 1 for a file without OWNT). */
-void sss_reconstruct_own_lit(const sss_reconstruct *r, const double light[3], uint8_t *lit);
+void sss_reconstruct_near_lit(const sss_reconstruct *r, const double light[3], uint8_t *lit);
 /* Does f split off the own term? */
-int sss_reconstruct_has_own_term(const sss_reconstruct *r);
+int sss_reconstruct_has_near_terms(const sss_reconstruct *r);
 /* NULL-safe. */
 void sss_reconstruct_destroy(sss_reconstruct *r);
 #ifdef __cplusplus

@@ -96,12 +96,12 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
         if (L > 0 && L + 64 < sizeof buf)
             snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"gather\":\"tree\",\"theta\":%.17g}", o->theta);
     }
-    if (o->own_term) { /* format 1.3: what the rows hold (docs/format.md §5.14) */
+    if (o->near_terms) { /* format 1.3: what the rows hold (docs/format.md §5.14) */
         const size_t L = strlen(buf);
         if (L > 0 && L + 160 < sizeof buf)
             snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"own_term\":\"runtime: rows hold q minus the sum over the "
                      "vertex and its mesh rings of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)\",\"own_rings\":%u}",
-                     o->own_rings);
+                     o->near_rings);
     }
     if (!o->import_offset && !o->compress) {
         char *s = malloc(strlen(buf) + 1);
@@ -140,9 +140,9 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     if (!(o.mm_per_unit > 0) || !isfinite(o.mm_per_unit))
         return sss_fail(err, SSS_ERR_ARG, "--mm-per-unit %g must be a finite number > 0", o.mm_per_unit);
     if (!(o.eps > 0 && o.eps < 1)) return sss_fail(err, SSS_ERR_ARG, "eps %g must be in (0, 1)", o.eps);
-    if ((o.own_term && o.own_term != SSS_OWN_TERM_RUNTIME) || o.own_rings > SSS_OWN_RINGS_MAX)
-        return sss_fail(err, SSS_ERR_ARG, "own term %u with %u rings: rings must be 0 ... %u", o.own_term, o.own_rings,
-                        SSS_OWN_RINGS_MAX);
+    if ((o.near_terms && o.near_terms != SSS_NEAR_TERMS_RUNTIME) || o.near_rings > SSS_NEAR_RINGS_MAX)
+        return sss_fail(err, SSS_ERR_ARG, "own term %u with %u rings: rings must be 0 ... %u", o.near_terms, o.near_rings,
+                        SSS_NEAR_RINGS_MAX);
     if (o.n_dirs > 100000) return sss_fail(err, SSS_ERR_ARG, "--dirs %u out of range [1, 100000]", o.n_dirs);
     if (o.compress && o.quant != SSS_QUANT_FLOAT)
         return sss_fail(err, SSS_ERR_ARG, "compression takes the float integrals: quant must be float");
@@ -272,12 +272,12 @@ quantise:
         if (st_out) *st_out = st;
         return SSS_OK;
     }
-    if (o.own_term) {
+    if (o.near_terms) {
         t = sss_now();
         r = sss_near_terms_split(mesh, mat, &o, C, &out->dirs, out->q, &st.rays, err);
         if (r != SSS_OK) goto fail;
-        out->own_term = SSS_OWN_TERM_RUNTIME;
-        out->own_rings = o.own_rings;
+        out->near_terms = SSS_NEAR_TERMS_RUNTIME;
+        out->near_rings = o.near_rings;
         st.t_visibility += sss_now() - t;
     }
 

@@ -75,8 +75,8 @@ static int copy_base(const sss_bake_file *s, sss_bake_file *d)
     d->mm_per_unit = s->mm_per_unit;
     d->eps = s->eps;
     d->channels = s->channels;
-    d->own_term = s->own_term; /* the rows compressed are what the source holds */
-    d->own_rings = s->own_rings;
+    d->near_terms = s->near_terms; /* the rows compressed are what the source holds */
+    d->near_rings = s->near_rings;
     d->dirs.n = s->dirs.n;
     d->dirs.ntri = s->dirs.ntri;
     d->dirs.dir = dup_bytes(s->dirs.dir, 3 * (size_t)s->dirs.n * sizeof(double));

@@ -77,7 +77,7 @@ static inline double sss_point_ratio(const sss_object_plan *p, const sss_scene_l
 void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, float *G, uint64_t *rays);
 
 /* The near terms of a plain bake (near_terms.c): q −= the terms of each
- * vertex and its o->own_rings mesh rings at every direction sample of ds,
+ * vertex and its o->near_rings mesh rings at every direction sample of ds,
  * with the bake's own visibility rule, so that a reader adding them back
  * for a sample restores q. In place; polls o->cancel. */
 sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,

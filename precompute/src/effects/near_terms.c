@@ -2,16 +2,16 @@
  * (`--own-term runtime [--rings K]`, section OWNT, docs/format.md §5.14):
  * the rows store q minus the terms of the vertex itself and its K mesh
  * rings, which every reader adds back for the actual light with every
- * vertex's own visibility (sss/ownterm.h; docs/accuracy.md, "Where the
+ * vertex's own visibility (sss/nearterms.h; docs/accuracy.md, "Where the
  * error comes from"). It has no planner rule: a plain bake asks for it.
  */
 #include <math.h>
 #include <stdlib.h>
 
 #include "effects/effect.h"
-#include "sss/ownterm.h"
+#include "sss/nearterms.h"
 
-/* Splits the near terms off q in place (sss/ownterm.h): for every
+/* Splits the near terms off q in place (sss/nearterms.h): for every
  * direction sample ω_j and vertex o, q_j −= Σ_{i in o's rings} w̃(o, i)
  * g(n_i, ω_j) V(x_i, ω_j), with the bake's own visibility rule (one
  * occlusion ray per vertex facing ω_j, as sss_transfer_rows traces) and
@@ -23,7 +23,7 @@ sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, c
 {
     const uint32_t nv = mesh->nv, D = ds->n;
     sss_weights nr;
-    sss_result r = sss_near_build(mesh, mat, o->mm_per_unit, C, o->own_rings, &nr, err);
+    sss_result r = sss_near_build(mesh, mat, o->mm_per_unit, C, o->near_rings, &nr, err);
     if (r != SSS_OK) return r;
     sss_vis *vis = NULL;
     uint8_t *lit = malloc((size_t)nv + 1);

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "sss/visibility.h"
-#include "sss/ownterm.h"
+#include "sss/nearterms.h"
 
 struct sss_reconstruct {
     const sss_bake_file *f;
@@ -23,8 +23,8 @@ sss_result sss_reconstruct_create(const sss_bake_file *f, sss_reconstruct **out,
     sss_reconstruct *r = calloc(1, sizeof *r);
     if (!r) return sss_fail(err, SSS_ERR_NOMEM, "reconstruction: out of memory");
     r->f = f;
-    if (f->own_term) {
-        sss_result e = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, f->channels, f->own_rings, &r->nr, err);
+    if (f->near_terms) {
+        sss_result e = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, f->channels, f->near_rings, &r->nr, err);
         if (e == SSS_OK) e = sss_vis_create(&f->mesh, &r->vis, err);
         if (e != SSS_OK) {
             sss_reconstruct_destroy(r);
@@ -36,7 +36,7 @@ sss_result sss_reconstruct_create(const sss_bake_file *f, sss_reconstruct **out,
     return SSS_OK;
 }
 
-int sss_reconstruct_has_own_term(const sss_reconstruct *r) { return r && r->near_on; }
+int sss_reconstruct_has_near_terms(const sss_reconstruct *r) { return r && r->near_on; }
 
 /* Unit light, or 0 for a zero or non-finite one (then nothing is added). */
 static int unit(const double l[3], double d[3])
@@ -54,7 +54,7 @@ static uint8_t lit_one(const sss_reconstruct *r, uint32_t v, const double d[3])
     return n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0.0 && !sss_vis_occluded(r->vis, v, d);
 }
 
-void sss_reconstruct_own_lit(const sss_reconstruct *r, const double light[3], uint8_t *lit)
+void sss_reconstruct_near_lit(const sss_reconstruct *r, const double light[3], uint8_t *lit)
 {
     const uint32_t nv = r->f->mesh.nv;
     double d[3];
@@ -79,7 +79,7 @@ void sss_reconstruct_eval(const sss_reconstruct *r, const double light[3], sss_i
     uint8_t *lit = malloc(nv + 1u);
     float *gv = malloc((size_t)nv * sizeof *gv + 1);
     if (lit && gv) {
-        sss_reconstruct_own_lit(r, d, lit);
+        sss_reconstruct_near_lit(r, d, lit);
         sss_near_transfer(r->f->mesh.nrm, nv, (float)r->f->material.eta, d, lit, gv);
         sss_near_add(&r->nr, gv, out);
     } else {
@@ -106,7 +106,7 @@ void sss_reconstruct_eval_vertex(const sss_reconstruct *r, uint32_t v, const dou
     float s[SSS_MAX_CHANNELS] = {0};
     for (uint64_t a = r->nr.start[v]; a < r->nr.start[v + 1]; a++) {
         const uint32_t i = r->nr.idx[a];
-        const float g = lit_one(r, i, d) ? sss_own_transfer((float)r->f->material.eta, r->f->mesh.nrm + 3 * (size_t)i, df)
+        const float g = lit_one(r, i, d) ? sss_near_g((float)r->f->material.eta, r->f->mesh.nrm + 3 * (size_t)i, df)
                                          : 0.0f;
         for (uint32_t c = 0; c < C; c++) s[c] += r->nr.w[(size_t)a * C + c] * g;
     }

@@ -12,7 +12,7 @@
  * per colour channel, with exposure and tone mapping.
  *
  * Files baked with `--own-term runtime [--rings K]` (section OWNT,
- * sss/ownterm.h) store q without its near terms, the vertex's own entry of
+ * sss/nearterms.h) store q without its near terms, the vertex's own entry of
  * the §3.1 sum and those of its K mesh rings; the renderer adds
  * Σ_i w̃(o, i) · F_t(η, n_i·ω) max(0, n_i·ω) · V(x_i, ω) back for the actual
  * light ω in two more compute passes, with every vertex's own visibility V
@@ -113,7 +113,7 @@ typedef struct sss_view_params {
     sss_tonemap tonemap;
     sss_eval_path path;
     float background[3];  /* clear colour, linear */
-    int own_term;         /* files with OWNT: add the near terms to q (default on; 0 leaves q as evaluated
+    int near_terms;         /* files with OWNT: add the near terms to q (default on; 0 leaves q as evaluated
                            * or uploaded, for tools that draw a full q computed elsewhere); ignored otherwise */
     int shadow_size;      /* files with OWNT and near_visibility SSS_NEAR_MAP: shadow map texels per side,
                            * 256 … 8192 (0: SSS_SHADOW_SIZE); finer agrees with the bake's rays at more
@@ -123,7 +123,7 @@ typedef struct sss_view_params {
 
 /* Fills the defaults: light and view (0, 0, 1), light_rgb (1, 1, 1),
  * distance 3.6, fov 35°, exposure 1, scatter and specular on, clamp tone
- * map, GPU path, own_term on, SSS_NEAR_RAYS, black background, no pan,
+ * map, GPU path, near_terms on, SSS_NEAR_RAYS, black background, no pan,
  * no wireframe, shadow_size 0. Needs no context. */
 void sss_view_params_default(sss_view_params *p);
 
@@ -143,7 +143,7 @@ float sss_tonemap_apply(sss_tonemap t, float x);
 typedef struct sss_frame_times {
     double scatter_ms; /* evaluation of q for all vertices (incl. upload on the CPU path) */
     double draw_ms;    /* the shading draw */
-    double own_ms;     /* files with OWNT: the near-term passes, the rays or the shadow map render
+    double near_ms;     /* files with OWNT: the near-term passes, the rays or the shadow map render
                         * included when the light moved (GPU timer; 0 when none ran) */
 } sss_frame_times;
 
@@ -159,7 +159,7 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
 void sss_renderer_destroy(sss_renderer *r);
 
 /* Reconstructs q for p->light on p->path into the per-vertex buffer; for a
- * file with OWNT and p->own_term set, the full q: the stored rest plus the
+ * file with OWNT and p->near_terms set, the full q: the stored rest plus the
  * near terms with the visibility p->near_visibility asks for (rays traced,
  * or the map re-rendered, when the light direction differs from the last
  * one they were made for). */
@@ -183,12 +183,12 @@ void sss_renderer_read_q(sss_renderer *r, float *out);
  * n_o·ω ≤ 0 are not tested (their g is 0) and read 0. Before any pass every
  * vertex reads 0; a file without OWNT has no near terms and every vertex
  * reads 1. For comparing the viewer's V with the bake's. */
-void sss_renderer_read_own_visibility(sss_renderer *r, uint8_t *lit);
+void sss_renderer_read_near_visibility(sss_renderer *r, uint8_t *lit);
 
 /* 1 when the file has OWNT, so the renderer built the near-term passes and
  * the mesh's BVH (the shadow map follows on the first pass that asks for
  * it). */
-int sss_renderer_has_own_term(const sss_renderer *r);
+int sss_renderer_has_near_terms(const sss_renderer *r);
 
 /* Timings of the last evaluate + draw (waits for the GPU timer queries). */
 sss_frame_times sss_renderer_times(const sss_renderer *r);
@@ -208,13 +208,13 @@ sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, 
  * then drawn exactly as the viewer draws its own (sss-stat --error's image
  * error). For a file with OWNT the light is not known yet: the next
  * sss_renderer_draw adds the near terms for its p->light when its
- * p->own_term is set (once; nothing when it is 0), so q here is the rest,
+ * p->near_terms is set (once; nothing when it is 0), so q here is the rest,
  * as the file's decoder returns it. */
 void sss_renderer_upload_q(sss_renderer *r, const float *q);
 
 /* sss_renderer_render_image with the per-vertex q supplied (uploaded with
  * sss_renderer_upload_q) instead of evaluated from the file; for a file with
- * OWNT the near terms for p->light are added when p->own_term is set.
+ * OWNT the near terms for p->light are added when p->near_terms is set.
  * SSS_ERR_ARG when q is NULL. */
 sss_result sss_renderer_render_q_image(sss_renderer *r, const sss_view_params *p, const float *q, int width,
                                        int height, float **rgb, float **hdr, sss_error *err);
@@ -370,7 +370,7 @@ unsigned sss_gl_program(const char *vs, const char *fs, sss_error *err);
  * The near terms' rays (SSS_NEAR_RAYS) run on the GPU through a bounding
  * volume hierarchy of the mesh's triangles, built on the CPU. The same
  * hierarchy and the shader's occlusion query, operation for operation, are
- * here for checking the GPU against the bake's Embree rays (test_own_term).
+ * here for checking the GPU against the bake's Embree rays (test_render_near_terms).
  * Need no context. */
 
 #define SSS_BVH_STACK 64 /* the shader's traversal stack; the build keeps the depth below it */

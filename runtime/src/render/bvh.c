@@ -11,7 +11,7 @@
  * cross(e2, e1), the edge tests U, V against |den| and the depth test
  * |den|·tnear < T, with the fused multiply-adds its AVX2/AVX-512 kernels
  * use in cross and dot) removes the test itself as a source of
- * disagreement. test_own_term measures none at all on the blob, the torus
+ * disagreement. test_render_near_terms measures none at all on the blob, the torus
  * and the 23K dragon; an unfused variant of the same formulas measured none
  * either, so the fusing is a margin for other meshes rather than a need on
  * these.

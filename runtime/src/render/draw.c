@@ -26,7 +26,7 @@ void sss_view_params_default(sss_view_params *p)
     p->specular = 1;
     p->tonemap = SSS_TONEMAP_CLAMP;
     p->path = SSS_EVAL_GPU;
-    p->own_term = 1;
+    p->near_terms = 1;
     p->near_visibility = SSS_NEAR_RAYS;
 }
 

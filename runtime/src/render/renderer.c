@@ -131,8 +131,8 @@ void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
     double l[3] = {p->light[0], p->light[1], p->light[2]};
     sss_normalize3(l);
     r->last_path = p->path;
-    r->own_pending = 0;
-    r->have_times &= ~4; /* own_ms: only when this frame runs the passes */
+    r->near_pending = 0;
+    r->have_times &= ~4; /* near_ms: only when this frame runs the passes */
     if (p->path == SSS_EVAL_CPU) {
         sss_scatter_cpu(&r->scatter, &r->mesh, l);
     } else {
@@ -144,12 +144,12 @@ void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
 
 void sss_renderer_draw(sss_renderer *r, const sss_view_params *p, int width, int height)
 {
-    if (r->own_pending) {
+    if (r->near_pending) {
         /* uploaded q: its near terms for this frame's light, once */
         double l[3] = {p->light[0], p->light[1], p->light[2]};
         sss_normalize3(l);
         q_passes(r, l, p);
-        r->own_pending = 0;
+        r->near_pending = 0;
     }
     sss_draw_frame(&r->draw, &r->mesh, p, width, height, r->queries[1]);
     r->have_times |= 2;
@@ -163,7 +163,7 @@ void sss_renderer_read_q(sss_renderer *r, float *out)
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
 }
 
-void sss_renderer_read_own_visibility(sss_renderer *r, uint8_t *lit)
+void sss_renderer_read_near_visibility(sss_renderer *r, uint8_t *lit)
 {
     const void *near = near_state(r);
     if (!near) {
@@ -173,7 +173,7 @@ void sss_renderer_read_own_visibility(sss_renderer *r, uint8_t *lit)
     sss_near_read_visibility(near, r->mesh.nv, lit);
 }
 
-int sss_renderer_has_own_term(const sss_renderer *r)
+int sss_renderer_has_near_terms(const sss_renderer *r)
 {
     for (unsigned i = 0; i < sss_pass_table_n; i++)
         if ((r->pass_on >> i & 1) && !strcmp(sss_pass_table[i].section, "OWNT")) return 1;
@@ -195,7 +195,7 @@ sss_frame_times sss_renderer_times(const sss_renderer *r)
     }
     if (r->have_times & 4) {
         glGetQueryObjectui64v(r->queries[2], GL_QUERY_RESULT, &ns);
-        t.own_ms = 1e-6 * (double)ns;
+        t.near_ms = 1e-6 * (double)ns;
     }
     return t;
 }
@@ -230,6 +230,6 @@ void sss_renderer_upload_q(sss_renderer *r, const float *q)
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     /* the light is not known here: the next draw adds the near terms */
-    r->own_pending = r->pass_on != 0;
+    r->near_pending = r->pass_on != 0;
     r->have_times &= ~4;
 }

@@ -88,7 +88,7 @@ struct sss_renderer {
     GLuint queries[3];  /* scatter, draw, near terms */
     int have_times;     /* bits of the queries that hold a result */
     int last_path;
-    int own_pending;    /* q was uploaded: the next draw runs the passes over q (near terms) for its light */
+    int near_pending;    /* q was uploaded: the next draw runs the passes over q (near terms) for its light */
 };
 
 #endif

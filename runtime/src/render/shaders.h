@@ -43,14 +43,14 @@
  * shadow map: positions through one matrix, no colour. */
 
 /* near_vis.comp.glsl + near_sum.comp.glsl (effects/near.c). Compute, the
- * near terms of files with OWNT (sss/ownterm.h), two passes:
+ * near terms of files with OWNT (sss/nearterms.h), two passes:
  * near_vis: per vertex, V(x_i, ω) into lit[] (binding 4) and g_i V_i into
- * gv[] (binding 2), g = F_t(η, c)·max(0, c) as sss_own_transfer computes
+ * gv[] (binding 2), g = F_t(η, c)·max(0, c) as sss_near_g computes
  * it; with "#define RAYS 1" and "#define SSS_BVH_STACK n" V is the bake's
  * ray traced through the BVH (bvh.h; bindings 5 nodes, 6 triangles),
  * otherwise the bake's ray against the vertex's own triangles and the
  * shadow map (Hao–Varshney 2004 §3.1's depth comparison). 64 invocations
- * per group. The transfer g is sss_own_transfer (common/src/ownterm.c) term
+ * per group. The transfer g is sss_near_g (common/src/nearterms.c) term
  * for term, in float, with `precise` so that no multiply-add is fused and
  * nothing reordered, and g V is what sss_near_transfer stores: the C
  * reference and this pass hold the same floats.

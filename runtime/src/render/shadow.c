@@ -40,7 +40,7 @@
  * What is left is sampling: vertices within about a texel of an occluder's
  * outline as the light sees it, a band that at grazing light covers 1/cos θ
  * texels of the receiving surface (so most disagreements are at small
- * n_o·ω, where g is small too). test_own_term measures it.
+ * n_o·ω, where g is small too). test_render_near_terms measures it.
  */
 #include "shadow.h"
 

@@ -1,6 +1,6 @@
 /* shadow.h: a depth-only shadow map of the mesh seen from a directional
  * light, for every vertex's own visibility V(x_i, ω) in the run-time near
- * terms (the own term and its rings, sss/ownterm.h) when a view asks for it
+ * terms (the own term and its rings, sss/nearterms.h) when a view asks for it
  * (sss_view_params.near_visibility = SSS_NEAR_MAP). By default the renderer
  * traces the bake's rays instead (bvh.h), which agree with the bake on every
  * vertex where the map misses a few per thousand near shadow outlines.

@@ -62,7 +62,7 @@ typedef struct app {
     int overlay;
     int want_shot;     /* 'P' seen: save after the next frame is drawn */
     double last_t;     /* start of the previous frame, seconds */
-    double frame_ms, scatter_ms, draw_ms, own_ms; /* smoothed for a readable overlay */
+    double frame_ms, scatter_ms, draw_ms, near_ms; /* smoothed for a readable overlay */
     int frames;
 } app;
 
@@ -165,7 +165,7 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     case GLFW_KEY_KP_3: a->p.scatter = 1, a->p.specular = 1; break;
     case GLFW_KEY_C: a->p.path = a->p.path == SSS_EVAL_GPU ? SSS_EVAL_CPU : SSS_EVAL_GPU; break;
     case GLFW_KEY_W: a->p.wireframe = !a->p.wireframe; break;
-    case GLFW_KEY_O: a->p.own_term = !a->p.own_term; break;
+    case GLFW_KEY_O: a->p.near_terms = !a->p.near_terms; break;
     case GLFW_KEY_V: a->p.near_visibility = a->p.near_visibility == SSS_NEAR_MAP ? SSS_NEAR_RAYS : SSS_NEAR_MAP; break;
     case GLFW_KEY_T:
         a->p.tonemap = a->p.tonemap == SSS_TONEMAP_CLAMP ? SSS_TONEMAP_REINHARD : SSS_TONEMAP_CLAMP;
@@ -337,11 +337,11 @@ static void draw_overlay(app *a, int fw, int fh)
     char own[160] = "", vis[48] = "rays";
     if (a->p.near_visibility == SSS_NEAR_MAP)
         snprintf(vis, sizeof vis, "shadow map %d^2", a->p.shadow_size ? a->p.shadow_size : SSS_SHADOW_SIZE);
-    if (f->own_term)
-        snprintf(own, sizeof own, "near terms (own + %u ring%s, %s, V): %s\n", f->own_rings,
-                 f->own_rings == 1 ? "" : "s", vis, a->p.own_term ? "on" : "off (O)");
-    if (f->own_term && a->p.own_term)
-        snprintf(own + strlen(own) - 1, sizeof own - (strlen(own) - 1), ", %.2f ms\n", a->own_ms);
+    if (f->near_terms)
+        snprintf(own, sizeof own, "near terms (own + %u ring%s, %s, V): %s\n", f->near_rings,
+                 f->near_rings == 1 ? "" : "s", vis, a->p.near_terms ? "on" : "off (O)");
+    if (f->near_terms && a->p.near_terms)
+        snprintf(own + strlen(own) - 1, sizeof own - (strlen(own) - 1), ", %.2f ms\n", a->near_ms);
     char buf[1536];
     snprintf(buf, sizeof buf,
              "%.60s  %dx%d\n"
@@ -494,7 +494,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
             sss_frame_times ft = sss_renderer_times(a.r);
             a.scatter_ms = smooth(a.scatter_ms, ft.scatter_ms, a.frames == 1);
             a.draw_ms = smooth(a.draw_ms, ft.draw_ms, a.frames == 1);
-            a.own_ms = smooth(a.own_ms, ft.own_ms, a.frames == 1);
+            a.near_ms = smooth(a.near_ms, ft.near_ms, a.frames == 1);
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, a.r, t)) != NULL) {

@@ -101,7 +101,7 @@ static int parse(int argc, char **argv, view_args *a)
         {.name = "--cpu", .kind = SSS_CLI_FLAG, .dest = &a->cpu},
         {.name = "--no-scatter", .kind = SSS_CLI_FLAG, .dest = &a->p.scatter, .values = off},
         {.name = "--no-specular", .kind = SSS_CLI_FLAG, .dest = &a->p.specular, .values = off},
-        {.name = "--no-own-term", .kind = SSS_CLI_FLAG, .dest = &a->p.own_term, .values = off},
+        {.name = "--no-own-term", .kind = SSS_CLI_FLAG, .dest = &a->p.near_terms, .values = off},
         {.name = "--near-visibility", .kind = SSS_CLI_CHOICE, .dest = &a->p.near_visibility,
          .choices = visibilities, .values = visibility_values},
         {.name = "--shadow-size", .kind = SSS_CLI_INT, .dest = &a->p.shadow_size, .lo = 256, .hi = 8192,
@@ -175,12 +175,12 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
     char storage[128], own[96];
     sss_storage_describe(f, storage, sizeof storage);
     /* the near terms (OWNT) run inside the evaluation, so scatter_ms holds
-     * them; own_term says whether they ran */
-    if (!f->own_term) snprintf(own, sizeof own, "none");
-    else if (!p->own_term) snprintf(own, sizeof own, "off (--no-own-term)");
+     * them; near_terms says whether they ran */
+    if (!f->near_terms) snprintf(own, sizeof own, "none");
+    else if (!p->near_terms) snprintf(own, sizeof own, "off (--no-own-term)");
     else if (p->near_visibility == SSS_NEAR_MAP)
-        snprintf(own, sizeof own, "%u ring(s), shadow map %d", f->own_rings, p->shadow_size ? p->shadow_size : SSS_SHADOW_SIZE);
-    else snprintf(own, sizeof own, "%u ring(s), rays", f->own_rings);
+        snprintf(own, sizeof own, "%u ring(s), shadow map %d", f->near_rings, p->shadow_size ? p->shadow_size : SSS_SHADOW_SIZE);
+    else snprintf(own, sizeof own, "%u ring(s), rays", f->near_rings);
     printf("{\"vertices\":%u,\"channels\":%u,\"quant\":\"%s\",\"storage\":\"%s\",\"path\":\"%s\",\"renderer\":\"%s\",\"frames\":%d,"
            "\"width\":%d,\"height\":%d,\"own_term\":\"%s\",\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,"
            "\"frame_ms_median\":%.4f,\"scatter_vertices_per_s\":%.6g,\"fps\":%.3f,\"gpu_timer_scatter_ms_last\":%.4f,"
@@ -188,7 +188,7 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
            f->mesh.nv, f->channels, sss_quant_name(f->quant), storage,
            p->path == SSS_EVAL_CPU ? "cpu" : "gpu", sss_gl_renderer_name(), n, w, h, own, median(scatter, n),
            median(draw, n), median(frame, n), f->mesh.nv / (1e-3 * median(scatter, n)), 1e3 / median(frame, n),
-           gt.scatter_ms, gt.draw_ms, gt.own_ms, sss_renderer_bytes_per_vertex(r));
+           gt.scatter_ms, gt.draw_ms, gt.near_ms, sss_renderer_bytes_per_vertex(r));
     free(scatter);
     free(draw);
     free(frame);

@@ -95,7 +95,7 @@ GLuint sss_pass_light_program(const char *body, uint32_t C, uint32_t ncoef, sss_
 /* q += float(w_c · src) over nv·C values, in the CPU sum's order (scene_view.c). */
 void sss_pass_cpu_add_row(const sss_bake_file *f, const double w[3], const float *src, float *q);
 
-/* The near terms' own interface beyond the table (sss_renderer_read_own_visibility). */
+/* The near terms' own interface beyond the table (sss_renderer_read_near_visibility). */
 void sss_near_read_visibility(const void *state, uint32_t nv, uint8_t *lit);
 
 #endif

@@ -1,9 +1,9 @@
 /* near.c: the run-time near terms of files with section OWNT (format 1.3;
- * sss/ownterm.h, docs/viewer.md).
+ * sss/nearterms.h, docs/viewer.md).
  *
  * The rows of such a file hold q minus the largest entries of the §3.1 sum
  * (Hao–Varshney 2004), the vertex's own w̃(o,o) g_o(ω_j) V(x_o, ω_j) and
- * those of its `own_rings` mesh rings: the entries that jump where x_o or a
+ * those of its `near_rings` mesh rings: the entries that jump where x_o or a
  * neighbour enters a cast shadow, and that §3.2's interpolation between
  * direction samples would smear. After q is evaluated (either path) or
  * uploaded, two more compute passes add them back for the actual light: the
@@ -30,7 +30,7 @@
 #include "gl_util.h"
 #include "shaders.h"
 #include "shadow.h"
-#include "sss/ownterm.h"
+#include "sss/nearterms.h"
 
 typedef struct sss_near_pass {
     sss_shadow *shadow; /* created on the first pass that asks for the map */
@@ -57,7 +57,7 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     const sss_bake_file *f = m->f;
     const uint32_t nv = m->nv, nf = m->nf, C = m->C;
     sss_weights nr;
-    sss_result res = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, C, f->own_rings, &nr, err);
+    sss_result res = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, C, f->near_rings, &nr, err);
     if (res != SSS_OK) return res;
     const uint64_t nent = nr.start[nv];
     const GLint64 max_block = c->max_block;
@@ -66,7 +66,7 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
         return sss_fail(err, SSS_ERR_UNSUPPORTED,
                         "renderer: the near terms of %u rings need a %.1f MiB storage buffer, above this GL's limit "
                         "of %.1f MiB (bake with fewer --rings)",
-                        f->own_rings, (double)(nent * C * sizeof(float)) / 1048576.0,
+                        f->near_rings, (double)(nent * C * sizeof(float)) / 1048576.0,
                         (double)max_block / 1048576.0);
     }
     /* the shader's offsets are 32-bit: the entries fit, as the buffer
@@ -163,7 +163,7 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     return SSS_OK;
 }
 
-int sss_pass_near_present(const sss_bake_file *f) { return f->own_term != 0; }
+int sss_pass_near_present(const sss_bake_file *f) { return f->near_terms != 0; }
 
 void sss_pass_near_destroy(void *state)
 {
@@ -196,7 +196,7 @@ sss_result sss_pass_near_create(const sss_effect_ctx *c, void **state, sss_error
 /* The shadow map of the size asked for (clamped to 256 … 8192), created or
  * replaced here on first use; 0 when none can be had (the old one is kept
  * when a new size fails). */
-static int own_map(sss_near_pass *r, const sss_gpu_mesh *m, int size)
+static int near_map(sss_near_pass *r, const sss_gpu_mesh *m, int size)
 {
     size = size > 0 ? (size < 256 ? 256 : size > 8192 ? 8192 : size) : SSS_SHADOW_SIZE;
     if (!r->shadow || size != sss_shadow_size(r->shadow)) {
@@ -222,11 +222,11 @@ GLuint sss_pass_near_frame(void *state, const sss_effect_frame *fr)
     const double *l = fr->light;
     const sss_view_params *p = fr->p;
     const GLuint query = fr->query;
-    if (!p->own_term) return 0; /* the view asks for q as evaluated or uploaded */
+    if (!p->near_terms) return 0; /* the view asks for q as evaluated or uploaded */
     const float lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
     if (!(lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2] > 0.5f)) return 0; /* zero or NaN light: no light */
     int map = p->near_visibility == SSS_NEAR_MAP || !r->prog_ray;
-    if (map && !own_map(r, m, p->shadow_size)) map = 0;
+    if (map && !near_map(r, m, p->shadow_size)) map = 0;
     if (!map && !r->prog_ray) return 0;
     const int size = map ? sss_shadow_size(r->shadow) : 0;
     /* lit and gv depend on the light direction and the test alone */

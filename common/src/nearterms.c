@@ -1,13 +1,13 @@
-/* ownterm.c: the vertex's own term of q, split off at bake time and added
- * back at run time (sss/ownterm.h; Hao–Varshney 2004 §3.1). */
-#include "sss/ownterm.h"
+/* nearterms.c: the vertex's own term of q, split off at bake time and added
+ * back at run time (sss/nearterms.h; Hao–Varshney 2004 §3.1). */
+#include "sss/nearterms.h"
 #include "sss/vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-float sss_own_transfer(float eta, const float n[3], const float d[3])
+float sss_near_g(float eta, const float n[3], const float d[3])
 {
     /* F_t(η, c) max(0, c): the Fresnel transmittance of dipole.c's
      * sss_ft, in float, term for term as the vertex shader writes it */
@@ -209,7 +209,7 @@ void sss_near_transfer(const float *nrm, uint32_t nv, float eta, const double d[
 #pragma omp parallel for schedule(static) if (nv >= 16384)
 #endif
     for (int64_t v = 0; v < (int64_t)nv; v++)
-        gv[v] = lit && !lit[v] ? 0.0f : sss_own_transfer(eta, nrm + 3 * (size_t)v, df);
+        gv[v] = lit && !lit[v] ? 0.0f : sss_near_g(eta, nrm + 3 * (size_t)v, df);
 }
 
 void sss_near_sum(const sss_weights *n, uint32_t o, const float *gv, float *s)

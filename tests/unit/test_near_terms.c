@@ -1,5 +1,5 @@
-/* test_ownterm.c: the own term split off at bake time and added back by the
- * reader (sss/ownterm.h, format 1.3 section OWNT; docs/accuracy.md "Where
+/* test_near_terms.c: the own term split off at bake time and added back by the
+ * reader (sss/nearterms.h, format 1.3 section OWNT; docs/accuracy.md "Where
  * the error comes from"). On a torus, whose inner side is shadowed by the
  * opposite side (cast shadows, not only the terminator):
  *  - at every direction sample the reader's rows + near terms (the own
@@ -31,7 +31,7 @@
 #include "sss/compress.h"
 #include "sss/dipole.h"
 #include "sss/exact.h"
-#include "sss/ownterm.h"
+#include "sss/nearterms.h"
 #include "sss/reconstruct.h"
 #include "test_util.h"
 
@@ -50,8 +50,8 @@ static void bake_or_fail(uint32_t own, uint32_t rings, int threads, sss_bake_fil
     opt.mm_per_unit = 20.0;
     opt.n_dirs = 100;
     opt.threads = threads;
-    opt.own_term = own;
-    opt.own_rings = rings;
+    opt.near_terms = own;
+    opt.near_rings = rings;
     sss_bake_file baked;
     if (sss_bake(&g_mesh, "torus", &mat, &opt, &baked, NULL, &err) != SSS_OK) fail_msg("bake: %s", err.msg);
     uint8_t *buf;
@@ -75,8 +75,8 @@ static int setup(void **state)
      * shadow itself over a wide range of light directions */
     if (sss_gen_torus(&g_mesh, 1.0, 0.45, 48, 24, &err) != SSS_OK) return -1;
     bake_or_fail(0, 0, 2, &g_plain, NULL, NULL);
-    bake_or_fail(SSS_OWN_TERM_RUNTIME, 0, 2, &g_own, NULL, NULL);
-    bake_or_fail(SSS_OWN_TERM_RUNTIME, 1, 2, &g_ring, NULL, NULL);
+    bake_or_fail(SSS_NEAR_TERMS_RUNTIME, 0, 2, &g_own, NULL, NULL);
+    bake_or_fail(SSS_NEAR_TERMS_RUNTIME, 1, 2, &g_ring, NULL, NULL);
     return 0;
 }
 
@@ -93,8 +93,8 @@ static int teardown(void **state)
 static void fileIsMarked(void **state)
 {
     (void)state;
-    assert_int_equal(g_plain.own_term, 0);
-    assert_int_equal(g_own.own_term, SSS_OWN_TERM_RUNTIME);
+    assert_int_equal(g_plain.near_terms, 0);
+    assert_int_equal(g_own.near_terms, SSS_NEAR_TERMS_RUNTIME);
     /* both record ε (section NBHD), which makes them 1.4 files; without it
      * the own term alone makes a file 1.3 (docs/format.md §5.9) */
     assert_int_equal(g_plain.version_minor, 4);
@@ -120,7 +120,7 @@ static void samples_restore_q(const sss_bake_file *own, double min_share)
     sss_error err = {{0}};
     sss_reconstruct *rc;
     assert_int_equal(sss_reconstruct_create(own, &rc, &err), SSS_OK);
-    assert_true(sss_reconstruct_has_own_term(rc));
+    assert_true(sss_reconstruct_has_near_terms(rc));
     float *r = malloc(row * sizeof *r);
     assert_non_null(r);
     double qmax = 0.0, worst = 0.0, taken = 0.0, total = 0.0;
@@ -136,7 +136,7 @@ static void samples_restore_q(const sss_bake_file *own, double min_share)
         for (size_t k = 0; k < row; k++) worst = fmax(worst, fabs((double)r[k] - g_plain.q[(size_t)j * row + k]));
     }
     print_message("%u rings: near terms %.1f %% of all q; rows + near terms vs unsplit q at the samples: max |diff| "
-                  "%.3g of max q\n", own->own_rings, 100.0 * taken / total, worst / qmax);
+                  "%.3g of max q\n", own->near_rings, 100.0 * taken / total, worst / qmax);
     assert_true(taken > min_share * total);
     assert_true(worst <= 1e-5 * qmax);
     /* one vertex at a time (sss-stat --query) gives the same floats */
@@ -189,8 +189,8 @@ static void threadsGiveSameBytes(void **state)
     (void)state;
     uint8_t *b1, *b2;
     size_t n1, n2;
-    bake_or_fail(SSS_OWN_TERM_RUNTIME, 1, 1, NULL, &b1, &n1);
-    bake_or_fail(SSS_OWN_TERM_RUNTIME, 1, 2, NULL, &b2, &n2);
+    bake_or_fail(SSS_NEAR_TERMS_RUNTIME, 1, 1, NULL, &b1, &n1);
+    bake_or_fail(SSS_NEAR_TERMS_RUNTIME, 1, 2, NULL, &b2, &n2);
     assert_int_equal(n1, n2);
     assert_memory_equal(b1, b2, n1);
     free(b1);
@@ -252,7 +252,7 @@ static void compressionKeepsTheMark(void **state)
     assert_int_equal(sss_file_encode(&c, &buf, &len, &err), SSS_OK);
     sss_file_free(&c);
     assert_int_equal(sss_file_decode(buf, len, "c.sss", &c, &err), SSS_OK);
-    assert_int_equal(c.own_term, SSS_OWN_TERM_RUNTIME);
+    assert_int_equal(c.near_terms, SSS_NEAR_TERMS_RUNTIME);
     assert_int_equal(c.version_minor, 3);
     sss_file_free(&c);
     free(buf);

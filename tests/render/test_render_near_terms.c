@@ -1,8 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
-/* The run-time near terms (format 1.3, section OWNT; sss/ownterm.h) in the
+/* The run-time near terms (format 1.3, section OWNT; sss/nearterms.h) in the
  * renderer (runtime/src/render/: renderer.c, effects/near.c, bvh.c, shadow.c), offscreen on EGL.
- * Files baked with the own term split off (sss_bake with own_term =
- * SSS_OWN_TERM_RUNTIME: what `sss-bake --own-term runtime [--rings K]`
+ * Files baked with the own term split off (sss_bake with near_terms =
+ * SSS_NEAR_TERMS_RUNTIME: what `sss-bake --own-term runtime [--rings K]`
  * writes) store q − Σ_{i in o's rings} w̃(o, i) g_i(ω_j) V(x_i, ω_j); the
  * renderer adds the sum back for the actual light with every vertex's own
  * visibility, by default from the bake's ray traced on the GPU through a
@@ -22,10 +22,10 @@
  *      passes add exactly what the C reference (sss_near_transfer +
  *      sss_near_add with the renderer's visibility, rays or map) adds;
  *      rings 0, 1 and 2;
- *  (c) with p.own_term = 0 an uploaded q is drawn as given, nothing added;
- *      with p.own_term = 1 the next draw adds the near terms once;
+ *  (c) with p.near_terms = 0 an uploaded q is drawn as given, nothing added;
+ *      with p.near_terms = 1 the next draw adds the near terms once;
  *  (d) a file without OWNT builds no shadow map and renders bit-identically
- *      whatever p.own_term says.
+ *      whatever p.near_terms says.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -46,7 +46,7 @@
 #include "sss/visibility.h"
 #include "sss/decode.h"
 #include "sss/import.h"
-#include "sss/ownterm.h"
+#include "sss/nearterms.h"
 #include "sss/render.h"
 
 #include "gl_fixture.h"
@@ -143,13 +143,13 @@ static void check_mesh(const sss_mesh *m, const char *material, double mm, uint3
     assert_int_equal(sss_near_build(&f.mesh, &f.material, f.mm_per_unit, C, rings, &nr, &err), SSS_OK);
     sss_renderer *r;
     if (sss_renderer_create(&f, &r, &err) != SSS_OK) fail_msg("renderer: %s", err.msg);
-    assert_true(sss_renderer_has_own_term(r));
+    assert_true(sss_renderer_has_near_terms(r));
     float *q = malloc(n * sizeof *q), *rows = malloc(n * sizeof *rows), *gv = malloc(nv * sizeof *gv);
     uint8_t *lit_map = malloc(nv), *lit_gpu = malloc(nv), *lit_ray = malloc(nv), *front = malloc(nv);
     assert_true(q && rows && gv && lit_map && lit_gpu && lit_ray && front);
     sss_view_params p;
     sss_view_params_default(&p);
-    assert_int_equal(p.own_term, 1);
+    assert_int_equal(p.near_terms, 1);
 
     /* direction samples (where the plain bake's row is the truth) and
      * random directions (where the C reference is) */
@@ -172,7 +172,7 @@ static void check_mesh(const sss_mesh *m, const char *material, double mm, uint3
         p.path = SSS_EVAL_GPU;
         sss_renderer_evaluate(r, &p);
         sss_renderer_read_q(r, q);
-        sss_renderer_read_own_visibility(r, lit_map);
+        sss_renderer_read_near_visibility(r, lit_map);
         agreement am;
         agreement_count(&am, nv, front, lit_map, lit_ray);
         assert_true(agree_pct(&am) >= 99.0); /* (a), map */
@@ -184,7 +184,7 @@ static void check_mesh(const sss_mesh *m, const char *material, double mm, uint3
             p.path = path ? SSS_EVAL_CPU : SSS_EVAL_GPU;
             sss_renderer_evaluate(r, &p);
             sss_renderer_read_q(r, q);
-            sss_renderer_read_own_visibility(r, lit_gpu);
+            sss_renderer_read_near_visibility(r, lit_gpu);
             agreement a;
             agreement_count(&a, nv, front, lit_gpu, lit_ray);
             if (path == 0) {
@@ -263,7 +263,7 @@ static void check_mesh(const sss_mesh *m, const char *material, double mm, uint3
             p.path = t % 2 ? SSS_EVAL_CPU : SSS_EVAL_GPU;
             sss_renderer_evaluate(r8, &p);
             sss_renderer_read_q(r8, q);
-            sss_renderer_read_own_visibility(r8, lit_map);
+            sss_renderer_read_near_visibility(r8, lit_map);
             sss_decode_all(&l8, p.light, rows);
             worst8 = fmax(worst8, near_reference_diff(&nr, &l8, p.light, rows, lit_map, q));
         }
@@ -330,7 +330,7 @@ static void dragonVisibilityMatchesRays(void **state)
     g.mm_per_unit = 1000.0;
     g.channels = 3;
     g.quant = SSS_QUANT_FLOAT;
-    g.own_term = SSS_OWN_TERM_RUNTIME;
+    g.near_terms = SSS_NEAR_TERMS_RUNTIME;
     const uint32_t nv = g.mesh.nv;
     sss_vis *vis;
     assert_int_equal(sss_vis_create(&g.mesh, &vis, &err), SSS_OK);
@@ -358,7 +358,7 @@ static void dragonVisibilityMatchesRays(void **state)
             float *rgb;
             assert_int_equal(sss_renderer_render_q_image(r, &p, zero, 16, 16, &rgb, NULL, &err), SSS_OK);
             free(rgb);
-            sss_renderer_read_own_visibility(r, m ? lit_map : lit_gpu);
+            sss_renderer_read_near_visibility(r, m ? lit_map : lit_gpu);
         }
         /* the shader's traversal on the CPU, from the bake's float origin */
         double d[3];
@@ -403,8 +403,8 @@ static void dragonVisibilityMatchesRays(void **state)
     free(front);
 }
 
-/* (c): an uploaded q with p.own_term = 0 is drawn (and read back) as
- * given; with p.own_term = 1 the draw adds the near terms once, for the
+/* (c): an uploaded q with p.near_terms = 0 is drawn (and read back) as
+ * given; with p.near_terms = 1 the draw adds the near terms once, for the
  * draw's light. */
 static void uploadedQGetsOwnTermOnlyWhenAsked(void **state)
 {
@@ -417,7 +417,7 @@ static void uploadedQGetsOwnTermOnlyWhenAsked(void **state)
     const uint32_t nv = f.mesh.nv, C = f.channels;
     const size_t n = (size_t)nv * C;
     sss_weights nr;
-    assert_int_equal(sss_near_build(&f.mesh, &f.material, f.mm_per_unit, C, f.own_rings, &nr, &err), SSS_OK);
+    assert_int_equal(sss_near_build(&f.mesh, &f.material, f.mm_per_unit, C, f.near_rings, &nr, &err), SSS_OK);
     float *up = malloc(n * sizeof *up), *q = malloc(n * sizeof *q), *q2 = malloc(n * sizeof *q2);
     uint8_t *lit = malloc(nv);
     assert_true(up && q && q2 && lit);
@@ -428,7 +428,7 @@ static void uploadedQGetsOwnTermOnlyWhenAsked(void **state)
     sss_view_params_default(&p);
     p.light[0] = 0.3, p.light[1] = -0.5, p.light[2] = 0.8;
 
-    p.own_term = 0;
+    p.near_terms = 0;
     float *rgb0, *rgb1;
     assert_int_equal(sss_renderer_render_q_image(r, &p, up, 64, 48, &rgb0, NULL, &err), SSS_OK);
     sss_renderer_read_q(r, q);
@@ -445,10 +445,10 @@ static void uploadedQGetsOwnTermOnlyWhenAsked(void **state)
     sss_renderer_read_q(r, q);
     assert_memory_equal(q, up, n * sizeof *q);
 
-    p.own_term = 1;
+    p.near_terms = 1;
     assert_int_equal(sss_renderer_render_q_image(r, &p, up, 64, 48, &rgb1, NULL, &err), SSS_OK);
     sss_renderer_read_q(r, q);
-    sss_renderer_read_own_visibility(r, lit);
+    sss_renderer_read_near_visibility(r, lit);
     size_t changed = 0;
     for (size_t i = 0; i < n; i++) changed += q[i] != up[i];
     const double worst = near_reference_diff(&nr, &f, p.light, up, lit, q);
@@ -480,7 +480,7 @@ static void uploadedQGetsOwnTermOnlyWhenAsked(void **state)
 }
 
 /* (d): a file without OWNT: no shadow map, no pass; q and images are the
- * same bits whatever p.own_term says, and q is the C decoder's (within the
+ * same bits whatever p.near_terms says, and q is the C decoder's (within the
  * existing renderer tolerance, counted bit-identical). */
 static void fileWithoutOwnTermIsUnchanged(void **state)
 {
@@ -492,7 +492,7 @@ static void fileWithoutOwnTermIsUnchanged(void **state)
     bake_preset(&m, "skin1", 0, 20.0, 40, SSS_QUANT_FLOAT, -1, &f);
     sss_renderer *r;
     assert_int_equal(sss_renderer_create(&f, &r, &err), SSS_OK);
-    assert_false(sss_renderer_has_own_term(r));
+    assert_false(sss_renderer_has_near_terms(r));
     const size_t n = (size_t)f.mesh.nv * f.channels;
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b), *c = malloc(n * sizeof *c);
     uint8_t *lit = malloc(f.mesh.nv);
@@ -504,10 +504,10 @@ static void fileWithoutOwnTermIsUnchanged(void **state)
     for (int t = 0; t < 6; t++) {
         test_random_dir(&rng, p.light);
         p.path = t % 2 ? SSS_EVAL_CPU : SSS_EVAL_GPU;
-        p.own_term = 1;
+        p.near_terms = 1;
         sss_renderer_evaluate(r, &p);
         sss_renderer_read_q(r, a);
-        p.own_term = 0;
+        p.near_terms = 0;
         sss_renderer_evaluate(r, &p);
         sss_renderer_read_q(r, b);
         assert_memory_equal(a, b, n * sizeof *a);
@@ -519,18 +519,18 @@ static void fileWithoutOwnTermIsUnchanged(void **state)
             worst = fmax(worst, d < 1e-30 ? 0.0 : d / fmax(fabs((double)c[i]), 1e-30));
         }
         float *img1, *img0;
-        p.own_term = 1;
+        p.near_terms = 1;
         assert_int_equal(sss_renderer_render_image(r, &p, 96, 64, &img1, NULL, &err), SSS_OK);
-        p.own_term = 0;
+        p.near_terms = 0;
         assert_int_equal(sss_renderer_render_image(r, &p, 96, 64, &img0, NULL, &err), SSS_OK);
         assert_memory_equal(img1, img0, (size_t)96 * 64 * 3 * sizeof(float));
         free(img1);
         free(img0);
     }
-    sss_renderer_read_own_visibility(r, lit);
+    sss_renderer_read_near_visibility(r, lit);
     for (uint32_t v = 0; v < f.mesh.nv; v++) assert_int_equal(lit[v], 1);
     sss_frame_times ft = sss_renderer_times(r);
-    assert_true(ft.own_ms == 0.0);
+    assert_true(ft.near_ms == 0.0);
     print_message("no OWNT: q vs C decoder %.2f%% bit-identical, worst relative %.3g; own_term on/off identical\n",
                   100.0 * (double)same / (double)total, worst);
     assert_true(worst <= 1e-4);

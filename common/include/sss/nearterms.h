@@ -1,4 +1,4 @@
-/* sss/ownterm.h: the vertex's own term of q, evaluated at run time.
+/* sss/nearterms.h: the vertex's own term of q, evaluated at run time.
  *
  * Hao–Varshney 2004 §3.1 sums over the whole neighbourhood, the vertex
  * itself included:
@@ -22,8 +22,8 @@
  * with sss_near_build from the file's geometry and material, so it costs
  * no bytes.
  */
-#ifndef SSS_OWNTERM_H
-#define SSS_OWNTERM_H
+#ifndef SSS_NEARTERMS_H
+#define SSS_NEARTERMS_H
 
 #include <stdint.h>
 #include "sss/dipole.h"
@@ -39,7 +39,7 @@ extern "C" {
  * the transfer factor of the own term without visibility, in float as
  * every reader evaluates it (the GLSL version in runtime/shaders/near_vis.comp.glsl
  * computes the same expression). */
-float sss_own_transfer(float eta, const float n[3], const float d[3]);
+float sss_near_g(float eta, const float n[3], const float d[3]);
 
 /* ---- the near terms: the own term and its mesh rings -----------------
  *
@@ -64,7 +64,7 @@ float sss_own_transfer(float eta, const float n[3], const float d[3]);
 sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
                           uint32_t rings, sss_weights *out, sss_error *err);
 
-/* gv[v] = sss_own_transfer(η, n_v, d) · lit[v] for every vertex (lit NULL:
+/* gv[v] = sss_near_g(η, n_v, d) · lit[v] for every vertex (lit NULL:
  * all lit): the transfer of each vertex towards light d, once per frame. */
 void sss_near_transfer(const float *nrm, uint32_t nv, float eta, const double d[3], const uint8_t *lit, float *gv);
 
