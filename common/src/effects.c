@@ -69,7 +69,7 @@ void sss_fx_point(const sss_bake_file *f, const double P[3], float *out)
         return;
     }
     const float *q = f->fx.shell_q;
-    /* the GPU path (runtime/src/shaders_fx.c) forms the same double sum in
+    /* the GPU path (runtime/shaders/point_shells.comp.glsl) forms the same double sum in
      * the same order, so the two agree to the bit */
     for (size_t e = 0; e < NVC; e++) {
         double acc = 0.0;

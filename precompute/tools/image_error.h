@@ -3,7 +3,7 @@
  * at one fixed exposure, ~100 random view and light directions, the RMS
  * over the pixels of each image, the maximum reported as the
  * representative (the mean and median too). Both images of a view are
- * drawn by the viewer's renderer (runtime/src/renderer.h, EGL offscreen)
+ * drawn by the viewer's renderer (sss/render.h, EGL offscreen)
  * from per-vertex q supplied from outside: the exact q (sss/exact.h) and
  * the file's reconstruction (sss_decode_all_interp, bit for bit what the
  * viewer's GPU path computes for the default interpolation).

@@ -109,7 +109,7 @@ Sections "Where the error comes from" and "Acceptance figures".
 ## How the error is measured
 
 \`sss-stat FILE --error --json\` reports two errors against the exact
-evaluator (\`precompute/src/exact.c\`: q recomputed from the file's mesh,
+evaluator (\`precompute/src/measure/exact.c\`: q recomputed from the file's mesh,
 material and bake parameters at the light direction itself — no direction
 samples, no quantisation, no compression, same neighbourhoods and
 visibility rays):

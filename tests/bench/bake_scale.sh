@@ -87,7 +87,7 @@ for r in bakes:
     groups.setdefault((r['size'], r['ch'], r['gather']), []).append(r)
 med = lambda rs, f: statistics.median(f(r) for r in rs)
 print()
-print("| vertices | ch | gather | runs | import s | neighbourhoods s | visibility s | tree s | integrals s | write s | total s | wall s | peak RSS MiB | predicted MiB | sgemm GFLOP/s | near field GFLOP/s | rows/block | far nodes/vertex |")
+print("| vertices | ch | gather | runs | import s | neighbourhoods s | visibility s | tree s | integrals s | write s | total s | wall s | peak RSS MiB | predicted MiB | sgemm GFLOP/s | dense blocks GFLOP/s | rows/block | far nodes/vertex |")
 print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for (n, ch, g), rs in sorted(groups.items()):
     t = lambda k: med(rs, lambda r: r['seconds'].get(k, 0.0))

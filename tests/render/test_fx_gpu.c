@@ -1,6 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 /* The scene's lights summed on the GPU (runtime/src/render/fx_gpu.c) against the
- * CPU sum (runtime/src/scene_view.c, the reference), per vertex and
+ * CPU sum (runtime/src/render/scene_view.c, the reference), per vertex and
  * channel, on scene bakes (format 1.2) with every light kind:
  * directional-exact, direction-set (Hao–Varshney 2004 §3.2), point-shells
  * (§3.3) and environment-sh, moving lights at several angles, RGB and grey;

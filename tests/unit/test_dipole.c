@@ -96,7 +96,7 @@ static double arc_offset_disk(const sss_dipole *d, double r, double rho, int n)
     return sum;
 }
 
-/* A neighbour's area as a disk at distance r (the near-field weight of the
+/* A neighbour's area as a disk at distance r (the close-neighbour weight of the
  * bake): the closed form at r = 0, brute-force quadrature in between, the
  * point sample far away; and a coincident vertex gets at most the energy
  * its area can hold, unlike the point sample R_d(0) ΔA. */

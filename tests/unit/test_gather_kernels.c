@@ -1,9 +1,9 @@
 /* The hierarchical gather's kernels (docs/benchmarks.md, "Bake at scale").
- * The profile polynomials (precompute/src/gather_rdtab.c): within 10⁻⁶
+ * The profile polynomials (precompute/src/gather/gather_rdtab.c): within 10⁻⁶
  * relative of R_d / π in double over their 32 octaves (to the cutoff) for
  * several materials and radii, finite and bounded outside that range; the
- * weight rows give the same bits by every path (gather_near.c).
- * The block product (precompute/src/gather_gemm.c):
+ * weight rows give the same bits by every path (gather_blocks.c).
+ * The block product (precompute/src/gather/gather_gemm.c):
  * every path this CPU has (AVX-512, AVX2+FMA, portable fmaf) gives the same
  * bits, equal to one fmaf chain per element computed here; a column's bits
  * do not depend on the other columns (what keeps a bake in direction chunks

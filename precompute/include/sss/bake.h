@@ -116,7 +116,7 @@ typedef struct sss_bake_stats {
      * when they were OpenBLAS's sgemm), direct: multiply-adds × 2 / s */
     double gather_gflops;
     double sgemm_fraction;               /* share of the integrals' thread time spent in the block products */
-    /* tree: the near field as a whole, assembly included: 2 · C · B · rows
+    /* tree: the dense blocks as a whole, assembly included: 2 · C · B · rows
      * · D flops of the block products (B receivers, rows = near sources +
      * 10 per far node, D directions) over the thread-seconds of everything
      * done per block (interaction lists, Ψ's row pointers, the weights,

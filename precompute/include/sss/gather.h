@@ -14,7 +14,7 @@
  *   irradiance and an irradiance-weighted centre, i.e. the monopole), one
  *   order further so that θ = 0.5 meets a 10⁻³ relative error. The paper
  *   itself (seed 001 §3.1) points to that octree for O(N log N).
- * - Near field (gather_near.c): receivers are grouped in Morton blocks; a
+ * - Dense blocks (gather_blocks.c): receivers are grouped in Morton blocks; a
  *   block's near sources and the rows of its far nodes form one dense
  *   weight matrix W (channels × receivers by rows), multiplied by the stacked
  *   flux rows (rows × directions), one register-tiled product per block
@@ -64,7 +64,7 @@ typedef struct sss_gather_params {
     double theta;        /* opening threshold in (0, 1) (default SSS_GATHER_THETA_DEFAULT) */
     uint32_t leaf_size;  /* most sources in a leaf (default 32) */
     uint32_t block_size; /* most receivers in a block (default 128: 64 before; measured, docs/benchmarks.md
-                          * "near field": blocks of 47 receivers on average instead of 19, the rows of Ψ
+                          * "dense blocks": blocks of 47 receivers on average instead of 19, the rows of Ψ
                           * copied and packed once for more receivers, 20 % more rows per block) */
     const sss_cancel_flag *cancel; /* polled per receiver block by sss_gather_run (sss/result.h); NULL: never */
 } sss_gather_params;

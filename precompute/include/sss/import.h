@@ -1,6 +1,6 @@
 /* sss/import.h: mesh import (PLY ascii/binary, OBJ, OFF, STL) through
  * OpenMesh, with validation and reported repairs. C interface over the C++17
- * adapter in precompute/src/import_openmesh.cpp.
+ * adapter in precompute/src/input/import_openmesh.cpp.
  *
  * Policy (docs/robustness.md will list it case by case):
  *  - rejected with an error naming file and element: unreadable or

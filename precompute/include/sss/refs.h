@@ -18,8 +18,8 @@
  * so references gather along such boundaries instead of geometry alone
  * deciding.
  *
- * C interface over two C++17 adapters: precompute/src/refs_decimate.cpp
- * (OpenMesh) and precompute/src/refs_closest.cpp (CGAL).
+ * C interface over two C++17 adapters: precompute/src/compress/refs_decimate.cpp
+ * (OpenMesh) and precompute/src/compress/refs_closest.cpp (CGAL).
  */
 #ifndef SSS_REFS_H
 #define SSS_REFS_H

@@ -67,7 +67,7 @@ static uint32_t share_start(uint32_t n, int k, int nranks) { return (uint32_t)((
  * them to madvise). A block writes its receivers' q for every direction,
  * and q is direction-major (the file's order), so a receiver's 200 values
  * lie nv·C floats apart, each on its own 4 KiB page: writing q was TLB
- * misses more than anything (docs/benchmarks.md, "Near field: own block
+ * misses more than anything (docs/benchmarks.md, "Dense blocks: own block
  * product"). Only a hint: nothing changes where it is refused. */
 static void huge_pages(void *p, size_t n)
 {
@@ -350,7 +350,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     if (o->verbose)
         fprintf(stderr, "gather: %u nodes (%u leaves), %u blocks, rows/block %.0f, near pairs/receiver %.0f, far "
                 "nodes/receiver %.1f; thread-s lists %.2f weights %.2f product %.2f scatter %.2f; product %.1f GFLOP/s, "
-                "near field %.1f GFLOP/s; tree %.2fs; %u direction chunks\n", gs.nodes, gs.leaves, nb, gs.rows_mean,
+                "dense blocks %.1f GFLOP/s; tree %.2fs; %u direction chunks\n", gs.nodes, gs.leaves, nb, gs.rows_mean,
                 (double)gs.near_pairs / nv, (double)gs.far_pairs / nv, gs.t_lists, gs.t_weights, gs.t_sgemm,
                 gs.t_scatter, st->gather_gflops, st->near_gflops, st->t_tree, nch);
 

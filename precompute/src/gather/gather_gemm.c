@@ -1,6 +1,6 @@
 /* gather_gemm.c: the dense block product of the hierarchical gather,
  *   Q (M × N) = W (M × K) · Ψ (K × N),
- * with Ψ given as K row pointers (gather_near.c).
+ * with Ψ given as K row pointers (gather_blocks.c).
  *
  * Why not sgemm (OpenBLAS): the block's W is computed here and its Ψ rows
  * already lie in memory (the Morton-ordered transfer rows of the near
@@ -9,7 +9,7 @@
  * panel layout: on the 100K dragon these copies took a quarter of the
  * product's time (a copy of every Ψ row, then OpenBLAS's itcopy / oncopy),
  * and for the short blocks of the gather (M = C·B ≈ 140 rows) they are not
- * amortised (docs/benchmarks.md, "Near field: the block product"). This
+ * amortised (docs/benchmarks.md, "Dense blocks: the block product"). This
  * kernel reads W in place (row-major, 8 rows broadcast at a time) and
  * copies Ψ's rows once, a panel of KC rows at a time, into one aligned
  * block that stays in the L2 cache while every register tile of the block

@@ -1,5 +1,5 @@
 /* gather_internal.h: the hierarchy shared by gather_tree.c (build, moments,
- * interaction lists, far-field weights) and gather_near.c (near-field
+ * interaction lists, far-field weights) and gather_blocks.c (dense-block
  * weights, the dense block product). Not a public header. */
 #ifndef SSS_GATHER_INTERNAL_H
 #define SSS_GATHER_INTERNAL_H
@@ -86,7 +86,7 @@ float sss_rdtab_eval(const sss_rdtab *t, float x);
 
 /* (1/π) R_d(r) ΔA · in for S sources (squared distances r2v in mm², areas
  * dA in mm², inv 0 or 1 for beyond / within the cutoff), channel c into
- * w[c · ldc + a] (gather_near.c). isa SSS_GEMM_AVX512: the permutation
+ * w[c · ldc + a] (gather_blocks.c). isa SSS_GEMM_AVX512: the permutation
  * kernel for three channels; SSS_GEMM_PORTABLE: the loops over
  * sss_rdtab_at (vectorised by the compiler's clones). Both give the same
  * bits; returns 0, writing nothing, for a path that does not apply. */
@@ -128,7 +128,7 @@ void sss_gather_far_weights(const double *c, uint32_t nfar, const double x_o[3],
  * width gives the same bits (the AVX2 and AVX-512 clones use the
  * instruction; a machine without it gets the same values from libm, only
  * slower). Measured: a quarter less time per weight than separate
- * multiplies and adds (docs/benchmarks.md, "near field"). */
+ * multiplies and adds (docs/benchmarks.md, "dense blocks"). */
 static inline float sss_gexpf(float x)
 {
     int32_t ki = (int32_t)(x * 1.44269504f - 0.5f); /* ≈ round(x / ln 2) for x ≤ 0 */

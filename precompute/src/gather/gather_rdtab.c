@@ -1,11 +1,11 @@
-/* gather_rdtab.c: the dipole profile of the near field as piecewise
- * polynomials (docs/benchmarks.md, "Bake at scale"; near field at the machine's peak).
+/* gather_rdtab.c: the dipole profile of the dense blocks as piecewise
+ * polynomials (docs/benchmarks.md, "Bake at scale"; dense blocks at the machine's peak).
  *
  * The near weights of the hierarchical gather are (1/π) R_d(r) ΔA for
  * every (receiver, source) pair of a block (Hao–Varshney 2004 §3.1; R_d of
  * Jensen et al. 2001, docs/physics.md §2). Evaluated directly, R_d costs two
  * square roots, two divisions and two exponentials per channel and pair: a
- * quarter of the near field's time, the part that kept it from the
+ * quarter of the dense blocks's time, the part that kept it from the
  * machine's peak (docs/benchmarks.md). Here f = R_d / π is a function of
  * x = r² in float, on SSS_RDTAB_N = 32 octaves of x ending with the one
  * that holds the cutoff radius R²: the octave is read off the float's

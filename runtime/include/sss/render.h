@@ -82,7 +82,7 @@ typedef enum sss_eval_path {
 
 /* Where the near terms' V(x_i, ω) comes from (sss_view_params.near_visibility). */
 enum {
-    SSS_NEAR_RAYS = 0, /* the bake's ray (precompute/src/visibility.c), traced on the GPU: V as baked (default) */
+    SSS_NEAR_RAYS = 0, /* the bake's ray (precompute/src/kernels/visibility.c), traced on the GPU: V as baked (default) */
     SSS_NEAR_MAP = 1   /* a shadow map of shadow_size² texels: wrong within about a texel of a shadow's outline */
 };
 

@@ -1,7 +1,7 @@
 /* bvh.h: a bounding volume hierarchy over a mesh's triangles, built once on
  * the CPU and traced on the GPU (effects/near.c, GLSL near_vis.comp.glsl) so
  * that the viewer's near terms get every vertex's own visibility V(x_i, ω)
- * from the very ray the bake traces (precompute/src/visibility.c) instead of
+ * from the very ray the bake traces (precompute/src/kernels/visibility.c) instead of
  * a shadow map's approximation of it.
  *
  * Layout, as the shader reads it (std430):

@@ -6,10 +6,10 @@
  * x_o sees the light, and must answer as the bake does: an Embree ray from
  * x_o + δ n_o, δ = sss_mesh_ray_offset (1e-5 of the box diagonal), towards
  * ω, beyond t = δ, blocked by any hit of the mesh
- * (precompute/src/visibility.c). It answers in two
+ * (precompute/src/kernels/visibility.c). It answers in two
  * parts.
  *
- * Near field, exactly: the bake's ray against the triangles around x_o
+ * Around x_o, exactly: the bake's ray against the triangles around x_o
  * (Möller–Trumbore, in the pass). They lie within a fraction of a texel of
  * the vertex, where no map can tell them from the vertex's own surface, and
  * at grazing light a ray clips them often: on the 23K dragon, half of the
@@ -30,11 +30,11 @@
  *    by k_n t sin θ in the map, which at grazing light carries it across an
  *    occluder's outline, and the bias hides occluders that close in depth.
  *    Measured on the dragon (12 random lights, front-facing vertices), with
- *    the near-field test and k_c = 0.05, k_s = 0.5: k_n = 1.5 agrees on
+ *    the exact test around x_o and k_c = 0.05, k_s = 0.5: k_n = 1.5 agrees on
  *    99.30 %, 1.0 on 99.46 %, 0.5 on 99.66 %, 0.25 on 99.55 %, 0 on 97.91 %
  *    (the map shadowing lit vertices: the bias alone is too small; k_c = 0.2,
  *    k_s = 1.5 bring it to 99.59 %). Larger k_s or tan_max change < 0.02 %.
- *    Without the near-field test the best was 99.20 % (k_n = 0.75).
+ *    Without the exact test around x_o the best was 99.20 % (k_n = 0.75).
  *  - vertices with n_o·ω ≤ 0 are not tested: the own term's g is 0 there.
  *
  * What is left is sampling: vertices within about a texel of an occluder's

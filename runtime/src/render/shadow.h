@@ -9,7 +9,7 @@
  * a depth image of the scene as seen by the light source. Then, for each
  * vertex, we transform it into light space and compare its depth value
  * against the value on the depth image." The bake traces rays instead
- * (precompute/src/visibility.c); the lookup parameters below are chosen so
+ * (precompute/src/kernels/visibility.c); the lookup parameters below are chosen so
  * that the map reproduces the rays' answer (README.md, "Viewing").
  *
  * Projection: orthographic along ω, fitted to the mesh's bounding sphere

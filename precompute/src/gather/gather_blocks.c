@@ -1,4 +1,4 @@
-/* gather_near.c: the near field of the hierarchical gather and the dense
+/* gather_blocks.c: the dense blocks of the hierarchical gather and the dense
  * block product (sss/gather.h).
  *
  * Receivers are taken a Morton block at a time. The block's interaction
