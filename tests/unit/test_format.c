@@ -29,6 +29,7 @@
 #include "sss/decode.h"
 #include "sss/dirset.h"
 #include "sss/format.h"
+#include "test_util.h"
 
 #define GOLDEN_PATH SSS_TEST_DATA "/golden_v1.sss"
 #define HDR 24u
@@ -36,11 +37,6 @@
 
 /* ---- test-side little-endian helpers and a bitwise CRC ----------------- */
 
-static uint32_t rd32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-static uint64_t rd64(const uint8_t *p) { return (uint64_t)rd32(p) | (uint64_t)rd32(p + 4) << 32; }
 static void wr16(uint8_t *p, uint16_t v) { p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); }
 static void wr32(uint8_t *p, uint32_t v)
 {
@@ -66,7 +62,7 @@ static uint32_t ref_crc32(const uint8_t *p, size_t n)
 /* Recomputes the header CRC after an edit of bytes 0 .. end of table. */
 static void fix_header_crc(uint8_t *b)
 {
-    uint32_t n = rd32(b + 12);
+    uint32_t n = test_rd32(b + 12);
     wr32(b + HDR + ENT * n, ref_crc32(b, HDR + ENT * (size_t)n));
 }
 
@@ -92,18 +88,18 @@ static void t_split(const uint8_t *b, size_t len, tfile *t)
     memset(t, 0, sizeof *t);
     t->major = (uint16_t)(b[8] | b[9] << 8);
     t->minor = (uint16_t)(b[10] | b[11] << 8);
-    t->n = rd32(b + 12);
+    t->n = test_rd32(b + 12);
     assert_true(t->n <= 32);
     for (uint32_t i = 0; i < t->n; i++) {
         const uint8_t *e = b + HDR + ENT * i;
         tsec *s = &t->s[i];
         memcpy(s->tag, e, 4);
-        s->flags = rd32(e + 4);
-        s->count = rd64(e + 24);
-        s->size = (size_t)rd64(e + 16);
+        s->flags = test_rd32(e + 4);
+        s->count = test_rd64(e + 24);
+        s->size = (size_t)test_rd64(e + 16);
         s->data = malloc(s->size + 1);
         assert_non_null(s->data);
-        memcpy(s->data, b + rd64(e + 8), s->size);
+        memcpy(s->data, b + test_rd64(e + 8), s->size);
     }
 }
 
@@ -395,9 +391,9 @@ static void encodeWritesDocumentedLayout(void **state)
     assert_memory_equal(b, magic, 8);
     assert_int_equal(b[8] | b[9] << 8, SSS_FORMAT_MAJOR);
     assert_int_equal(b[10] | b[11] << 8, 0);
-    assert_int_equal(rd32(b + 12), 5);
-    assert_int_equal(rd64(b + 16), len);
-    assert_int_equal(rd32(b + HDR + 5 * ENT), ref_crc32(b, HDR + 5 * ENT));
+    assert_int_equal(test_rd32(b + 12), 5);
+    assert_int_equal(test_rd64(b + 16), len);
+    assert_int_equal(test_rd32(b + HDR + 5 * ENT), ref_crc32(b, HDR + 5 * ENT));
     static const char *tags[5] = {"GEOM", "MATL", "DIRS", "QFLT", "PARM"};
     static const uint32_t flags[5] = {1, 1, 1, 1, 0};
     const uint64_t counts[5] = {6, 3, 12, 12 * 6 * 3, strlen(f.params_json)};
@@ -406,29 +402,29 @@ static void encodeWritesDocumentedLayout(void **state)
     for (int i = 0; i < 5; i++) {
         const uint8_t *e = b + HDR + ENT * i;
         assert_memory_equal(e, tags[i], 4);
-        assert_int_equal(rd32(e + 4), flags[i]);
-        assert_int_equal(rd64(e + 8), off);
-        assert_int_equal(rd64(e + 16), sizes[i]);
-        assert_int_equal(rd64(e + 24), counts[i]);
-        assert_int_equal(rd32(e + 32), ref_crc32(b + off, sizes[i]));
-        assert_int_equal(rd32(e + 36), 0);
+        assert_int_equal(test_rd32(e + 4), flags[i]);
+        assert_int_equal(test_rd64(e + 8), off);
+        assert_int_equal(test_rd64(e + 16), sizes[i]);
+        assert_int_equal(test_rd64(e + 24), counts[i]);
+        assert_int_equal(test_rd32(e + 32), ref_crc32(b + off, sizes[i]));
+        assert_int_equal(test_rd32(e + 36), 0);
         if (i < 4) assert_int_equal(off % 4, 0); /* float arrays 4-byte aligned */
         off += sizes[i];
     }
     assert_int_equal(off, len);
     /* GEOM payload: counts, then x of vertex 0 as little-endian float32 1.0 */
-    const uint8_t *g = b + rd64(b + HDR + 8);
-    assert_int_equal(rd32(g), 6);
-    assert_int_equal(rd32(g + 4), 8);
-    assert_int_equal(rd32(g + 8), 0x3F800000u);
+    const uint8_t *g = b + test_rd64(b + HDR + 8);
+    assert_int_equal(test_rd32(g), 6);
+    assert_int_equal(test_rd32(g + 4), 8);
+    assert_int_equal(test_rd32(g + 8), 0x3F800000u);
     /* MATL payload: name, then sigma_a[0] as little-endian float64 */
-    const uint8_t *m = b + rd64(b + HDR + ENT + 8);
+    const uint8_t *m = b + test_rd64(b + HDR + ENT + 8);
     assert_string_equal((const char *)m, "skin1");
     double sa0;
-    uint64_t u = rd64(m + 32);
+    uint64_t u = test_rd64(m + 32);
     memcpy(&sa0, &u, 8);
     assert_true(sa0 == 0.032);
-    assert_int_equal(rd32(m + 96), 3);
+    assert_int_equal(test_rd32(m + 96), 3);
     free(b);
     sss_file_free(&f);
 }
@@ -853,14 +849,14 @@ static void decodeRejectsSectionOffsetsAndSizesOutsideFile(void **state)
         {e2 + 8, (uint64_t)1 << 62, "offset"},
         {e2 + 8, UINT64_MAX, "offset"},
         {e2 + 8, len, "offset"},
-        {e2 + 8, rd64(b + e2 + 8) + 4, "offset"},      /* a gap */
-        {e2 + 8, rd64(b + e2 + 8) - 4, "offset"},      /* an overlap */
-        {e4 + 16, rd64(b + e4 + 16) + 1, "past the end"},
+        {e2 + 8, test_rd64(b + e2 + 8) + 4, "offset"},      /* a gap */
+        {e2 + 8, test_rd64(b + e2 + 8) - 4, "offset"},      /* an overlap */
+        {e4 + 16, test_rd64(b + e4 + 16) + 1, "past the end"},
         {e4 + 16, UINT64_MAX, "past the end"},
         {e4 + 16, UINT64_MAX - 5, "past the end"},
-        {e2 + 16, UINT64_MAX - rd64(b + e2 + 8) + 1, "past the end"}, /* offset + size wraps to 0 */
+        {e2 + 16, UINT64_MAX - test_rd64(b + e2 + 8) + 1, "past the end"}, /* offset + size wraps to 0 */
         {e2 + 16, (uint64_t)1 << 63, "past the end"},
-        {e4 + 16, rd64(b + e4 + 16) - 1, "not covered"},
+        {e4 + 16, test_rd64(b + e4 + 16) - 1, "not covered"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         memcpy(c, b, len);
@@ -1018,7 +1014,7 @@ static void decodeRejectsBadDirections(void **state)
     tfile t;
     t_split(b, len, &t);
     uint8_t *d = t_find(&t, "DIRS")->data;
-    wr32(d + tri + 4, rd32(d + tri)); /* repeated corner */
+    wr32(d + tri + 4, test_rd32(d + tri)); /* repeated corner */
     expect_reject_t(&t, SSS_ERR_CORRUPT, "repeats");
     t_free(&t);
     reject_edit_u32(b, len, "DIRS", 4, 11, "11 triangles for 8 directions, expected 12");
@@ -1092,15 +1088,15 @@ static void nbhdRoundTripsAndMakesTheFile1_4(void **state)
         /* NBHD is required-flagged and makes the file 1.4, so a 1.0–1.3
          * reader refuses it by name (§4) instead of ignoring ε */
         assert_int_equal(buf[10] | buf[11] << 8, 4);
-        assert_int_equal(rd32(buf + 12), 6);
+        assert_int_equal(test_rd32(buf + 12), 6);
         const uint8_t *e = buf + HDR + 4 * ENT; /* before PARM, the last */
         assert_memory_equal(e, "NBHD", 4);
-        assert_int_equal(rd32(e + 4), 1);
-        assert_int_equal(rd64(e + 16), 8);
-        assert_int_equal(rd64(e + 24), 1);
+        assert_int_equal(test_rd32(e + 4), 1);
+        assert_int_equal(test_rd64(e + 16), 8);
+        assert_int_equal(test_rd64(e + 24), 1);
         uint64_t bits;
         memcpy(&bits, &a.eps, 8);
-        assert_int_equal(rd64(buf + rd64(e + 8)), bits);
+        assert_int_equal(test_rd64(buf + test_rd64(e + 8)), bits);
         assert_memory_equal(buf + HDR + 5 * ENT, "PARM", 4);
         expect_accept(buf, len, &b);
         assert_same_file(&a, &b);
