@@ -1,6 +1,7 @@
 /* nearterms.c: the vertex's own term of q, split off at bake time and added
  * back at run time (sss/nearterms.h; Hao–Varshney 2004 §3.1). */
 #include "sss/nearterms.h"
+#include "sss/hatweights.h"
 #include "sss/vec3.h"
 
 #include <math.h>
@@ -24,6 +25,17 @@ float sss_near_g(float eta, const float n[3], const float d[3])
 }
 
 /* ---- near terms: own term and mesh rings --------------------------------- */
+
+/* ‖x_i − x_o‖ in mm, with nbhd.c's arithmetic */
+static double dist_mm(const sss_mesh *m, uint32_t o, uint32_t i, double s)
+{
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        const double dx = ((double)m->pos[3 * (size_t)i + k] - m->pos[3 * (size_t)o + k]) * s;
+        d2 += dx * dx;
+    }
+    return sqrt(d2);
+}
 
 static int cmp_u32(const void *a, const void *b)
 {
@@ -57,13 +69,46 @@ static int cmp_pos(const void *x, const void *y)
 sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
                           uint32_t rings, sss_weights *out, sss_error *err)
 {
+    const sss_near_spec spec = {.rings = rings};
+    return sss_near_build_spec(mesh, mat, mm_per_unit, channels, &spec, NULL, out, err);
+}
+
+sss_result sss_near_build_file(const sss_bake_file *f, sss_weights *out, sss_error *err)
+{
+    const sss_near_spec spec = {.rings = f->near_rings, .radius_mm = f->near_radius_mm, .weights = f->weights,
+                                .eps = f->eps};
+    return sss_near_build_spec(&f->mesh, &f->material, f->mm_per_unit, f->channels, &spec, NULL, out, err);
+}
+
+/* Entry of source i in row o of sorted rows h (0 when absent). */
+static const float *row_find(const sss_weights *h, uint32_t o, uint32_t i)
+{
+    uint64_t lo = h->start[o], hi = h->start[o + 1];
+    while (lo < hi) {
+        const uint64_t mid = lo + (hi - lo) / 2;
+        if (h->idx[mid] < i) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo < h->start[o + 1] && h->idx[lo] == i ? &h->w[lo * h->channels] : NULL;
+}
+
+sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
+                               const sss_near_spec *spec, const sss_weights *hat_in, sss_weights *out, sss_error *err)
+{
     if (out) memset(out, 0, sizeof *out);
-    if (!mesh || !mat || !out || (channels != 1 && channels != 3) || rings > 8 || !(mm_per_unit > 0.0) ||
-        !isfinite(mm_per_unit))
+    const uint32_t rings = spec ? spec->rings : 0;
+    const double radius = spec ? spec->radius_mm : 0.0;
+    const int hat = spec && spec->weights == SSS_WEIGHTS_HAT;
+    if (!mesh || !mat || !out || !spec || (channels != 1 && channels != 3) || rings > 8 || !(mm_per_unit > 0.0) ||
+        !isfinite(mm_per_unit) || !(radius >= 0.0) || !isfinite(radius) ||
+        (spec->weights != SSS_WEIGHTS_POINT && !hat) || (hat && !(spec->eps > 0.0 && spec->eps < 1.0)) ||
+        (hat_in && (hat_in->nrows != mesh->nv || hat_in->channels != channels)))
         return sss_fail(err, SSS_ERR_ARG, "near terms: bad argument");
     const uint32_t nv = mesh->nv, nf = mesh->nf;
     const uint32_t C = channels;
+    const double s = mm_per_unit;
     sss_result r = SSS_OK;
+    sss_weights hat_own = {0};
     double *area = malloc((size_t)nv * sizeof *area + 1);
     uint32_t *astart = calloc((size_t)nv + 1, sizeof *astart), *adj = NULL;
     uint32_t *mark = NULL, *list = NULL, *order = NULL, *grp = NULL, *gend = NULL;
@@ -124,12 +169,19 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
             mark[o] = tag;
             for (uint32_t g = grp[o]; g < gend[o]; g++)
                 if (mark[order[g]] != tag) mark[order[g]] = tag, list[m++] = order[g];
-            for (uint32_t k = 0; k < rings; k++) {
+            /* rings: `rings` levels; a radius: as many levels as reach
+             * vertices within it, walking only through those (a vertex
+             * outside is marked, so that it is measured once) */
+            for (uint32_t k = 0; radius > 0.0 ? begin < m : k < rings; k++) {
                 const uint32_t end = m;
                 for (uint32_t a = begin; a < end; a++)
                     for (uint32_t e = astart[list[a]]; e < astart[list[a] + 1]; e++) {
                         const uint32_t i = adj[e];
                         if (mark[i] == tag) continue;
+                        if (radius > 0.0 && dist_mm(mesh, o, i, s) > radius) {
+                            mark[i] = tag;
+                            continue;
+                        }
                         for (uint32_t g = grp[i]; g < gend[i]; g++)
                             if (mark[order[g]] != tag) mark[order[g]] = tag, list[m++] = order[g];
                     }
@@ -150,8 +202,30 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
         }
     }
 
+    /* With the hat-function weights every entry is the bake's W(o, i) =
+     * w(o, i) + C(o, i) (sss/hatweights.h): nbhd.c's point weight inside
+     * the neighbourhood cutoff (0 beyond it) plus the correction. */
+    const sss_weights *hc = hat_in;
+    double cutoff2 = INFINITY;
+    if (hat) {
+        sss_dipole dd[SSS_MAX_CHANNELS];
+        for (uint32_t c = 0; c < C; c++)
+            if (sss_dipole_init(&dd[c], mat->sigma_a[c], mat->sigmap_s[c], mat->eta) != SSS_OK) {
+                r = sss_fail(err, SSS_ERR_ARG, "near terms: invalid material in channel %u", c);
+                goto done;
+            }
+        const double cut = sss_cutoff_radius_mm(mesh, s, dd, C, spec->eps, NULL);
+        cutoff2 = cut * cut;
+        if (!hc) { /* the corrections of the rows' entries alone */
+            sss_mesh ma = *mesh;
+            ma.area = area;
+            const sss_weights sel = {.nrows = nv, .channels = C, .start = out->start, .idx = out->idx};
+            r = sss_hat_corrections_of(&ma, s, dd, C, cut, &sel, NULL, &hat_own, err);
+            if (r != SSS_OK) goto done;
+            hc = &hat_own;
+        }
+    }
     /* weights: the own disk first, then nbhd.c's rule per neighbour */
-    const double s = mm_per_unit;
     for (uint32_t c = 0; c < C && r == SSS_OK; c++) {
         sss_dipole dip;
         if (sss_dipole_init(&dip, mat->sigma_a[c], mat->sigmap_s[c], mat->eta) != SSS_OK) {
@@ -165,7 +239,7 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
             const double gdisk = garea > 0.0 ? sss_rd_disk(&dip, sqrt(garea * s * s / SSS_PI)) / SSS_PI : 0.0;
             for (uint64_t a = out->start[o]; a < out->start[o + 1]; a++) {
                 const uint32_t i = out->idx[a];
-                const double dA = area[i] * s * s, rho = sqrt(dA / SSS_PI);
+                const double dA = area[i] * s * s;
                 double w;
                 if (grp[i] == grp[o]) {
                     w = garea > 0.0 ? gdisk * (area[i] / garea) : 0.0;
@@ -176,7 +250,11 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
                         d2 += dx * dx;
                     }
                     const double dist = sqrt(d2);
-                    w = dist < rho ? sss_rd_disk_offset(&dip, dist, rho) / SSS_PI : sss_rd(&dip, dist) * dA / SSS_PI;
+                    w = hat && !(d2 <= cutoff2) ? 0.0 : sss_point_weight(&dip, dist, dA);
+                }
+                if (hc) {
+                    const float *cw = row_find(hc, o, i);
+                    if (cw) w += cw[c];
                 }
                 out->w[(size_t)a * C + c] = (float)w;
             }
@@ -190,6 +268,7 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
 nomem:
     r = sss_fail(err, SSS_ERR_NOMEM, "near terms: out of memory for %u vertices", nv);
 done:
+    sss_weights_free(&hat_own);
     free(area);
     free(astart);
     free(adj);

@@ -85,6 +85,9 @@ typedef struct bake_args {
      * before or after it; baked leaves the rings as they were */
     uint32_t near_terms, near_rings;
     int near_terms_given, rings_given;
+    double near_radius; /* --near-radius MM (> 0) */
+    int near_radius_given;
+    int weights, weights_given; /* --weights: SSS_WEIGHTS_HAT or SSS_WEIGHTS_POINT */
     /* compression: the sss_compress_opts fields, each with its given flag so
      * that the preset fills only the rest (docs/compression.md) */
     int preset, preset_given; /* sss_compress_preset */
@@ -155,6 +158,8 @@ static int parse(int argc, char **argv, bake_args *a)
     static const int shq_values[] = {SSS_SHQ_LINEAR8, SSS_SHQ_LLOYD8, SSS_SHQ_LLOYD4};
     static const char *const gathers[] = {"direct", "tree", NULL};
     static const int gather_values[] = {SSS_GATHER_DIRECT, SSS_GATHER_TREE};
+    static const char *const weight_rules[] = {"hat", "point", NULL};
+    static const int weight_values[] = {SSS_WEIGHTS_HAT, SSS_WEIGHTS_POINT};
     memset(a, 0, sizeof *a);
     a->eta = 1.3;
     a->quant = SSS_QUANT_FLOAT;
@@ -193,6 +198,10 @@ static int parse(int argc, char **argv, bake_args *a)
         {.name = "--own-term", .kind = SSS_CLI_CUSTOM, .dest = a, .parse = read_near_terms, .given = &a->near_terms_given},
         {.name = "--rings", .kind = SSS_CLI_CUSTOM, .dest = &a->near_rings, .lo = 0, .hi = SSS_NEAR_RINGS_MAX,
          .parse = read_rings, .given = &a->rings_given, .msg = "%s: %s: '%s' must be an integer %g ... %g\n"},
+        {.name = "--near-radius", .kind = SSS_CLI_DOUBLE, .dest = &a->near_radius, .lo = 1e-6, .hi = 1e6,
+         .given = &a->near_radius_given},
+        {.name = "--weights", .kind = SSS_CLI_CHOICE, .dest = &a->weights, .choices = weight_rules,
+         .values = weight_values, .given = &a->weights_given},
         {.name = "--theta", .kind = SSS_CLI_DOUBLE, .dest = &a->theta, .lo = 1e-3, .hi = 0.95},
         {.name = "--threads", .kind = SSS_CLI_INT, .dest = &a->threads, .lo = 1, .hi = 1024},
         {.name = "--scene", .kind = SSS_CLI_STRING, .dest = &a->scene},
@@ -212,6 +221,9 @@ static int parse(int argc, char **argv, bake_args *a)
 
     if (a->plan && !a->scene) return refuse("--plan needs --scene S.json");
     if (a->rings_given && a->near_terms != SSS_NEAR_TERMS_RUNTIME) return refuse("--rings needs --own-term runtime");
+    if (a->near_radius_given && a->near_terms != SSS_NEAR_TERMS_RUNTIME)
+        return refuse("--near-radius needs --own-term runtime");
+    if (a->near_radius_given && a->rings_given) return refuse("--near-radius and --rings exclude each other");
     if (a->scene && a->near_terms_given)
         return refuse("--own-term applies to plain bakes, not to --scene (scene bakes keep the own term)");
     if (a->scene) {
@@ -265,6 +277,8 @@ static int options(const bake_args *a, bake_setup *s)
     opt->threads = a->threads;
     opt->near_terms = a->near_terms;
     opt->near_rings = a->near_rings;
+    opt->near_radius_mm = a->near_radius_given ? a->near_radius : 0.0;
+    opt->weights = a->weights_given ? (uint32_t)a->weights : SSS_WEIGHTS_POINT;
     const char *lim = getenv("SSS_MEMORY_LIMIT_MB");
     if (lim && *lim) {
         char *end;
@@ -366,7 +380,12 @@ static void report_text(const bake_args *a, const bake_setup *s, const bake_resu
         fprintf(stderr, "  light directions in %u chunks of at most %u: the memory available would not hold the "
                 "transfer rows and tree moments of all %u at once (same output)\n",
                 st->direction_chunks, st->direction_chunk_width, N);
-    if (st->coarse_vertices)
+    if (st->coarse_vertices && f->weights == SSS_WEIGHTS_HAT)
+        fprintf(stderr, "%s: %s: warning: %u vertices have an edge longer than %.3g mm, twice the scattering length "
+                "1/sigma_tr = %.3g mm, whose ends' normals differ by more than 30 degrees (longest edge %.3g mm): "
+                "the irradiance, linear along such an edge, cannot follow the bend; resample the mesh finer\n", TOOL, in,
+                st->coarse_vertices, 2.0 * st->range_mm, st->range_mm, st->longest_edge_mm);
+    else if (st->coarse_vertices)
         fprintf(stderr, "%s: %s: warning: %u vertices have an edge longer than %.3g mm, twice the scattering length "
                 "1/sigma_tr = %.3g mm (longest edge %.3g mm): the per-vertex sum does not resolve the profile there "
                 "and q comes out too large; resample the mesh finer\n", TOOL, in, st->coarse_vertices,

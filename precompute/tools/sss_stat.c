@@ -382,6 +382,11 @@ static int summary(const char *path, const sss_bake_file *f, int json)
          * terms a reader adds at run time (sss/nearterms.h) */
         if (f->near_terms) cJSON_AddNumberToObject(o, "runtime_rings", f->near_rings);
         else cJSON_AddNullToObject(o, "runtime_rings");
+        /* null unless the near terms are sized in mm (section NRAD) */
+        if (f->near_radius_mm > 0.0) cJSON_AddNumberToObject(o, "near_radius_mm", f->near_radius_mm);
+        else cJSON_AddNullToObject(o, "near_radius_mm");
+        /* the weight rule (section QUAD; docs/physics.md §4, §9) */
+        cJSON_AddStringToObject(o, "weights", f->weights == SSS_WEIGHTS_HAT ? "hat" : "point");
         cJSON_AddNumberToObject(o, "file_bytes", (double)f->file_size);
         cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)f->file_size / nv);
         cJSON *secs = cJSON_AddArrayToObject(o, "sections");
@@ -429,9 +434,15 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         printf("  vertices %u, triangles %u, channels %u, directions %u, storage %s\n", f->mesh.nv, f->mesh.nf,
                f->channels, f->dirs.n, quant);
         printf("  material %s (eta %g), %g mm per unit\n", f->material.name, f->material.eta, f->mm_per_unit);
-        if (f->near_terms)
+        if (f->near_terms && f->near_radius_mm > 0.0)
+            printf("  near terms added at run time: every vertex within %g mm (sections OWNT, NRAD)\n",
+                   f->near_radius_mm);
+        else if (f->near_terms)
             printf("  near terms added at run time: the vertex's own term and %u mesh ring%s (section OWNT)\n",
                    f->near_rings, f->near_rings == 1 ? "" : "s");
+        printf("  weights: %s\n", f->weights == SSS_WEIGHTS_HAT
+                                      ? "integrals over the vertices' hat functions (section QUAD, docs/physics.md 9)"
+                                      : "point samples (Hao-Varshney 2004 3.1)");
         printf("  %-6s %14s %12s %14s\n", "section", "bytes", "bytes/vertex", "count");
         for (uint32_t s = 0; s < f->nsections; s++)
             printf("  %-6s %14llu %12.2f %14llu\n", f->sections[s].tag, (unsigned long long)f->sections[s].size,

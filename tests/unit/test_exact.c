@@ -113,6 +113,58 @@ static void samplesMatchStoredFloats(void **state)
     free(q);
 }
 
+/* With the hat-function weights (section QUAD) the evaluator sums the bake's
+ * rows and corrections in the bake's order: a direct-sum bake's stored
+ * floats bit for bit, and the tree gather's within 1e-5 of the largest
+ * value; the near terms at run time (by radius) do not change that. */
+static void hatWeightsSamplesMatchStoredFloats(void **state)
+{
+    (void)state;
+    for (int gather = SSS_GATHER_DIRECT; gather <= SSS_GATHER_TREE; gather++) {
+        sss_material mat;
+        sss_error err = {{0}};
+        assert_int_equal(sss_material_preset("skin1", &mat, &err), SSS_OK);
+        sss_bake_options opt;
+        memset(&opt, 0, sizeof opt);
+        opt.mm_per_unit = 20.0;
+        opt.n_dirs = 12;
+        opt.threads = 2;
+        opt.weights = SSS_WEIGHTS_HAT;
+        opt.gather = gather;
+        sss_bake_file baked, f;
+        if (sss_bake(&g_mesh, "blob", &mat, &opt, &baked, NULL, &err) != SSS_OK) fail_msg("bake: %s", err.msg);
+        uint8_t *buf;
+        size_t len;
+        assert_int_equal(sss_file_encode(&baked, &buf, &len, &err), SSS_OK);
+        sss_file_free(&baked);
+        assert_int_equal(sss_file_decode(buf, len, "hat.sss", &f, &err), SSS_OK);
+        free(buf);
+        assert_int_equal(f.weights, SSS_WEIGHTS_HAT);
+        sss_exact *e = exact_or_fail(&f);
+        const uint32_t nv = f.mesh.nv, C = f.channels, nd = f.dirs.n;
+        float *q = alloc_q(&f);
+        double qmax = 0.0, worst = 0.0;
+        uint64_t equal = 0, total = (uint64_t)nd * nv * C;
+        for (size_t k = 0; k < total; k++) qmax = fmax(qmax, f.q[k]);
+        for (uint32_t j = 0; j < nd; j++) {
+            sss_exact_eval(e, f.dirs.dir + 3 * (size_t)j, q);
+            for (size_t k = 0; k < (size_t)nv * C; k++) {
+                const float want = f.q[(size_t)j * nv * C + k];
+                worst = fmax(worst, fabs((double)q[k] - want));
+                equal += q[k] == want;
+            }
+        }
+        print_message("hat weights, %s gather: exact vs stored max |diff| %.3g of max q, %llu of %llu bit-equal\n",
+                      gather == SSS_GATHER_DIRECT ? "direct" : "tree", worst / qmax, (unsigned long long)equal,
+                      (unsigned long long)total);
+        if (gather == SSS_GATHER_DIRECT) assert_true(equal == total);
+        assert_true(worst <= 1e-5 * qmax);
+        free(q);
+        sss_exact_destroy(e);
+        sss_file_free(&f);
+    }
+}
+
 /* eval_vertex traces only one vertex's neighbours but must give the very
  * floats eval writes; and eval must not depend on the thread count. */
 static void vertexEqualsAllAndThreadsAgree(void **state)
@@ -382,6 +434,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(samplesMatchStoredFloats),
+        cmocka_unit_test(hatWeightsSamplesMatchStoredFloats),
         cmocka_unit_test(vertexEqualsAllAndThreadsAgree),
         cmocka_unit_test(interpolationErrorShrinksWithDirections),
         cmocka_unit_test(badLightGivesZeros),

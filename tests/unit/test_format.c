@@ -1209,13 +1209,116 @@ static void filesWithoutNbhdStillReadAndKeepTheirVersion(void **state)
     /* a newer minor version without NBHD still reads (§4) */
     size_t len;
     uint8_t *b = encode_new(6, 3, SSS_QUANT_FLOAT, &len);
-    wr16(b + 10, 5);
+    wr16(b + 10, SSS_FORMAT_MINOR + 1);
     fix_header_crc(b);
     sss_bake_file f;
     expect_accept(b, len, &f);
     assert_true(f.eps == 0.0);
     sss_file_free(&f);
     free(b);
+}
+
+/* ---- QUAD and NRAD: the weight rule and the near terms' radius (1.5) ---- */
+
+/* make_file's content with ε, the hat-function weights and, when radius > 0,
+ * the near terms within that radius at run time. */
+static void make_file_1_5(sss_bake_file *f, sss_quant quant, double radius)
+{
+    make_file(f, 12, 3, quant);
+    f->eps = 0.01;
+    f->weights = SSS_WEIGHTS_HAT;
+    if (radius > 0.0) {
+        f->near_terms = SSS_NEAR_TERMS_RUNTIME;
+        f->near_radius_mm = radius;
+    }
+}
+
+static void quadAndNradRoundTripAndMakeTheFile1_5(void **state)
+{
+    (void)state;
+    for (int q = 0; q < 2; q++)
+        for (int withr = 0; withr < 2; withr++) {
+            sss_bake_file a, b;
+            make_file_1_5(&a, q ? SSS_QUANT_LLOYD8 : SSS_QUANT_FLOAT, withr ? 2.5 : 0.0);
+            size_t len;
+            uint8_t *buf = encode(&a, &len);
+            /* required-flagged, and the file is 1.5: a 1.0–1.4 reader
+             * refuses it by naming the section instead of summing other
+             * weights (§4) */
+            assert_int_equal(buf[10] | buf[11] << 8, 5);
+            tfile t;
+            t_split(buf, len, &t);
+            const tsec *qs = t_find(&t, "QUAD");
+            assert_non_null(qs);
+            assert_int_equal(qs->size, 4);
+            assert_int_equal(test_rd32(qs->data), SSS_WEIGHTS_HAT);
+            if (withr) {
+                const tsec *ns = t_find(&t, "NRAD");
+                assert_non_null(ns);
+                assert_int_equal(ns->size, 8);
+                assert_non_null(t_find(&t, "OWNT"));
+            }
+            t_free(&t);
+            expect_accept(buf, len, &b);
+            assert_same_file(&a, &b);
+            assert_int_equal(b.weights, SSS_WEIGHTS_HAT);
+            assert_true(b.near_radius_mm == (withr ? 2.5 : 0.0));
+            assert_int_equal(b.version_minor, 5);
+            size_t len2;
+            uint8_t *buf2 = encode(&b, &len2);
+            assert_int_equal(len, len2);
+            assert_memory_equal(buf, buf2, len);
+            free(buf);
+            free(buf2);
+            sss_file_free(&a);
+            sss_file_free(&b);
+        }
+}
+
+static void decodeRejectsBadQuadAndNrad(void **state)
+{
+    (void)state;
+    sss_bake_file f;
+    make_file_1_5(&f, SSS_QUANT_FLOAT, 2.5);
+    size_t len;
+    uint8_t *b = encode(&f, &len);
+    sss_file_free(&f);
+    /* an unknown rule is this reader's limit, not damage */
+    tfile t;
+    t_split(b, len, &t);
+    wr32(t_find(&t, "QUAD")->data, 7);
+    expect_reject_t(&t, SSS_ERR_UNSUPPORTED, "section QUAD: weight rule 7 is unknown to this reader");
+    t_free(&t);
+    t_split(b, len, &t);
+    t_find(&t, "QUAD")->size = 3;
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "section QUAD: 3 bytes, count 1 (expected 4 and 1)");
+    t_free(&t);
+    t_split(b, len, &t);
+    t_find(&t, "NRAD")->count = 2;
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "section NRAD: 8 bytes, count 2 (expected 8 and 1)");
+    t_free(&t);
+    const double bad[] = {0.0, -1.0, NAN, INFINITY};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        reject_edit_f64(b, len, "NRAD", 0, bad[i], "section NRAD: radius");
+    /* the radius without the split it sizes */
+    t_split(b, len, &t);
+    t_remove(&t, "OWNT");
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "section NRAD without section OWNT");
+    t_free(&t);
+    free(b);
+    /* the writer refuses what the reader would */
+    make_file_1_5(&f, SSS_QUANT_FLOAT, 2.5);
+    f.near_terms = 0;
+    uint8_t *buf = NULL;
+    sss_error err = {{0}};
+    assert_int_equal(sss_file_encode(&f, &buf, &len, &err), SSS_ERR_ARG);
+    assert_null(buf);
+    assert_non_null(strstr(err.msg, "section NRAD without section OWNT"));
+    f.near_terms = SSS_NEAR_TERMS_RUNTIME;
+    f.weights = 3;
+    assert_int_equal(sss_file_encode(&f, &buf, &len, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "section QUAD: weight rule 3"));
+    sss_file_free(&f);
 }
 
 /* ---- encoder input checks ---------------------------------------------- */
@@ -1486,6 +1589,8 @@ int main(void)
         cmocka_unit_test(decodeRejectsBadQuantisedValues),
         cmocka_unit_test(decodeRejectsNulInParams),
         cmocka_unit_test(nbhdRoundTripsAndMakesTheFile1_4),
+        cmocka_unit_test(quadAndNradRoundTripAndMakeTheFile1_5),
+        cmocka_unit_test(decodeRejectsBadQuadAndNrad),
         cmocka_unit_test(decodeRejectsNbhdOfWrongSizeOrCount),
         cmocka_unit_test(decodeRejectsNbhdEpsOutsideZeroOne),
         cmocka_unit_test(decodeRejects1_4FileWithoutNbhd),

@@ -31,6 +31,7 @@
 #include "sss/compress.h"
 #include "sss/dipole.h"
 #include "sss/exact.h"
+#include "sss/hatweights.h"
 #include "sss/nearterms.h"
 #include "sss/reconstruct.h"
 #include "test_util.h"
@@ -38,9 +39,10 @@
 static sss_mesh g_mesh;
 static sss_bake_file g_plain, g_own, g_ring; /* the same bake: all baked, own term split, own + 1-ring split
                                                 * (through encode/decode) */
+static sss_bake_file g_hat, g_hatr; /* with the hat-function weights: all baked, the near terms within 5 mm split */
 
-static void bake_or_fail(uint32_t own, uint32_t rings, int threads, sss_bake_file *out, uint8_t **bytes,
-                         size_t *nbytes)
+static void bake_or_fail_w(uint32_t own, uint32_t rings, double radius, uint32_t weights, int threads,
+                           sss_bake_file *out, uint8_t **bytes, size_t *nbytes)
 {
     sss_material mat;
     sss_error err = {{0}};
@@ -52,6 +54,8 @@ static void bake_or_fail(uint32_t own, uint32_t rings, int threads, sss_bake_fil
     opt.threads = threads;
     opt.near_terms = own;
     opt.near_rings = rings;
+    opt.near_radius_mm = radius;
+    opt.weights = weights;
     sss_bake_file baked;
     if (sss_bake(&g_mesh, "torus", &mat, &opt, &baked, NULL, &err) != SSS_OK) fail_msg("bake: %s", err.msg);
     uint8_t *buf;
@@ -67,6 +71,12 @@ static void bake_or_fail(uint32_t own, uint32_t rings, int threads, sss_bake_fil
     }
 }
 
+static void bake_or_fail(uint32_t own, uint32_t rings, int threads, sss_bake_file *out, uint8_t **bytes,
+                         size_t *nbytes)
+{
+    bake_or_fail_w(own, rings, 0.0, SSS_WEIGHTS_POINT, threads, out, bytes, nbytes);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -77,6 +87,8 @@ static int setup(void **state)
     bake_or_fail(0, 0, 2, &g_plain, NULL, NULL);
     bake_or_fail(SSS_NEAR_TERMS_RUNTIME, 0, 2, &g_own, NULL, NULL);
     bake_or_fail(SSS_NEAR_TERMS_RUNTIME, 1, 2, &g_ring, NULL, NULL);
+    bake_or_fail_w(0, 0, 0.0, SSS_WEIGHTS_HAT, 2, &g_hat, NULL, NULL);
+    bake_or_fail_w(SSS_NEAR_TERMS_RUNTIME, 0, 5.0, SSS_WEIGHTS_HAT, 2, &g_hatr, NULL, NULL);
     return 0;
 }
 
@@ -86,6 +98,8 @@ static int teardown(void **state)
     sss_file_free(&g_plain);
     sss_file_free(&g_own);
     sss_file_free(&g_ring);
+    sss_file_free(&g_hat);
+    sss_file_free(&g_hatr);
     sss_mesh_free(&g_mesh);
     return 0;
 }
@@ -113,7 +127,7 @@ static void fileIsMarked(void **state)
 
 /* Rows + own term at ω_j = the unsplit q_j; 0 ≤ rest ≤ q; and the split
  * takes something off (the own term is not empty). */
-static void samples_restore_q(const sss_bake_file *own, double min_share)
+static void samples_restore_q_of(const sss_bake_file *plain, const sss_bake_file *own, double min_share)
 {
     const uint32_t nv = own->mesh.nv, C = own->channels, nd = own->dirs.n;
     const size_t row = (size_t)nv * C;
@@ -125,18 +139,18 @@ static void samples_restore_q(const sss_bake_file *own, double min_share)
     assert_non_null(r);
     double qmax = 0.0, worst = 0.0, taken = 0.0, total = 0.0;
     for (size_t k = 0; k < (size_t)nd * row; k++) {
-        qmax = fmax(qmax, g_plain.q[k]);
+        qmax = fmax(qmax, plain->q[k]);
         assert_true(own->q[k] >= 0.0f);
-        assert_true(own->q[k] <= g_plain.q[k] * (1.0f + 1e-6f) + 1e-30f);
-        taken += g_plain.q[k] - own->q[k];
-        total += g_plain.q[k];
+        assert_true(own->q[k] <= plain->q[k] * (1.0f + 1e-6f) + 1e-30f);
+        taken += plain->q[k] - own->q[k];
+        total += plain->q[k];
     }
     for (uint32_t j = 0; j < nd; j++) {
         sss_reconstruct_eval(rc, own->dirs.dir + 3 * (size_t)j, SSS_INTERP_TRIANGLE, r);
-        for (size_t k = 0; k < row; k++) worst = fmax(worst, fabs((double)r[k] - g_plain.q[(size_t)j * row + k]));
+        for (size_t k = 0; k < row; k++) worst = fmax(worst, fabs((double)r[k] - plain->q[(size_t)j * row + k]));
     }
-    print_message("%u rings: near terms %.1f %% of all q; rows + near terms vs unsplit q at the samples: max |diff| "
-                  "%.3g of max q\n", own->near_rings, 100.0 * taken / total, worst / qmax);
+    print_message("%u rings, radius %g mm: near terms %.1f %% of all q; rows + near terms vs unsplit q at the samples: "
+                  "max |diff| %.3g of max q\n", own->near_rings, own->near_radius_mm, 100.0 * taken / total, worst / qmax);
     assert_true(taken > min_share * total);
     assert_true(worst <= 1e-5 * qmax);
     /* one vertex at a time (sss-stat --query) gives the same floats */
@@ -151,11 +165,23 @@ static void samples_restore_q(const sss_bake_file *own, double min_share)
     sss_reconstruct_destroy(rc);
 }
 
+static void samples_restore_q(const sss_bake_file *own, double min_share)
+{
+    samples_restore_q_of(&g_plain, own, min_share);
+}
+
 static void samplesRestoreQ(void **state)
 {
     (void)state;
     samples_restore_q(&g_own, 0.1);
     samples_restore_q(&g_ring, 0.3);
+    /* the near terms by radius, with the hat-function weights (format 1.5):
+     * the reader's weights, built from the file's entries alone, are the
+     * bake's */
+    assert_int_equal(g_hatr.weights, SSS_WEIGHTS_HAT);
+    assert_true(g_hatr.near_radius_mm == 5.0);
+    assert_int_equal(g_hatr.version_minor, 5);
+    samples_restore_q_of(&g_hat, &g_hatr, 0.3);
 }
 
 /* Between the samples the split file is much closer to the exact q. */
@@ -316,6 +342,67 @@ static void nearRowsHoldRingsAndCopies(void **state)
     sss_mesh_free(&seam);
 }
 
+
+/* The rows of a radius (section NRAD): every vertex within it reached
+ * through the mesh, whatever the rings; and with the hat-function weights
+ * the reader's weights (corrections of the rows' entries alone) have the
+ * bits of the bake's (the corrections of whole rows). */
+static void nearRowsByRadiusAndHatWeights(void **state)
+{
+    (void)state;
+    sss_error err = {{0}};
+    sss_material mat;
+    assert_int_equal(sss_material_preset("skin1", &mat, &err), SSS_OK);
+    sss_mesh plane;
+    assert_int_equal(sss_gen_plane(&plane, 1.0, 1.0, 8, 8, &err), SSS_OK); /* 9 x 9 vertices, 1.25 mm at 10 mm/unit */
+    for (int k = 0; k < 2; k++) {
+        const double radius = k ? 2.6 : 1.3;
+        const sss_near_spec spec = {.radius_mm = radius};
+        sss_weights nr;
+        assert_int_equal(sss_near_build_spec(&plane, &mat, 10.0, 3, &spec, NULL, &nr, &err), SSS_OK);
+        for (uint32_t o = 0; o < plane.nv; o++) {
+            uint32_t want = 0;
+            for (uint32_t i = 0; i < plane.nv; i++) {
+                double d2 = 0.0;
+                for (int x = 0; x < 3; x++) {
+                    const double dx = ((double)plane.pos[3 * i + x] - plane.pos[3 * o + x]) * 10.0;
+                    d2 += dx * dx;
+                }
+                want += sqrt(d2) <= radius;
+            }
+            assert_int_equal(nr.start[o + 1] - nr.start[o], want);
+            assert_int_equal(nr.idx[nr.start[o]], o);
+        }
+        sss_weights_free(&nr);
+    }
+    sss_mesh_free(&plane);
+
+    /* hat weights: reader (restricted corrections) vs bake (whole rows) */
+    sss_mesh m;
+    assert_int_equal(sss_mesh_copy(&g_hatr.mesh, &m, &err), SSS_OK);
+    m.area = malloc((size_t)m.nv * sizeof *m.area);
+    assert_non_null(m.area);
+    sss_mesh_vertex_areas(&m, m.area);
+    sss_dipole d[3];
+    for (int c = 0; c < 3; c++)
+        assert_int_equal(sss_dipole_init(&d[c], mat.sigma_a[c], mat.sigmap_s[c], mat.eta), SSS_OK);
+    const double R = sss_cutoff_radius_mm(&m, g_hatr.mm_per_unit, d, 3, g_hatr.eps, NULL);
+    sss_weights full, a, b;
+    assert_int_equal(sss_hat_corrections(&m, g_hatr.mm_per_unit, d, 3, R, NULL, 0, NULL, &full, &err), SSS_OK);
+    const sss_near_spec spec = {.radius_mm = g_hatr.near_radius_mm, .weights = SSS_WEIGHTS_HAT, .eps = g_hatr.eps};
+    assert_int_equal(sss_near_build_spec(&m, &mat, g_hatr.mm_per_unit, 3, &spec, &full, &a, &err), SSS_OK);
+    assert_int_equal(sss_near_build_file(&g_hatr, &b, &err), SSS_OK);
+    assert_int_equal(a.start[m.nv], b.start[m.nv]);
+    assert_memory_equal(a.idx, b.idx, a.start[m.nv] * sizeof *a.idx);
+    assert_memory_equal(a.w, b.w, a.start[m.nv] * 3 * sizeof *a.w);
+    print_message("near terms within %g mm, hat weights: %.1f entries per row, reader's weights = bake's\n",
+                  g_hatr.near_radius_mm, (double)a.start[m.nv] / m.nv);
+    sss_weights_free(&full);
+    sss_weights_free(&a);
+    sss_weights_free(&b);
+    sss_mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -326,6 +413,7 @@ int main(void)
         cmocka_unit_test(readerAndWriterRefuse),
         cmocka_unit_test(compressionKeepsTheMark),
         cmocka_unit_test(nearRowsHoldRingsAndCopies),
+        cmocka_unit_test(nearRowsByRadiusAndHatWeights),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

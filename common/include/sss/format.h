@@ -1,7 +1,8 @@
 /* sss/format.h: the .sss baked-scattering file, format version 1 (minor 1
  * adds the compressed forms of Hao–Varshney 2004 §4, minor 2 the effect
  * sections of scene bakes, docs/scenes.md, minor 3 the near terms added at
- * run time, minor 4 the neighbourhood cutoff ε as binary data).
+ * run time, minor 4 the neighbourhood cutoff ε as binary data, minor 5 the
+ * hat-function weights and the near terms' radius in mm).
  * Spec: docs/format.md. Little-endian, magic + version, a section table with
  * 64-bit offsets and sizes and a CRC-32 per section; written atomically.
  */
@@ -20,7 +21,7 @@ extern "C" {
 #endif
 
 #define SSS_FORMAT_MAJOR 1
-#define SSS_FORMAT_MINOR 4
+#define SSS_FORMAT_MINOR 5
 /* The minor version plain bakes record in PARM ("format"), kept at 1 so
  * that their bytes do not change with 1.2, which only scene bakes use. */
 #define SSS_FORMAT_MINOR_PLAIN 1
@@ -28,6 +29,11 @@ extern "C" {
 /* sss_bake_file.near_terms: own term split off (section OWNT, format 1.3) */
 #define SSS_NEAR_TERMS_RUNTIME 1u
 #define SSS_NEAR_RINGS_MAX 8u
+/* sss_bake_file.weights (section QUAD, format 1.5): the paper's point
+ * samples, or the weights integrated over the vertices' hat functions
+ * (sss/hatweights.h) */
+#define SSS_WEIGHTS_POINT 0u
+#define SSS_WEIGHTS_HAT 1u
 
 typedef enum sss_quant {
     SSS_QUANT_FLOAT = 0,   /* q stored as float32 */
@@ -157,6 +163,12 @@ typedef struct sss_bake_file {
                                * each vertex's neighbourhood is the disk holding 1 − ε of R_d's total, which
                                * the exact evaluator needs to recompute q; 0 when the file does not hold it
                                * (files before 1.4 keep ε only in params_json, "eps") */
+    uint32_t weights;         /* (1.5) SSS_WEIGHTS_POINT (0: the paper's point samples) or SSS_WEIGHTS_HAT
+                               * (section QUAD): the weights of the sum integrated over the vertices' hat
+                               * functions (sss/hatweights.h), which the exact evaluator and the near
+                               * terms must use too */
+    double near_radius_mm;    /* (1.5) with near_terms: > 0 when the near terms are every vertex within this
+                               * distance through the mesh (section NRAD) rather than near_rings rings */
     /* Filled by the reader (ignored by the writer): */
     uint64_t file_size;
     uint32_t nsections;

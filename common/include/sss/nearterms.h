@@ -27,6 +27,7 @@
 
 #include <stdint.h>
 #include "sss/dipole.h"
+#include "sss/format.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
 #include "sss/weights.h"
@@ -63,6 +64,30 @@ float sss_near_g(float eta, const float n[3], const float d[3]);
  * SSS_ERR_NOMEM. */
 sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
                           uint32_t rings, sss_weights *out, sss_error *err);
+
+/* Which near terms, and with which weights. */
+typedef struct sss_near_spec {
+    uint32_t rings;   /* mesh rings 0 … 8 (when radius_mm is 0) */
+    /* > 0: instead of rings, every vertex within radius_mm (mm, ‖x_i − x_o‖)
+     * reached from x_o through mesh edges between such vertices (section
+     * NRAD: a physical neighbourhood, the same on a fine and a coarse mesh) */
+    double radius_mm;
+    /* SSS_WEIGHTS_POINT (0): nbhd.c's point rule, as above; SSS_WEIGHTS_HAT:
+     * the bake's hat-function weights (sss/hatweights.h), W = w + C with
+     * nbhd.c's w (0 beyond the cutoff radius of eps) */
+    uint32_t weights;
+    double eps;       /* the bake's ε, for SSS_WEIGHTS_HAT */
+} sss_near_spec;
+
+/* The same for a spec. hat (may be NULL): the corrections of
+ * sss_hat_corrections for every vertex, when the caller already has them
+ * (the bake); else they are computed here for SSS_WEIGHTS_HAT. */
+sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
+                               const sss_near_spec *spec, const sss_weights *hat, sss_weights *out, sss_error *err);
+
+/* The near terms a file's reader adds (OWNT with NRAD and QUAD): its rings
+ * or radius, its weight rule and ε. */
+sss_result sss_near_build_file(const sss_bake_file *f, sss_weights *out, sss_error *err);
 
 /* gv[v] = sss_near_g(η, n_v, d) · lit[v] for every vertex (lit NULL:
  * all lit): the transfer of each vertex towards light d, once per frame. */

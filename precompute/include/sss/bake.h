@@ -15,6 +15,7 @@
 #include "sss/dipole.h"
 #include "sss/dirset.h"
 #include "sss/format.h"
+#include "sss/hatweights.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
 
@@ -49,6 +50,14 @@ typedef struct sss_bake_options {
      * the paper does. */
     uint32_t near_terms;
     uint32_t near_rings;
+    /* > 0 (with near_terms): the near terms are every vertex within this
+     * many mm of x_o through the mesh (sss_near_spec, section NRAD) instead
+     * of near_rings rings */
+    double near_radius_mm;
+    /* The weights of the sum (sss/hatweights.h): SSS_WEIGHTS_POINT (0, the
+     * paper's point samples) or SSS_WEIGHTS_HAT (integrated over the
+     * vertices' hat functions; section QUAD, docs/physics.md §9). */
+    uint32_t weights;
     /* Compression (sss/compress.h) as the last stage, after any preset was
      * applied (sss_compress_preset); NULL: q stays as `quant` says (which
      * must then be SSS_QUANT_FLOAT when this is set). */
@@ -93,11 +102,14 @@ typedef struct sss_bake_stats {
     double occluded_fraction;            /* of the traced rays */
     double lloyd_snr_db[SSS_MAX_CHANNELS]; /* lloyd8 only: 10 log10(Σq² / Σ(q − q̂)²) per channel */
     double lloyd_snr_db_all;             /* same over all channels */
-    /* Vertices with an incident edge longer than 2/σtr of the channel with
-     * the longest range: there the per-vertex sum (Hao–Varshney 2004 §3.1,
-     * "each vertex represents a small area") does not resolve even the
-     * smoothest profile, and q comes out too large (docs/robustness.md B3).
-     * The tool warns with this count. */
+    /* Point weights: vertices with an incident edge longer than 2/σtr of
+     * the channel with the longest range, where the per-vertex sum
+     * (Hao–Varshney 2004 §3.1, "each vertex represents a small area") does
+     * not resolve even the smoothest profile and q comes out too large
+     * (docs/robustness.md B3). Hat weights, which integrate R_d over such
+     * triangles: only where such an edge also bends by more than 30°
+     * between its ends' normals, which the irradiance, linear along the
+     * edge, cannot follow. The tool warns with this count. */
     uint32_t coarse_vertices;
     double longest_edge_mm;              /* the longest edge of the mesh */
     double range_mm;                     /* 1/σtr of that channel (∞ for σa = 0 is reported as the radius) */
@@ -132,6 +144,9 @@ typedef struct sss_bake_stats {
      * more when the transfer rows and tree moments of every direction would
      * not fit next to q: same bytes, docs/benchmarks.md) */
     uint32_t direction_chunks, direction_chunk_width;
+    /* SSS_WEIGHTS_HAT: the corrections' time and entries (receiver, source) */
+    double t_hat;
+    uint64_t hat_entries;
 } sss_bake_stats;
 
 /* The whole bake: writes out (mesh copy, material, dirs, q or levels+qidx

@@ -30,6 +30,11 @@ sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const 
  * = Σ_i w_c(r, i) G[i * n + j], accumulated in double. */
 void sss_integrate(const sss_weights *nb, const float *G, uint32_t n, float *q);
 
+/* The same with the hat-function corrections of sss_hat_corrections (rows
+ * for the same receivers; NULL: none) added to each row's sum after its
+ * neighbours, in double, and the result clamped at 0 (docs/physics.md §9). */
+void sss_integrate_hat(const sss_weights *nb, const sss_weights *hat, const float *G, uint32_t n, float *q);
+
 #ifdef __cplusplus
 }
 #endif

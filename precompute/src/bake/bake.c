@@ -53,6 +53,10 @@ static uint64_t memory_available_system(void)
     return pages > 0 && size > 0 ? (uint64_t)pages * (uint64_t)size : 0;
 }
 
+/* cos 30°: the bend along a long edge that the linear irradiance between
+ * its ends cannot follow (the resolution check below) */
+#define SSS_COARSE_BEND_COS 0.8660254037844387
+
 static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
 {
     const sss_mesh geom = {src->nv, src->nf, src->pos, NULL, src->tri, NULL}; /* normals recomputed below */
@@ -96,12 +100,24 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
         if (L > 0 && L + 64 < sizeof buf)
             snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"gather\":\"tree\",\"theta\":%.17g}", o->theta);
     }
-    if (o->near_terms) { /* format 1.3: what the rows hold (docs/format.md §5.14) */
+    if (o->near_terms && !(o->near_radius_mm > 0.0)) { /* format 1.3: what the rows hold (docs/format.md §5.14) */
         const size_t L = strlen(buf);
         if (L > 0 && L + 160 < sizeof buf)
             snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"own_term\":\"runtime: rows hold q minus the sum over the "
                      "vertex and its mesh rings of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)\",\"own_rings\":%u}",
                      o->near_rings);
+    } else if (o->near_terms) { /* format 1.5: the near terms by radius (docs/format.md §5.17) */
+        const size_t L = strlen(buf);
+        if (L > 0 && L + 200 < sizeof buf)
+            snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"own_term\":\"runtime: rows hold q minus the sum over the "
+                     "vertices within near_radius_mm of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)\",\"near_radius_mm\":%.9g}",
+                     o->near_radius_mm);
+    }
+    if (o->weights == SSS_WEIGHTS_HAT) { /* format 1.5 (docs/format.md §5.16) */
+        const size_t L = strlen(buf);
+        if (L > 0 && L + 120 < sizeof buf)
+            snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"weights\":\"hat: (1/pi) integral of phi_i R_d over the "
+                     "one-ring of x_i\"}");
     }
     if (!o->import_offset && !o->compress) {
         char *s = malloc(strlen(buf) + 1);
@@ -143,6 +159,11 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     if ((o.near_terms && o.near_terms != SSS_NEAR_TERMS_RUNTIME) || o.near_rings > SSS_NEAR_RINGS_MAX)
         return sss_fail(err, SSS_ERR_ARG, "own term %u with %u rings: rings must be 0 ... %u", o.near_terms, o.near_rings,
                         SSS_NEAR_RINGS_MAX);
+    if (!(o.near_radius_mm >= 0.0) || !isfinite(o.near_radius_mm) || (o.near_radius_mm > 0.0 && !o.near_terms))
+        return sss_fail(err, SSS_ERR_ARG, "near-terms radius %g mm: a finite number >= 0, with the near terms at run time",
+                        o.near_radius_mm);
+    if (o.weights != SSS_WEIGHTS_POINT && o.weights != SSS_WEIGHTS_HAT)
+        return sss_fail(err, SSS_ERR_ARG, "weight rule %u: 0 (point) or 1 (hat)", o.weights);
     if (o.n_dirs > 100000) return sss_fail(err, SSS_ERR_ARG, "--dirs %u out of range [1, 100000]", o.n_dirs);
     if (o.compress && o.quant != SSS_QUANT_FLOAT)
         return sss_fail(err, SSS_ERR_ARG, "compression takes the float integrals: quant must be float");
@@ -157,7 +178,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     sss_dipole dip[SSS_MAX_CHANNELS];
     for (uint32_t c = 0; c < C; c++) sss_dipole_init(&dip[c], mat->sigma_a[c], mat->sigmap_s[c], mat->eta);
 
-    sss_weights nb = {0};
+    sss_weights nb = {0}, hat = {0};
     float *G = NULL;
     r = copy_mesh(mesh_in, &out->mesh, err);
     if (r != SSS_OK) goto fail;
@@ -174,9 +195,14 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     st.search_radius_mm = sss_nbhd_radii(mesh, o.mm_per_unit, dip, C, o.eps, st.radius_mm);
     /* Resolution check (docs/robustness.md B3): the smoothest profile has
      * scale 1/σtr of the channel with the smallest σtr (a vanishing σa means
-     * an unbounded range: the radius stands in for it). An edge longer than
-     * twice that puts area where R_d has decayed but weighs it with R_d at
-     * the vertex. Counted, not refused: the user decides to resample. */
+     * an unbounded range: the radius stands in for it). With point weights
+     * an edge longer than twice that puts area where R_d has decayed but
+     * weighs it with R_d at the vertex. The hat-function weights integrate
+     * R_d over such triangles correctly (docs/physics.md §9); what a long
+     * edge still cannot carry is a bend: the irradiance is linear between
+     * the vertices, so an edge longer than twice the range whose end normals
+     * differ by more than 30° misplaces light by more than the scattering
+     * averages. Counted, not refused: the user decides to resample. */
     {
         double range = 0.0;
         for (uint32_t c = 0; c < C; c++) {
@@ -197,7 +223,12 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
                 }
                 const double len = sqrt(d2);
                 if (len > longest) longest = len;
-                if (len > lim) coarse[a] = coarse[b] = 1;
+                if (!(len > lim)) continue;
+                if (o.weights == SSS_WEIGHTS_HAT) {
+                    const float *na = mesh->nrm + 3 * (size_t)a, *nb = mesh->nrm + 3 * (size_t)b;
+                    if (na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] >= SSS_COARSE_BEND_COS) continue;
+                }
+                coarse[a] = coarse[b] = 1;
             }
         for (uint32_t v = 0; v < mesh->nv && coarse; v++) st.coarse_vertices += coarse[v];
         st.longest_edge_mm = longest * o.mm_per_unit;
@@ -222,8 +253,24 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     double t;
     st.gather = o.gather = sss_bake_choose_gather(&o);
     st.theta = o.theta = o.theta > 0 ? o.theta : SSS_GATHER_THETA_DEFAULT;
+    /* The hat-function weights (docs/physics.md §9): the corrections to
+     * the point weights, which the gathers below use as they are. Under MPI
+     * every rank computes them (rank 0 applies them; the near terms need
+     * them too), a small cost next to the gather. */
+    if (o.weights == SSS_WEIGHTS_HAT && (o.nranks <= 1 || o.rank == 0)) {
+        t = sss_now();
+        sss_progress_begin("hat weights", 1);
+        r = sss_hat_corrections(mesh, o.mm_per_unit, dip, C, st.search_radius_mm, NULL, 0, o.cancel, &hat, err);
+        sss_progress_end();
+        if (r != SSS_OK) goto fail;
+        st.t_hat = sss_now() - t;
+        st.hat_entries = hat.start[hat.nrows];
+        fixed += st.hat_entries * (4u + 4u * C);
+    }
+    out->weights = o.weights;
     if (st.gather == SSS_GATHER_TREE) {
-        r = sss_bake_tree(mesh, mat, &o, dip, C, avail, out, &st, err);
+        r = sss_bake_tree(mesh, mat, &o, dip, C, avail > st.hat_entries * (4u + 4u * C) ? avail - st.hat_entries * (4u + 4u * C) : avail,
+                          o.weights == SSS_WEIGHTS_HAT && (o.nranks <= 1 || o.rank == 0) ? &hat : NULL, out, &st, err);
         if (r != SSS_OK) goto fail;
         goto quantise;
     }
@@ -257,7 +304,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     out->q = malloc(nq * sizeof(float) + 1);
     if (!out->q) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %zu integrals", nq); goto fail; }
     sss_progress_begin("integrals", nb.start[nb.nrows]); /* ticks neighbours: the work of a row */
-    sss_integrate(&nb, G, o.n_dirs, out->q);
+    sss_integrate_hat(&nb, o.weights == SSS_WEIGHTS_HAT ? &hat : NULL, G, o.n_dirs, out->q);
     sss_progress_end();
     st.t_integrals = sss_now() - t;
     free(G);
@@ -274,10 +321,12 @@ quantise:
     }
     if (o.near_terms) {
         t = sss_now();
-        r = sss_near_terms_split(mesh, mat, &o, C, &out->dirs, out->q, &st.rays, err);
+        r = sss_near_terms_split(mesh, mat, &o, C, &out->dirs, o.weights == SSS_WEIGHTS_HAT ? &hat : NULL, out->q,
+                                 &st.rays, err);
         if (r != SSS_OK) goto fail;
         out->near_terms = SSS_NEAR_TERMS_RUNTIME;
-        out->near_rings = o.near_rings;
+        out->near_rings = o.near_radius_mm > 0.0 ? 0 : o.near_rings;
+        out->near_radius_mm = o.near_radius_mm;
         st.t_visibility += sss_now() - t;
     }
 
@@ -310,6 +359,7 @@ quantise:
         *out = cf;
         st.t_compress = sss_now() - t;
     }
+    sss_weights_free(&hat);
     out->eps = o.eps;
     free(out->params_json);
     out->params_json = params_json(mesh_name, mat, &o, C, st.radius_mm, st.search_radius_mm);
@@ -320,6 +370,7 @@ quantise:
 fail:
     free(G);
     sss_weights_free(&nb);
+    sss_weights_free(&hat);
     sss_file_free(out);
     return r;
 }

@@ -84,9 +84,48 @@ static void huge_pages(void *p, size_t n)
  * differ by one at most. */
 static uint32_t chunk_start(uint32_t D, uint32_t c, uint32_t n) { return (uint32_t)((uint64_t)D * c / n); }
 
+/* q += Σ_i C(v, i) G[i, j] for the chunk's directions [j0, j0 + Dc), Gm
+ * the tree's Morton-ordered rows (row inv[i] is vertex i), each element in
+ * double from the gather's float and clamped at 0 (sss_integrate_hat's
+ * rule): the hat-function corrections of docs/physics.md §9 on top of the
+ * point weights the gather used. Elements are independent: the bytes do
+ * not depend on the thread count. */
+static int add_hat(const sss_weights *hat, const uint32_t *inv, const float *Gm, uint32_t nv, uint32_t C,
+                   uint32_t j0, uint32_t Dc, float *q)
+{
+    int failed = 0;
+#pragma omp parallel
+    {
+        double *acc = malloc((size_t)Dc * C * sizeof *acc + 1);
+        if (!acc) failed = 1;
+#pragma omp for schedule(dynamic, 256)
+        for (int64_t vv = 0; vv < (int64_t)nv; vv++) {
+            const uint32_t v = (uint32_t)vv;
+            if (!acc || hat->start[v] == hat->start[v + 1]) continue;
+            for (uint32_t j = 0; j < Dc; j++)
+                for (uint32_t c = 0; c < C; c++) acc[(size_t)c * Dc + j] = q[((size_t)(j0 + j) * nv + v) * C + c];
+            for (uint64_t e = hat->start[v]; e < hat->start[v + 1]; e++) {
+                const float *g = Gm + (size_t)inv[hat->idx[e]] * Dc;
+                for (uint32_t c = 0; c < C; c++) {
+                    const double w = hat->w[e * C + c];
+                    double *a = acc + (size_t)c * Dc;
+                    for (uint32_t j = 0; j < Dc; j++) a[j] += w * g[j];
+                }
+            }
+            for (uint32_t j = 0; j < Dc; j++)
+                for (uint32_t c = 0; c < C; c++) {
+                    const float x = (float)acc[(size_t)c * Dc + j];
+                    q[((size_t)(j0 + j) * nv + v) * C + c] = x > 0.0f ? x : 0.0f;
+                }
+        }
+        free(acc);
+    }
+    return !failed;
+}
+
 sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
-                         const sss_dipole *dip, uint32_t C, uint64_t avail, sss_bake_file *out, sss_bake_stats *st,
-                         sss_error *err)
+                         const sss_dipole *dip, uint32_t C, uint64_t avail, const sss_weights *hat,
+                         sss_bake_file *out, sss_bake_stats *st, sss_error *err)
 {
     const uint32_t nv = mesh->nv, D = o->n_dirs;
     const int mpi = o->nranks > 1 && o->comm;
@@ -103,7 +142,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     sss_gather_tree *tree = NULL;
     sss_vis *vis = NULL;
     float *part = NULL, *full = NULL;
-    uint32_t *verts = NULL, *rows = NULL, *bsplit = NULL;
+    uint32_t *verts = NULL, *rows = NULL, *bsplit = NULL, *inv = NULL;
     uint64_t *offs = NULL, *lens = NULL;
 
     /* The hierarchy first: it does not depend on the directions, takes
@@ -243,6 +282,11 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     if (r != SSS_OK) goto done;
 
     const uint32_t *order = sss_gather_tree_order(tree);
+    if (hat && holds_q) { /* vertex → its row of the Morton-ordered transfer table */
+        inv = malloc((size_t)nv * sizeof *inv + 1);
+        if (!inv) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u vertices", nv); goto done; }
+        for (uint32_t m = 0; m < nv; m++) inv[order[m]] = m;
+    }
     const uint32_t m0 = share_start(nv, rank, nranks), m1 = share_start(nv, rank + 1, nranks);
     uint64_t rays = 0, occ = 0;
     sss_gather_stats gs;
@@ -326,6 +370,10 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
                 }
             }
         }
+        if (inv && !add_hat(hat, inv, Gm, nv, C, j0, Dc, out->q)) {
+            r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the hat-function corrections");
+            break;
+        }
         st->t_integrals += sss_now() - t;
         if (sss_cancelled(o->cancel)) r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals");
     }
@@ -360,6 +408,7 @@ done:
     free(part);
     free(full);
     free(verts);
+    free(inv);
     free(rows);
     free(bsplit);
     free(offs);

@@ -20,9 +20,10 @@ sss_result sss_bake_visibility(const sss_mesh *mesh, double eta, const double *d
  * stats' timings. avail: bytes that may be used (0: unknown). When the
  * transfer rows and tree moments of all directions do not fit next to q,
  * the directions are taken in chunks (same bytes); refused only when not
- * even one direction at a time fits. */
+ * even one direction at a time fits. hat (NULL: none): the hat-function
+ * corrections (sss/hatweights.h) added to q after the gather. */
 sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
-                         const sss_dipole *dip, uint32_t C, uint64_t avail, sss_bake_file *out, sss_bake_stats *st,
-                         sss_error *err);
+                         const sss_dipole *dip, uint32_t C, uint64_t avail, const sss_weights *hat,
+                         sss_bake_file *out, sss_bake_stats *st, sss_error *err);
 
 #endif

@@ -77,11 +77,14 @@ static inline double sss_point_ratio(const sss_object_plan *p, const sss_scene_l
 void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, float *G, uint64_t *rays);
 
 /* The near terms of a plain bake (near_terms.c): q −= the terms of each
- * vertex and its o->near_rings mesh rings at every direction sample of ds,
- * with the bake's own visibility rule, so that a reader adding them back
- * for a sample restores q. In place; polls o->cancel. */
+ * vertex and its o->near_rings mesh rings (or the vertices within
+ * o->near_radius_mm) at every direction sample of ds, with the bake's own
+ * visibility rule and weights (hat: the bake's hat-function corrections
+ * when o->weights says so), so that a reader adding them back for a
+ * sample restores q. In place; polls o->cancel. */
 sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
-                                const sss_dirset *ds, float *q, uint64_t *rays, sss_error *err);
+                                const sss_dirset *ds, const sss_weights *hat, float *q, uint64_t *rays,
+                                sss_error *err);
 
 /* The units (one file each). */
 extern const sss_effect_unit sss_effect_dir_exact;    /* dir_exact.c */

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "kernels/progress.h"
+#include "sss/hatweights.h"
 #include "sss/vec3.h"
 
 /* A neighbour closer than its own area-disk radius ρ = sqrt(ΔA/π) (its area
@@ -231,12 +232,5 @@ sss_result sss_nbhd_build(const sss_mesh *mesh, double s, const sss_dipole *dip,
 double sss_nbhd_radii(const sss_mesh *mesh, double mm_per_unit, const sss_dipole *dip, uint32_t channels, double eps,
                       double *radius_mm)
 {
-    double lo[3], hi[3], search = 0.0;
-    const double diag_mm = sss_mesh_bounds(mesh, lo, hi) * mm_per_unit;
-    for (uint32_t c = 0; c < channels; c++) {
-        const double rc = sss_rd_radius(&dip[c], eps, diag_mm);
-        if (radius_mm) radius_mm[c] = rc;
-        if (rc > search) search = rc;
-    }
-    return search;
+    return sss_cutoff_radius_mm(mesh, mm_per_unit, dip, channels, eps, radius_mm);
 }

@@ -70,6 +70,11 @@ sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const 
 
 void sss_integrate(const sss_weights *nb, const float *G, uint32_t n, float *q)
 {
+    sss_integrate_hat(nb, NULL, G, n, q);
+}
+
+void sss_integrate_hat(const sss_weights *nb, const sss_weights *hat, const float *G, uint32_t n, float *q)
+{
     const uint32_t C = nb->channels;
 #pragma omp parallel
     {
@@ -78,20 +83,28 @@ void sss_integrate(const sss_weights *nb, const float *G, uint32_t n, float *q)
         for (int64_t r = 0; r < (int64_t)nb->nrows; r++) {
             if (!acc) continue;
             for (size_t k = 0; k < (size_t)n * C; k++) acc[k] = 0.0;
-            /* Neighbours in increasing index order: the sum's rounding does
-             * not depend on the thread count. */
-            for (uint64_t e = nb->start[r]; e < nb->start[r + 1]; e++) {
-                const float *g = &G[(size_t)nb->idx[e] * n];
-                const float *w = &nb->w[e * C];
-                for (uint32_t c = 0; c < C; c++) {
-                    double wc = w[c];
-                    double *a = &acc[(size_t)c * n];
-                    for (uint32_t j = 0; j < n; j++) a[j] += wc * g[j];
+            /* Neighbours in increasing index order, then the row's
+             * hat-function corrections in theirs (sss/hatweights.h): the
+             * sum's rounding does not depend on the thread count. */
+            for (int part = 0; part < (hat ? 2 : 1); part++) {
+                const sss_weights *rw = part ? hat : nb;
+                for (uint64_t e = rw->start[r]; e < rw->start[r + 1]; e++) {
+                    const float *g = &G[(size_t)rw->idx[e] * n];
+                    const float *w = &rw->w[e * C];
+                    for (uint32_t c = 0; c < C; c++) {
+                        double wc = w[c];
+                        double *a = &acc[(size_t)c * n];
+                        for (uint32_t j = 0; j < n; j++) a[j] += wc * g[j];
+                    }
                 }
             }
+            /* W ≥ 0, so q ≥ 0; only the float weights' rounding can take a
+             * sum with corrections below */
             for (uint32_t j = 0; j < n; j++)
-                for (uint32_t c = 0; c < C; c++)
-                    q[((size_t)j * nb->nrows + (size_t)r) * C + c] = (float)acc[(size_t)c * n + j];
+                for (uint32_t c = 0; c < C; c++) {
+                    const float x = (float)acc[(size_t)c * n + j];
+                    q[((size_t)j * nb->nrows + (size_t)r) * C + c] = hat && !(x > 0.0f) ? 0.0f : x;
+                }
             sss_progress_tick(nb->start[r + 1] - nb->start[r]); /* a row costs its neighbours */
         }
         free(acc);

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sss/hatweights.h"
 #include "sss/nbhd.h"
 #include "sss/transfer.h"
 #include "sss/visibility.h"
@@ -27,6 +28,7 @@ struct sss_exact {
     double eta;
     double eps, search_radius_mm;
     sss_weights nb;     /* one row per vertex, rows in vertex order */
+    sss_weights hat;    /* files with section QUAD: the hat-function corrections per row (sss/hatweights.h) */
     sss_vis *vis;    /* refers to mesh */
     int shadows;     /* 0: V ≡ 1 (sss_exact_set_shadows; diagnostics only) */
 };
@@ -113,6 +115,11 @@ sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *
      * is rounded to 9 digits: the membership test r ≤ radius must match. */
     e->search_radius_mm = sss_nbhd_radii(&e->mesh, f->mm_per_unit, dip, f->channels, eps, NULL);
     r = sss_nbhd_build(&e->mesh, f->mm_per_unit, dip, f->channels, e->search_radius_mm, NULL, 0, 0, NULL, &e->nb, err);
+    /* the bake's weight rule (section QUAD): its corrections, as the bake
+     * computed them */
+    if (r == SSS_OK && f->weights == SSS_WEIGHTS_HAT)
+        r = sss_hat_corrections(&e->mesh, f->mm_per_unit, dip, f->channels, e->search_radius_mm, NULL, 0, NULL,
+                                &e->hat, err);
     if (r == SSS_OK) r = sss_vis_create(&e->mesh, &e->vis, err);
     if (r != SSS_OK) {
         sss_exact_destroy(e);
@@ -127,6 +134,7 @@ void sss_exact_destroy(sss_exact *e)
     if (!e) return;
     sss_vis_destroy(e->vis);
     sss_weights_free(&e->nb);
+    sss_weights_free(&e->hat);
     sss_mesh_free(&e->mesh);
     free(e);
 }
@@ -167,16 +175,23 @@ static void row_sum(const sss_exact *e, uint32_t v, const double d[3], const flo
 {
     const uint32_t C = e->channels;
     double acc[SSS_MAX_CHANNELS] = {0};
-    for (uint64_t k = e->nb.start[v]; k < e->nb.start[v + 1]; k++) {
-        const uint32_t i = e->nb.idx[k];
-        const float gi = g ? g[i] : sss_transfer_one(&e->mesh, e->shadows ? e->vis : NULL, i, d, e->eta, NULL, NULL);
-        const float *w = &e->nb.w[k * C];
-        for (uint32_t c = 0; c < C; c++) {
-            double wc = w[c];
-            acc[c] += wc * gi;
+    const int hat = e->hat.nrows > 0;
+    for (int part = 0; part < (hat ? 2 : 1); part++) { /* the neighbours, then the corrections (sss_integrate_hat) */
+        const sss_weights *rw = part ? &e->hat : &e->nb;
+        for (uint64_t k = rw->start[v]; k < rw->start[v + 1]; k++) {
+            const uint32_t i = rw->idx[k];
+            const float gi = g ? g[i] : sss_transfer_one(&e->mesh, e->shadows ? e->vis : NULL, i, d, e->eta, NULL, NULL);
+            const float *w = &rw->w[k * C];
+            for (uint32_t c = 0; c < C; c++) {
+                double wc = w[c];
+                acc[c] += wc * gi;
+            }
         }
     }
-    for (uint32_t c = 0; c < C; c++) out[c] = (float)acc[c];
+    for (uint32_t c = 0; c < C; c++) {
+        const float x = (float)acc[c];
+        out[c] = hat && !(x > 0.0f) ? 0.0f : x;
+    }
 }
 
 void sss_exact_eval_vertex(const sss_exact *e, uint32_t v, const double light[3], float *out)

@@ -24,7 +24,7 @@ sss_result sss_reconstruct_create(const sss_bake_file *f, sss_reconstruct **out,
     if (!r) return sss_fail(err, SSS_ERR_NOMEM, "reconstruction: out of memory");
     r->f = f;
     if (f->near_terms) {
-        sss_result e = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, f->channels, f->near_rings, &r->nr, err);
+        sss_result e = sss_near_build_file(f, &r->nr, err);
         if (e == SSS_OK) e = sss_vis_create(&f->mesh, &r->vis, err);
         if (e != SSS_OK) {
             sss_reconstruct_destroy(r);

@@ -57,7 +57,7 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     const sss_bake_file *f = m->f;
     const uint32_t nv = m->nv, nf = m->nf, C = m->C;
     sss_weights nr;
-    sss_result res = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, C, f->near_rings, &nr, err);
+    sss_result res = sss_near_build_file(f, &nr, err);
     if (res != SSS_OK) return res;
     const uint64_t nent = nr.start[nv];
     const GLint64 max_block = c->max_block;
