@@ -37,6 +37,33 @@ static double dist_mm(const sss_mesh *m, uint32_t o, uint32_t i, double s)
     return sqrt(d2);
 }
 
+/* The radius's grid: cells as wide as the radius, 21 bits per axis (a
+ * radius below 2^-21 of the object's size gets the outermost cells merged,
+ * which only widens the search). */
+#define VGRID_MAX ((int64_t)(1 << 21) - 1)
+
+typedef struct vkey_entry {
+    uint64_t key;
+    uint32_t v;
+} vkey_entry;
+
+static uint64_t vkey(int64_t x, int64_t y, int64_t z) { return (uint64_t)x << 42 | (uint64_t)y << 21 | (uint64_t)z; }
+
+static void cell3(const sss_mesh *m, uint32_t v, double s, const double lo[3], double cell, int64_t c[3])
+{
+    for (int k = 0; k < 3; k++) {
+        const double f = floor(((double)m->pos[3 * (size_t)v + k] * s - lo[k]) / cell);
+        c[k] = f < 0.0 ? 0 : f > (double)VGRID_MAX ? VGRID_MAX : (int64_t)f;
+    }
+}
+
+static int cmp_vkey(const void *x, const void *y)
+{
+    const vkey_entry *a = x, *b = y;
+    if (a->key != b->key) return a->key < b->key ? -1 : 1;
+    return (a->v > b->v) - (a->v < b->v);
+}
+
 static int cmp_u32(const void *a, const void *b)
 {
     uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
@@ -109,6 +136,10 @@ sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, do
     const double s = mm_per_unit;
     sss_result r = SSS_OK;
     sss_weights hat_own = {0};
+    uint64_t *vkeys = NULL;
+    uint32_t *vorder = NULL;
+    vkey_entry *vk = NULL;
+    double lo[3] = {0, 0, 0};
     double *area = malloc((size_t)nv * sizeof *area + 1);
     uint32_t *astart = calloc((size_t)nv + 1, sizeof *astart), *adj = NULL;
     uint32_t *mark = NULL, *list = NULL, *order = NULL, *grp = NULL, *gend = NULL;
@@ -155,9 +186,31 @@ sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, do
         k = e;
     }
 
-    /* rings by breadth-first walk per vertex (a vertex brings its copies);
-     * two passes (count, fill) so the rows are allocated once. mark[v] =
-     * o + 1 when v is in o's row. */
+    /* A radius: the vertices in a grid of cells as wide as the radius,
+     * sorted by (cell, index). */
+    if (radius > 0.0) {
+        vkeys = malloc((size_t)nv * sizeof *vkeys + 1);
+        vorder = malloc((size_t)nv * sizeof *vorder + 1);
+        vk = malloc((size_t)nv * sizeof *vk + 1);
+        if (!vkeys || !vorder || !vk) goto nomem;
+        for (int k = 0; k < 3; k++) lo[k] = INFINITY;
+        for (uint32_t v = 0; v < nv; v++)
+            for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], (double)mesh->pos[3 * (size_t)v + k] * s);
+        for (uint32_t v = 0; v < nv; v++) {
+            int64_t c[3];
+            cell3(mesh, v, s, lo, radius, c);
+            vk[v].key = vkey(c[0], c[1], c[2]);
+            vk[v].v = v;
+        }
+        qsort(vk, nv, sizeof *vk, cmp_vkey);
+        for (uint32_t a = 0; a < nv; a++) vkeys[a] = vk[a].key, vorder[a] = vk[a].v;
+        free(vk);
+        vk = NULL;
+    }
+
+    /* rings by breadth-first walk per vertex (a vertex brings its copies),
+     * or the radius's cells; two passes (count, fill) so the rows are
+     * allocated once. mark[v] = o + 1 when v is in o's row. */
     mark = calloc((size_t)nv, sizeof *mark);
     list = malloc((size_t)nv * sizeof *list + 1);
     if (!mark || !list) goto nomem;
@@ -169,19 +222,34 @@ sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, do
             mark[o] = tag;
             for (uint32_t g = grp[o]; g < gend[o]; g++)
                 if (mark[order[g]] != tag) mark[order[g]] = tag, list[m++] = order[g];
-            /* rings: `rings` levels; a radius: as many levels as reach
-             * vertices within it, walking only through those (a vertex
-             * outside is marked, so that it is measured once) */
-            for (uint32_t k = 0; radius > 0.0 ? begin < m : k < rings; k++) {
+            if (radius > 0.0) { /* every vertex within the radius: the grid's 27 cells around x_o */
+                int64_t c0[3];
+                cell3(mesh, o, s, lo, radius, c0);
+                for (int64_t dx = -1; dx <= 1; dx++)
+                    for (int64_t dy = -1; dy <= 1; dy++)
+                        for (int64_t dz = -1; dz <= 1; dz++) {
+                            const int64_t cx = c0[0] + dx, cy = c0[1] + dy, cz = c0[2] + dz;
+                            if (cx < 0 || cy < 0 || cz < 0 || cx > VGRID_MAX || cy > VGRID_MAX || cz > VGRID_MAX)
+                                continue;
+                            const uint64_t key = vkey(cx, cy, cz);
+                            uint32_t a = 0, b = nv; /* first cell entry with this key */
+                            while (a < b) {
+                                const uint32_t mid = a + (b - a) / 2;
+                                if (vkeys[mid] < key) a = mid + 1;
+                                else b = mid;
+                            }
+                            for (; a < nv && vkeys[a] == key; a++) {
+                                const uint32_t i = vorder[a];
+                                if (mark[i] != tag && dist_mm(mesh, o, i, s) <= radius) mark[i] = tag, list[m++] = i;
+                            }
+                        }
+            }
+            for (uint32_t k = 0; radius == 0.0 && k < rings; k++) { /* rings: breadth first */
                 const uint32_t end = m;
                 for (uint32_t a = begin; a < end; a++)
                     for (uint32_t e = astart[list[a]]; e < astart[list[a] + 1]; e++) {
                         const uint32_t i = adj[e];
                         if (mark[i] == tag) continue;
-                        if (radius > 0.0 && dist_mm(mesh, o, i, s) > radius) {
-                            mark[i] = tag;
-                            continue;
-                        }
                         for (uint32_t g = grp[i]; g < gend[i]; g++)
                             if (mark[order[g]] != tag) mark[order[g]] = tag, list[m++] = order[g];
                     }
@@ -269,6 +337,9 @@ nomem:
     r = sss_fail(err, SSS_ERR_NOMEM, "near terms: out of memory for %u vertices", nv);
 done:
     sss_weights_free(&hat_own);
+    free(vkeys);
+    free(vorder);
+    free(vk);
     free(area);
     free(astart);
     free(adj);

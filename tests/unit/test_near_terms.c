@@ -343,8 +343,8 @@ static void nearRowsHoldRingsAndCopies(void **state)
 }
 
 
-/* The rows of a radius (section NRAD): every vertex within it reached
- * through the mesh, whatever the rings; and with the hat-function weights
+/* The rows of a radius (section NRAD): every vertex within it, connected
+ * to the receiver or not, whatever the rings; and with the hat-function weights
  * the reader's weights (corrections of the rows' entries alone) have the
  * bits of the bake's (the corrections of whole rows). */
 static void nearRowsByRadiusAndHatWeights(void **state)
@@ -375,6 +375,43 @@ static void nearRowsByRadiusAndHatWeights(void **state)
         }
         sss_weights_free(&nr);
     }
+
+    /* two parallel sheets 0.5 mm apart, not connected by any edge: a
+     * radius takes the other sheet's vertices too (the far side of a thin
+     * part scatters through it, docs/format.md §5.17), which a walk along
+     * the mesh's edges would miss */
+    sss_mesh two;
+    assert_int_equal(sss_mesh_alloc(&two, 2 * plane.nv, 2 * plane.nf, &err), SSS_OK);
+    for (uint32_t v = 0; v < plane.nv; v++)
+        for (int x = 0; x < 3; x++) {
+            two.pos[3 * v + x] = plane.pos[3 * v + x];
+            two.pos[3 * (plane.nv + v) + x] = plane.pos[3 * v + x] + (x == 2 ? 0.05f : 0.0f);
+        }
+    for (uint32_t t = 0; t < plane.nf; t++)
+        for (int k = 0; k < 3; k++) {
+            two.tri[3 * t + k] = plane.tri[3 * t + k];
+            two.tri[3 * (plane.nf + t) + k] = plane.tri[3 * t + (2 - k)] + plane.nv; /* facing the other way */
+        }
+    const sss_near_spec spec2 = {.radius_mm = 1.3};
+    sss_weights tw;
+    assert_int_equal(sss_near_build_spec(&two, &mat, 10.0, 3, &spec2, NULL, &tw, &err), SSS_OK);
+    uint32_t across = 0;
+    for (uint32_t o = 0; o < two.nv; o++) {
+        uint32_t want = 0;
+        for (uint32_t i = 0; i < two.nv; i++) {
+            double d2 = 0.0;
+            for (int x = 0; x < 3; x++) {
+                const double dx = ((double)two.pos[3 * i + x] - two.pos[3 * o + x]) * 10.0;
+                d2 += dx * dx;
+            }
+            want += sqrt(d2) <= 1.3;
+        }
+        assert_int_equal(tw.start[o + 1] - tw.start[o], want);
+        for (uint32_t e = tw.start[o]; e < tw.start[o + 1]; e++) across += (tw.idx[e] < plane.nv) != (o < plane.nv);
+    }
+    assert_true(across > 0);
+    sss_weights_free(&tw);
+    sss_mesh_free(&two);
     sss_mesh_free(&plane);
 
     /* hat weights: reader (restricted corrections) vs bake (whole rows) */

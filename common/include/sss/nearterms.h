@@ -68,9 +68,10 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
 /* Which near terms, and with which weights. */
 typedef struct sss_near_spec {
     uint32_t rings;   /* mesh rings 0 … 8 (when radius_mm is 0) */
-    /* > 0: instead of rings, every vertex within radius_mm (mm, ‖x_i − x_o‖)
-     * reached from x_o through mesh edges between such vertices (section
-     * NRAD: a physical neighbourhood, the same on a fine and a coarse mesh) */
+    /* > 0: instead of rings, every vertex within radius_mm (mm, ‖x_i − x_o‖,
+     * whether or not the mesh connects it: the far side of a thin part
+     * scatters through it; section NRAD: a physical neighbourhood, the same
+     * on a fine and a coarse mesh) */
     double radius_mm;
     /* SSS_WEIGHTS_POINT (0): nbhd.c's point rule, as above; SSS_WEIGHTS_HAT:
      * the bake's hat-function weights (sss/hatweights.h), W = w + C with
