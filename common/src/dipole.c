@@ -251,3 +251,14 @@ double sss_rd_radius(const sss_dipole *d, double eps, double r_max)
     }
     return hi;
 }
+
+double sss_material_slab_q(const sss_material *m, uint32_t channels)
+{
+    double q = 0.0;
+    for (uint32_t c = 0; c < channels && c < SSS_MAX_CHANNELS; c++) {
+        sss_dipole d;
+        if (sss_dipole_init(&d, m->sigma_a[c], m->sigmap_s[c], m->eta) != SSS_OK) return 0.0;
+        q = fmax(q, sss_ft(m->eta, 1.0) * sss_rd_total(&d) / SSS_PI);
+    }
+    return q;
+}

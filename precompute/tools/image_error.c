@@ -38,6 +38,7 @@
 #include <sys/stat.h>
 
 #include "sss/random.h"
+#include "sss/vec3.h"
 #include "sss/reconstruct.h"
 #include "sss/render.h"
 #include "sss/vertex_error.h"
@@ -73,6 +74,27 @@ static double auto_exposure(const sss_exact *e, size_t n, float *q)
     }
     free(pos);
     return s > 0.0 && isfinite(s) ? 1.0 / s : 1.0;
+}
+
+/* A light uniform on the cap within deg degrees of −view, off every
+ * direction sample (as sss_vertex_error_draw_direction). */
+static void draw_backlit(const sss_dirset *ds, uint64_t *state, const double view[3], double deg, double light[3])
+{
+    const double cmax = cos(deg * SSS_PI / 180.0);
+    for (;;) {
+        double d[3];
+        sss_rng_direction(state, d);
+        if (-(d[0] * view[0] + d[1] * view[1] + d[2] * view[2]) < cmax) continue;
+        double best = -2.0;
+        for (uint32_t j = 0; j < ds->n; j++) {
+            const double *w = ds->dir + 3 * (size_t)j;
+            best = fmax(best, d[0] * w[0] + d[1] * w[1] + d[2] * w[2]);
+        }
+        if (best < cos(1e-6)) {
+            for (int k = 0; k < 3; k++) light[k] = d[k];
+            return;
+        }
+    }
 }
 
 static sss_result write_pair(const char *dir, const char *name, const float *ldr, const float *hdr, int w, int h,
@@ -149,7 +171,8 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     for (uint32_t v = 0; v < views; v++) {
         double view[3], light[3];
         sss_rng_direction(&state, view);
-        sss_vertex_error_draw_direction(&f->dirs, &state, light);
+        if (o->backlit_deg > 0.0) draw_backlit(&f->dirs, &state, view, o->backlit_deg, light);
+        else sss_vertex_error_draw_direction(&f->dirs, &state, light);
         for (int k = 0; k < 3; k++) p.view[k] = view[k], p.light[k] = light[k];
         sss_exact_eval(e, light, qx);
         if (map_vis) sss_reconstruct_eval_rows(rc, light, o->interp, qa);

@@ -33,6 +33,11 @@ typedef struct sss_image_error_opts {
      * per-vertex error); 2: the renderer's shadow map of shadow_size². */
     int near_mode;
     int shadow_size;        /* near_mode 2: texels per side (0: the renderer's default) */
+    /* > 0: back-lit views, each light drawn uniformly within this many
+     * degrees of the direction opposite the camera (the light behind the
+     * object, its translucency and the terminators facing the camera);
+     * 0: light and view independent and uniform */
+    double backlit_deg;
 } sss_image_error_opts;
 
 typedef struct sss_image_error {

@@ -29,7 +29,7 @@ static void usage(FILE *f)
                "       sss-stat FILE.sss --query VERTEX --light X,Y,Z [--json]\n"
                "       sss-stat FILE.sss --error [--views N] [--seed S] [--json] [--image-views N]\n"
                "                [--image-size N] [--exposure E] [--error-images DIR] [--no-image]\n"
-               "                [--image-visibility viewer|rays|map[:N]]\n"
+               "                [--image-visibility viewer|rays|map[:N]] [--backlit]\n"
                "                [--interp triangle|nearest4]\n"
                "Prints vertex count, channels, directions, storage, material, the bytes of every\n"
                "section, and every part of the scattering data (directions, reference indices,\n"
@@ -58,6 +58,8 @@ static void usage(FILE *f)
                "(PNG and EXR). Without OpenGL the image error is reported unavailable (one line) and\n"
                "the per-vertex error still printed; --no-image skips it. --interp nearest4 uses the\n"
                "paper's 4-nearest-direction interpolation instead of the stored triangle's (study only).\n"
+               "--backlit: every image view is back-lit, its light drawn within 30 degrees of the\n"
+               "direction opposite the camera (translucency and the terminators facing the camera).\n"
                "Files with near terms at run time (OWNT): the per-vertex error adds them with the bake's\n"
                "ray visibility; the image error as the viewer adds them (its GPU rays; map[:N]: its\n"
                "shadow map of N x N texels, default 2048; rays: the bake's ray on the CPU).\n"
@@ -222,6 +224,7 @@ typedef struct error_args {
     sss_interp interp;
     int near_mode;               /* --image-visibility viewer (0) | rays (1) | map[:N] (2) */
     int shadow_size;             /* --image-visibility map:N */
+    int backlit;                 /* --backlit: lights within 30° of opposite the camera */
 } error_args;
 
 static int error_report(const char *path, const sss_bake_file *f, const error_args *a, int json)
@@ -250,7 +253,8 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
     int have_image = 0;
     if (!a->no_image) {
         sss_image_error_opts io = {a->image_views ? a->image_views : views, seed, a->image_size, a->image_size,
-                                   a->exposure, a->interp, a->images_dir, a->near_mode, a->shadow_size};
+                                   a->exposure, a->interp, a->images_dir, a->near_mode, a->shadow_size,
+                                   a->backlit ? 30.0 : 0.0};
         sss_error ierr = {{0}};
         r = sss_image_error_measure(f, e, &io, &ie, &ierr);
         if (r == SSS_OK) {
@@ -299,6 +303,7 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
             cJSON_AddNumberToObject(im, "rms_median", ie.rms_median);
             cJSON_AddNumberToObject(im, "rms_max_covered", ie.rms_max_covered);
             cJSON_AddNumberToObject(im, "coverage_mean", ie.coverage_mean);
+            cJSON_AddStringToObject(im, "lights", a->backlit ? "backlit: within 30 degrees of opposite the camera" : "random");
             /* files with OWNT: where the near terms' visibility came from */
             if (f->near_terms && a->near_mode == 1) cJSON_AddStringToObject(im, "near_visibility", "rays (CPU, Embree)");
             else if (f->near_terms && a->near_mode == 2) {
@@ -334,9 +339,10 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
             printf("  %-8s %12.4g %12.4g %12.4g %12.4g\n", c == C ? "all" : C == 1 ? "grey" : rgb[c], ve.rms[c],
                    ve.rel_rms[c], ve.max_abs[c], ve.rms_exact[c]);
         if (have_image) {
-            printf("  image RMS (section 3.3) over %u views, %dx%d, exposure %.4g: max %.4g, mean %.4g, median %.4g"
-                   " (worst view %u; over its covered pixels %.4g; %s)\n", ie.views, ie.width, ie.height,
-                   ie.exposure, ie.rms_max, ie.rms_mean, ie.rms_median, ie.worst, ie.rms_max_covered, ie.gl_renderer);
+            printf("  image RMS (section 3.3) over %u %sviews, %dx%d, exposure %.4g: max %.4g, mean %.4g, median %.4g"
+                   " (worst view %u; over its covered pixels %.4g; %s)\n", ie.views, a->backlit ? "back-lit " : "",
+                   ie.width, ie.height, ie.exposure, ie.rms_max, ie.rms_mean, ie.rms_median, ie.worst,
+                   ie.rms_max_covered, ie.gl_renderer);
             if (a->images_dir)
                 printf("  worst view's images in %s: exact, approx, error (x %.4g) as .png and .exr\n", a->images_dir,
                        ie.error_map_gain);
@@ -520,6 +526,7 @@ static int parse_args(int argc, char **argv, stat_args *a)
         {.name = "--no-image", .kind = SSS_CLI_FLAG, .dest = &a->ea.no_image},
         {.name = "--image-visibility", .kind = SSS_CLI_CUSTOM, .dest = &a->ea, .parse = read_image_visibility,
          .given = &a->image_opt, .msg = "%s: %s '%s' must be viewer, rays, map or map:N (N = 256 ... 8192)\n"},
+        {.name = "--backlit", .kind = SSS_CLI_FLAG, .dest = &a->ea.backlit, .given = &a->image_opt},
         {.name = "--interp", .kind = SSS_CLI_CHOICE, .dest = &a->interp, .choices = interps, .values = interp_values,
          .msg = "%s: %s '%s' must be triangle or nearest4\n"},
     };
@@ -540,7 +547,7 @@ static int parse_args(int argc, char **argv, stat_args *a)
 static int combinations_ok(const stat_args *a)
 {
     if ((a->image_opt || a->ea.no_image || a->interp != SSS_INTERP_TRIANGLE) && !a->want_error) {
-        fprintf(stderr, "%s: --image-views, --image-size, --exposure, --error-images, --no-image and --interp go with --error\n", TOOL);
+        fprintf(stderr, "%s: --image-views, --image-size, --exposure, --error-images, --image-visibility, --backlit, --no-image and --interp go with --error\n", TOOL);
         return 0;
     }
     if (a->ea.no_image && a->image_opt) {

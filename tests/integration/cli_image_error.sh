@@ -1,7 +1,7 @@
 # sss-stat --error, image-space error (docs/accuracy.md; Hao–Varshney 2004 §3.3):
 # the JSON has the documented image keys; fewer directions mean a larger
 # image RMS (25 vs 200), a higher SH order a smaller one; --error-images
-# writes the worst view's images; the paper's 4-nearest interpolation runs;
+# writes the worst view's images; --backlit lights from behind; the paper's 4-nearest interpolation runs;
 # without OpenGL the per-vertex error is still reported (one-line notice);
 # bad image options fail cleanly.
 . "$(dirname "$0")/lib.sh"
@@ -47,6 +47,18 @@ awk -v a="$s1" -v b="$s4" -v c="$v1" -v d="$v4" 'BEGIN { exit !(a > 1.2 * b && b
 # deterministic (llvmpipe renders the same images every run)
 expect_ok "$SSS_STAT" "$TMP/b200.sss" "${IMG[@]}" --exposure "$E"
 cmp -s "$TMP/out" "$TMP/b200.json" || fail "--error with images is not deterministic"
+# --backlit: every light within 30 degrees of opposite the camera, labelled,
+# and not the random lights' figures (the translucent side faces the camera)
+expect_ok "$SSS_STAT" "$TMP/b200.sss" "${IMG[@]}" --exposure "$E" --backlit
+cp "$TMP/out" "$TMP/back.json"
+contains "$TMP/back.json" '"lights":"backlit'
+contains "$TMP/b200.json" '"lights":"random"'
+bm=$(num "$TMP/back.json" rms_mean)
+awk -v a="$bm" -v b="$(num "$TMP/b200.json" rms_mean)" 'BEGIN { exit !(a > 0 && a != b) }' ||
+  fail "back-lit image RMS $bm should be positive and differ from the random lights'"
+expect_ok "$SSS_STAT" "$TMP/b200.sss" --error --views 2 --image-views 2 --image-size 32 --backlit
+contains "$TMP/out" 'back-lit views'
+expect_fail 'go with --error' "$SSS_STAT" "$TMP/b200.sss" --backlit
 # worst view's images
 expect_ok "$SSS_STAT" "$TMP/b25.sss" --error --views 2 --image-views 4 --image-size 48 --error-images "$TMP/img"
 contains "$TMP/out" 'image RMS'

@@ -256,6 +256,34 @@ static void presetsAndValidation(void **state)
     assert_int_equal(sss_dipole_init(&d, 0.0, 0.0, 1.3), SSS_ERR_ARG);
 }
 
+/* The brightest q of a material (a flat surface lit head-on, docs/physics.md
+ * §4): the largest channel's F_t(η, 1) R_d,total / π; a grey material's
+ * unused channels (zero in a 1-channel file) do not count. */
+static void slabQIsTheBrightestChannelsFlatSurface(void **state)
+{
+    (void)state;
+    sss_material m;
+    sss_error e = {{0}};
+    for (int p = 0; p < sss_material_preset_count(); p++) {
+        assert_int_equal(sss_material_preset(sss_material_preset_name(p), &m, &e), SSS_OK);
+        double want = 0.0;
+        for (int c = 0; c < 3; c++) {
+            sss_dipole d;
+            assert_int_equal(sss_dipole_init(&d, m.sigma_a[c], m.sigmap_s[c], m.eta), SSS_OK);
+            want = fmax(want, sss_ft(m.eta, 1.0) * sss_rd_total(&d) / SSS_PI);
+        }
+        assert_true(want > 0.0);
+        assert_true(sss_material_slab_q(&m, 3) == want);
+        sss_dipole d0;
+        assert_int_equal(sss_dipole_init(&d0, m.sigma_a[0], m.sigmap_s[0], m.eta), SSS_OK);
+        sss_material grey = m;
+        for (int c = 1; c < 3; c++) grey.sigma_a[c] = grey.sigmap_s[c] = 0.0;
+        assert_true(sss_material_slab_q(&grey, 1) == sss_ft(m.eta, 1.0) * sss_rd_total(&d0) / SSS_PI);
+    }
+    m.eta = NAN;
+    assert_true(sss_material_slab_q(&m, 3) == 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -267,6 +295,7 @@ int main(void)
         cmocka_unit_test(fresnelTransmittanceLimits),
         cmocka_unit_test(radiusCapturesRequestedEnergyAndClampsWhenAlbedoIsOne),
         cmocka_unit_test(presetsAndValidation),
+        cmocka_unit_test(slabQIsTheBrightestChannelsFlatSurface),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

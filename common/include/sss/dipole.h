@@ -87,6 +87,14 @@ double sss_rd_disk_offset(const sss_dipole *d, double r, double rho);
 /* Total diffuse reflectance ∫_0^∞ R_d 2πr dr = (α′/2)(1 + e^{−(4/3)A s}) e^{−s}. */
 double sss_rd_total(const sss_dipole *d);
 
+/* The largest q of a flat surface of m lit head-on by unit irradiance,
+ * over its first `channels` channels (1 or 3; a grey file's other channels
+ * are not material): F_t(η, 1) · R_d,total / π (docs/physics.md §4).
+ * The exposure 1 / this maps it to 1, so that a first render of a file is
+ * neither black nor clipped (sss-view without --exposure). 0 for an invalid
+ * material. */
+double sss_material_slab_q(const sss_material *m, uint32_t channels);
+
 /* Smallest radius R (mm) with sss_rd_disk(R) ≥ (1 − eps) · sss_rd_total,
  * found by bisection on the closed form; clamped to r_max (α′ → 1 makes the
  * tail decay like r⁻³). Returns 0 when the total is 0. */

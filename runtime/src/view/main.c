@@ -29,7 +29,8 @@ static void usage(FILE *f)
         "  --size WxH           image or window size (default 800x600)\n"
         "  --light X,Y,Z        direction towards the light (default 0,0,1)\n"
         "  --view X,Y,Z         direction from the object towards the camera (default 0,0,1)\n"
-        "  --exposure E         radiance multiplier before tone mapping (default 1)\n"
+        "  --exposure E         radiance multiplier before tone mapping (default: 1 / the q of a flat\n"
+        "                       surface of the file's material lit head-on, so the brightest lit parts reach 1)\n"
         "  --intensity I        light irradiance E (default 1)\n"
         "  --tonemap clamp|reinhard   (default clamp: values in [0,1], the measurement convention)\n"
         "  --cpu                evaluate on the CPU (C decoder; with --scene, the CPU sum of the lights)\n"
@@ -65,6 +66,7 @@ typedef struct view_args {
     int size[2];       /* --size W H */
     int nbench;        /* --bench N (0: none) */
     double intensity;  /* --intensity: every channel of p.light_rgb */
+    int exposure_given; /* --exposure given; else 1 / the file material's flat-slab q */
     int tonemap, cpu;  /* --tonemap, --cpu */
     sss_view_params p;
 } view_args;
@@ -93,7 +95,7 @@ static int parse(int argc, char **argv, view_args *a)
         {.name = "--light", .kind = SSS_CLI_TRIPLE, .dest = a->p.light, .flags = SSS_CLI_NONZERO},
         {.name = "--view", .kind = SSS_CLI_TRIPLE, .dest = a->p.view, .flags = SSS_CLI_NONZERO},
         {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->p.exposure, .lo = 0, .hi = INFINITY,
-         .flags = SSS_CLI_ABOVE_LO, .msg = positive},
+         .flags = SSS_CLI_ABOVE_LO, .msg = positive, .given = &a->exposure_given},
         {.name = "--intensity", .kind = SSS_CLI_DOUBLE, .dest = &a->intensity, .lo = 0, .hi = INFINITY,
          .flags = SSS_CLI_ABOVE_LO, .msg = positive},
         {.name = "--tonemap", .kind = SSS_CLI_CHOICE, .dest = &a->tonemap, .choices = tonemaps,
@@ -422,6 +424,12 @@ int main(int argc, char **argv)
     if (sss_file_read(a.path, &f, &err) != SSS_OK) {
         fprintf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
+    }
+    /* a first render neither black nor clipped: the brightest q of the
+     * material (a flat surface lit head-on) maps to 1 (sss/dipole.h) */
+    if (!a.exposure_given) {
+        const double qs = sss_material_slab_q(&f.material, f.channels);
+        a.p.exposure = qs > 0.0 ? 1.0 / qs : 1.0;
     }
     if (a.offscreen) rc = a.scene ? scene_offscreen(&f, &a) : offscreen_render(&f, &a);
     else rc = a.scene ? scene_window(&f, &a) : window(&f, &a);
