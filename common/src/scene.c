@@ -10,6 +10,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "sss/scene.h"
+#include "sss/fileio.h"
 #include "sss/vec3.h"
 
 #include <cjson/cJSON.h>
@@ -393,32 +394,13 @@ done:
 sss_result sss_scene_load(const char *path, sss_scene *out, sss_error *err)
 {
     memset(out, 0, sizeof *out);
-    FILE *f = fopen(path, "rb");
-    if (!f) return sss_fail(err, SSS_ERR_IO, "%s: cannot open scene file", path);
-    char *buf = NULL;
-    size_t len = 0, cap = 0;
-    for (;;) {
-        if (len + 4096 + 1 > cap) {
-            if (cap > ((size_t)64 << 20)) {
-                free(buf);
-                fclose(f);
-                return sss_fail(err, SSS_ERR_ARG, "%s: scene file larger than 64 MiB", path);
-            }
-            cap = cap ? 2 * cap : 8192;
-            char *nb = realloc(buf, cap);
-            if (!nb) { free(buf); fclose(f); return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", path); }
-            buf = nb;
-        }
-        size_t k = fread(buf + len, 1, cap - len - 1, f);
-        len += k;
-        if (k == 0) break;
-    }
-    int bad = ferror(f);
-    fclose(f);
-    if (bad) { free(buf); return sss_fail(err, SSS_ERR_IO, "%s: read error", path); }
-    buf[len] = 0;
+    char *buf;
+    size_t len;
+    /* a regular file only, opened without blocking (sss/fileio.h) */
+    sss_result r = sss_input_read_all(path, (uint64_t)64 << 20, &buf, &len, err);
+    if (r != SSS_OK) return r;
     if (strlen(buf) != len) { free(buf); return sss_fail(err, SSS_ERR_ARG, "%s: contains a NUL byte (not JSON text)", path); }
-    sss_result r = sss_scene_parse(buf, path, out, err);
+    r = sss_scene_parse(buf, path, out, err);
     free(buf);
     return r;
 }

@@ -17,6 +17,7 @@
 #include "sss/cli.h"
 #include "sss/bake.h"
 #include "sss/compress.h"
+#include "sss/fileio.h"
 #include "sss/import.h"
 #include "scene_cli.h"
 
@@ -494,6 +495,16 @@ static int run(const bake_args *a, bake_setup *s, int *argc, char ***argv)
     signal(SIGTERM, on_sigint);
 
     sss_error err = {{0}};
+    /* the output is checked before the bake (sss/fileio.h), so that a path
+     * that may not be written is refused at once, not after the bake; the
+     * writer checks it again */
+    const char *inputs[1] = {in};
+    const sss_inputs ins = {inputs, 1};
+    if (mpi_rank == 0 && sss_output_check(outp, &ins, NULL, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_mpi_abort(1);
+        return 1;
+    }
     double t0 = sss_now();
     sss_mesh mesh;
     if (sss_import_mesh(in, &mesh, &r.rep, &err) != SSS_OK) {
@@ -524,7 +535,7 @@ static int run(const bake_args *a, bake_setup *s, int *argc, char ***argv)
     t0 = sss_now();
     /* a signal after the bake's last poll: still nothing is written */
     sss_result w = interrupted ? sss_fail(&err, SSS_ERR_INTERRUPTED, "%s: interrupted, nothing written", outp)
-                               : sss_file_write(outp, &r.f, &err);
+                               : sss_file_write_with(outp, &r.f, &ins, &err);
     r.t_write = sss_now() - t0;
     if (w != SSS_OK) {
         fprintf(stderr, "%s: %s\n", TOOL, err.msg);

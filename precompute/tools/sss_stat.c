@@ -19,6 +19,7 @@
 #include "sss/vertex_error.h"
 #include "sss/exact.h"
 #include "sss/reconstruct.h"
+#include "sss/fileio.h"
 #include "sss/format.h"
 
 static const char *TOOL = "sss-stat";
@@ -231,6 +232,13 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
 
     sss_exact *e;
     sss_error err = {{0}};
+    const char *inputs[1] = {path};
+    const sss_inputs ins = {inputs, 1};
+    /* the image paths before anything is measured (sss/fileio.h) */
+    if (a->images_dir && !a->no_image && sss_image_error_check_outputs(a->images_dir, &ins, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
     if (sss_exact_create(f, &e, &err) != SSS_OK) {
         fprintf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
         return 1;
@@ -250,7 +258,7 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
     int have_image = 0;
     if (!a->no_image) {
         sss_image_error_opts io = {a->image_views ? a->image_views : views, seed, a->image_size, a->image_size,
-                                   a->exposure, a->interp, a->images_dir, a->near_mode, a->shadow_size};
+                                   a->exposure, a->interp, a->images_dir, a->near_mode, a->shadow_size, &ins};
         sss_error ierr = {{0}};
         r = sss_image_error_measure(f, e, &io, &ie, &ierr);
         if (r == SSS_OK) {

@@ -165,18 +165,29 @@ typedef struct sss_bake_file {
 
 /* Serialises f into a newly malloc'ed buffer (*buf, *len; caller frees). */
 sss_result sss_file_encode(const sss_bake_file *f, uint8_t **buf, size_t *len, sss_error *err);
+/* The same, with messages naming `name` (the file it is for). */
+sss_result sss_file_encode_named(const sss_bake_file *f, const char *name, uint8_t **buf, size_t *len, sss_error *err);
 
 /* Writes f to path atomically: a temporary file in the same directory,
  * fsync, rename, fsync of the directory. On failure the previous file under
- * path (if any) is untouched and no temporary is left behind. */
+ * path (if any) is untouched and no temporary is left behind. Only a path
+ * sss_output_check accepts is written (sss/fileio.h: a new or regular
+ * file, a symbolic link followed to one; never a directory or a device). */
 sss_result sss_file_write(const char *path, const sss_bake_file *f, sss_error *err);
+
+/* The same, refusing also a path that is the same file as one of the
+ * inputs (a bake's mesh, say). */
+struct sss_inputs;
+sss_result sss_file_write_with(const char *path, const sss_bake_file *f, const struct sss_inputs *in,
+                               sss_error *err);
 
 /* Decodes a complete file image. Checks every size, offset, count, checksum
  * and value range before use; never reads out of bounds. `name` is used in
  * error messages. On failure *f is left zeroed. */
 sss_result sss_file_decode(const void *buf, size_t len, const char *name, sss_bake_file *f, sss_error *err);
 
-/* Reads and decodes the file at path. */
+/* Reads and decodes the file at path: a regular file only, opened without
+ * blocking (sss/fileio.h). */
 sss_result sss_file_read(const char *path, sss_bake_file *f, sss_error *err);
 
 /* Frees everything owned by f and zeroes it. NULL-safe. */

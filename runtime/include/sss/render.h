@@ -339,20 +339,50 @@ const char *sss_fx_gpu_describe(const sss_fx_gpu *g);
 
 /* ---- images ---------------------------------------------------------------
  * Input pixels are linear RGB floats, 3 per pixel, rows bottom-up (as
- * glReadPixels returns them). The files are written in place; a failure
- * (SSS_ERR_IO, naming the path) can leave a partial file. Need no context. */
+ * glReadPixels returns them). Every image is written atomically to a path
+ * the output policy allows (sss/fileio.h: a new or regular file, a symbolic
+ * link followed to one; never a directory or a device): the target holds
+ * its old content or the complete image, never a partial one. A pixel that
+ * is not a finite number is refused (SSS_ERR_ARG, naming the pixel) and
+ * nothing is written. Failures name the path. Need no context. The _with
+ * forms refuse also a path that is the same file as one of the inputs. */
+struct sss_inputs;
 
 /* 8-bit sRGB PNG of values clamped to [0, 1]. */
 sss_result sss_write_png(const char *path, const float *rgb, int width, int height, sss_error *err);
+sss_result sss_write_png_with(const char *path, const float *rgb, int width, int height, const struct sss_inputs *in,
+                              sss_error *err);
+
+/* 8-bit RGB PNG of bytes already encoded (3 per pixel, rows bottom-up), with
+ * the sRGB chunk: a window's screenshot. */
+sss_result sss_write_png_rgb8(const char *path, const unsigned char *px, int width, int height,
+                              const struct sss_inputs *in, sss_error *err);
 
 /* 32-bit float RGB OpenEXR (ZIP compression), through the
  * OpenEXR C API. Values are written as they are (no clamp, no curve). */
 sss_result sss_write_exr(const char *path, const float *rgb, int width, int height, sss_error *err);
+sss_result sss_write_exr_with(const char *path, const float *rgb, int width, int height, const struct sss_inputs *in,
+                              sss_error *err);
 
 /* Chooses PNG (from ldr) or EXR (from hdr, or ldr when hdr is NULL) by the
  * extension, case-insensitive; SSS_ERR_ARG for any other. */
 sss_result sss_write_image(const char *path, const float *ldr, const float *hdr, int width, int height,
                            sss_error *err);
+sss_result sss_write_image_with(const char *path, const float *ldr, const float *hdr, int width, int height,
+                                const struct sss_inputs *in, sss_error *err);
+
+/* sss_write_image_with without the last step: checks the path, encodes the
+ * image into a temporary file and leaves it in a (sss/fileio.h) for the
+ * caller to sss_atomic_commit or sss_atomic_abort, so that a tool writing
+ * several images writes none when one fails. On failure nothing is left
+ * and a needs no abort. */
+struct sss_atomic;
+sss_result sss_image_stage(struct sss_atomic *a, const char *path, const float *ldr, const float *hdr, int width,
+                           int height, const struct sss_inputs *in, sss_error *err);
+
+/* 1 when path ends in .png or .exr (any case): an image sss_write_image
+ * can write. */
+int sss_image_type_known(const char *path);
 
 /* sRGB transfer function of a linear value, clamped to [0, 1] first. */
 float sss_srgb_encode(float x);

@@ -11,7 +11,6 @@
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE /* epoxy provides the GL declarations */
 #include <GLFW/glfw3.h>
-#include <png.h>
 
 #include <math.h>
 #include <stdio.h>
@@ -21,6 +20,7 @@
 
 #include "app.h"
 #include "font.h"
+#include "sss/fileio.h"
 #include "sss/render.h"
 #include "sss/vec3.h"
 
@@ -248,37 +248,13 @@ static void on_glfw_error(int code, const char *desc)
 
 /* ---- screenshots -------------------------------------------------------- */
 
-/* 8-bit RGB PNG of rows stored bottom-up (as glReadPixels returns them).
- * The pixels are already sRGB-encoded by the shader, hence the sRGB chunk
- * and no conversion (sss_write_png expects linear floats). */
-static int write_png_rgb8(const char *path, const unsigned char *px, int w, int h)
-{
-    FILE *fp = fopen(path, "wb");
-    if (!fp) return 0;
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
-    png_infop info = png ? png_create_info_struct(png) : NULL;
-    if (!png || !info || setjmp(png_jmpbuf(png))) {
-        png_destroy_write_struct(&png, &info);
-        fclose(fp);
-        return 0;
-    }
-    png_init_io(png, fp);
-    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
-    png_write_info(png, info);
-    for (int y = h - 1; y >= 0; y--) png_write_row(png, (png_const_bytep)(px + (size_t)y * (size_t)w * 3));
-    png_write_end(png, NULL);
-    png_destroy_write_struct(&png, &info);
-    return fclose(fp) == 0;
-}
-
-/* Reads the back buffer just drawn (scene + overlay) and saves it. Written
- * under a temporary name and renamed, so that anything watching for the
- * file never sees half of it. */
+/* Reads the back buffer just drawn (scene + overlay) and saves it, atomically
+ * (sss_write_png_rgb8: anything watching for the file never sees half of
+ * it), never over the .sss file shown (sss/fileio.h). The pixels are already
+ * sRGB-encoded by the shader. */
 static void save_screenshot(const app *a, int w, int h)
 {
-    char path[4096], tmp[4200];
+    char path[4096];
     if (a->opt->screenshot_path) {
         if (strlen(a->opt->screenshot_path) >= sizeof path) {
             fprintf(stderr, "%s: screenshot not saved: --screenshot path too long\n", TOOL);
@@ -307,13 +283,13 @@ static void save_screenshot(const app *a, int w, int h)
     glPixelStorei(GL_PACK_ALIGNMENT, 1); /* tightly packed RGB rows of any width */
     glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, px);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    if (!write_png_rgb8(tmp, px, w, h) || rename(tmp, path) != 0) {
-        remove(tmp);
-        fprintf(stderr, "%s: screenshot not saved: cannot write %s\n", TOOL, path);
-    } else {
+    sss_error err = {{0}};
+    const char *inputs[1] = {a->opt->file_path};
+    const sss_inputs in = {inputs, 1};
+    if (sss_write_png_rgb8(path, px, w, h, &in, &err) != SSS_OK)
+        fprintf(stderr, "%s: screenshot not saved: %s\n", TOOL, err.msg);
+    else
         fprintf(stderr, "%s: saved %s\n", TOOL, path);
-    }
     free(px);
 }
 

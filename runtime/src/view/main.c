@@ -9,6 +9,7 @@
 #include "app.h"
 #include "sss/cli.h"
 #include "sss/clock.h"
+#include "sss/fileio.h"
 #include "sss/format.h"
 #include "sss/render.h"
 
@@ -67,6 +68,8 @@ typedef struct view_args {
     double intensity;  /* --intensity: every channel of p.light_rgb */
     int tonemap, cpu;  /* --tonemap, --cpu */
     sss_view_params p;
+    const char *input[2]; /* the files read (FILE.sss, --scene): no output may be one of them */
+    sss_inputs inputs;
 } view_args;
 
 /* Reads argv into *a: the option table, then the one combination it cannot
@@ -119,6 +122,10 @@ static int parse(int argc, char **argv, view_args *a)
     if (rc != SSS_CLI_RUN) return rc;
     if (a->offscreen && !a->out && !a->nbench) {
         fprintf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL);
+        return 2;
+    }
+    if (a->out && !sss_image_type_known(a->out)) {
+        fprintf(stderr, "%s: --out %s: unknown image type (use .png or .exr)\n", TOOL, a->out);
         return 2;
     }
     for (int k = 0; k < 3; k++) a->p.light_rgb[k] = a->intensity;
@@ -216,7 +223,7 @@ static int offscreen_render(const sss_bake_file *f, view_args *a)
     if (a->out) {
         float *rgb, *hdr;
         if (sss_renderer_render_image(r, &a->p, w, h, &rgb, &hdr, &err) != SSS_OK ||
-            sss_write_image(a->out, rgb, hdr, w, h, &err) != SSS_OK) {
+            sss_write_image_with(a->out, rgb, hdr, w, h, &a->inputs, &err) != SSS_OK) {
             fprintf(stderr, "%s: %s\n", TOOL, err.msg);
             rc = 1;
         } else {
@@ -331,7 +338,7 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
             sss_scene_eval_frame(ev, 0.0, q);
         }
         if (sss_renderer_render_q_image(r, &a->p, q, w, h, &rgb, &hdr, &err) != SSS_OK ||
-            sss_write_image(a->out, rgb, hdr, w, h, &err) != SSS_OK) {
+            sss_write_image_with(a->out, rgb, hdr, w, h, &a->inputs, &err) != SSS_OK) {
             fprintf(stderr, "%s: %s\n", TOOL, err.msg);
             rc = 1;
         } else {
@@ -417,8 +424,17 @@ int main(int argc, char **argv)
     view_args a;
     int rc = parse(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;
-    sss_bake_file f;
     sss_error err = {{0}};
+    a.input[0] = a.path;
+    a.input[1] = a.scene;
+    a.inputs = (sss_inputs){a.input, a.scene ? 2 : 1};
+    /* the output before anything is read or drawn (sss/fileio.h); the
+     * writer checks it again */
+    if (a.out && sss_output_check(a.out, &a.inputs, NULL, &err) != SSS_OK) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    sss_bake_file f;
     if (sss_file_read(a.path, &f, &err) != SSS_OK) {
         fprintf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
