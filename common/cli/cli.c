@@ -4,6 +4,7 @@
 #include "sss/cli.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -114,15 +115,23 @@ static int read_triple(const char *s, double out[3])
     return 1;
 }
 
-/* "WxH" as sss-view's --size has read it: sscanf's "%dx%d", so blanks
- * before W and before H pass, and nothing may follow H. */
+/* "WxH" as sss-view's --size has read it (sscanf's "%dx%d": blanks before W
+ * and before H pass, and nothing may follow H), read with strtol so that a
+ * number beyond int is refused instead of wrapping modulo 2^32 (sscanf's
+ * %d overflow is undefined; glibc wraps 4294967396 to 100). */
 static int read_size(const char *s, double lo, double hi, int out[2])
 {
-    int w, h;
-    char tail;
-    if (sscanf(s, "%dx%d%c", &w, &h, &tail) != 2 || w < lo || h < lo || w > hi || h > hi) return 0;
-    out[0] = w;
-    out[1] = h;
+    long v[2];
+    const char *p = s;
+    for (int k = 0; k < 2; k++) {
+        char *end;
+        errno = 0;
+        v[k] = strtol(p, &end, 10);
+        if (end == p || errno || (k == 0 ? *end != 'x' : *end != 0) || v[k] < lo || v[k] > hi) return 0;
+        p = end + 1;
+    }
+    out[0] = (int)v[0];
+    out[1] = (int)v[1];
     return 1;
 }
 
@@ -152,7 +161,11 @@ int sss_cli_value(const sss_cli *cli, const sss_cli_opt *o, const char *opt, con
     case SSS_CLI_TRIPLE: {
         double t[3];
         if (!read_triple(text, t)) return bad(cli, o, o->msg, opt, text);
-        if ((o->flags & SSS_CLI_NONZERO) && t[0] == 0 && t[1] == 0 && t[2] == 0)
+        /* a direction: its length, squared, a positive normal number, so
+         * that normalising it neither divides by 0 nor overflows (a huge
+         * --light gave NaN pictures) */
+        const double l2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2];
+        if ((o->flags & SSS_CLI_NONZERO) && !(l2 >= DBL_MIN && l2 <= DBL_MAX))
             return bad(cli, o, o->msg2 ? o->msg2 : "%s: %s: '%s' is not a direction\n", opt, text);
         memcpy(o->dest, t, sizeof t);
         break;

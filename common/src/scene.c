@@ -240,6 +240,15 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
         if ((r = get_vec3(c, t, p, "translate", 0, -1e12, 1e12, out->translate)) != SSS_OK) return r;
         if ((r = get_vec3(c, t, p, "rotate_deg", 0, -1e6, 1e6, out->rotate_deg)) != SSS_OK) return r;
         if ((r = get_number(c, t, p, "scale", 0, 1e-12, 1e12, &out->scale)) != SSS_OK) return r;
+        /* the object is baked at mm_per_unit / scale mm per world unit: the
+         * bake's own range (sss/mesh.h) */
+        const double mpw = out->mm_per_unit / out->scale;
+        if (!(mpw >= SSS_MM_PER_UNIT_MIN && mpw <= SSS_MM_PER_UNIT_MAX)) {
+            char ps[540];
+            join(ps, sizeof ps, p, "scale");
+            return fail_at(c, ps, "mm_per_unit / scale = %g mm per world unit is outside [%g, %g]", mpw,
+                           SSS_MM_PER_UNIT_MIN, SSS_MM_PER_UNIT_MAX);
+        }
     }
     return SSS_OK;
 }
@@ -437,6 +446,8 @@ sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mes
                     (float)(o->scale * (R[3 * k] * p[0] + R[3 * k + 1] * p[1] + R[3 * k + 2] * p[2]) + o->translate[k]);
         }
     r = sss_mesh_compute_normals_areas(out, o->name, err);
+    /* placed, in the range every stage computes in (sss/mesh.h) */
+    if (r == SSS_OK) r = sss_mesh_check_range(out, sss_scene_object_mm_per_world_unit(o), o->name, err);
     if (r != SSS_OK) sss_mesh_free(out);
     return r;
 }

@@ -72,10 +72,16 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
     }
     for (uint32_t i = 0; i < sc.nobjects; i++) {
         sss_mesh m;
-        if (sss_import_mesh(sc.objects[i].mesh, &m, NULL, &err) != SSS_OK) {
+        sss_import_report rep;
+        if (sss_import_mesh(sc.objects[i].mesh, &m, &rep, &err) != SSS_OK) {
             fprintf(stderr, "%s: %s: /objects/%u/mesh: %s\n", tool, sc.path, i, err.msg);
             rc = 1;
             goto done;
+        }
+        {
+            char prefix[1200];
+            snprintf(prefix, sizeof prefix, "%s: %s", tool, sc.objects[i].mesh);
+            sss_import_print_warnings(&rep, prefix, stderr); /* as a plain bake prints them */
         }
         sss_result r = sss_scene_object_world(&sc.objects[i], &m, &world[i], &err);
         sss_mesh_free(&m);

@@ -116,6 +116,13 @@ static int parse_light(const char *path, const char *s, double l[3])
         fprintf(stderr, "%s: %s: --light '%s' is the zero vector: give a direction towards the light\n", TOOL, path, s);
         return 0;
     }
+    /* normalising must neither overflow nor divide by an underflowed length */
+    const double l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+    if (!(l2 >= DBL_MIN && l2 <= DBL_MAX)) {
+        fprintf(stderr, "%s: %s: --light '%s': its length is too small or too large to be a direction\n", TOOL, path,
+                s);
+        return 0;
+    }
     return 1;
 }
 
@@ -509,7 +516,8 @@ static int parse_args(int argc, char **argv, stat_args *a)
         {.name = "--image-size", .kind = SSS_CLI_INT, .dest = &a->ea.image_size, .lo = 16, .hi = 4096,
          .given = &a->image_opt},
         /* strtod's own reading: an underflow to a tiny positive number is taken */
-        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->ea.exposure, .lo = 0, .hi = DBL_MAX,
+        /* at most SSS_VIEW_GAIN_MAX: q · exposure stays inside float (1e38 drew NaN images) */
+        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->ea.exposure, .lo = 0, .hi = SSS_VIEW_GAIN_MAX,
          .flags = SSS_CLI_ABOVE_LO | SSS_CLI_LAX, .given = &a->image_opt,
          .msg = "%s: %s '%s' must be a positive number\n"},
         {.name = "--error-images", .kind = SSS_CLI_STRING, .dest = &a->ea.images_dir, .flags = SSS_CLI_NONEMPTY,

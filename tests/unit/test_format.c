@@ -987,7 +987,7 @@ static void decodeRejectsBadMaterial(void **state)
     t_split(b, len, &u);
     wrf64(t_find(&u, "MATL")->data + 32, 0.0);
     wrf64(t_find(&u, "MATL")->data + 56, 0.0);
-    expect_reject_t(&u, SSS_ERR_CORRUPT, "not positive");
+    expect_reject_t(&u, SSS_ERR_CORRUPT, "sigma'_t = 0");
     t_free(&u);
     free(b);
     /* grey file: MATL says 1 channel, q has 3 per vertex -> size mismatch */

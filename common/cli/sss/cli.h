@@ -60,12 +60,13 @@ typedef enum sss_cli_kind {
     SSS_CLI_INT,
     /* ((double *)dest)[0..2]: "X,Y,Z", three numbers read as SSS_CLI_DOUBLE
      * (no range) with exactly one comma between them; with SSS_CLI_NONZERO
-     * not all three zero (a direction).
+     * a direction: its squared length a positive normal double (not all
+     * zero, not so small or large that normalising it fails).
      * Default messages: "%s: %s: '%s' must be three numbers X,Y,Z\n";
      * all zero (msg2): "%s: %s: '%s' is not a direction\n". */
     SSS_CLI_TRIPLE,
-    /* ((int *)dest)[0..1] = W, H: "WxH" as sscanf's "%dx%d" reads it, each
-     * in [lo, hi], nothing after H.
+    /* ((int *)dest)[0..1] = W, H: "WxH" as sscanf's "%dx%d" reads it (blanks
+     * before W and H), each in [lo, hi] without wrapping, nothing after H.
      * Default message: "%s: %s: '%s' must be WxH with each in [%d, %d]\n". */
     SSS_CLI_SIZE,
     /* *(int *)dest = values[k] (or k when values is NULL) for the text equal
@@ -90,7 +91,8 @@ enum {
      * number like any other, an empty text reads as 0; only characters after
      * the number and the range refuse it. */
     SSS_CLI_LAX = 1u << 1,
-    /* SSS_CLI_TRIPLE: all three zero is refused with msg2. */
+    /* SSS_CLI_TRIPLE: no direction (all zero, or a length that underflows or
+     * overflows when squared) is refused with msg2. */
     SSS_CLI_NONZERO = 1u << 2,
     /* An option whose value is the empty string has no value (need message):
      * sss-stat's --error-images "" is a missing directory. */

@@ -25,6 +25,20 @@ extern "C" {
  * that their bytes do not change with 1.2, which only scene bakes use. */
 #define SSS_FORMAT_MINOR_PLAIN 1
 #define SSS_MAX_SECTIONS 32
+/* The largest magnitude of any stored value of q, or of a quantity built
+ * from q alone (Lloyd levels, SH codes' tables and scales, the exact
+ * values of QDIR, the transfer T_i of ENVT, the shells of PSHL), and of the
+ * probe coefficients L_i of ENVT. q is a fraction of the irradiance per sr
+ * (Hao–Varshney 2004 §3.1; a physical bake stays below about 10), so 1e6
+ * is far above anything a bake makes; with it every sum a decoder forms
+ * (three rows, 64 SH terms, blended references with weights within ±16,
+ * Σ_i T_i L_i) stays finite in float: an accepted file decodes to finite q
+ * >= 0 by construction (docs/format.md §6, docs/robustness.md "Values"). */
+#define SSS_VALUE_MAX 1e6
+#define SSS_PROBE_SH_MAX 1e30
+/* The smallest point-light shell radius (PSHL, world units): q_pt = stored
+ * / r² with r clamped at the first shell stays below 1e36 (sss_fx_point). */
+#define SSS_SHELL_RADIUS_MIN 1e-15
 /* sss_bake_file.near_terms: own term split off (section OWNT, format 1.3) */
 #define SSS_NEAR_TERMS_RUNTIME 1u
 #define SSS_NEAR_RINGS_MAX 8u

@@ -137,8 +137,9 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     if (o.mm_per_unit == 0) o.mm_per_unit = 1.0;
     if (o.n_dirs == 0) o.n_dirs = 200;
     if (o.eps == 0) o.eps = 1e-3;
-    if (!(o.mm_per_unit > 0) || !isfinite(o.mm_per_unit))
-        return sss_fail(err, SSS_ERR_ARG, "--mm-per-unit %g must be a finite number > 0", o.mm_per_unit);
+    if (!(o.mm_per_unit >= SSS_MM_PER_UNIT_MIN && o.mm_per_unit <= SSS_MM_PER_UNIT_MAX))
+        return sss_fail(err, SSS_ERR_ARG, "--mm-per-unit %g must be a number in [%g, %g]", o.mm_per_unit,
+                        SSS_MM_PER_UNIT_MIN, SSS_MM_PER_UNIT_MAX);
     if (!(o.eps > 0 && o.eps < 1)) return sss_fail(err, SSS_ERR_ARG, "eps %g must be in (0, 1)", o.eps);
     if ((o.near_terms && o.near_terms != SSS_NEAR_TERMS_RUNTIME) || o.near_rings > SSS_NEAR_RINGS_MAX)
         return sss_fail(err, SSS_ERR_ARG, "own term %u with %u rings: rings must be 0 ... %u", o.near_terms, o.near_rings,
@@ -160,6 +161,10 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     sss_weights nb = {0};
     float *G = NULL;
     r = copy_mesh(mesh_in, &out->mesh, err);
+    if (r != SSS_OK) goto fail;
+    /* the geometry's range in mm (sss/mesh.h): Embree, FLANN and the tree
+     * gather compute in float */
+    r = sss_mesh_check_range(&out->mesh, o.mm_per_unit, "mesh", err);
     if (r != SSS_OK) goto fail;
     const sss_mesh *mesh = &out->mesh;
     r = sss_dirset_fibonacci(&out->dirs, o.n_dirs, err);

@@ -146,10 +146,10 @@ sss_result sss_src_open(src *s, const char *path, sss_error *err)
 sss_result sss_src_read(src *s, size_t n, sss_error *err)
 {
     if (n <= s->have) return SSS_OK;
-    char *m = realloc(s->mem, SLACK + n + 1);
+    char *m = realloc(s->mem, SLACK + s->skip + n + 1);
     if (!m) return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %zu bytes", s->name, n);
     s->mem = m;
-    s->data = m + SLACK;
+    s->data = m + SLACK + s->skip;
     while (s->have < n) {
         size_t got = fread(s->data + s->have, 1, n - s->have, s->f);
         if (got == 0) {
@@ -163,6 +163,16 @@ sss_result sss_src_read(src *s, size_t n, sss_error *err)
 }
 
 sss_result sss_src_read_all(src *s, sss_error *err) { return sss_src_read(s, (size_t)s->size, err); }
+
+int sss_src_drop_bom(src *s)
+{
+    if (s->skip || s->have < 3 || memcmp(s->data, "\xEF\xBB\xBF", 3) != 0) return 0;
+    s->skip = 3;
+    s->data += 3;
+    s->have -= 3;
+    s->size -= 3;
+    return 1;
+}
 
 void sss_src_close(src *s)
 {

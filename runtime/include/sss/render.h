@@ -98,6 +98,11 @@ typedef enum sss_tonemap {
     SSS_TONEMAP_REINHARD = 1 /* x / (1 + x) after exposure: for viewing bright scenes */
 } sss_tonemap;
 
+/* The largest exposure and light irradiance the tools accept: with every
+ * stored value at most SSS_VALUE_MAX (sss/format.h), q · E · exposure stays
+ * below 1e30, far inside float (docs/robustness.md, "Values"). */
+#define SSS_VIEW_GAIN_MAX 1e12
+
 /* Everything a frame depends on. Directions need not be normalised. */
 typedef struct sss_view_params {
     double light[3];      /* towards the light, world (= mesh) space */

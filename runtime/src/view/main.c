@@ -87,7 +87,7 @@ static int parse(int argc, char **argv, view_args *a)
     static const int visibility_values[] = {SSS_NEAR_RAYS, SSS_NEAR_MAP};
     static const int off[] = {0};
     /* sss-view's own wordings where they differ from the library's defaults */
-    static const char *const positive = "%s: %s: '%s' must be a number > 0\n";
+    static const char *const positive = "%s: %s: '%s' must be a number > %g and <= %g\n";
     const sss_cli_opt opts[] = {
         {.name = "--offscreen", .kind = SSS_CLI_FLAG, .dest = &a->offscreen},
         {.name = "--out", .kind = SSS_CLI_STRING, .dest = &a->out},
@@ -95,9 +95,11 @@ static int parse(int argc, char **argv, view_args *a)
         {.name = "--size", .kind = SSS_CLI_SIZE, .dest = a->size, .lo = 1, .hi = 16384},
         {.name = "--light", .kind = SSS_CLI_TRIPLE, .dest = a->p.light, .flags = SSS_CLI_NONZERO},
         {.name = "--view", .kind = SSS_CLI_TRIPLE, .dest = a->p.view, .flags = SSS_CLI_NONZERO},
-        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->p.exposure, .lo = 0, .hi = INFINITY,
+        /* at most 1e12 each: with the stored values' bound (SSS_VALUE_MAX)
+         * q · E · exposure stays far inside float (docs/robustness.md) */
+        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->p.exposure, .lo = 0, .hi = SSS_VIEW_GAIN_MAX,
          .flags = SSS_CLI_ABOVE_LO, .msg = positive},
-        {.name = "--intensity", .kind = SSS_CLI_DOUBLE, .dest = &a->intensity, .lo = 0, .hi = INFINITY,
+        {.name = "--intensity", .kind = SSS_CLI_DOUBLE, .dest = &a->intensity, .lo = 0, .hi = SSS_VIEW_GAIN_MAX,
          .flags = SSS_CLI_ABOVE_LO, .msg = positive},
         {.name = "--tonemap", .kind = SSS_CLI_CHOICE, .dest = &a->tonemap, .choices = tonemaps,
          .values = tonemap_values},
