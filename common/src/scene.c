@@ -63,12 +63,21 @@ static void join(char *out, size_t n, const char *parent, const char *key)
 
 static void join_index(char *out, size_t n, const char *parent, int i) { snprintf(out, n, "%s/%d", parent, i); }
 
-/* Refuses keys of obj not in `allowed` (NULL-terminated). */
+/* Refuses keys of obj not in `allowed` (NULL-terminated, at most 16), and a
+ * key given twice: cJSON keeps both and a lookup finds the first, so the
+ * second would be silently ignored. */
 static sss_result only_keys(const ctx *c, const cJSON *obj, const char *jpath, const char *const *allowed)
 {
+    unsigned seen = 0;
     for (const cJSON *it = obj->child; it; it = it->next) {
-        int ok = 0;
-        for (const char *const *a = allowed; *a && !ok; a++) ok = !strcmp(*a, it->string);
+        int ok = 0, idx = 0;
+        for (const char *const *a = allowed; *a && !ok; a++, idx++) ok = !strcmp(*a, it->string);
+        if (ok && (seen >> (idx - 1) & 1u)) {
+            char p[512];
+            join(p, sizeof p, jpath, it->string);
+            return fail_at(c, p, "given twice (a key may appear once in an object)");
+        }
+        if (ok) seen |= 1u << (idx - 1);
         if (!ok) {
             char p[512];
             join(p, sizeof p, jpath, it->string);
@@ -218,6 +227,9 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
             if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') || *s == '-' ||
                   *s == '_' || *s == '.'))
                 return fail_at(c, p, "'%s': only letters, digits, '-', '_' and '.' are allowed", nm->valuestring);
+        /* a leading '.' makes a hidden file ("." gives DIR/..sss) */
+        if (nm->valuestring[0] == '.')
+            return fail_at(c, p, "'%s': a name may not start with '.' (it names the object's file)", nm->valuestring);
         snprintf(out->name, sizeof out->name, "%s", nm->valuestring);
     }
     if ((r = get_path(c, o, jpath, "mesh", out->mesh)) != SSS_OK) return r;
@@ -340,6 +352,26 @@ sss_result sss_scene_parse(const char *text, const char *path, sss_scene *out, s
         if (n >= sizeof c.dir) return sss_fail(err, SSS_ERR_ARG, "%s: path too long", c.file);
         memcpy(c.dir, c.file, n);
         c.dir[n] = 0;
+    }
+    /* cJSON decodes the escape \u0000 to a NUL that ends the string there:
+     * "a\u0000b" would be read as "a" with no word said. No name, key or
+     * path can hold a NUL: refused, with its line. */
+    {
+        int line = 1, in_str = 0;
+        for (const char *q = text; *q; q++) {
+            if (*q == '\n') line++;
+            if (!in_str) {
+                in_str = *q == '"';
+                continue;
+            }
+            if (*q == '"') in_str = 0;
+            else if (*q == '\\' && q[1]) {
+                if (q[1] == 'u' && q[2] == '0' && q[3] == '0' && q[4] == '0' && q[5] == '0')
+                    return sss_fail(err, SSS_ERR_ARG, "%s: line %d: a string holds \\u0000 (no name, key or path may "
+                                    "hold a NUL)", c.file, line);
+                q++; /* the escaped character, '"' and '\\' included */
+            }
+        }
     }
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(text, &end, 1);

@@ -55,10 +55,10 @@ int main(int argc, char **argv)
     sss_error err = {{0}};
     if (sss_gen_by_name(a.kind, (unsigned)a.res, a.size, &m, &err) != SSS_OK ||
         sss_export_ply(a.out, &m, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
-    fprintf(stderr, "%s: %s: %u vertices, %u triangles\n", TOOL, a.out, m.nv, m.nf);
+    sss_cli_printf(stderr, "%s: %s: %u vertices, %u triangles\n", TOOL, a.out, m.nv, m.nf);
     sss_mesh_free(&m);
     return 0;
 }

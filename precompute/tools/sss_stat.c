@@ -20,6 +20,7 @@
 #include "sss/exact.h"
 #include "sss/reconstruct.h"
 #include "sss/fileio.h"
+#include "sss/jsontext.h"
 #include "sss/format.h"
 
 static const char *TOOL = "sss-stat";
@@ -73,7 +74,7 @@ static int parse_vertex(const char *path, const char *s, uint32_t nv, uint32_t *
     const char *p = s;
     while (isspace((unsigned char)*p)) p++;
     if (*p == '-') {
-        fprintf(stderr, "%s: %s: --query '%s': a vertex index cannot be negative (the file has vertices 0 ... %u)\n",
+        sss_cli_printf(stderr, "%s: %s: --query '%s': a vertex index cannot be negative (the file has vertices 0 ... %u)\n",
                 TOOL, path, s, nv - 1);
         return 0;
     }
@@ -81,13 +82,13 @@ static int parse_vertex(const char *path, const char *s, uint32_t nv, uint32_t *
     for (const char *q = p; *q; q++)
         if (!isdigit((unsigned char)*q)) digits = 0;
     if (!digits) {
-        fprintf(stderr, "%s: %s: --query '%s' is not a vertex index (an integer in [0, %u])\n", TOOL, path, s, nv - 1);
+        sss_cli_printf(stderr, "%s: %s: --query '%s' is not a vertex index (an integer in [0, %u])\n", TOOL, path, s, nv - 1);
         return 0;
     }
     errno = 0;
     unsigned long long v = strtoull(p, NULL, 10);
     if (errno || v >= nv) {
-        fprintf(stderr, "%s: %s: --query %s: vertex index out of range: the file has %u vertices (0 ... %u)\n", TOOL,
+        sss_cli_printf(stderr, "%s: %s: --query %s: vertex index out of range: the file has %u vertices (0 ... %u)\n", TOOL,
                 path, s, nv, nv - 1);
         return 0;
     }
@@ -103,23 +104,23 @@ static int parse_light(const char *path, const char *s, double l[3])
         char *end;
         l[k] = strtod(p, &end);
         if (end == p || (k < 2 ? *end != ',' : *end != 0)) {
-            fprintf(stderr, "%s: %s: --light '%s' must be three numbers X,Y,Z\n", TOOL, path, s);
+            sss_cli_printf(stderr, "%s: %s: --light '%s' must be three numbers X,Y,Z\n", TOOL, path, s);
             return 0;
         }
         p = end + 1;
     }
     if (!isfinite(l[0]) || !isfinite(l[1]) || !isfinite(l[2])) {
-        fprintf(stderr, "%s: %s: --light '%s': every component must be a finite number\n", TOOL, path, s);
+        sss_cli_printf(stderr, "%s: %s: --light '%s': every component must be a finite number\n", TOOL, path, s);
         return 0;
     }
     if (l[0] == 0.0 && l[1] == 0.0 && l[2] == 0.0) {
-        fprintf(stderr, "%s: %s: --light '%s' is the zero vector: give a direction towards the light\n", TOOL, path, s);
+        sss_cli_printf(stderr, "%s: %s: --light '%s' is the zero vector: give a direction towards the light\n", TOOL, path, s);
         return 0;
     }
     /* normalising must neither overflow nor divide by an underflowed length */
     const double l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
     if (!(l2 >= DBL_MIN && l2 <= DBL_MAX)) {
-        fprintf(stderr, "%s: %s: --light '%s': its length is too small or too large to be a direction\n", TOOL, path,
+        sss_cli_printf(stderr, "%s: %s: --light '%s': its length is too small or too large to be a direction\n", TOOL, path,
                 s);
         return 0;
     }
@@ -134,13 +135,13 @@ static int query(const char *path, const sss_bake_file *f, const char *vs, const
     if (!parse_vertex(path, vs, f->mesh.nv, &v) || !parse_light(path, ls, light)) return 2;
     sss_exact *e;
     sss_error err = {{0}};
-    if (sss_exact_create(f, &e, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
+    if (sss_exact_create_limited(f, sss_cli_memory_limit(), &e, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
         return 1;
     }
     sss_reconstruct *rc = NULL;
     if (sss_reconstruct_create(f, &rc, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: reconstruction: %s\n", TOOL, path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: reconstruction: %s\n", TOOL, path, err.msg);
         sss_exact_destroy(e);
         return 1;
     }
@@ -196,6 +197,7 @@ static int query(const char *path, const sss_bake_file *f, const char *vs, const
             cJSON_AddItemToArray(rr, ex[c] != 0.0f ? cJSON_CreateNumber(diff[c] / ex[c]) : cJSON_CreateNull());
         }
         cJSON_AddNumberToObject(o, "max_abs_difference", maxdiff);
+        sss_json_utf8(o); /* valid JSON whatever the bytes of a file name (sss/jsontext.h) */
         char *s = cJSON_PrintUnformatted(o);
         puts(s);
         free(s);
@@ -243,18 +245,18 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
     const sss_inputs ins = {inputs, 1};
     /* the image paths before anything is measured (sss/fileio.h) */
     if (a->images_dir && !a->no_image && sss_image_error_check_outputs(a->images_dir, &ins, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
-    if (sss_exact_create(f, &e, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
+    if (sss_exact_create_limited(f, sss_cli_memory_limit(), &e, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
         return 1;
     }
     sss_vertex_error ve;
     sss_result r = sss_vertex_error_vs_exact_interp(f, e, views, seed, a->interp, &ve, &err);
     if (r != SSS_OK) {
         sss_exact_destroy(e);
-        fprintf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
         return 1;
     }
     /* image-space error (§3.3): unavailable without OpenGL, which is said
@@ -273,10 +275,10 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
             snprintf(image_status, sizeof image_status, "ok");
         } else if (r == SSS_ERR_UNSUPPORTED) {
             snprintf(image_status, sizeof image_status, "unavailable: %s", ierr.msg);
-            fprintf(stderr, "%s: %s: image error unavailable (no OpenGL 4.3 context): %s\n", TOOL, path, ierr.msg);
+            sss_cli_printf(stderr, "%s: %s: image error unavailable (no OpenGL 4.3 context): %s\n", TOOL, path, ierr.msg);
         } else {
             sss_exact_destroy(e);
-            fprintf(stderr, "%s: %s: image error: %s\n", TOOL, path, ierr.msg);
+            sss_cli_printf(stderr, "%s: %s: image error: %s\n", TOOL, path, ierr.msg);
             return 1;
         }
     }
@@ -336,6 +338,7 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
         } else {
             cJSON_AddNullToObject(o, "image_error");
         }
+        sss_json_utf8(o); /* valid JSON whatever the bytes of a file name (sss/jsontext.h) */
         char *s = cJSON_PrintUnformatted(o);
         puts(s);
         free(s);
@@ -435,6 +438,7 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         }
         cJSON *p = f->params_json ? cJSON_Parse(f->params_json) : NULL;
         if (p) cJSON_AddItemToObject(o, "params", p);
+        sss_json_utf8(o); /* valid JSON whatever the bytes of a file name (sss/jsontext.h) */
         char *s = cJSON_PrintUnformatted(o);
         puts(s);
         free(s);
@@ -463,8 +467,13 @@ static int summary(const char *path, const sss_bake_file *f, int json)
             if (part[k].bytes)
                 printf("  %-24s %14llu %12.3f\n", part[k].name, (unsigned long long)part[k].bytes,
                        (double)part[k].bytes / nv);
-        printf("  %-24s %14llu %12.3f  (%.1fx smaller than 8-bit, %.1fx than float)\n", "all", (unsigned long long)st.total,
-               sbpv, raw8 / sbpv, rawf / sbpv);
+        /* a ratio below 1 is a file larger than the raw values (small
+         * meshes, scene bakes): said so, not "0.2x smaller" */
+        char r8[48], rf[48];
+        snprintf(r8, sizeof r8, raw8 / sbpv >= 1.0 ? "%.1fx smaller" : "%.1fx larger", raw8 / sbpv >= 1.0 ? raw8 / sbpv : sbpv / raw8);
+        snprintf(rf, sizeof rf, rawf / sbpv >= 1.0 ? "%.1fx smaller" : "%.1fx larger", rawf / sbpv >= 1.0 ? rawf / sbpv : sbpv / rawf);
+        printf("  %-24s %14llu %12.3f  (%s than 8-bit, %s than float)\n", "all", (unsigned long long)st.total, sbpv, r8,
+               rf);
     }
     return 0;
 }
@@ -539,21 +548,43 @@ static int parse_args(int argc, char **argv, stat_args *a)
     return sss_cli_parse(&cli, argc, argv);
 }
 
+/* --query and --error measure the stored direction set (Hao–Varshney 2004
+ * §3.2) against the exact evaluator, which recomputes q from the file's
+ * mesh alone. A scene bake without a direction set (its lights are other
+ * effects: a static light's exact row, shells, SH) has nothing to
+ * interpolate, and one whose shadows come from other objects of its scene
+ * cannot be recomputed from the file: either would be measured as a 100 %
+ * error that is not one, so they are refused. 1 when measurable. */
+static int measurable(const char *path, const sss_bake_file *f)
+{
+    if (f->fx.mask && !(f->fx.mask & SSS_FX_DIR_SET)) {
+        sss_cli_printf(stderr, "%s: %s: --query and --error measure a direction set, and this scene bake has none (its "
+                       "lights are baked by other effects: see sss-stat without options)\n", TOOL, path);
+        return 0;
+    }
+    if (f->fx.mask & SSS_FX_SCENE_SHADOW) {
+        sss_cli_printf(stderr, "%s: %s: --query and --error recompute q from this file alone, and its shadows come from "
+                       "other objects of its scene (effect scene-shadow)\n", TOOL, path);
+        return 0;
+    }
+    return 1;
+}
+
 /* The combinations of options, checked once the file has been read (an
  * unreadable file is reported first, exit status 1). 1 if they go together,
  * else 0 after the message. */
 static int combinations_ok(const stat_args *a)
 {
     if ((a->image_opt || a->ea.no_image || a->interp != SSS_INTERP_TRIANGLE) && !a->want_error) {
-        fprintf(stderr, "%s: --image-views, --image-size, --exposure, --error-images, --no-image and --interp go with --error\n", TOOL);
+        sss_cli_printf(stderr, "%s: --image-views, --image-size, --exposure, --error-images, --no-image and --interp go with --error\n", TOOL);
         return 0;
     }
     if (a->ea.no_image && a->image_opt) {
-        fprintf(stderr, "%s: --no-image excludes the image options\n", TOOL);
+        sss_cli_printf(stderr, "%s: --no-image excludes the image options\n", TOOL);
         return 0;
     }
     if (a->qvertex && a->want_error) {
-        fprintf(stderr, "%s: --query and --error exclude each other\n", TOOL);
+        sss_cli_printf(stderr, "%s: --query and --error exclude each other\n", TOOL);
         return 0;
     }
     return 1;
@@ -565,17 +596,18 @@ int main(int argc, char **argv)
     int rc = parse_args(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;
     if (!a.qvertex != !a.qlight) {
-        fprintf(stderr, "%s: %s needs %s (see --help)\n", TOOL, a.qvertex ? "--query" : "--light",
+        sss_cli_printf(stderr, "%s: %s needs %s (see --help)\n", TOOL, a.qvertex ? "--query" : "--light",
                 a.qvertex ? "--light X,Y,Z" : "--query VERTEX");
         return 2;
     }
     sss_bake_file f;
     sss_error err = {{0}};
     if (sss_file_read(a.path, &f, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
     if (!combinations_ok(&a)) rc = 2;
+    else if ((a.qvertex || a.want_error) && !measurable(a.path, &f)) rc = 1;
     else if (a.qvertex) rc = query(a.path, &f, a.qvertex, a.qlight, a.json);
     else if (a.want_error) {
         a.ea.views = a.views;

@@ -221,6 +221,27 @@ int sss_cli_parse_u32(const char *tool, const char *opt, const char *s, uint32_t
 int sss_cli_parse_triple(const char *tool, const char *opt, const char *s, double out[3]);
 
 /* Peak resident memory of this process in MiB (getrusage; 0 if that fails). */
+/* fprintf for the tools' messages (README.md, "Errors": one line each):
+ * every control character of the formatted text, except a last '\n', is
+ * written as '?', so that a file name holding a newline or an escape
+ * sequence cannot split a message or drive the terminal. Returns
+ * fprintf's count. */
+int sss_cli_printf(FILE *f, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* s copied into buf (n bytes, truncated) with its control characters shown
+ * as '?': a path for a line of text the tool prints itself. Returns buf. */
+char *sss_cli_shown(const char *s, char *buf, size_t n);
+
+/* The memory limit a tool passes to the plans of the libraries
+ * (sss/memory.h): SSS_MEMORY_LIMIT_MB, in bytes (a share of a machine used
+ * by others; the tests use it to exercise the refusals); 0 when unset or not
+ * a positive integer. */
+uint64_t sss_cli_memory_limit(void);
+
 double sss_cli_peak_rss_mib(void);
 
 /* The part of path after its last '/' (a pointer into path, not a copy). */

@@ -20,38 +20,10 @@
 #include "kernels/thickness.h"
 #include "sss/compress.h"
 #include "sss/lloyd.h"
+#include "sss/memory.h"
 #include "sss/nbhd.h"
 #include "sss/transfer.h"
 #include "sss/visibility.h"
-
-/* Memory this process may still use: MemAvailable from /proc/meminfo
- * (Linux), else all physical memory; 0 if unknown (no limit). A caller's
- * limit (sss_bake_options.memory_limit: a share of a machine used by
- * others; the tests use it to exercise the refusal) lowers it. */
-static uint64_t memory_available_system(void);
-static uint64_t memory_available(uint64_t limit)
-{
-    uint64_t sys = memory_available_system();
-    if (limit && (!sys || limit < sys)) sys = limit;
-    return sys;
-}
-
-static uint64_t memory_available_system(void)
-{
-    FILE *f = fopen("/proc/meminfo", "r");
-    if (f) {
-        char line[256];
-        unsigned long long kb;
-        while (fgets(line, sizeof line, f))
-            if (sscanf(line, "MemAvailable: %llu kB", &kb) == 1) {
-                fclose(f);
-                return (uint64_t)kb * 1024u;
-            }
-        fclose(f);
-    }
-    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
-    return pages > 0 && size > 0 ? (uint64_t)pages * (uint64_t)size : 0;
-}
 
 static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
 {
@@ -221,7 +193,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     /* Say so before starting when the bake cannot fit in memory: the
      * transfer table G and the integrals are sized by the input; the
      * neighbourhood rows are counted before they are allocated. */
-    uint64_t avail = memory_available(o.memory_limit);
+    uint64_t avail = sss_memory_available(o.memory_limit);
     uint64_t fixed = (uint64_t)mesh->nv * o.n_dirs * (4u + 4u * C + (o.quant == SSS_QUANT_LLOYD8 ? C : 0u));
     const size_t nq = (size_t)o.n_dirs * mesh->nv * C;
     double t;

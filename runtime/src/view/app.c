@@ -20,6 +20,7 @@
 
 #include "app.h"
 #include "font.h"
+#include "sss/cli.h"
 #include "sss/fileio.h"
 #include "sss/render.h"
 #include "sss/vec3.h"
@@ -257,7 +258,7 @@ static void save_screenshot(const app *a, int w, int h)
     char path[4096];
     if (a->opt->screenshot_path) {
         if (strlen(a->opt->screenshot_path) >= sizeof path) {
-            fprintf(stderr, "%s: screenshot not saved: --screenshot path too long\n", TOOL);
+            sss_cli_printf(stderr, "%s: screenshot not saved: --screenshot path too long\n", TOOL);
             return;
         }
         snprintf(path, sizeof path, "%s", a->opt->screenshot_path);
@@ -269,13 +270,13 @@ static void save_screenshot(const app *a, int w, int h)
             if (stat(path, &st) != 0) break;
         }
         if (n > 999) {
-            fprintf(stderr, "%s: screenshot not saved: sss-view-001.png ... sss-view-999.png all exist\n", TOOL);
+            sss_cli_printf(stderr, "%s: screenshot not saved: sss-view-001.png ... sss-view-999.png all exist\n", TOOL);
             return;
         }
     }
     unsigned char *px = malloc((size_t)w * (size_t)h * 3);
     if (!px) {
-        fprintf(stderr, "%s: screenshot not saved: out of memory for %dx%d\n", TOOL, w, h);
+        sss_cli_printf(stderr, "%s: screenshot not saved: out of memory for %dx%d\n", TOOL, w, h);
         return;
     }
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
@@ -287,9 +288,9 @@ static void save_screenshot(const app *a, int w, int h)
     const char *inputs[1] = {a->opt->file_path};
     const sss_inputs in = {inputs, 1};
     if (sss_write_png_rgb8(path, px, w, h, &in, &err) != SSS_OK)
-        fprintf(stderr, "%s: screenshot not saved: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: screenshot not saved: %s\n", TOOL, err.msg);
     else
-        fprintf(stderr, "%s: saved %s\n", TOOL, path);
+        sss_cli_printf(stderr, "%s: saved %s\n", TOOL, path);
     free(px);
 }
 
@@ -361,7 +362,7 @@ static double smooth(double prev, double x, int first)
 
 static void no_window(void)
 {
-    fprintf(stderr, "%s: cannot open a window (no display?); use --offscreen%s%s%s\n", TOOL,
+    sss_cli_printf(stderr, "%s: cannot open a window (no display?); use --offscreen%s%s%s\n", TOOL,
             glfw_error[0] ? " [GLFW: " : "", glfw_error, glfw_error[0] ? "]" : "");
 }
 
@@ -421,15 +422,15 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
     int rc = 0;
     sss_error err = {{0}};
     if (sss_renderer_create(f, &a.r, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: %s\n", TOOL, opt->file_path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, opt->file_path, err.msg);
         rc = 1;
     } else if (sss_text_create(&a.text, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         rc = 1;
     } else {
         GLenum e = glGetError();
         if (e != GL_NO_ERROR) {
-            fprintf(stderr, "%s: OpenGL error 0x%04X while setting up the window (%s)\n", TOOL, (unsigned)e,
+            sss_cli_printf(stderr, "%s: OpenGL error 0x%04X while setting up the window (%s)\n", TOOL, (unsigned)e,
                     (const char *)glGetString(GL_RENDERER));
             rc = 1;
         }

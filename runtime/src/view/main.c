@@ -123,11 +123,11 @@ static int parse(int argc, char **argv, view_args *a)
     int rc = sss_cli_parse(&cli, argc, argv);
     if (rc != SSS_CLI_RUN) return rc;
     if (a->offscreen && !a->out && !a->nbench) {
-        fprintf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL);
+        sss_cli_printf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL);
         return 2;
     }
     if (a->out && !sss_image_type_known(a->out)) {
-        fprintf(stderr, "%s: --out %s: unknown image type (use .png or .exr)\n", TOOL, a->out);
+        sss_cli_printf(stderr, "%s: --out %s: unknown image type (use .png or .exr)\n", TOOL, a->out);
         return 2;
     }
     for (int k = 0; k < 3; k++) a->p.light_rgb[k] = a->intensity;
@@ -212,11 +212,11 @@ static int offscreen_render(const sss_bake_file *f, view_args *a)
     sss_offscreen *ctx;
     sss_renderer *r;
     if (sss_offscreen_create(&ctx, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
     if (sss_renderer_create(f, &r, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: %s\n", TOOL, a->path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, a->path, err.msg);
         sss_offscreen_destroy(ctx);
         return 1;
     }
@@ -226,10 +226,10 @@ static int offscreen_render(const sss_bake_file *f, view_args *a)
         float *rgb, *hdr;
         if (sss_renderer_render_image(r, &a->p, w, h, &rgb, &hdr, &err) != SSS_OK ||
             sss_write_image_with(a->out, rgb, hdr, w, h, &a->inputs, &err) != SSS_OK) {
-            fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+            sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
             rc = 1;
         } else {
-            fprintf(stderr, "%s: %s: %dx%d, %s, %s path\n", TOOL, a->out, w, h, sss_gl_renderer_name(),
+            sss_cli_printf(stderr, "%s: %s: %dx%d, %s, %s path\n", TOOL, a->out, w, h, sss_gl_renderer_name(),
                     a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU");
             free(rgb);
             free(hdr);
@@ -247,11 +247,11 @@ static int scene_open(const sss_bake_file *f, const char *scene_path, sss_view_p
 {
     sss_error err = {{0}};
     if (sss_scene_load(scene_path, sc, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
     if (sss_scene_eval_create(f, sc, ev, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         sss_scene_free(sc);
         return 1;
     }
@@ -318,15 +318,15 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
     sss_renderer *r = NULL;
     float *q = malloc((size_t)f->mesh.nv * f->channels * sizeof(float));
     int rc = 1;
-    if (!q) { fprintf(stderr, "%s: out of memory\n", TOOL); goto done; }
+    if (!q) { sss_cli_printf(stderr, "%s: out of memory\n", TOOL); goto done; }
     if (sss_offscreen_create(&ctx, &err) != SSS_OK || sss_renderer_create(f, &r, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: %s\n", TOOL, a->path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, a->path, err.msg);
         goto done;
     }
     rc = 0;
     sss_fx_gpu *g = NULL;
     if (a->p.path != SSS_EVAL_CPU && sss_fx_gpu_create(f, ev, r, &g, &err) != SSS_OK)
-        fprintf(stderr, "%s: %s: the scene's lights are summed on the CPU (%s)\n", TOOL, a->path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: the scene's lights are summed on the CPU (%s)\n", TOOL, a->path, err.msg);
     char evals[96];
     snprintf(evals, sizeof evals, g ? "gpu (programs: %s)" : "cpu%s", g ? sss_fx_gpu_describe(g) : "");
     if (a->nbench) scene_bench(f, ev, g, r, &a->p, q, w, h, a->nbench);
@@ -341,10 +341,10 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
         }
         if (sss_renderer_render_q_image(r, &a->p, q, w, h, &rgb, &hdr, &err) != SSS_OK ||
             sss_write_image_with(a->out, rgb, hdr, w, h, &a->inputs, &err) != SSS_OK) {
-            fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+            sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
             rc = 1;
         } else {
-            fprintf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, a->out, w, h,
+            sss_cli_printf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, a->out, w, h,
                     sss_gl_renderer_name(), evals, a->scene, sss_scene_eval_paths(ev));
             free(rgb);
             free(hdr);
@@ -386,13 +386,13 @@ static const char *scene_frame_gpu(void *user, sss_renderer *r, double t)
     if (!s->g) {
         sss_error err = {{0}};
         if (sss_fx_gpu_create(s->f, s->ev, r, &s->g, &err) != SSS_OK) {
-            fprintf(stderr, "%s: the scene's lights are summed on the CPU (%s)\n", TOOL, err.msg);
+            sss_cli_printf(stderr, "%s: the scene's lights are summed on the CPU (%s)\n", TOOL, err.msg);
             s->cpu = 1;
             return NULL;
         }
         snprintf(s->desc, sizeof s->desc, "%s on the GPU (programs: %s)", sss_scene_eval_paths(s->ev),
                  sss_fx_gpu_describe(s->g));
-        fprintf(stderr, "%s: scene lights: %s\n", TOOL, s->desc);
+        sss_cli_printf(stderr, "%s: scene lights: %s\n", TOOL, s->desc);
     }
     sss_fx_gpu_frame(s->g, 0.3 * t);
     return s->desc;
@@ -433,12 +433,12 @@ int main(int argc, char **argv)
     /* the output before anything is read or drawn (sss/fileio.h); the
      * writer checks it again */
     if (a.out && sss_output_check(a.out, &a.inputs, NULL, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
     sss_bake_file f;
     if (sss_file_read(a.path, &f, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
     if (a.offscreen) rc = a.scene ? scene_offscreen(&f, &a) : offscreen_render(&f, &a);
