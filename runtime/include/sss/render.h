@@ -270,8 +270,21 @@ void sss_scene_eval_destroy(sss_scene_eval *e);
 /* q for the frame into q[v * channels + c] (nv × channels floats,
  * caller-owned; light colours and intensities folded in: render with
  * light_rgb = 1). angle (radians) turns the moving lights about +z, so a
- * benchmark's frames differ. The reference of the GPU sum. */
+ * benchmark's frames differ. The reference of the GPU sum. For a file with
+ * OWNT (a plain bake with near terms at run time, viewed with a scene) each
+ * direction-set light's term is its full q: the stored rows plus its own
+ * near terms, the visibility by the bake's ray traced on the CPU through
+ * the BVH the GPU traces (operation for operation), as
+ * sss_scene_eval_set_view asks; so the q of a scene is drawn without adding
+ * near terms again (sss_scene_render_image). */
 void sss_scene_eval_frame(sss_scene_eval *e, double angle, float *q);
+
+/* The view settings the sums follow: p->near_terms (0: the rows alone, as
+ * --no-own-term asks), and for the GPU sum p->near_visibility and
+ * p->shadow_size (the CPU sum traces the bake's rays either way). Default:
+ * near terms on, rays. */
+void sss_scene_eval_set_view(sss_scene_eval *e, const sss_view_params *p);
+const sss_view_params *sss_scene_eval_view(const sss_scene_eval *e);
 
 /* One light's parameters for the frame at angle (the vertex-independent
  * part of sss_scene_eval_frame), so that another evaluator (the GPU path,
@@ -334,6 +347,14 @@ void sss_fx_gpu_destroy(sss_fx_gpu *g);
  * sss_scene_eval_frame) into the renderer's q buffer, ready to draw
  * (sss_renderer_draw; or sss_renderer_read_q). */
 void sss_fx_gpu_frame(sss_fx_gpu *g, double angle);
+
+/* The picture `sss-view --scene` draws for the frame at angle: the lights
+ * summed on the GPU (g) or, with g NULL, on the CPU (ev), with the near
+ * terms of each light as p asks (sss_scene_eval_set_view is called with p),
+ * then drawn with p but without adding near terms again (the sum holds
+ * them). As sss_renderer_render_image returns it. */
+sss_result sss_scene_render_image(sss_renderer *r, sss_scene_eval *ev, sss_fx_gpu *g, const sss_view_params *p,
+                                  double angle, int width, int height, float **rgb, float **hdr, sss_error *err);
 
 /* SSS_FXGPU_* bits of the programs built. */
 unsigned sss_fx_gpu_programs(const sss_fx_gpu *g);

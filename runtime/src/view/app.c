@@ -474,15 +474,18 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
             a.near_ms = smooth(a.near_ms, ft.near_ms, a.frames == 1);
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, a.r, t)) != NULL) {
+        sss_view_params dp = a.p;
+        if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, &a.p, a.r, t)) != NULL) {
             /* the scene's lights summed on the GPU, straight into q */
+            dp.near_terms = 0; /* the sum holds each light's near terms */
         } else if (scene_q) {
-            opt->frame_q(opt->user, t, scene_q);
+            opt->frame_q(opt->user, &a.p, t, scene_q);
             sss_renderer_upload_q(a.r, scene_q);
+            dp.near_terms = 0; /* the sum holds each light's near terms */
         } else {
             sss_renderer_evaluate(a.r, &a.p);
         }
-        sss_renderer_draw(a.r, &a.p, fw, fh);
+        sss_renderer_draw(a.r, &dp, fw, fh);
         if (a.overlay) draw_overlay(&a, fw, fh);
         if (a.want_shot) {
             a.want_shot = 0;
@@ -494,7 +497,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
     }
 
     free(scene_q);
-    if (opt->frame_gpu) opt->frame_gpu(opt->user, NULL, 0.0);
+    if (opt->frame_gpu) opt->frame_gpu(opt->user, NULL, NULL, 0.0);
     sss_text_destroy(a.text);
     sss_renderer_destroy(a.r);
     glfwDestroyWindow(win);

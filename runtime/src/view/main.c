@@ -270,6 +270,11 @@ static void scene_bench(const sss_bake_file *f, sss_scene_eval *ev, sss_fx_gpu *
            *frame = malloc(sizeof(double) * (size_t)n);
     float *rgb, *hdr;
     sss_error err = {{0}};
+    sss_scene_eval_set_view(ev, p);
+    /* the sums hold the near terms: the draw adds none */
+    sss_view_params dp = *p;
+    dp.near_terms = 0;
+    p = &dp;
     sss_scene_eval_frame(ev, 0.0, q);
     if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) == SSS_OK) { free(rgb); free(hdr); }
     sss_renderer_bind_offscreen(r, w, h, &err);
@@ -332,14 +337,9 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
     if (a->nbench) scene_bench(f, ev, g, r, &a->p, q, w, h, a->nbench);
     if (a->out) {
         float *rgb, *hdr;
-        if (g) {
-            /* the GPU sum, read back so that the one image path draws it */
-            sss_fx_gpu_frame(g, 0.0);
-            sss_renderer_read_q(r, q);
-        } else {
-            sss_scene_eval_frame(ev, 0.0, q);
-        }
-        if (sss_renderer_render_q_image(r, &a->p, q, w, h, &rgb, &hdr, &err) != SSS_OK ||
+        /* the sum (GPU or CPU) holds each light's near terms; drawn without
+         * adding them again (sss_scene_render_image) */
+        if (sss_scene_render_image(r, ev, g, &a->p, 0.0, w, h, &rgb, &hdr, &err) != SSS_OK ||
             sss_write_image_with(a->out, rgb, hdr, w, h, &a->inputs, &err) != SSS_OK) {
             sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
             rc = 1;
@@ -372,11 +372,16 @@ typedef struct scene_win {
     char desc[192];
 } scene_win;
 
-static void scene_frame(void *user, double t, float *q) { sss_scene_eval_frame(((scene_win *)user)->ev, 0.3 * t, q); }
+static void scene_frame(void *user, const sss_view_params *p, double t, float *q)
+{
+    sss_scene_eval_set_view(((scene_win *)user)->ev, p); /* the near terms as the O key leaves them */
+    sss_scene_eval_frame(((scene_win *)user)->ev, 0.3 * t, q);
+}
 
-static const char *scene_frame_gpu(void *user, sss_renderer *r, double t)
+static const char *scene_frame_gpu(void *user, const sss_view_params *p, sss_renderer *r, double t)
 {
     scene_win *s = user;
+    if (p) sss_scene_eval_set_view(s->ev, p);
     if (!r) {
         sss_fx_gpu_destroy(s->g);
         s->g = NULL;
