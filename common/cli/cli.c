@@ -52,7 +52,8 @@ char *sss_cli_shown(const char *s, char *buf, size_t n)
 {
     if (!n) return buf;
     snprintf(buf, n, "%s", s ? s : "");
-    one_line(buf, strlen(buf) + 1); /* +1: a last newline of s is shown too */
+    for (char *q = buf; *q; q++) /* a last newline of s too: it is inside a line */
+        if ((unsigned char)*q < 0x20 || *q == 0x7f) *q = '?';
     return buf;
 }
 static FILE *out_of(const sss_cli *cli) { return cli->out ? cli->out : stdout; }

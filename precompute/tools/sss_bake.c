@@ -5,6 +5,7 @@
  * combinations, options() turns it into the bake's options, compression
  * and material, run() imports, bakes, writes and reports. */
 #include <cjson/cJSON.h>
+#include <errno.h>
 #include <stdint.h>
 #include <math.h>
 #include <signal.h>
@@ -110,13 +111,17 @@ static int read_weight_bits(const sss_cli *cli, const sss_cli_opt *o, const char
     return 1;
 }
 
-/* --rings K: read as a number in [lo, hi] (that message on failure), then
- * the row's "must be an integer" message after it, or after a fraction. */
+/* --rings K: an integer in [lo, hi]; anything else gets the row's one
+ * line, "must be an integer lo ... hi" (a number out of range printed the
+ * number's message before it: two lines). */
 static int read_rings(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
 {
-    double k;
-    const sss_cli_opt num = {.kind = SSS_CLI_DOUBLE, .dest = &k, .lo = o->lo, .hi = o->hi};
-    if (!sss_cli_value(cli, &num, opt, text) || k != floor(k)) return 0;
+    (void)cli;
+    (void)opt;
+    char *end;
+    errno = 0;
+    const double k = strtod(text, &end);
+    if (end == text || *end || errno || !(k >= o->lo && k <= o->hi) || k != floor(k)) return 0;
     *(uint32_t *)o->dest = (uint32_t)k;
     return 1;
 }
