@@ -393,6 +393,10 @@ sss_result sss_scene_parse(const char *text, const char *path, sss_scene *out, s
         goto done;
     }
     int no = cJSON_GetArraySize(objs);
+    if (no > SSS_SCENE_MAX_OBJECTS) {
+        r = fail_at(&c, "/objects", "%d objects, at most %d", no, SSS_SCENE_MAX_OBJECTS);
+        goto done;
+    }
     out->objects = calloc((size_t)no, sizeof *out->objects);
     if (!out->objects) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", c.file); goto done; }
     out->nobjects = (uint32_t)no;
@@ -413,6 +417,10 @@ sss_result sss_scene_parse(const char *text, const char *path, sss_scene *out, s
     if (ls) {
         if (!cJSON_IsArray(ls)) { r = fail_at(&c, "/lights", "expected an array"); goto done; }
         int nl = cJSON_GetArraySize(ls);
+        if (nl > SSS_SCENE_MAX_LIGHTS) {
+            r = fail_at(&c, "/lights", "%d lights, at most %d", nl, SSS_SCENE_MAX_LIGHTS);
+            goto done;
+        }
         out->lights = calloc((size_t)nl + 1, sizeof *out->lights);
         if (!out->lights) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", c.file); goto done; }
         out->nlights = (uint32_t)nl;

@@ -48,7 +48,7 @@ expect_arg_error "$T: --theta: '0.96' must be a number in [0.001, 0.95]" "$SSS_B
 expect_arg_error "$T: --threads: '0' must be an integer in [1, 1024]" "$SSS_BAKE" "${B[@]}" --threads 0
 expect_arg_error "$T: --threads: '1025' must be an integer in [1, 1024]" "$SSS_BAKE" "${B[@]}" --threads 1025
 expect_arg_error "$T: --rings: '1.5' must be an integer 0 ... 8" "$SSS_BAKE" "${B[@]}" --own-term runtime --rings 1.5
-# one line, not the number's message and then the row's (robustness item 9)
+# one line, not the number's message and then the row's (docs/robustness.md, item 9)
 expect_arg_error "$T: --rings: '9' must be an integer 0 ... 8" "$SSS_BAKE" "${B[@]}" --own-term runtime --rings 9
 expect_arg_error "$T: --rings: '1e30' must be an integer 0 ... 8" "$SSS_BAKE" "${B[@]}" --own-term runtime --rings 1e30
 expect_arg_error "$T: --sigma-a: '1,2' must be three numbers X,Y,Z" "$SSS_BAKE" "${B[@]}" --sigma-a 1,2

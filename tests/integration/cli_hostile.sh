@@ -190,9 +190,10 @@ for a in "--query -1 --light 0,0,1" "--query 99999999999999999999 --light 0,0,1"
   # shellcheck disable=SC2086
   refused "stat $a" "$SSS_STAT" "$IN/s.sss" $a
 done
-for a in "sphere -1" "sphere 99999999999" "nosuchshape 2" "torus 1e9"; do
+for a in "sphere -1" "sphere 99999999999" "nosuchshape 2" "torus 1e9" "sphere 2 inf" "sphere 2 1e300"; do
   # shellcheck disable=SC2086
-  refused "genmesh $a" "$SSS_GENMESH" $a "$OUT/x.ply"
+  set -- $a
+  refused "genmesh $a" "$SSS_GENMESH" "$1" "$2" "$OUT/x.ply" ${3:+"$3"}
 done
 # a file name holding a newline and an escape, in every tool's message:
 # still one line, and no escape reaches the terminal

@@ -271,31 +271,58 @@ static sss_result count_exact_rows(const sss_scene *s, sss_object_plan *p, sss_e
  * environment lights must stay within what ENVT stores (SSS_PROBE_SH_MAX),
  * which a pixel of 3e38 exceeds; refused here, naming the light, not at the
  * writer after the bake. */
+/* Environment lights in the order of their probes' paths (qsort has no
+ * context argument in C11: the scene is passed through this file-scope
+ * pointer, set and used only inside check_probes). */
+static const sss_scene *g_probe_scene;
+
+static int cmp_probe(const void *a, const void *b)
+{
+    const uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    const int c = strcmp(g_probe_scene->lights[x].probe, g_probe_scene->lights[y].probe);
+    return c ? c : (x > y) - (x < y);
+}
+
 static sss_result check_probes(const sss_scene *s, uint64_t memory_limit, sss_error *err)
 {
     const uint32_t order = s->bake.sh_order ? s->bake.sh_order : 4, K = order * order;
     double Lsum[3 * SSS_SH_MAX_COUNT] = {0};
     const uint64_t avail = sss_memory_available(memory_limit);
-    for (uint32_t l = 0; l < s->nlights; l++) {
+    /* each distinct probe is read and projected once, however many lights
+     * name it */
+    uint32_t *env = malloc(((size_t)s->nlights + 1) * sizeof *env), nenv = 0;
+    if (!env) return sss_fail(err, SSS_ERR_NOMEM, "planner: out of memory");
+    for (uint32_t l = 0; l < s->nlights; l++)
+        if (s->lights[l].kind == SSS_LIGHT_ENVIRONMENT && s->lights[l].intensity != 0.0) env[nenv++] = l;
+    g_probe_scene = s;
+    qsort(env, nenv, sizeof *env, cmp_probe);
+    double Ll[3 * SSS_SH_MAX_COUNT];
+    for (uint32_t e = 0; e < nenv; e++) {
+        const uint32_t l = env[e];
         const sss_scene_light *L = &s->lights[l];
-        if (L->kind != SSS_LIGHT_ENVIRONMENT || L->intensity == 0.0) continue;
-        sss_probe pr;
-        sss_error e2 = {{0}};
-        if (sss_probe_read_limited(L->probe, avail, &pr, &e2) != SSS_OK)
-            return sss_fail(err, SSS_ERR_ARG, "%s: /lights/%u/probe: %s", s->path, l, e2.msg);
-        double Ll[3 * SSS_SH_MAX_COUNT];
-        sss_probe_sh(&pr, order, Ll);
-        sss_probe_free(&pr);
+        if (e == 0 || strcmp(L->probe, s->lights[env[e - 1]].probe) != 0) {
+            sss_probe pr;
+            sss_error e2 = {{0}};
+            if (sss_probe_read_limited(L->probe, avail, &pr, &e2) != SSS_OK) {
+                free(env);
+                return sss_fail(err, SSS_ERR_ARG, "%s: /lights/%u/probe: %s", s->path, l, e2.msg);
+            }
+            sss_probe_sh(&pr, order, Ll);
+            sss_probe_free(&pr);
+        }
         for (int ch = 0; ch < 3; ch++)
             for (uint32_t i = 0; i < K; i++) {
                 Lsum[ch * K + i] += L->intensity * L->colour[ch] * Ll[ch * K + i];
-                if (!(fabs(Lsum[ch * K + i]) <= SSS_PROBE_SH_MAX))
+                if (!(fabs(Lsum[ch * K + i]) <= SSS_PROBE_SH_MAX)) {
+                    free(env);
                     return sss_fail(err, SSS_ERR_ARG, "%s: /lights/%u: the probe's radiance times the intensity and "
                                     "colour reaches %g in its SH coefficients, beyond %g (section ENVT): scale the "
                                     "probe or the intensity down", s->path, l, fabs(Lsum[ch * K + i]),
                                     SSS_PROBE_SH_MAX);
+                }
             }
     }
+    free(env);
     return SSS_OK;
 }
 
@@ -313,6 +340,15 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
     memset(out, 0, sizeof *out);
     if (scene->nlights == 0)
         return sss_fail(err, SSS_ERR_ARG, "%s: /lights: no light: nothing would be visible", scene->path);
+    /* the plan's own memory, before it is allocated (docs/robustness.md,
+     * item 7): per object its decisions and a row of every light and object */
+    const uint64_t need = (uint64_t)scene->nobjects *
+                          (sizeof(sss_object_plan) + 4u * ((uint64_t)scene->nobjects + scene->nlights));
+    const uint64_t avail = sss_memory_available(memory_limit);
+    if (avail && need > avail)
+        return sss_fail(err, SSS_ERR_NOMEM, "%s: the plan needs at least %.2f GiB for %u objects x %u lights but %.2f "
+                        "GiB is available (estimate before starting; SSS_MEMORY_LIMIT_MB lowers the limit)",
+                        scene->path, need / 1073741824.0, scene->nobjects, scene->nlights, avail / 1073741824.0);
     sss_result pr = check_probes(scene, memory_limit, err);
     if (pr != SSS_OK) return pr;
     out->obj = calloc(scene->nobjects, sizeof *out->obj);
