@@ -113,6 +113,8 @@ typedef struct sss_ref_options {
     uint32_t max_order;   /* scattering orders estimated: 0 all; 1 single scattering only */
     int no_nee;           /* 1: no next-event estimate (a directional light then gives nothing;
                              environment light only through paths that leave: a check) */
+    int no_nee_roulette;  /* 1: every next-event estimate is made, also at collisions so deep that
+                             it adds nothing (docs/reference.md §3: the same mean, more rays) */
     int progress;         /* a progress bar with ETA on stderr when it is a terminal */
     const char *progress_log; /* progress lines for scripts (kernels/progress.h), or NULL */
     const sss_cancel_flag *cancel;
@@ -130,6 +132,7 @@ typedef struct sss_ref_stats {
     uint64_t nee;         /* next-event estimates tried */
     uint64_t nee_hits;    /* ... that found the light's refracted ray and added light */
     uint64_t nee_unsolved; /* ... whose boundary point did not converge (docs/reference.md §3) */
+    uint64_t nee_skipped; /* ... left out by their roulette (deep collisions, weighted) */
     uint64_t leaks;       /* paths stopped because a ray left the mesh where it should not
                              (an open or self-intersecting mesh) */
     uint64_t truncated;   /* paths stopped at the event limit (SSS_REF_MAX_EVENTS) */

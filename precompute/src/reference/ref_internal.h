@@ -62,11 +62,12 @@ typedef struct ref_ctx {
     const sss_probe *probe;   /* environment */
     uint32_t max_order;       /* 0: all */
     int no_nee;
+    int no_nee_roulette;
 } ref_ctx;
 
 /* Per-thread counters (summed into sss_ref_stats). */
 typedef struct ref_counters {
-    uint64_t walks, rays, scatterings, nee, nee_hits, nee_unsolved, leaks, truncated;
+    uint64_t walks, rays, scatterings, nee, nee_hits, nee_unsolved, nee_skipped, leaks, truncated;
 } ref_counters;
 
 /* One path of the radiance leaving surface point h towards wo (unit,

@@ -290,64 +290,105 @@ static int leave_dir(const sss_ref_scene *s, uint32_t f, const double z[3], cons
     return refract_to(v, n, eta, w);
 }
 
-/* |dω′/dω|: the solid angle outside per solid angle of ray directions at z
- * of the map v ↦ direction leaving the surface, for the plane of triangle f
- * with its interpolated normals, by central differences (step 1e-4 rad:
- * truncation ~1e-8, rounding ~1e-12). On a plane with one normal it is
- * η² cos θ_inside / cos θ_outside (Snell's n² cos θ dω invariant). */
-static double jacobian(const sss_ref_scene *s, uint32_t f, const double z[3], const double v[3], double eta)
+/* The derivative of the map v ↦ direction leaving the surface (leave_dir)
+ * for the plane of triangle f with its interpolated normals, by central
+ * differences (step 1e-4 rad: truncation ~1e-8, rounding ~1e-12) along the
+ * pair a, b perpendicular to v: w0 the direction at v, wa and wb its
+ * derivatives along a and b. 0 where the map is not defined nearby. */
+static int leave_derivative(const sss_ref_scene *s, uint32_t f, const double z[3], const double v[3], double eta,
+                            double a[3], double b[3], double w0[3], double wa[3], double wb[3])
 {
     const double h = 1e-4;
-    double a[3], b[3], w0[3], w[4][3];
+    double w[4][3];
     frame(v, a, b);
-    if (!leave_dir(s, f, z, v, eta, w0)) return 0.0;
+    if (!leave_dir(s, f, z, v, eta, w0)) return 0;
     for (int i = 0; i < 4; i++) {
         const double *e = i < 2 ? a : b;
         const double sg = (i & 1) ? -h : h;
         double vv[3];
         for (int k = 0; k < 3; k++) vv[k] = v[k] + sg * e[k];
         sss_normalize3(vv);
-        if (!leave_dir(s, f, z, vv, eta, w[i])) return 0.0;
+        if (!leave_dir(s, f, z, vv, eta, w[i])) return 0;
     }
-    double da[3], db[3], cr[3];
-    sss_sub3(da, w[0], w[1]);
-    sss_sub3(db, w[2], w[3]);
-    sss_cross3(da, db, cr);
-    return fabs(sss_dot3(cr, w0)) / (4.0 * h * h);
+    for (int k = 0; k < 3; k++) {
+        wa[k] = (w[0][k] - w[1][k]) / (2.0 * h);
+        wb[k] = (w[2][k] - w[3][k]) / (2.0 * h);
+    }
+    return 1;
 }
 
 /* Light of the directional source scattered at z towards −u (u: the
- * direction the backward path arrived in), added to L with weights beta.
- * The light reaches z unscattered only along its own refracted ray: the
- * boundary point y with z = y + t·d(y), d(y) the refraction of the light
- * about the shading normal at y. It is found by fixed-point iteration from
- * the straight ray towards the light (one ray per step; one step on a flat
- * surface); the radiance there is η² F_t E δ(ω′ − ω_l), which a ray
- * direction at z picks with density 1/|dω′/dω|. */
+ * direction the backward path arrived in), added to L with the path's
+ * weights. The light reaches z unscattered only along its own refracted
+ * ray: the ray direction v at z whose exit direction ω′(v) (refraction
+ * about the shading normal where the ray meets the surface) is the light's
+ * ω_l. It is solved by Newton's method on the two angles of v, from the
+ * straight ray towards the light, with the derivative of ω′ by central
+ * differences on the triangle's plane and one ray per step to find the
+ * triangle (one step on a flat surface; two or three where the interpolated
+ * normals curve). The radiance arriving along v is η² F_t E δ(ω′ − ω_l),
+ * which a direction at z picks with density 1/|dω′/dω|, the determinant of
+ * that derivative (docs/reference.md §3). */
 static void nee_directional(const ref_ctx *c, const double z[3], const double u[3], const ref_tp *tp,
-                            double L[3], ref_counters *k)
+                            uint64_t *rng, double L[3], ref_counters *k)
 {
     const sss_ref_scene *s = c->s;
     const ref_medium *m = &c->m;
     const double eta = m->eta;
-    double v[3];
+    double v[3], a[3], b[3], w0[3], wa[3], wb[3];
     memcpy(v, c->wl, sizeof v);
     ref_hit h;
     int ok = 0;
+    double scale = 1.0;
     k->nee++;
-    for (int it = 0; it < 32; it++) {
+    for (int it = 0; it < 12; it++) {
         if (!inside_hit(s, z, v, 0.0, &h, k)) return;
-        const double cl = sss_dot3(h.ns, c->wl);
-        if (!(cl > 0.0)) return;
-        double d[3], nin[3] = {-h.ns[0], -h.ns[1], -h.ns[2]}, wl_in[3] = {-c->wl[0], -c->wl[1], -c->wl[2]};
-        if (!refract_to(wl_in, nin, 1.0 / eta, d)) return;
-        double dv = 0.0;
-        for (int q = 0; q < 3; q++) dv += (v[q] + d[q]) * (v[q] + d[q]);
-        if (dv < 1e-14) { /* the ray traced (v) leaves along ω_l to 1e-7 rad */
+        if (!(sss_dot3(h.ns, c->wl) > 0.0)) return; /* the light is behind the shading normal */
+        if (it == 0 && !c->no_nee_roulette) {
+            /* where it pays: the light's path to z is at least about the
+             * depth under the surface the straight ray meets, t0 cos θ_l
+             * (exactly so under a flat surface, where cos θ_t ≤ 1), so a
+             * transmittance below 1e-3 there makes the estimate negligible
+             * next to one near the surface; it is then made with
+             * probability T/1e-3 (at least 1 %) and weighted by its inverse
+             * (unbiased), saving the rays of deep collisions */
+            double smin = m->sigma_t[0];
+            for (uint32_t ch = 1; ch < m->C; ch++) smin = fmin(smin, m->sigma_t[ch]);
+            const double T = exp(-smin * h.t * fmax(0.1, sss_dot3(h.ns, c->wl)));
+            if (T < 1e-3) {
+                const double p = fmax(0.01, T / 1e-3);
+                if (sss_rng_unit(rng) >= p) {
+                    k->nee_skipped++;
+                    return;
+                }
+                scale = 1.0 / p;
+            }
+        }
+        if (it == 0 || !leave_derivative(s, h.tri, z, v, eta, a, b, w0, wa, wb)) {
+            /* a fixed-point step: the light's refraction about the normal
+             * met (from the straight ray towards the light, which may itself
+             * be totally reflected, and wherever a ray would be) */
+            double d[3], nin[3] = {-h.ns[0], -h.ns[1], -h.ns[2]}, wl_in[3] = {-c->wl[0], -c->wl[1], -c->wl[2]};
+            if (!refract_to(wl_in, nin, 1.0 / eta, d)) return;
+            for (int q = 0; q < 3; q++) v[q] = -d[q];
+            continue;
+        }
+        double e[3];
+        sss_sub3(e, w0, c->wl);
+        if (sss_dot3(e, e) < 1e-12) { /* v leaves along ω_l to 1e-6 rad */
             ok = 1;
             break;
         }
-        for (int q = 0; q < 3; q++) v[q] = -d[q];
+        /* the step (α, β) along (a, b) that cancels e to first order, least
+         * squares in 3-D; at most 0.3 rad */
+        const double A = sss_dot3(wa, wa), B = sss_dot3(wa, wb), C = sss_dot3(wb, wb);
+        const double ea = sss_dot3(wa, e), eb = sss_dot3(wb, e), det = A * C - B * B;
+        if (!(fabs(det) > 1e-300)) break;
+        double al = -(C * ea - B * eb) / det, be = -(A * eb - B * ea) / det;
+        const double len = sqrt(al * al + be * be);
+        if (len > 0.3) al *= 0.3 / len, be *= 0.3 / len;
+        for (int q = 0; q < 3; q++) v[q] += al * a[q] + be * b[q];
+        sss_normalize3(v);
     }
     if (!ok) {
         k->nee_unsolved++;
@@ -358,9 +399,11 @@ static void nee_directional(const ref_ctx *c, const double z[3], const double u[
     double yo[3];
     leave_surface(s, &h, c->wl, yo);
     if (ref_occluded(s, yo, c->wl, 0.0)) return;
-    const double J = jacobian(s, h.tri, z, v, eta);
+    double cr[3];
+    sss_cross3(wa, wb, cr);
+    const double J = fabs(sss_dot3(cr, w0)); /* |dω′/dω| */
     if (!(J > 0.0) || !isfinite(J)) return;
-    const double w = hg_eval(m->g, sss_dot3(v, u)) * eta * eta * sss_ft(eta, sss_dot3(h.ns, c->wl)) / J;
+    const double w = scale * hg_eval(m->g, sss_dot3(v, u)) * eta * eta * sss_ft(eta, sss_dot3(h.ns, c->wl)) / J;
     double beta[3];
     tp_weights(tp, beta);
     for (uint32_t ch = 0; ch < m->C; ch++) L[ch] += beta[ch] * w * exp(-m->sigma_t[ch] * h.t);
@@ -402,7 +445,7 @@ void ref_radiance_path(const ref_ctx *c, const ref_hit *h0, const double wo[3], 
                 tnear = 0.0;
                 order++;
                 k->scatterings++;
-                if (!c->no_nee && c->light == SSS_REF_DIRECTIONAL) nee_directional(c, x, u, &tp, L, k);
+                if (!c->no_nee && c->light == SSS_REF_DIRECTIONAL) nee_directional(c, x, u, &tp, rng, L, k);
                 if (c->max_order && order >= c->max_order) goto done;
                 if (!roulette(&tp, beta0, rng)) goto done;
                 double un[3];

@@ -109,6 +109,7 @@ static void add_counters(sss_ref_stats *st, const ref_counters *k)
     st->nee += k->nee;
     st->nee_hits += k->nee_hits;
     st->nee_unsolved += k->nee_unsolved;
+    st->nee_skipped += k->nee_skipped;
     st->leaks += k->leaks;
     st->truncated += k->truncated;
 }
@@ -174,6 +175,7 @@ static sss_result schedule(ref_run *run, const sss_ref_options *o, sss_ref_stats
                 tot.nee += k.nee;
                 tot.nee_hits += k.nee_hits;
                 tot.nee_unsolved += k.nee_unsolved;
+                tot.nee_skipped += k.nee_skipped;
                 tot.leaks += k.leaks;
                 tot.truncated += k.truncated;
             }
@@ -261,6 +263,7 @@ static sss_result make_ctx(const sss_ref_scene *s, const sss_ref_medium *m, cons
     }
     c->max_order = o->max_order;
     c->no_nee = o->no_nee;
+    c->no_nee_roulette = o->no_nee_roulette;
     return SSS_OK;
 }
 
