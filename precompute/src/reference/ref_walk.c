@@ -232,15 +232,21 @@ static void reflect_keep(const double d[3], const double n[3], const double ng[3
 
 /* The wall ahead of a point inside: the closest hit seen from inside
  * (ng·u > 0). A collision within a float ulp of the wall may have its
- * float ray origin rounded to the outside, where the ray misses the wall;
- * the ray is then traced again from 4 eps behind and its distance
- * corrected. 0: no wall seen from inside (a leak). */
+ * float ray origin rounded to the outside: heading in, the ray first meets
+ * that wall from outside within a few eps, and is traced again past it;
+ * heading out, it misses the wall, and is traced again from 4 eps behind
+ * with its distance corrected. 0: no wall seen from inside (a leak). */
 static int inside_hit(const sss_ref_scene *s, const double x[3], const double u[3], double tnear, ref_hit *h,
                       ref_counters *k)
 {
     k->rays++;
-    if (ref_intersect(s, x, u, tnear, h) && sss_dot3(h->ng, u) > 0.0) return 1;
+    const int hit = ref_intersect(s, x, u, tnear, h);
+    if (hit && sss_dot3(h->ng, u) > 0.0) return 1;
     const double back = 4.0 * s->eps;
+    if (hit && h->t <= back) {
+        k->rays++;
+        if (ref_intersect(s, x, u, back, h) && sss_dot3(h->ng, u) > 0.0) return 1;
+    }
     double xb[3];
     for (int q = 0; q < 3; q++) xb[q] = x[q] - back * u[q];
     k->rays++;
@@ -425,6 +431,10 @@ void ref_radiance_path(const ref_ctx *c, const ref_hit *h0, const double wo[3], 
     double u[3], x[3];
     const double back[3] = {-wo[0], -wo[1], -wo[2]}, nin[3] = {-h0->ns[0], -h0->ns[1], -h0->ns[2]};
     if (!refract_to(back, nin, 1.0 / eta, u)) return;
+    if (!(sss_dot3(u, h0->ng) < 0.0)) { /* the shading normal sent it along the surface: the geometric one */
+        const double ngn[3] = {-h0->ng[0], -h0->ng[1], -h0->ng[2]};
+        if (!refract_to(back, ngn, 1.0 / eta, u) || !(sss_dot3(u, h0->ng) < 0.0)) return;
+    }
     const double beta0 = sss_ft(eta, cos_o) / (eta * eta);
     ref_tp tp;
     tp_init(&tp, m, beta0, rng);
