@@ -245,6 +245,7 @@ static void json_inputs(cJSON *o, const ref_args *a, const ref_setup *s, const s
     cJSON_AddNumberToObject(w, "nee_skipped", (double)st->nee_skipped);
     cJSON_AddNumberToObject(w, "leaks", (double)st->leaks);
     cJSON_AddNumberToObject(w, "truncated", (double)st->truncated);
+    cJSON_AddNumberToObject(w, "crossed", (double)st->crossed);
     cJSON_AddNumberToObject(w, "paths_per_second", st->seconds > 0 ? st->walks / st->seconds : 0.0);
 }
 
@@ -261,9 +262,13 @@ static void print_json(cJSON *o)
 static void warn_leaks(const ref_args *a, const sss_ref_stats *st)
 {
     if (st->leaks)
-        fprintf(stderr, "%s: %s: warning: %llu of %llu paths left the mesh where no surface was (an open or "
-                "self-intersecting mesh); they end there and the estimate misses their light\n", TOOL, a->mesh,
-                (unsigned long long)st->leaks, (unsigned long long)st->walks);
+        fprintf(stderr, "%s: %s: warning: %llu of %llu paths left the mesh through a hole (an open mesh); they end "
+                "there and the estimate misses their light\n", TOOL, a->mesh, (unsigned long long)st->leaks,
+                (unsigned long long)st->walks);
+    if (st->crossed)
+        fprintf(stderr, "%s: %s: warning: rays passed %llu times through surfaces facing the wrong way (overlapping "
+                "parts, inner sheets, flipped triangles): the medium is taken to be continuous across them\n", TOOL,
+                a->mesh, (unsigned long long)st->crossed);
 }
 
 static int run_query(const ref_args *a, const ref_setup *s, const sss_ref_scene *sc, uint32_t nv, int rank, int nranks)

@@ -500,6 +500,7 @@ static int model_error_report(const char *path, const sss_bake_file *f, const ch
         cJSON_AddNumberToObject(o2, "seed", (double)ma->seed);
         cJSON_AddNumberToObject(o2, "reference_seconds", st.seconds);
         cJSON_AddNumberToObject(o2, "reference_leaks", (double)st.leaks);
+        cJSON_AddNumberToObject(o2, "reference_crossed", (double)st.crossed);
         cJSON *mr = cJSON_AddObjectToObject(o2, "mean_radiance");
         cJSON_AddItemToObject(mr, "realtime", cJSON_CreateDoubleArray(m_rt, 3));
         cJSON_AddItemToObject(mr, "exact", cJSON_CreateDoubleArray(m_ex, 3));
@@ -541,8 +542,8 @@ static int model_error_report(const char *path, const sss_bake_file *f, const ch
             printf("  %-8s %11.5g %11.5g %11.5g+-%-6.2g | %12.4f %12.4g | %12.4f %12.4g %12.4g\n", rgb[c], m_rt[c], m_ex[c],
                    m_ref[c], se_ref[c], aratio[c], approx[c], ratio[c], model[c], noise[c]);
         if (st.leaks)
-            printf("  warning: %llu reference paths left the mesh where no surface was (open mesh)\n",
-                   (unsigned long long)st.leaks);
+            printf("  warning: %llu of %llu reference paths left the mesh through a hole (an open mesh)\n",
+                   (unsigned long long)st.leaks, (unsigned long long)st.walks);
     }
     rc = 0;
 done:

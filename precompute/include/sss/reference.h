@@ -133,9 +133,12 @@ typedef struct sss_ref_stats {
     uint64_t nee_hits;    /* ... that found the light's refracted ray and added light */
     uint64_t nee_unsolved; /* ... whose boundary point did not converge (docs/reference.md §3) */
     uint64_t nee_skipped; /* ... left out by their roulette (deep collisions, weighted) */
-    uint64_t leaks;       /* paths stopped because a ray left the mesh where it should not
-                             (an open or self-intersecting mesh) */
+    uint64_t leaks;       /* paths stopped because a ray from inside left the scene without
+                             meeting a wall seen from inside (a hole in an open mesh) */
     uint64_t truncated;   /* paths stopped at the event limit (SSS_REF_MAX_EVENTS) */
+    uint64_t crossed;     /* surfaces rays passed through because they faced the wrong way (overlapping
+                             parts, sheets inside the body, flipped triangles: the medium is taken to be
+                             continuous across them) */
     double seconds;       /* wall clock of the call */
     uint32_t rounds;      /* rounds of blocks run */
 } sss_ref_stats;

@@ -67,8 +67,14 @@ typedef struct ref_ctx {
 
 /* Per-thread counters (summed into sss_ref_stats). */
 typedef struct ref_counters {
-    uint64_t walks, rays, scatterings, nee, nee_hits, nee_unsolved, nee_skipped, leaks, truncated;
+    uint64_t walks, rays, scatterings, nee, nee_hits, nee_unsolved, nee_skipped, leaks, truncated, crossed;
 } ref_counters;
+
+/* The first hit of o + t·d (t > tnear) seen from inside (want_out 1) or
+ * from outside (0), passing through surfaces that face the other way
+ * (counted in k->crossed unless within a few eps); 0 when none. */
+int ref_hit_facing(const sss_ref_scene *s, const double o[3], const double d[3], double tnear, int want_out,
+                   ref_hit *h, ref_counters *k);
 
 /* One path of the radiance leaving surface point h towards wo (unit,
  * outside) through the surface, per channel into L[3] (channel 0 copied to

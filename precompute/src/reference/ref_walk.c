@@ -230,27 +230,44 @@ static void reflect_keep(const double d[3], const double n[3], const double ng[3
     if (inside ? s >= 0.0 : s <= 0.0) reflect(d, ng, r);
 }
 
+/* Passes the ray o + t·d, t > tnear, through every surface it meets from
+ * the wrong side, up to 64: a surface seen from outside (want_out 1: a
+ * walk inside wants the wall it leaves through) or from inside (want_out
+ * 0: a ray in air wants a surface it enters). Those are the surfaces of a
+ * mesh that is not one closed, consistently oriented surface: overlapping
+ * closed parts, sheets inside the body, flipped triangles (the decimated
+ * Stanford dragons have all three, docs/robustness.md); the medium is
+ * taken to be continuous across them, and each one passed farther than a
+ * few eps from the origin is counted (k->crossed). 1 with the first hit
+ * from the right side in h, 0 when the ray leaves the scene first. */
+int ref_hit_facing(const sss_ref_scene *s, const double o[3], const double d[3], double tnear, int want_out,
+                   ref_hit *h, ref_counters *k)
+{
+    for (int i = 0; i < 64; i++) {
+        k->rays++;
+        if (!ref_intersect(s, o, d, tnear, h)) return 0;
+        const double c = sss_dot3(h->ng, d);
+        if (want_out ? c > 0.0 : c < 0.0) return 1;
+        if (h->t > 4.0 * s->eps) k->crossed++;
+        tnear = h->t + s->eps;
+    }
+    return 0;
+}
+
 /* The wall ahead of a point inside: the closest hit seen from inside
- * (ng·u > 0). A collision within a float ulp of the wall may have its
- * float ray origin rounded to the outside: heading in, the ray first meets
- * that wall from outside within a few eps, and is traced again past it;
- * heading out, it misses the wall, and is traced again from 4 eps behind
- * with its distance corrected. 0: no wall seen from inside (a leak). */
+ * (ng·u > 0), passing surfaces seen from outside (ref_hit_facing; among them,
+ * within a few eps, the wall a collision lies on when its float ray origin
+ * was rounded to the outside). A ray from such a point heading out misses
+ * that wall: it is then traced again from 4 eps behind, its distance
+ * corrected. 0: no wall seen from inside (the path leaks out of the mesh). */
 static int inside_hit(const sss_ref_scene *s, const double x[3], const double u[3], double tnear, ref_hit *h,
                       ref_counters *k)
 {
-    k->rays++;
-    const int hit = ref_intersect(s, x, u, tnear, h);
-    if (hit && sss_dot3(h->ng, u) > 0.0) return 1;
+    if (ref_hit_facing(s, x, u, tnear, 1, h, k)) return 1;
     const double back = 4.0 * s->eps;
-    if (hit && h->t <= back) {
-        k->rays++;
-        if (ref_intersect(s, x, u, back, h) && sss_dot3(h->ng, u) > 0.0) return 1;
-    }
     double xb[3];
     for (int q = 0; q < 3; q++) xb[q] = x[q] - back * u[q];
-    k->rays++;
-    if (!ref_intersect(s, xb, u, 0.0, h) || !(sss_dot3(h->ng, u) > 0.0)) return 0;
+    if (!ref_hit_facing(s, xb, u, 0.0, 1, h, k)) return 0;
     h->t = fmax(0.0, h->t - back);
     return 1;
 }
@@ -480,17 +497,12 @@ void ref_radiance_path(const ref_ctx *c, const ref_hit *h0, const double wo[3], 
             leave_surface(s, &h, u, x);
             tnear = 0.0;
         } else {
-            k->rays++;
-            if (!ref_intersect(s, x, u, tnear, &h)) { /* escaped: the environment's radiance */
+            if (!ref_hit_facing(s, x, u, tnear, 0, &h, k)) { /* escaped: the environment's radiance */
                 if (c->light == SSS_REF_ENVIRONMENT) {
                     double beta[3];
                     tp_weights(&tp, beta);
                     for (uint32_t ch = 0; ch < m->C; ch++) L[ch] += beta[ch] * env_radiance(c, u, m->C == 1 ? 0 : (int)ch);
                 }
-                goto done;
-            }
-            if (!(sss_dot3(h.ng, u) < 0.0)) { /* outside, yet a wall seen from inside */
-                k->leaks++;
                 goto done;
             }
             /* another part of the mesh: reflect with F_r, else enter (× 1/η²) */
@@ -541,17 +553,11 @@ void ref_particle_path(const ref_ctx *c, const double bcentre_mm[3], double brad
         u[q] = -c->wl[q];
     }
     ref_hit h;
-    k->rays++;
-    if (!ref_intersect(s, o, u, 0.0, &h)) return;
+    if (!ref_hit_facing(s, o, u, 0.0, 0, &h, k)) return;
     t->incident = 1.0;
     ref_tp tp;
     tp_init(&tp, m, 1.0, rng);
     double beta[3];
-    if (!(sss_dot3(h.ng, u) < 0.0)) {
-        for (int q = 0; q < 3; q++) t->lost[q] = 1.0;
-        k->leaks++;
-        return;
-    }
     /* the first surface: reflect (specular) or enter; power crosses as it is */
     double n[3], nn[3], un[3];
     const double co = event_normal(&h, u, 0, n);

@@ -112,6 +112,7 @@ static void add_counters(sss_ref_stats *st, const ref_counters *k)
     st->nee_skipped += k->nee_skipped;
     st->leaks += k->leaks;
     st->truncated += k->truncated;
+    st->crossed += k->crossed;
 }
 
 static sss_result schedule(ref_run *run, const sss_ref_options *o, sss_ref_stats *st, sss_error *err)
@@ -178,6 +179,7 @@ static sss_result schedule(ref_run *run, const sss_ref_options *o, sss_ref_stats
                 tot.nee_skipped += k.nee_skipped;
                 tot.leaks += k.leaks;
                 tot.truncated += k.truncated;
+                tot.crossed += k.crossed;
             }
         }
         add_counters(st, &tot);
@@ -382,7 +384,8 @@ sss_result sss_ref_image(const sss_ref_scene *s, const sss_ref_medium *m, const 
         sss_normalize3(d);
         pt[i].tri = REF_NOTHING;
         ref_hit h;
-        if (ref_intersect(s, org, d, 0.0, &h) && sss_dot3(h.ng, d) < 0.0) {
+        ref_counters kk = {0};
+        if (ref_hit_facing(s, org, d, 0.0, 0, &h, &kk)) {
             pt[i] = h;
             for (int k = 0; k < 3; k++) wo[3 * i + k] = -d[k];
         }
@@ -418,9 +421,8 @@ int sss_ref_sample_ray(const sss_ref_scene *s, const sss_ref_medium *m, const ss
     for (int k = 0; k < 3; k++) o_mm[k] = org[k] * s->mm_per_unit;
     ref_hit h;
     ref_counters k = {0};
-    k.rays = 1;
     k.walks = 1;
-    int ok = ref_intersect(s, o_mm, d, 0.0, &h) && sss_dot3(h.ng, d) < 0.0;
+    int ok = ref_hit_facing(s, o_mm, d, 0.0, 0, &h, &k);
     if (ok) {
         const double wo[3] = {-d[0], -d[1], -d[2]};
         ref_radiance_path(&c, &h, wo, stream, L, &k);
