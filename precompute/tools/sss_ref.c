@@ -61,6 +61,8 @@ static void usage(FILE *f)
         "  --seed K             random seed (default 1): the result depends on it and on the path\n"
         "                       count only, not on --threads or the number of MPI ranks\n"
         "  --max-order K        scattering orders 1..K only (default: all)\n"
+        "  --no-nee-roulette    make every next-event estimate, also at collisions too deep to\n"
+        "                       matter (the same mean, more rays: docs/reference.md section 3)\n"
         "  --threads T          worker threads (default: all cores)\n"
         "  --json               print one JSON object on stdout\n"
         "  -q, --quiet          no progress bar or summary on stderr\n"
@@ -79,7 +81,7 @@ typedef struct ref_args {
     int have_query;
     uint32_t paths, seed;
     int size[2];
-    int threads, json, quiet;
+    int threads, json, quiet, no_nee_roulette;
 } ref_args;
 
 static int refuse(const char *msg)
@@ -116,6 +118,7 @@ static int parse(int argc, char **argv, ref_args *a)
          .given = &a->have_seconds},
         {.name = "--seed", .kind = SSS_CLI_U32, .dest = &a->seed, .lo = 0, .hi = UINT32_MAX},
         {.name = "--max-order", .kind = SSS_CLI_U32, .dest = &a->max_order, .lo = 1, .hi = 1000000},
+        {.name = "--no-nee-roulette", .kind = SSS_CLI_FLAG, .dest = &a->no_nee_roulette},
         {.name = "--threads", .kind = SSS_CLI_INT, .dest = &a->threads, .lo = 1, .hi = 1024},
         {.name = "--json", .kind = SSS_CLI_FLAG, .dest = &a->json},
         {.name = "--quiet", .alias = "-q", .kind = SSS_CLI_FLAG, .dest = &a->quiet},
@@ -209,6 +212,7 @@ static int setup(const ref_args *a, ref_setup *s)
     o->seconds = a->have_seconds ? a->seconds : 0.0;
     o->threads = a->threads;
     o->max_order = a->max_order;
+    o->no_nee_roulette = a->no_nee_roulette;
     o->progress = !a->quiet;
     const char *log = getenv("SSS_PROGRESS_LOG");
     o->progress_log = log && *log ? log : NULL;
