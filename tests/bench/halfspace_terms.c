@@ -7,10 +7,11 @@
  *   halfspace_terms [PATHS] [SEED]       (default 20000 paths, seed 1)
  *
  * For marble and skin1 (η = 1.3, g = 0) it prints the reference's radiance
- * at normal incidence towards three view angles and its total diffuse
- * reflectance (particles, specular part excluded), next to three forms of
- * the dipole's prediction for a flat surface,
- *     L(μ_o) = F_t(η, μ_i) F_t(η, μ_o) R / (π c):
+ * for light at μ_i = 1 and 0.5 (unit irradiance across the beam) towards
+ * three view angles, and its total diffuse reflectance at normal incidence
+ * (particles, specular part excluded), next to three forms of the dipole's
+ * prediction for a flat surface,
+ *     L(μ_o) = F_t(η, μ_i) μ_i F_t(η, μ_o) R / (π c):
  *   jensen      R = R_d,total of Jensen et al. 2001 (docs/physics.md §2),
  *               c = 1: the toolkit's (docs/physics.md §4);
  *   normalised  the same R, c = 1 − 2 C1(1/η), the hemispherical Fresnel
@@ -98,11 +99,14 @@ int main(int argc, char **argv)
         }
         printf("\n%s: R_d,total (Jensen) %.4f / %.4f / %.4f; better dipole %.4f / %.4f / %.4f\n", mats[mi], Rj[0], Rj[1],
                Rj[2], Rb[0], Rb[1], Rb[2]);
-        printf("  %-28s %-26s %-26s %-26s %-26s\n", "quantity", "reference (± s.e.)", "jensen / ref", "normalised / ref",
+        printf("  %-30s %-26s %-26s %-26s %-26s\n", "quantity", "reference (± s.e.)", "jensen / ref", "normalised / ref",
                "better / ref");
-        for (int k = 0; k < 3; k++) {
-            const sss_ref_light l = {SSS_REF_DIRECTIONAL, {0, 0, 1}, NULL};
-            const sss_ref_query q = {top, {sqrt(1 - mus[k] * mus[k]), 0, mus[k]}};
+        for (int k = 0; k < 6; k++) {
+            /* light at μ_i = 1 or 0.5 in the x-z plane, the view at μ_o
+             * across it (azimuth 90°) */
+            const double mi = k < 3 ? 1.0 : 0.5, mo = mus[k % 3];
+            const sss_ref_light l = {SSS_REF_DIRECTIONAL, {sqrt(1 - mi * mi), 0, mi}, NULL};
+            const sss_ref_query q = {top, {0, sqrt(1 - mo * mo), mo}};
             sss_ref_options o = {0};
             o.seed = seed + (uint64_t)k;
             o.paths = paths;
@@ -112,14 +116,14 @@ int main(int argc, char **argv)
                 return 1;
             }
             char what[40];
-            snprintf(what, sizeof what, "L, light 0 deg, view mu %.1f", mus[k]);
-            printf("  %-28s", what);
+            snprintf(what, sizeof what, "L, light mu %.1f, view mu %.1f", mi, mo);
+            printf("  %-30s", what);
             for (int ch = 0; ch < 3; ch++) printf("%s%.4f±%.4f", ch ? " " : "", e.mean[ch], e.se[ch]);
             for (int f = 0; f < 3; f++) {
                 printf("  ");
                 for (int ch = 0; ch < 3; ch++) {
                     const double R = f == 2 ? Rb[ch] : Rj[ch], cc = f == 0 ? 1.0 : c;
-                    const double pred = sss_ft(eta, 1.0) * sss_ft(eta, mus[k]) * R / (SSS_PI * cc);
+                    const double pred = sss_ft(eta, mi) * mi * sss_ft(eta, mo) * R / (SSS_PI * cc);
                     printf("%s%.3f", ch ? " / " : "", pred / e.mean[ch]);
                 }
                 printf("        ");
@@ -135,7 +139,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "halfspace_terms: %s\n", err.msg);
             return 1;
         }
-        printf("  %-28s", "diffuse reflectance");
+        printf("  %-30s", "diffuse reflectance, light mu 1");
         for (int ch = 0; ch < 3; ch++) printf("%s%.4f±%.4f", ch ? " " : "", mean.front[ch], se.front[ch]);
         for (int f = 0; f < 3; f++) {
             printf("  ");

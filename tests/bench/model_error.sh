@@ -78,26 +78,29 @@ if [ "$PICTURES" = 1 ]; then
   picture bunny_marble_back "$OUT/bunny_marble.sss" bunny marble $BACK_LIGHT "$SPP_BACK"
 fi
 
-# the tables
+# the tables (numbers to 3 significant digits)
 echo
-echo "| case | mean L, real-time | reference (± s.e.) | model: ratio | model: rel. RMS | approximation: ratio | approximation: rel. RMS | paths per vertex, leaks |"
+echo "| case | mean L, real-time (R / G / B) | reference (± s.e.) | model: ratio | model: rel. RMS | approximation: ratio | approximation: rel. RMS | vertices × paths, leaks |"
 echo "|---|---|---|---|---|---|---|---|"
-jq -r '"| \(.case) | " +
-  ([.mean_radiance.realtime[] | . * 1e4 | round / 1e4 | tostring] | join(" / ")) + " | " +
-  ([.mean_radiance.reference as $r | .mean_radiance.reference_stderr as $s | range(0;3) | "\($r[.] * 1e4 | round / 1e4)±\($s[.] * 1e4 | round / 1e4)"] | join(" / ")) + " | " +
-  ([.model_error.ratio_of_means[] | . * 1000 | round / 1000 | tostring] | join(" / ")) + " | " +
-  ([.model_error.rel_rms[] | . * 1000 | round / 1000 | tostring] | join(" / ")) + " | " +
-  ([.approximation_error.ratio_of_means[] | . * 1000 | round / 1000 | tostring] | join(" / ")) + " | " +
-  ([.approximation_error.rel_rms[] | . * 1000 | round / 1000 | tostring] | join(" / ")) + " | " +
-  "\(.sampled_vertices) × \(.paths), \(.reference_leaks) |"' "$OUT/rows.jsonl"
+jq -r '[.case, (.mean_radiance.realtime | map(tostring) | join(" ")), (.mean_radiance.reference | map(tostring) | join(" ")),
+        (.mean_radiance.reference_stderr | map(tostring) | join(" ")), (.model_error.ratio_of_means | map(tostring) | join(" ")),
+        (.model_error.rel_rms | map(tostring) | join(" ")), (.approximation_error.ratio_of_means | map(tostring) | join(" ")),
+        (.approximation_error.rel_rms | map(tostring) | join(" ")), "\(.sampled_vertices) × \(.paths), \(.reference_leaks)"] | join("\t")' \
+  "$OUT/rows.jsonl" | awk -F'\t' '
+  function three(s, f,   a, o, i) { split(s, a, " "); o = ""; for (i = 1; i <= 3; i++) o = o (i > 1 ? " / " : "") sprintf(f, a[i]); return o }
+  function pm(s, e,   a, b, o, i) { split(s, a, " "); split(e, b, " "); o = "";
+    for (i = 1; i <= 3; i++) o = o (i > 1 ? " / " : "") sprintf("%.3g±%.2g", a[i], b[i]); return o }
+  { printf "| %s | %s | %s | %s | %s | %s | %s | %s |\n", $1, three($2, "%.3g"), pm($3, $4), three($5, "%.3f"), three($6, "%.3f"),
+      three($7, "%.3f"), three($8, "%.3f"), $9 }'
 if [ -s "$OUT/pictures.jsonl" ]; then
   echo
   echo "| picture | paths per pixel | mean L real-time | mean L reference | ratio (± s.e.) | rel. RMS (noise out) | reference noise |"
   echo "|---|---|---|---|---|---|---|"
-  jq -r '"| \(.picture) | \(.spp) | " +
-    ([.mean_realtime[] | . * 1e5 | round / 1e5 | tostring] | join(" / ")) + " | " +
-    ([.mean_reference[] | . * 1e5 | round / 1e5 | tostring] | join(" / ")) + " | " +
-    ([.ratio as $r | .ratio_stderr as $s | range(0;3) | "\($r[.] * 1000 | round / 1000)±\($s[.] * 1000 | round / 1000)"] | join(" / ")) + " | " +
-    ([.rel_rms[] | . * 1000 | round / 1000 | tostring] | join(" / ")) + " | " +
-    ([.reference_noise_rel_rms[] | . * 1000 | round / 1000 | tostring] | join(" / ")) + " |"' "$OUT/pictures.jsonl"
+  jq -r '[.picture, (.spp | tostring), (.mean_realtime | map(tostring) | join(" ")), (.mean_reference | map(tostring) | join(" ")),
+          (.ratio | map(tostring) | join(" ")), (.ratio_stderr | map(tostring) | join(" ")), (.rel_rms | map(tostring) | join(" ")),
+          (.reference_noise_rel_rms | map(tostring) | join(" "))] | join("\t")' "$OUT/pictures.jsonl" | awk -F'\t' '
+    function three(s, f,   a, o, i) { split(s, a, " "); o = ""; for (i = 1; i <= 3; i++) o = o (i > 1 ? " / " : "") sprintf(f, a[i]); return o }
+    function pm(s, e,   a, b, o, i) { split(s, a, " "); split(e, b, " "); o = "";
+      for (i = 1; i <= 3; i++) o = o (i > 1 ? " / " : "") sprintf("%.3f±%.3f", a[i], b[i]); return o }
+    { printf "| %s | %s | %s | %s | %s | %s | %s |\n", $1, $2, three($3, "%.3g"), three($4, "%.3g"), pm($5, $6), three($7, "%.3f"), three($8, "%.3f") }'
 fi
