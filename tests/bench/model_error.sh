@@ -9,12 +9,18 @@
 #   data/fetch.sh                  # the Stanford meshes (once)
 #   tests/bench/model_error.sh     # BUILD=build OUT=out/model_error
 #
+# The tessellation rows of the section: tests/bench/split_mesh bunny.ply
+# bunny_sK.ply K (K = 1, 2), baked and measured as the bunny (front-lit);
+# the flat half-space: tests/bench/halfspace_terms 12000.
+#
 # Knobs: VERTICES (64) and PATHS (4096) per sss-stat --model-error row;
 # SIZE (200x150), SPP_FRONT (256), SPP_BACK (1024) for the pictures;
 # PICTURES=0 skips them. Rows and pictures already in OUT are reused.
 # Writes OUT/rows.jsonl (one sss-stat --model-error --json per row, with
-# "case"), OUT/pictures.jsonl (ref_compare's statistics) and prints the
-# tables of docs/accuracy.md.
+# "case") and OUT/pictures.jsonl (ref_compare's statistics), copies both to
+# docs/data/model_error/, and prints the tables of docs/accuracy.md (whose
+# section is docs/data/model_error/section.md). About 40 minutes on two
+# shared cores; the pictures are most of it.
 set -eu
 cd "$(dirname "$0")/../.."
 BUILD=${BUILD:-build}
@@ -77,6 +83,10 @@ if [ "$PICTURES" = 1 ]; then
   picture bunny_marble_front "$OUT/bunny_marble.sss" bunny marble $FRONT_LIGHT "$SPP_FRONT"
   picture bunny_marble_back "$OUT/bunny_marble.sss" bunny marble $BACK_LIGHT "$SPP_BACK"
 fi
+
+mkdir -p docs/data/model_error
+cp "$OUT/rows.jsonl" docs/data/model_error/rows.jsonl
+[ -s "$OUT/pictures.jsonl" ] && cp "$OUT/pictures.jsonl" docs/data/model_error/pictures.jsonl
 
 # the tables (numbers to 3 significant digits)
 echo
