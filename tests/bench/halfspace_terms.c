@@ -139,7 +139,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "halfspace_terms: %s\n", err.msg);
             return 1;
         }
-        printf("  %-30s", "diffuse reflectance, light mu 1");
+        printf("  %-30s", "diffuse reflectance, mu 1");
         for (int ch = 0; ch < 3; ch++) printf("%s%.4f±%.4f", ch ? " " : "", mean.front[ch], se.front[ch]);
         for (int f = 0; f < 3; f++) {
             printf("  ");
