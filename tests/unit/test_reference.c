@@ -16,6 +16,7 @@
  *    its internal reflections;
  *  - energy conservation on a closed sphere;
  *  - reciprocity of the reflected radiance of a flat slab;
+ *  - a white furnace under a uniform sky;
  *  - results independent of the thread count.
  * The half-space is a box far larger than the diffusion length, lit and
  * seen at the centre of its top face, whose vertex normals there are the
@@ -61,7 +62,8 @@ static void check_within(const char *what, double got, double se, double want, d
 static void chandrasekharHMatchesTabulatedValues(void **state)
 {
     (void)state;
-    /* Chandrasekhar's tabulated H(1) (the reference sheet's §11) */
+    /* Chandrasekhar's tabulated H(1) (Radiative Transfer, 1950;
+     * docs/reference.md §5.1) */
     assert_true(fabs(chandrasekhar_h(1.0, 1.0) - 2.9078) < 1e-4);
     assert_true(fabs(chandrasekhar_h(1.0, 0.9) - 1.8501) < 1e-4);
     assert_true(fabs(chandrasekhar_h(1.0, 0.5) - 1.2513) < 1e-4);
@@ -195,7 +197,8 @@ static void halfSpaceRadianceMatchesChandrasekhar(void **state)
  * its beam, the view ray to μ′; a collision at depth z scatters p(cos θ′)
  * (θ′ between the refracted directions) and both rays are attenuated, so
  *     L⁽¹⁾ = ω p F_t(μ₀) F_t(μ) μ₀ / (η² (μ′₀ + μ′)),
- * which at η = 1 is the reference sheet's §10 form ω p μ₀ / (μ₀ + μ). */
+ * which at η = 1 is ω p μ₀ / (μ₀ + μ) (Jensen et al. 2001, eq. 4–5, for a
+ * flat surface; docs/reference.md §5.4). */
 static void single_scattering_case(double eta, double g, double mu0, double mu, double az, uint64_t seed)
 {
     const sss_ref_medium m = albedo_medium(eta, g);
@@ -324,6 +327,66 @@ static void flatSlabRadianceIsReciprocal(void **state)
     }
 }
 
+/* A white furnace: a closed sphere of non-absorbing medium (η = 1.3,
+ * forward scattering) under a uniform sky of radiance 1. Every path ends by
+ * leaving, each carrying F_t/η² in and η² out, so the radiance through the
+ * surface is F_t(η, n·ω_o) exactly, path by path (the rest of the sky's 1
+ * is the surface reflection, which the estimator leaves out); with
+ * absorption it is less. Checks the environment light, the boundary's
+ * radiance law and the mesh's closedness (no path lost). */
+static void uniformSkyFurnaceGivesFresnelTransmittance(void **state)
+{
+    (void)state;
+    sss_mesh sph;
+    sss_ref_scene *s;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&sph, 5.0, 3, &err), SSS_OK);
+    assert_int_equal(sss_ref_scene_create(&sph, 1.0, &s, &err), SSS_OK);
+    const sss_ref_light sky = {SSS_REF_ENVIRONMENT, {0, 0, 0}, NULL};
+    sss_ref_medium m;
+    memset(&m, 0, sizeof m);
+    for (int c = 0; c < 3; c++) m.sigma_s[c] = 1.0;
+    m.g = 0.5;
+    m.eta = 1.3;
+    /* vertex 7, seen 40 degrees or so off its normal */
+    const float *n = &sph.nrm[3 * 7];
+    const double view[3] = {n[0] + 0.5, n[1] - 0.3, n[2] + 0.4};
+    const sss_ref_query q = {7, {view[0], view[1], view[2]}};
+    const double ft = sss_ft(1.3, (n[0] * view[0] + n[1] * view[1] + n[2] * view[2]) / sqrt(sss_dot3(view, view)));
+    sss_ref_options o = {0};
+    o.seed = 71;
+    o.paths = 400;
+    sss_ref_estimate e;
+    sss_ref_stats st;
+    assert_int_equal(sss_ref_queries(s, &m, &sky, &q, 1, &o, &e, &st, &err), SSS_OK);
+    assert_true(ft > 0.5);
+    for (int c = 0; c < 3; c++) {
+        printf("  furnace, grey: %.12f (F_t %.12f), s.e. %.2g\n", e.mean[c], ft, e.se[c]);
+        assert_true(fabs(e.mean[c] - ft) < 1e-9);
+    }
+    assert_true(st.leaks == 0 && st.truncated == 0);
+    /* channels of different σs: the hero channel's weights make each path's
+     * value vary (docs/reference.md §3) but not their sum over the channels,
+     * which is C F_t path by path when nothing is absorbed (the balance
+     * heuristic's weights f_c / mean p sum to C when every f_c = p_c); each
+     * mean stays F_t */
+    for (int c = 0; c < 3; c++) m.sigma_s[c] = 0.5 + 0.5 * c;
+    o.paths = 8000;
+    assert_int_equal(sss_ref_queries(s, &m, &sky, &q, 1, &o, &e, NULL, &err), SSS_OK);
+    assert_true(fabs(e.mean[0] + e.mean[1] + e.mean[2] - 3.0 * ft) < 1e-9);
+    for (int c = 0; c < 3; c++) {
+        char what[64];
+        snprintf(what, sizeof what, "furnace, sigma_s %.1f", m.sigma_s[c]);
+        check_within(what, e.mean[c], e.se[c], ft, 4.0);
+    }
+    /* absorbing: darker, still positive */
+    for (int c = 0; c < 3; c++) m.sigma_a[c] = 0.05;
+    assert_int_equal(sss_ref_queries(s, &m, &sky, &q, 1, &o, &e, NULL, &err), SSS_OK);
+    for (int c = 0; c < 3; c++) assert_true(e.mean[c] > 0.1 * ft && e.mean[c] < ft - 5.0 * e.se[c]);
+    sss_ref_scene_destroy(s);
+    sss_mesh_free(&sph);
+}
+
 static void resultDoesNotDependOnThreadCount(void **state)
 {
     (void)state;
@@ -348,6 +411,7 @@ int main(void)
         cmocka_unit_test(absorbingSlabFollowsBeerLambert),
         cmocka_unit_test(closedSphereConservesEnergy),
         cmocka_unit_test(flatSlabRadianceIsReciprocal),
+        cmocka_unit_test(uniformSkyFurnaceGivesFresnelTransmittance),
         cmocka_unit_test(resultDoesNotDependOnThreadCount),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -84,8 +84,8 @@ static int refract_to(const double d[3], const double n[3], double ratio, double
 }
 
 /* Henyey–Greenstein phase function of the angle between the propagation
- * directions before and after scattering (docs/physics.md... the reference
- * sheet's §10 form; g > 0 scatters forwards), per steradian. */
+ * directions before and after scattering (docs/reference.md §2; g > 0
+ * scatters forwards), per steradian. */
 static double hg_eval(double g, double cos_theta)
 {
     const double den = 1.0 + g * g - 2.0 * g * cos_theta;
