@@ -4,7 +4,8 @@
 # links, a dangling link, the input itself (by name, hard link and symbolic
 # link), an unwritable directory and a full small tmpfs (root only: skipped
 # with a message where mounting is not permitted), as inputs and as outputs
-# of sss-bake (plain and --scene), sss-stat, sss-view and sss-genmesh; and
+# of sss-bake (plain and --scene), sss-stat, sss-view, sss-genmesh and
+# sss-ref; and
 # bad values of their options. Each refusal must be one line on stderr with
 # an exit status below 128 within 20 s (a FIFO must not block), leave every
 # input as it was (checksums and file types) and write nothing (the output
@@ -85,6 +86,15 @@ for f in fifo.sss dir.sss dangling.sss /dev/null; do
   refused "stat --query $f" "${STAT[@]}" "$p" --query 0 --light 0,0,1
   refused "view $f" "${VIEW[@]}" "$p" --offscreen --out "$OUT/x.png" --size 16x16
 done
+REF=("$SSS_REF" --paths 4 --threads 1 -q)
+for m in fifo.ply dir.ply loop_a.ply /dev/null missing.ply; do
+  case $m in /*) p=$m ;; *) p=$IN/$m ;; esac
+  refused "ref mesh $m" "${REF[@]}" "$p" --light 0,0,1 --query 0 --view 0,0,1
+done
+for e in fifo.exr dir.ply /dev/null; do
+  case $e in /*) p=$e ;; *) p=$IN/$e ;; esac
+  refused "ref --env $e" "${REF[@]}" "$IN/s.ply" --env "$p" --query 0 --view 0,0,1
+done
 for sc in fifo.json dir.sss /dev/null fifo_probe.json dev_probe.json; do
   case $sc in /*) p=$sc ;; *) p=$IN/$sc ;; esac
   refused "scene $sc --plan" "$SSS_BAKE" --scene "$p" --plan
@@ -100,6 +110,13 @@ for o in fifo.png dir.png s.sss loop_a.ply dangling.sss; do
   refused "view --out $o" "${VIEW[@]}" "$IN/s.sss" --offscreen --out "$IN/$o" --size 16x16
 done
 refused "view --out the scene" "${VIEW[@]}" "$IN/s.sss" --scene "$IN/scene.json" --offscreen --out "$IN/scene.json" --size 16x16
+# sss-ref's image and its standard error (IMG.stderr.exr): each checked
+# before a path is traced, neither written when either is refused
+ln -s s.ply "$IN/mesh.exr"; mkfifo "$IN/img.stderr.exr"; mkdir "$IN/dir.exr"; state > "$TMP/state0"
+for o in fifo.exr dir.exr mesh.exr img.exr; do
+  refused "ref --out $o" "${REF[@]}" "$IN/s.ply" --light 0,0,1 --out "$IN/$o" --size 4x4
+done
+refused "ref --out the probe" "${REF[@]}" "$IN/s.ply" --env "$IN/sky.exr" --out "$IN/sky.exr" --size 4x4
 refused "genmesh to a FIFO" "$SSS_GENMESH" sphere 1 "$IN/fifo.ply"
 refused "genmesh to a directory" "$SSS_GENMESH" sphere 1 "$IN/dir.ply"
 refused "genmesh to a loop" "$SSS_GENMESH" sphere 1 "$IN/loop_a.ply"
@@ -154,6 +171,7 @@ if [ $ro_ok -eq 1 ]; then
   refused "bake into a read-only directory" "$SSS_BAKE" "$IN/s.ply" -o "$RO/x.sss" --dirs 8 -q
   refused "view into a read-only directory" "${VIEW[@]}" "$IN/s.sss" --offscreen --out "$RO/x.png" --size 16x16
   refused "genmesh into a read-only directory" "$SSS_GENMESH" sphere 1 "$RO/x.ply"
+  refused "ref into a read-only directory" "${REF[@]}" "$IN/s.ply" --light 0,0,1 --out "$RO/x.exr" --size 4x4
   [ -z "$(ls -A "$RO")" ] || fail "files left in the read-only directory"
   [ "$(id -u)" -eq 0 ] && umount "$RO"
 else
@@ -168,6 +186,7 @@ if [ "$(id -u)" -eq 0 ] && mount -t tmpfs -o size=64k tmpfs "$FULL" 2>/dev/null;
   refused "bake onto a full disk" "$SSS_BAKE" "$IN/s.ply" -o "$FULL/old.sss" --dirs 200 -q
   refused "view onto a full disk" "${VIEW[@]}" "$IN/s.sss" --offscreen --out "$FULL/big.exr" --size 256x256
   refused "genmesh onto a full disk" "$SSS_GENMESH" sphere 6 "$FULL/big.ply"
+  refused "ref onto a full disk" "$SSS_REF" "$IN/s.ply" --light 0,0,1 --paths 1 --out "$FULL/big.exr" --size 128x128 -q
   refused "stat images onto a full disk" "${STAT[@]}" "$IN/s.sss" --error --views 2 --image-size 128 --error-images "$FULL/img"
   cmp -s "$FULL/old.sss" "$TMP/old.copy" || fail "the old file on the full disk changed"
   left=$(ls -A "$FULL" | grep -v '^old.sss$' | grep -v '^img$' || true)
@@ -194,6 +213,11 @@ for a in "--query -1 --light 0,0,1" "--query 99999999999999999999 --light 0,0,1"
          "--query 0 --light nan,0,0" "--error --views 0" "--error --exposure 1e38" "--error --image-size 99999"; do
   # shellcheck disable=SC2086
   refused "stat $a" "${STAT[@]}" "$IN/s.sss" $a
+done
+for a in "--size 4294967396x100" "--size 100x99999" "--paths 0" "--seconds -1" "--light 0,0,0" \
+         "--light nan,0,1" "--mm-per-unit 1e300" "--eta 0" "--g 1" "--sigma-a 1,1,1 --sigma-s inf,1,1" "--threads 99999"; do
+  # shellcheck disable=SC2086
+  refused "ref $a" "$SSS_REF" "$IN/s.ply" --light 0,0,1 --out "$OUT/x.exr" $a
 done
 for a in "sphere -1" "sphere 99999999999" "nosuchshape 2" "torus 1e9" "sphere 2 inf" "sphere 2 1e300"; do
   # shellcheck disable=SC2086

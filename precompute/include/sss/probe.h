@@ -36,6 +36,16 @@ sss_result sss_probe_read_limited(const char *path, uint64_t max_bytes, sss_prob
 /* Writes a scanline EXR with float R, G, B, no compression (tests),
  * atomically (sss/fileio.h). */
 sss_result sss_probe_write(const char *path, const sss_probe *p, sss_error *err);
+/* The same, refusing a path that is one of the files in (sss/fileio.h). */
+struct sss_inputs;
+sss_result sss_probe_write_with(const char *path, const sss_probe *p, const struct sss_inputs *in, sss_error *err);
+/* The same, staged: the file is written to *out's temporary file and becomes
+ * the content of path only at sss_atomic_commit(out) (sss_atomic_abort
+ * throws it away), so that a tool writing several files writes all or none.
+ * On failure nothing is left and *out is released. */
+struct sss_atomic;
+sss_result sss_probe_write_staged(struct sss_atomic *out, const char *path, const sss_probe *p,
+                                  const struct sss_inputs *in, sss_error *err);
 
 void sss_probe_free(sss_probe *p);
 

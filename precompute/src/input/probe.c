@@ -210,18 +210,30 @@ static int64_t stream_write(exr_const_context_t ctxt, void *user, const void *bu
 
 sss_result sss_probe_write(const char *path, const sss_probe *p, sss_error *err)
 {
+    return sss_probe_write_with(path, p, NULL, err);
+}
+
+sss_result sss_probe_write_with(const char *path, const sss_probe *p, const struct sss_inputs *in, sss_error *err)
+{
     /* atomically, to a path the output policy allows (sss/fileio.h) */
     sss_atomic at;
-    sss_result r = sss_atomic_begin(&at, path, NULL, err);
+    sss_result r = sss_probe_write_staged(&at, path, p, in, err);
+    return r != SSS_OK ? r : sss_atomic_commit(&at, err);
+}
+
+sss_result sss_probe_write_staged(sss_atomic *out, const char *path, const sss_probe *p, const struct sss_inputs *in,
+                                  sss_error *err)
+{
+    sss_result r = sss_atomic_begin(out, path, in, err);
     if (r != SSS_OK) return r;
     exr_context_t f = NULL;
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = quiet_handler;
-    init.user_data = &at;
+    init.user_data = out;
     init.write_fn = stream_write;
     exr_result_t rv = exr_start_write(&f, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv != EXR_ERR_SUCCESS) {
-        sss_atomic_abort(&at);
+        sss_atomic_abort(out);
         return sss_fail(err, SSS_ERR_IO, "%s: cannot create OpenEXR file", path);
     }
     int part = 0;
@@ -259,11 +271,11 @@ sss_result sss_probe_write(const char *path, const sss_probe *p, sss_error *err)
     free(planes);
     exr_result_t fin = exr_finish(&f);
     if (rv != EXR_ERR_SUCCESS || fin != EXR_ERR_SUCCESS) {
-        sss_atomic_abort(&at);
+        sss_atomic_abort(out);
         return sss_fail(err, SSS_ERR_IO, "%s: writing OpenEXR failed (%s)", path,
                         exr_get_default_error_message(rv != EXR_ERR_SUCCESS ? rv : fin));
     }
-    return sss_atomic_commit(&at, err);
+    return SSS_OK;
 }
 
 void sss_probe_pixel_dir(uint32_t w, uint32_t h, uint32_t x, uint32_t y, double d[3], double *domega)
