@@ -9,6 +9,7 @@
  * options, run() imports, traces and reports; under mpirun the ranks split
  * every round's blocks and rank 0 alone speaks and writes (bake_mpi.c). */
 #include <cjson/cJSON.h>
+#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdint.h>
@@ -29,7 +30,8 @@ static void usage(FILE *f)
 {
     fprintf(f,
         "usage: sss-ref MESH [--material NAME | --sigma-a R,G,B --sigma-s R,G,B [--g G]] [--eta E]\n"
-        "               [--mm-per-unit S] --light X,Y,Z (--query V --view X,Y,Z | --out IMG.exr\n"
+        "               [--mm-per-unit S] (--light X,Y,Z | --point-light X,Y,Z[,I] | --env FILE.exr|uniform)\n"
+        "               (--query V --view X,Y,Z | --out IMG.exr\n"
         "               [--size WxH --view X,Y,Z]) [--paths N | --seconds T] [--seed K] [--json]\n"
         "A volumetric path-traced reference (docs/reference.md): the radiance leaving the mesh\n"
         "through its surface, by Monte Carlo random walks inside it (free flights, Henyey-\n"
@@ -47,6 +49,9 @@ static void usage(FILE *f)
         "  --mm-per-unit S      millimetres per mesh unit (default 1)\n"
         "  --light X,Y,Z        directional light from (towards the light), irradiance 1 on a\n"
         "                       surface facing it (sss-view's E = 1)\n"
+        "  --point-light X,Y,Z[,I]  instead: an isotropic point light at X,Y,Z (mesh units,\n"
+        "                       outside the mesh) of intensity I per sr (default 1): irradiance\n"
+        "                       I cos / r^2, r in mesh units, as sss-bake's scene point lights\n"
         "  --env FILE.exr|uniform  instead of --light: environment light, a lat-long probe\n"
         "                       (z up, docs/scenes.md) or radiance 1 from every direction\n"
         "  --query V            vertex index (as sss-bake and sss-stat number them)\n"
@@ -76,7 +81,8 @@ static void usage(FILE *f)
 typedef struct ref_args {
     const char *mesh, *material, *out, *env;
     double sigma_a[3], sigma_s[3], g, eta, mm_per_unit, seconds;
-    double light[3], view[3];
+    double light[3], view[3], point[4];
+    const char *point_text;
     int have_sigma_a, have_sigma_s, have_g, have_eta, have_light, have_view, have_size, have_paths, have_seconds;
     uint32_t query, max_order;
     int have_query;
@@ -89,6 +95,46 @@ static int refuse(const char *msg)
 {
     sss_cli_printf(stderr, "%s: %s\n", TOOL, msg);
     return 2;
+}
+
+/* the bound every tool puts on gains and intensities (docs/robustness.md,
+ * item 5) */
+#define REF_INTENSITY_MAX 1e12
+
+/* --point-light X,Y,Z[,I]: a position within the toolkit's coordinate
+ * range (sss/mesh.h) and an intensity in (0, 1e12] (default 1). */
+static int parse_point(const char *text, double out[4])
+{
+    double v[4] = {0, 0, 0, 1};
+    int n = 0;
+    const char *p = text;
+    for (; n < 4; n++) {
+        char *end;
+        errno = 0;
+        v[n] = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(v[n])) break;
+        p = end;
+        if (*p != ',') {
+            n++;
+            break;
+        }
+        p++;
+    }
+    if (*p || n < 3) {
+        sss_cli_printf(stderr, "%s: --point-light: '%s' must be X,Y,Z or X,Y,Z,I (finite numbers)\n", TOOL, text);
+        return 0;
+    }
+    for (int k = 0; k < 3; k++)
+        if (fabs(v[k]) > SSS_COORD_MAX) {
+            sss_cli_printf(stderr, "%s: --point-light: '%s': coordinates must lie within +-%g\n", TOOL, text, SSS_COORD_MAX);
+            return 0;
+        }
+    if (!(v[3] > 0.0 && v[3] <= REF_INTENSITY_MAX)) {
+        sss_cli_printf(stderr, "%s: --point-light: '%s': the intensity must lie in (0, %g]\n", TOOL, text, REF_INTENSITY_MAX);
+        return 0;
+    }
+    memcpy(out, v, sizeof v);
+    return 1;
 }
 
 /* Reads the command line into *a and checks its combinations. Returns
@@ -110,6 +156,7 @@ static int parse(int argc, char **argv, ref_args *a)
         {.name = "--mm-per-unit", .kind = SSS_CLI_DOUBLE, .dest = &a->mm_per_unit, .lo = 1e-12, .hi = 1e12},
         {.name = "--light", .kind = SSS_CLI_TRIPLE, .dest = a->light, .flags = SSS_CLI_NONZERO, .given = &a->have_light},
         {.name = "--env", .kind = SSS_CLI_STRING, .dest = &a->env, .flags = SSS_CLI_NONEMPTY},
+        {.name = "--point-light", .kind = SSS_CLI_STRING, .dest = &a->point_text, .flags = SSS_CLI_NONEMPTY},
         {.name = "--query", .kind = SSS_CLI_U32, .dest = &a->query, .lo = 0, .hi = UINT32_MAX - 2, .given = &a->have_query},
         {.name = "--view", .kind = SSS_CLI_TRIPLE, .dest = a->view, .flags = SSS_CLI_NONZERO, .given = &a->have_view},
         {.name = "--out", .alias = "-o", .kind = SSS_CLI_STRING, .dest = &a->out, .flags = SSS_CLI_NONEMPTY},
@@ -134,8 +181,10 @@ static int parse(int argc, char **argv, ref_args *a)
     if (!a->mesh) return refuse("missing MESH (see --help)");
     if ((a->have_sigma_a || a->have_sigma_s) && (a->material || !a->have_sigma_a || !a->have_sigma_s))
         return refuse("give either --material NAME or both --sigma-a and --sigma-s");
-    if (a->have_light && a->env) return refuse("--light and --env exclude each other");
-    if (!a->have_light && !a->env) return refuse("missing --light X,Y,Z (or --env)");
+    if (!!a->have_light + !!a->env + !!a->point_text > 1)
+        return refuse("--light, --point-light and --env exclude each other");
+    if (!a->have_light && !a->env && !a->point_text) return refuse("missing --light X,Y,Z (or --point-light, --env)");
+    if (a->point_text && !parse_point(a->point_text, a->point)) return 2;
     if (a->have_query && a->out) return refuse("--query and --out exclude each other");
     if (!a->have_query && !a->out) return refuse("give --query V --view X,Y,Z or --out IMG.exr");
     if (a->have_query && !a->have_view) return refuse("--query needs --view X,Y,Z");
@@ -203,6 +252,10 @@ static int setup(const ref_args *a, ref_setup *s)
             }
             s->light.probe = &s->probe;
         }
+    } else if (a->point_text) {
+        s->light.kind = SSS_REF_POINT;
+        memcpy(s->light.pos, a->point, sizeof s->light.pos);
+        s->light.intensity = a->point[3];
     } else {
         s->light.kind = SSS_REF_DIRECTIONAL;
         memcpy(s->light.dir, a->light, sizeof a->light);
@@ -233,6 +286,7 @@ static void json_inputs(cJSON *o, const ref_args *a, const ref_setup *s, const s
     cJSON_AddNumberToObject(o, "eta", s->medium.eta);
     cJSON_AddNumberToObject(o, "mm_per_unit", a->mm_per_unit > 0 ? a->mm_per_unit : 1.0);
     if (s->light.kind == SSS_REF_DIRECTIONAL) cJSON_AddItemToObject(o, "light", cJSON_CreateDoubleArray(a->light, 3));
+    else if (s->light.kind == SSS_REF_POINT) cJSON_AddItemToObject(o, "point_light", cJSON_CreateDoubleArray(a->point, 4));
     else cJSON_AddStringToObject(o, "env", a->env);
     cJSON_AddNumberToObject(o, "seed", a->seed);
     cJSON_AddNumberToObject(o, "paths", (double)st->paths);

@@ -476,7 +476,7 @@ static int model_error_report(const char *path, const sss_bake_file *f, const ch
         q[i].vertex = vert[i];
         memcpy(q[i].view, view, sizeof view);
     }
-    const sss_ref_light l = {SSS_REF_DIRECTIONAL, {light[0], light[1], light[2]}, NULL};
+    const sss_ref_light l = {.kind = SSS_REF_DIRECTIONAL, .dir = {light[0], light[1], light[2]}};
     sss_ref_options o = {0};
     o.seed = ma->seed;
     o.paths = ma->paths;

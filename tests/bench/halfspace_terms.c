@@ -105,7 +105,7 @@ int main(int argc, char **argv)
             /* light at μ_i = 1 or 0.5 in the x-z plane, the view at μ_o
              * across it (azimuth 90°) */
             const double mi = k < 3 ? 1.0 : 0.5, mo = mus[k % 3];
-            const sss_ref_light l = {SSS_REF_DIRECTIONAL, {sqrt(1 - mi * mi), 0, mi}, NULL};
+            const sss_ref_light l = {.kind = SSS_REF_DIRECTIONAL, .dir = {sqrt(1 - mi * mi), 0, mi}};
             const sss_ref_query q = {top, {0, sqrt(1 - mo * mo), mo}};
             sss_ref_options o = {0};
             o.seed = seed + (uint64_t)k;

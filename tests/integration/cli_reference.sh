@@ -60,6 +60,24 @@ cmp "$TMP/a.exr" "$TMP/b.exr" || fail "2-rank image differs from the 1-process i
 expect_ok "$SSS_REF" "$TMP/b.ply" "${M[@]}" --query 5 --view 0,0,1 --seconds 0.3 --json
 [ "$(json_field paths)" -ge 16 ] || fail "--seconds 0.3 traced $(json_field paths) paths"
 
+# a point light: far away along the directional light, with intensity D²
+# (unit irradiance), it gives the directional light's radiance within a few
+# standard errors; its position and intensity are reported
+expect_ok "$SSS_REF" "$TMP/b.ply" --material skin1 --mm-per-unit 20 --query 5 --view 0,0,1 --paths 200 --seed 3 \
+  --json --threads 1 --point-light 0,2873.4788,9578.2629,1e8
+contains "$TMP/out" '"point_light":\[0,2873.4788,9578.2629,100000000\]'
+python3 - "$r1" "$s1" "$(json_field radiance)" "$(json_field stderr)" <<'PY' || fail "far point light differs from the directional light"
+import json, sys
+r1, s1, r2, s2 = (json.loads(a) for a in sys.argv[1:])
+for a, sa, b, sb in zip(r1, s1, r2, s2):
+    assert abs(a - b) <= 4 * (sa * sa + sb * sb) ** 0.5 + 1e-12, (a, b, sa, sb)
+PY
+expect_rc 2 "must be X,Y,Z or X,Y,Z,I" "$SSS_REF" "$TMP/b.ply" --point-light 0,1 --query 5 --view 0,0,1
+expect_rc 2 "must be X,Y,Z or X,Y,Z,I" "$SSS_REF" "$TMP/b.ply" --point-light 0,1,2,3,4 --query 5 --view 0,0,1
+expect_rc 2 "intensity must lie" "$SSS_REF" "$TMP/b.ply" --point-light 0,0,9,0 --query 5 --view 0,0,1
+expect_rc 2 "exclude each other" "$SSS_REF" "$TMP/b.ply" --point-light 0,0,9 --light 0,0,1 --query 5 --view 0,0,1
+expect_rc 1 "inside the mesh" "$SSS_REF" "$TMP/b.ply" --point-light 0,0,0 --query 5 --view 0,0,1
+
 # refusals: one line each, exit status 2 (arguments) or 1 (input)
 expect_rc 2 "missing --light" "$SSS_REF" "$TMP/b.ply" --query 5 --view 0,0,1
 expect_rc 2 "give --query" "$SSS_REF" "$TMP/b.ply" --light 0,0,1

@@ -12,6 +12,8 @@
  *    estimator, every order of scattering);
  *  - its single scattering, ω p μ₀ / (μ₀ + μ) at η = 1 and its refracted
  *    form at η = 1.3 (the next-event estimate through the boundary);
+ *  - the single scattering of a point light near it (η = 1, a quadrature
+ *    along the view ray), and of a far one at η = 1.3 (the closed form);
  *  - a purely absorbing slab against Beer–Lambert with the Fresnel series of
  *    its internal reflections;
  *  - energy conservation on a closed sphere;
@@ -144,10 +146,19 @@ static void halfSpaceReflectanceMatchesChandrasekhar(void **state)
     }
 }
 
+static sss_ref_estimate query_light(const sss_ref_medium *m, const sss_ref_light *l, const double view[3],
+                                    uint64_t paths, uint64_t seed, uint32_t max_order, int threads);
+
 static sss_ref_estimate query(const sss_ref_medium *m, const double light[3], const double view[3], uint64_t paths,
                               uint64_t seed, uint32_t max_order, int threads)
 {
-    const sss_ref_light l = {SSS_REF_DIRECTIONAL, {light[0], light[1], light[2]}, NULL};
+    const sss_ref_light l = {.kind = SSS_REF_DIRECTIONAL, .dir = {light[0], light[1], light[2]}};
+    return query_light(m, &l, view, paths, seed, max_order, threads);
+}
+
+static sss_ref_estimate query_light(const sss_ref_medium *m, const sss_ref_light *l, const double view[3],
+                                    uint64_t paths, uint64_t seed, uint32_t max_order, int threads)
+{
     const sss_ref_query q = {g_top, {view[0], view[1], view[2]}};
     sss_ref_options o = {0};
     o.seed = seed;
@@ -157,7 +168,7 @@ static sss_ref_estimate query(const sss_ref_medium *m, const double light[3], co
     sss_ref_estimate e;
     sss_ref_stats st;
     sss_error err = {{0}};
-    if (sss_ref_queries(g_half, m, &l, &q, 1, &o, &e, &st, &err) != SSS_OK) fail_msg("%s", err.msg);
+    if (sss_ref_queries(g_half, m, l, &q, 1, &o, &e, &st, &err) != SSS_OK) fail_msg("%s", err.msg);
     if (st.leaks || st.truncated) fail_msg("%llu leaks, %llu truncated", (unsigned long long)st.leaks, (unsigned long long)st.truncated);
     return e;
 }
@@ -228,6 +239,88 @@ static void singleScatteringMatchesClosedForm(void **state)
     single_scattering_case(1.0, 0.0, 0.7, 0.9, 2.5, 21);
     single_scattering_case(1.0, 0.6, 0.6, 0.8, 3.0, 22);
     single_scattering_case(1.3, 0.6, 0.5, 0.8, 2.8, 23);
+}
+
+/* A point light near the half-space at η = 1: single scattering along the
+ * view ray, at depth position s (distance inside), from light that comes
+ * straight from P through the medium:
+ *     L⁽¹⁾ = ∫₀^∞ σs p(cos θ) e^{−σt s} I e^{−σt t_l} / |P − z|² ds,
+ * z = x₀ − s ω_o, t_l the light's length inside (depth · |P − z| / (P − z)_z),
+ * θ between the light's travel (z − P) and ω_o; integrated here by the
+ * midpoint rule (docs/reference.md §5.4). The next-event estimate's
+ * positional Jacobian r²|de/dω| is |P − z|² there. */
+static void pointLightNearHalfSpaceMatchesSingleScatteringIntegral(void **state)
+{
+    (void)state;
+    const double g = 0.4;
+    const sss_ref_medium m = albedo_medium(1.0, g);
+    const double P[3] = {30.0, -10.0, 100.0 + 25.0}, I = 625.0; /* 1 unit of irradiance 25 mm above */
+    double v[3];
+    dir_at(0.8, 2.6, v);
+    const sss_ref_light l = {.kind = SSS_REF_POINT, .pos = {P[0], P[1], P[2]}, .intensity = I};
+    const sss_ref_estimate e = query_light(&m, &l, v, 6000, 31, 1, 0);
+    for (int c = 0; c < 3; c++) {
+        const double st = k_sigma_t[c], ss = k_omega[c] * st, smax = 40.0 / st;
+        const int n = 200000;
+        double sum = 0.0;
+        for (int i = 0; i < n; i++) {
+            const double sd = (i + 0.5) * smax / n;
+            const double z[3] = {-sd * v[0], -sd * v[1], 100.0 - sd * v[2]};
+            double d[3];
+            sss_sub3(d, z, P); /* the light's travel */
+            const double r = sqrt(sss_dot3(d, d)), depth = 100.0 - z[2], tl = depth * r / (P[2] - z[2]);
+            const double ct = sss_dot3(d, v) / r;
+            const double p = (1.0 - g * g) / (4.0 * SSS_PI * pow(1.0 + g * g - 2.0 * g * ct, 1.5));
+            sum += ss * p * exp(-st * (sd + tl)) * I / (r * r);
+        }
+        char what[96];
+        snprintf(what, sizeof what, "near point light, single scattering, omega %.2f", k_omega[c]);
+        check_within(what, e.mean[c], e.se[c], sum * smax / n, 4.0);
+    }
+}
+
+/* A point light far away (distance D = 10⁴ mm, intensity D²: unit
+ * irradiance) gives what the directional light gives, at η = 1.3 where the
+ * light refracts: the same closed form of single scattering, within the
+ * standard error and the light's spread over the lit part (∼ 1/D). */
+static void farPointLightMatchesDirectionalLight(void **state)
+{
+    (void)state;
+    const double eta = 1.3, g = 0.6, mu0 = 0.5, mu = 0.8, az = 2.8, D = 1e4;
+    const sss_ref_medium m = albedo_medium(eta, g);
+    double l[3], v[3];
+    dir_at(mu0, 0.0, l);
+    dir_at(mu, az, v);
+    const sss_ref_light pl = {.kind = SSS_REF_POINT, .pos = {D * l[0], D * l[1], 100.0 + D * l[2]}, .intensity = D * D};
+    const sss_ref_estimate e = query_light(&m, &pl, v, 6000, 23, 1, 0);
+    const double s0 = sqrt(1.0 - mu0 * mu0) / eta, s1 = sqrt(1.0 - mu * mu) / eta;
+    const double mu0p = sqrt(1.0 - s0 * s0), mup = sqrt(1.0 - s1 * s1);
+    const double cos_theta = -s0 * s1 * cos(az) - mu0p * mup;
+    const double p = (1.0 - g * g) / (4.0 * SSS_PI * pow(1.0 + g * g - 2.0 * g * cos_theta, 1.5));
+    for (int c = 0; c < 3; c++) {
+        const double L = k_omega[c] * p * sss_ft(eta, mu0) * sss_ft(eta, mu) * mu0 / (eta * eta * (mu0p + mup));
+        char what[96];
+        snprintf(what, sizeof what, "far point light, eta 1.3, omega %.2f", k_omega[c]);
+        check_within(what, e.mean[c], e.se[c], L, 4.0);
+    }
+}
+
+/* A point light inside the mesh, or with no intensity, is refused. */
+static void pointLightInsideOrDarkIsRefused(void **state)
+{
+    (void)state;
+    const sss_ref_medium m = albedo_medium(1.3, 0.0);
+    const sss_ref_query q = {g_top, {0.0, 0.0, 1.0}};
+    sss_ref_options o = {0};
+    o.paths = 16;
+    sss_ref_estimate e;
+    sss_ref_stats st;
+    sss_error err = {{0}};
+    const sss_ref_light inside = {.kind = SSS_REF_POINT, .pos = {0.0, 0.0, 50.0}, .intensity = 1.0};
+    assert_int_equal(sss_ref_queries(g_half, &m, &inside, &q, 1, &o, &e, &st, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "inside the mesh"));
+    const sss_ref_light dark = {.kind = SSS_REF_POINT, .pos = {0.0, 0.0, 150.0}, .intensity = 0.0};
+    assert_int_equal(sss_ref_queries(g_half, &m, &dark, &q, 1, &o, &e, &st, &err), SSS_ERR_ARG);
 }
 
 static void absorbingSlabFollowsBeerLambert(void **state)
@@ -342,7 +435,7 @@ static void uniformSkyFurnaceGivesFresnelTransmittance(void **state)
     sss_error err = {{0}};
     assert_int_equal(sss_gen_sphere(&sph, 5.0, 3, &err), SSS_OK);
     assert_int_equal(sss_ref_scene_create(&sph, 1.0, &s, &err), SSS_OK);
-    const sss_ref_light sky = {SSS_REF_ENVIRONMENT, {0, 0, 0}, NULL};
+    const sss_ref_light sky = {.kind = SSS_REF_ENVIRONMENT};
     sss_ref_medium m;
     memset(&m, 0, sizeof m);
     for (int c = 0; c < 3; c++) m.sigma_s[c] = 1.0;
@@ -408,6 +501,9 @@ int main(void)
         cmocka_unit_test(halfSpaceReflectanceMatchesChandrasekhar),
         cmocka_unit_test(halfSpaceRadianceMatchesChandrasekhar),
         cmocka_unit_test(singleScatteringMatchesClosedForm),
+        cmocka_unit_test(pointLightNearHalfSpaceMatchesSingleScatteringIntegral),
+        cmocka_unit_test(farPointLightMatchesDirectionalLight),
+        cmocka_unit_test(pointLightInsideOrDarkIsRefused),
         cmocka_unit_test(absorbingSlabFollowsBeerLambert),
         cmocka_unit_test(closedSphereConservesEnergy),
         cmocka_unit_test(flatSlabRadianceIsReciprocal),

@@ -68,13 +68,19 @@ typedef enum sss_ref_light_kind {
     SSS_REF_DIRECTIONAL = 0,
     /* radiance from every direction: probe (sss/probe.h's lat-long
      * convention, z up) or, probe NULL, radiance 1 everywhere */
-    SSS_REF_ENVIRONMENT = 1
+    SSS_REF_ENVIRONMENT = 1,
+    /* an isotropic point light at pos (mesh units) of intensity I per sr:
+     * irradiance I cos θ / r² with r in mesh units, as the toolkit's point
+     * lights (docs/scenes.md, the point-shells effect) */
+    SSS_REF_POINT = 2
 } sss_ref_light_kind;
 
 typedef struct sss_ref_light {
     sss_ref_light_kind kind;
     double dir[3];            /* SSS_REF_DIRECTIONAL: towards the light, any non-zero length */
     const sss_probe *probe;   /* SSS_REF_ENVIRONMENT: NULL for a uniform sky of radiance 1 */
+    double pos[3];            /* SSS_REF_POINT: position, mesh units, outside the mesh */
+    double intensity;         /* SSS_REF_POINT: per sr, finite and > 0 */
 } sss_ref_light;
 
 /* ---- the scene ----------------------------------------------------------- */

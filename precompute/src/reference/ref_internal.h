@@ -36,6 +36,8 @@ typedef struct ref_hit {
 int ref_intersect(const sss_ref_scene *s, const double o[3], const double d[3], double tnear, ref_hit *h);
 /* 1 when anything blocks o + t·d, t in (tnear, ∞). */
 int ref_occluded(const sss_ref_scene *s, const double o[3], const double d[3], double tnear);
+/* 1 when anything blocks o + t·d, t in (tnear, tfar). */
+int ref_occluded_upto(const sss_ref_scene *s, const double o[3], const double d[3], double tnear, double tfar);
 /* The shading normal at point p (mm) of the plane of triangle f, from its
  * barycentrics (extrapolated outside the triangle): unit, or 0 on a
  * degenerate triangle. */
@@ -59,6 +61,8 @@ typedef struct ref_ctx {
     ref_medium m;
     sss_ref_light_kind light;
     double wl[3];             /* directional: unit, towards the light */
+    double P[3];              /* point: the light's position, mm */
+    double I;                 /* point: intensity per sr for distances in mm (the given one × mm_per_unit²) */
     const sss_probe *probe;   /* environment */
     uint32_t max_order;       /* 0: all */
     int no_nee;

@@ -194,10 +194,16 @@ int ref_intersect(const sss_ref_scene *s, const double o[3], const double d[3], 
 
 int ref_occluded(const sss_ref_scene *s, const double o[3], const double d[3], double tnear)
 {
+    return ref_occluded_upto(s, o, d, tnear, INFINITY);
+}
+
+int ref_occluded_upto(const sss_ref_scene *s, const double o[3], const double d[3], double tnear, double tfar)
+{
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRay r;
     make_ray(&r, o, d, tnear);
+    r.tfar = (float)tfar;
     rtcOccluded1((RTCScene)s->scene, &ctx, &r);
     return r.tfar < 0.0f;
 }

@@ -340,33 +340,70 @@ static int leave_derivative(const sss_ref_scene *s, uint32_t f, const double z[3
     return 1;
 }
 
-/* Light of the directional source scattered at z towards −u (u: the
- * direction the backward path arrived in), added to L with the path's
+/* The direction from surface point y towards the light (unit), and, for
+ * a point light, the distance to it (mm; 0 for a directional light). */
+static double towards_light(const ref_ctx *c, const double y[3], double w[3])
+{
+    if (c->light != SSS_REF_POINT) {
+        memcpy(w, c->wl, 3 * sizeof *w);
+        return 0.0;
+    }
+    sss_sub3(w, c->P, y);
+    return sss_normalize3(w);
+}
+
+/* For a point light: where the ray from z along v meets the plane of
+ * triangle f, and the light's direction from there, into wp. 0 where the
+ * ray does not meet the plane ahead. */
+static int light_dir_on_plane(const ref_ctx *c, uint32_t f, const double z[3], const double v[3], double wp[3])
+{
+    const double t = ref_plane_t(c->s, f, z, v);
+    if (!(t > 0.0)) return 0;
+    double y[3];
+    for (int k = 0; k < 3; k++) y[k] = z[k] + t * v[k];
+    return towards_light(c, y, wp) > 0.0;
+}
+
+/* Light of the directional or point source scattered at z towards −u (u:
+ * the direction the backward path arrived in), added to L with the path's
  * weights. The light reaches z unscattered only along its own refracted
  * ray: the ray direction v at z whose exit direction ω′(v) (refraction
- * about the shading normal where the ray meets the surface) is the light's
- * ω_l. It is solved by Newton's method on the two angles of v, from the
- * straight ray towards the light, with the derivative of ω′ by central
- * differences on the triangle's plane and one ray per step to find the
- * triangle (one step on a flat surface; two or three where the interpolated
- * normals curve). The radiance arriving along v is η² F_t E δ(ω′ − ω_l),
- * which a direction at z picks with density 1/|dω′/dω|, the determinant of
- * that derivative (docs/reference.md §3). */
-static void nee_directional(const ref_ctx *c, const double z[3], const double u[3], const ref_tp *tp,
-                            uint64_t *rng, double L[3], ref_counters *k)
+ * about the shading normal where the ray meets the surface, at y) is the
+ * light's direction ω_l(y) there (constant for a directional light,
+ * towards P for a point light). It is solved by Newton's method on the two
+ * angles of v for the residual e(v) = ω′(v) − ω_l(y(v)), from the straight
+ * ray towards the light, with the derivative of e by central differences
+ * on the triangle's plane and one ray per step to find the triangle (one
+ * step on a flat surface with a directional light; two or three where the
+ * interpolated normals curve or the light is near). A directional light's
+ * radiance arriving along v is η² F_t E δ(ω′ − ω_l), which a direction at
+ * z picks with density 1/|dω′/dω|, the determinant of that derivative; a
+ * point light is a radiance I δ²(x⊥ − P) over the plane through P across
+ * the ray, and the ray from y along ω′ passes P at the offset
+ * x⊥ − P ≈ −r e⊥ (r = |P − y|), so its density is 1/(r² |de/dω|)
+ * (docs/reference.md §3). */
+static void nee_light(const ref_ctx *c, const double z[3], const double u[3], const ref_tp *tp, uint64_t *rng,
+                      double L[3], ref_counters *k)
 {
     const sss_ref_scene *s = c->s;
     const ref_medium *m = &c->m;
     const double eta = m->eta;
-    double v[3], a[3], b[3], w0[3], wa[3], wb[3];
-    memcpy(v, c->wl, sizeof v);
+    const int point = c->light == SSS_REF_POINT;
+    double v[3], a[3], b[3], w0[3], wa[3], wb[3], wl[3];
+    if (point) {
+        sss_sub3(v, c->P, z);
+        if (!(sss_normalize3(v) > 0.0)) return;
+    } else {
+        memcpy(v, c->wl, sizeof v);
+    }
     ref_hit h;
     int ok = 0;
     double scale = 1.0;
     k->nee++;
     for (int it = 0; it < 12; it++) {
         if (!inside_hit(s, z, v, 0.0, &h, k)) return;
-        if (!(sss_dot3(h.ns, c->wl) > 0.0)) return; /* the light is behind the shading normal */
+        if (!(towards_light(c, h.p, wl) >= 0.0) || !(sss_dot3(h.ns, wl) > 0.0))
+            return; /* the light is behind the shading normal */
         if (it == 0 && !c->no_nee_roulette) {
             /* where it pays: the light's path to z is at least about the
              * depth under the surface the straight ray meets, t0 cos θ_l
@@ -377,7 +414,7 @@ static void nee_directional(const ref_ctx *c, const double z[3], const double u[
              * (unbiased), saving the rays of deep collisions */
             double smin = m->sigma_t[0];
             for (uint32_t ch = 1; ch < m->C; ch++) smin = fmin(smin, m->sigma_t[ch]);
-            const double T = exp(-smin * h.t * fmax(0.1, sss_dot3(h.ns, c->wl)));
+            const double T = exp(-smin * h.t * fmax(0.1, sss_dot3(h.ns, wl)));
             if (T < 1e-3) {
                 const double p = fmax(0.01, T / 1e-3);
                 if (sss_rng_unit(rng) >= p) {
@@ -391,13 +428,30 @@ static void nee_directional(const ref_ctx *c, const double z[3], const double u[
             /* a fixed-point step: the light's refraction about the normal
              * met (from the straight ray towards the light, which may itself
              * be totally reflected, and wherever a ray would be) */
-            double d[3], nin[3] = {-h.ns[0], -h.ns[1], -h.ns[2]}, wl_in[3] = {-c->wl[0], -c->wl[1], -c->wl[2]};
+            double d[3], nin[3] = {-h.ns[0], -h.ns[1], -h.ns[2]}, wl_in[3] = {-wl[0], -wl[1], -wl[2]};
             if (!refract_to(wl_in, nin, 1.0 / eta, d)) return;
             for (int q = 0; q < 3; q++) v[q] = -d[q];
             continue;
         }
+        if (point) { /* e's derivative: ω′'s less ω_l's, by the same central differences */
+            const double hd = 1e-4;
+            double lp[4][3];
+            for (int i = 0; i < 4; i++) {
+                const double *e = i < 2 ? a : b;
+                const double sg = (i & 1) ? -hd : hd;
+                double vv[3];
+                for (int q = 0; q < 3; q++) vv[q] = v[q] + sg * e[q];
+                sss_normalize3(vv);
+                if (!light_dir_on_plane(c, h.tri, z, vv, lp[i])) return;
+            }
+            if (!light_dir_on_plane(c, h.tri, z, v, wl)) return;
+            for (int q = 0; q < 3; q++) {
+                wa[q] -= (lp[0][q] - lp[1][q]) / (2.0 * hd);
+                wb[q] -= (lp[2][q] - lp[3][q]) / (2.0 * hd);
+            }
+        }
         double e[3];
-        sss_sub3(e, w0, c->wl);
+        sss_sub3(e, w0, wl);
         if (sss_dot3(e, e) < 1e-12) { /* v leaves along ω_l to 1e-6 rad */
             ok = 1;
             break;
@@ -417,16 +471,18 @@ static void nee_directional(const ref_ctx *c, const double z[3], const double u[
         k->nee_unsolved++;
         return;
     }
-    if (!(sss_dot3(h.ng, c->wl) > 0.0)) return; /* the light is behind the triangle itself */
+    const double r = towards_light(c, h.p, wl); /* the hit point's own: the shadow ray's */
+    if (!(sss_dot3(h.ng, wl) > 0.0)) return; /* the light is behind the triangle itself */
     k->rays++;
     double yo[3];
-    leave_surface(s, &h, c->wl, yo);
-    if (ref_occluded(s, yo, c->wl, 0.0)) return;
+    leave_surface(s, &h, wl, yo);
+    if (point ? ref_occluded_upto(s, yo, wl, 0.0, r) : ref_occluded(s, yo, wl, 0.0)) return;
     double cr[3];
     sss_cross3(wa, wb, cr);
-    const double J = fabs(sss_dot3(cr, w0)); /* |dω′/dω| */
+    const double J = fabs(sss_dot3(cr, w0)) * (point ? r * r : 1.0); /* |dω′/dω|, or r² |de/dω| */
     if (!(J > 0.0) || !isfinite(J)) return;
-    const double w = scale * hg_eval(m->g, sss_dot3(v, u)) * eta * eta * sss_ft(eta, sss_dot3(h.ns, c->wl)) / J;
+    const double E = point ? c->I : 1.0;
+    const double w = scale * E * hg_eval(m->g, sss_dot3(v, u)) * eta * eta * sss_ft(eta, sss_dot3(h.ns, wl)) / J;
     double beta[3];
     tp_weights(tp, beta);
     for (uint32_t ch = 0; ch < m->C; ch++) L[ch] += beta[ch] * w * exp(-m->sigma_t[ch] * h.t);
@@ -472,7 +528,7 @@ void ref_radiance_path(const ref_ctx *c, const ref_hit *h0, const double wo[3], 
                 tnear = 0.0;
                 order++;
                 k->scatterings++;
-                if (!c->no_nee && c->light == SSS_REF_DIRECTIONAL) nee_directional(c, x, u, &tp, rng, L, k);
+                if (!c->no_nee && c->light != SSS_REF_ENVIRONMENT) nee_light(c, x, u, &tp, rng, L, k);
                 if (c->max_order && order >= c->max_order) goto done;
                 if (!roulette(&tp, beta0, rng)) goto done;
                 double un[3];

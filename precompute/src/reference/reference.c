@@ -260,6 +260,27 @@ static sss_result make_ctx(const sss_ref_scene *s, const sss_ref_medium *m, cons
             return sss_fail(err, SSS_ERR_ARG, "reference: the light direction is not a direction");
     } else if (l->kind == SSS_REF_ENVIRONMENT) {
         c->probe = l->probe;
+    } else if (l->kind == SSS_REF_POINT) {
+        for (int k = 0; k < 3; k++) c->P[k] = l->pos[k] * s->mm_per_unit;
+        c->I = l->intensity * s->mm_per_unit * s->mm_per_unit;
+        if (!isfinite(c->P[0] + c->P[1] + c->P[2]) || fabs(l->pos[0]) > SSS_COORD_MAX ||
+            fabs(l->pos[1]) > SSS_COORD_MAX || fabs(l->pos[2]) > SSS_COORD_MAX)
+            return sss_fail(err, SSS_ERR_ARG, "reference: the point light's position (%g, %g, %g) is out of range",
+                            l->pos[0], l->pos[1], l->pos[2]);
+        if (!(l->intensity > 0.0 && isfinite(c->I)))
+            return sss_fail(err, SSS_ERR_ARG, "reference: the point light's intensity %g must be finite and > 0",
+                            l->intensity);
+        /* the light must be outside: the first wall a ray from P meets is
+         * then seen from outside; three rays vote, for a mesh with holes */
+        static const double probe_dir[3][3] = {{0.48, 0.6, 0.64}, {-0.8, 0.36, -0.48}, {0.0, -0.6, 0.8}};
+        int inside = 0;
+        for (int i = 0; i < 3; i++) {
+            ref_hit h;
+            if (ref_intersect(s, c->P, probe_dir[i], 0.0, &h) && sss_dot3(probe_dir[i], h.ng) > 0.0) inside++;
+        }
+        if (inside >= 2)
+            return sss_fail(err, SSS_ERR_ARG, "reference: the point light at (%g, %g, %g) is inside the mesh",
+                            l->pos[0], l->pos[1], l->pos[2]);
     } else {
         return sss_fail(err, SSS_ERR_ARG, "reference: unknown light kind %d", (int)l->kind);
     }
@@ -478,7 +499,7 @@ sss_result sss_ref_particles(const sss_ref_scene *s, const sss_ref_medium *m, co
     sss_ref_stats dummy;
     if (!st) st = &dummy;
     memset(st, 0, sizeof *st);
-    const sss_ref_light l = {SSS_REF_DIRECTIONAL, {b->dir[0], b->dir[1], b->dir[2]}, NULL};
+    const sss_ref_light l = {.kind = SSS_REF_DIRECTIONAL, .dir = {b->dir[0], b->dir[1], b->dir[2]}};
     ref_ctx c;
     sss_result r = make_ctx(s, m, &l, o, &c, err);
     if (r != SSS_OK) return r;
