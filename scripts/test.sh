@@ -3,8 +3,9 @@
 # the release build, then a build with AddressSanitizer + UBSan
 # (SSS_SANITIZE=ON) where any memory error, leak or undefined behaviour fails
 # the test that hit it. Last, bounded libFuzzer runs (clang, ASan + UBSan)
-# of the .sss reader and the mesh importers, SSS_FUZZ_SECONDS each
-# (default 60).
+# of the .sss reader, the mesh importers, scene files, the probe reader,
+# scenes through the planner, the viewer's upload path and the tools'
+# command lines, SSS_FUZZ_SECONDS each (default 60).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh build
@@ -17,5 +18,5 @@ ctest --test-dir build-asan --output-on-failure -j2
 echo "== bounded fuzz runs (libFuzzer, ASan + UBSan) ==" >&2
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSS_SANITIZE=ON -DSSS_FUZZ=ON \
   -DSSS_FUZZ_SECONDS="${SSS_FUZZ_SECONDS:-60}" >/dev/null
-cmake --build build-fuzz -j"$(nproc)" --target fuzz_sss fuzz_mesh fuzz_scene
+cmake --build build-fuzz -j"$(nproc)" --target fuzz_sss fuzz_mesh fuzz_scene fuzz_probe fuzz_plan fuzz_view fuzz_cli
 ctest --test-dir build-fuzz --output-on-failure -L fuzz

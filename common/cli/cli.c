@@ -4,12 +4,58 @@
 #include "sss/cli.h"
 
 #include <errno.h>
+#include <stdarg.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
 
 static FILE *err_of(const sss_cli *cli) { return cli->err ? cli->err : stderr; }
+
+/* Control characters (C0 and DEL) as '?', except a last '\n'. */
+static void one_line(char *s, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        const unsigned char c = (unsigned char)s[i];
+        if ((c < 0x20 || c == 0x7f) && !(c == '\n' && i + 1 == n)) s[i] = '?';
+    }
+}
+
+static int vprint_line(FILE *f, const char *fmt, va_list ap)
+{
+    va_list aq;
+    va_copy(aq, ap);
+    char small[1024];
+    const int n = vsnprintf(small, sizeof small, fmt, aq);
+    va_end(aq);
+    if (n < 0) return n;
+    char *buf = (size_t)n < sizeof small ? small : malloc((size_t)n + 1);
+    if (!buf) return -1;
+    if (buf != small) vsnprintf(buf, (size_t)n + 1, fmt, ap);
+    one_line(buf, (size_t)n);
+    fputs(buf, f);
+    if (buf != small) free(buf);
+    return n;
+}
+
+int sss_cli_printf(FILE *f, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    const int n = vprint_line(f, fmt, ap);
+    va_end(ap);
+    return n;
+}
+
+char *sss_cli_shown(const char *s, char *buf, size_t n)
+{
+    if (!n) return buf;
+    snprintf(buf, n, "%s", s ? s : "");
+    for (char *q = buf; *q; q++) /* a last newline of s too: it is inside a line */
+        if ((unsigned char)*q < 0x20 || *q == 0x7f) *q = '?';
+    return buf;
+}
 static FILE *out_of(const sss_cli *cli) { return cli->out ? cli->out : stdout; }
 
 static const char *default_msg(sss_cli_kind kind)
@@ -28,7 +74,7 @@ static const char *default_msg(sss_cli_kind kind)
  * sss-bake and sss-view print. */
 static void print_choices(FILE *e, const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
 {
-    fprintf(e, "%s: %s: '%s' must be ", cli->tool, opt, text);
+    sss_cli_printf(e, "%s: %s: '%s' must be ", cli->tool, opt, text);
     size_t n = 0;
     while (o->choices && o->choices[n]) n++;
     for (size_t k = 0; k < n; k++)
@@ -46,10 +92,10 @@ int sss_cli_fail(const sss_cli *cli, const sss_cli_opt *o, const char *fmt, cons
     if (!fmt) fmt = default_msg(o->kind);
     /* the range in the type its conversions name (sss/cli.h) */
     switch (o->kind) {
-    case SSS_CLI_U32: fprintf(e, fmt, cli->tool, opt, text, (unsigned)o->lo, (unsigned)o->hi); break;
+    case SSS_CLI_U32: sss_cli_printf(e, fmt, cli->tool, opt, text, (unsigned)o->lo, (unsigned)o->hi); break;
     case SSS_CLI_INT:
-    case SSS_CLI_SIZE: fprintf(e, fmt, cli->tool, opt, text, (int)o->lo, (int)o->hi); break;
-    default: fprintf(e, fmt, cli->tool, opt, text, o->lo, o->hi); break;
+    case SSS_CLI_SIZE: sss_cli_printf(e, fmt, cli->tool, opt, text, (int)o->lo, (int)o->hi); break;
+    default: sss_cli_printf(e, fmt, cli->tool, opt, text, o->lo, o->hi); break;
     }
     return SSS_CLI_PRINTED;
 }
@@ -114,15 +160,23 @@ static int read_triple(const char *s, double out[3])
     return 1;
 }
 
-/* "WxH" as sss-view's --size has read it: sscanf's "%dx%d", so blanks
- * before W and before H pass, and nothing may follow H. */
+/* "WxH" as sss-view's --size has read it (sscanf's "%dx%d": blanks before W
+ * and before H pass, and nothing may follow H), read with strtol so that a
+ * number beyond int is refused instead of wrapping modulo 2^32 (sscanf's
+ * %d overflow is undefined; glibc wraps 4294967396 to 100). */
 static int read_size(const char *s, double lo, double hi, int out[2])
 {
-    int w, h;
-    char tail;
-    if (sscanf(s, "%dx%d%c", &w, &h, &tail) != 2 || w < lo || h < lo || w > hi || h > hi) return 0;
-    out[0] = w;
-    out[1] = h;
+    long v[2];
+    const char *p = s;
+    for (int k = 0; k < 2; k++) {
+        char *end;
+        errno = 0;
+        v[k] = strtol(p, &end, 10);
+        if (end == p || errno || (k == 0 ? *end != 'x' : *end != 0) || v[k] < lo || v[k] > hi) return 0;
+        p = end + 1;
+    }
+    out[0] = (int)v[0];
+    out[1] = (int)v[1];
     return 1;
 }
 
@@ -152,7 +206,11 @@ int sss_cli_value(const sss_cli *cli, const sss_cli_opt *o, const char *opt, con
     case SSS_CLI_TRIPLE: {
         double t[3];
         if (!read_triple(text, t)) return bad(cli, o, o->msg, opt, text);
-        if ((o->flags & SSS_CLI_NONZERO) && t[0] == 0 && t[1] == 0 && t[2] == 0)
+        /* a direction: its length, squared, a positive normal number, so
+         * that normalising it neither divides by 0 nor overflows (a huge
+         * --light gave NaN pictures) */
+        const double l2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2];
+        if ((o->flags & SSS_CLI_NONZERO) && !(l2 >= DBL_MIN && l2 <= DBL_MAX))
             return bad(cli, o, o->msg2 ? o->msg2 : "%s: %s: '%s' is not a direction\n", opt, text);
         memcpy(o->dest, t, sizeof t);
         break;
@@ -217,9 +275,9 @@ static int read_positional(const sss_cli *cli, int k, const char *text)
 static void count_error(const sss_cli *cli, const char *fmt, const char *fallback, const char *arg)
 {
     FILE *e = err_of(cli);
-    if (fmt) fprintf(e, fmt, cli->tool, arg);
+    if (fmt) sss_cli_printf(e, fmt, cli->tool, arg);
     else if (cli->usage) cli->usage(e);
-    else fprintf(e, fallback, cli->tool, arg);
+    else sss_cli_printf(e, fallback, cli->tool, arg);
 }
 
 int sss_cli_parse(const sss_cli *cli, int argc, char *const argv[])
@@ -245,14 +303,14 @@ int sss_cli_parse(const sss_cli *cli, int argc, char *const argv[])
             if (o) {
                 if (i + 1 >= argc || ((o->flags & SSS_CLI_NONEMPTY) && !argv[i + 1][0])) {
                     const char *fmt = o->need_msg ? o->need_msg : cli->need_msg ? cli->need_msg : "%s: %s needs a value\n";
-                    fprintf(err_of(cli), fmt, cli->tool, a);
+                    sss_cli_printf(err_of(cli), fmt, cli->tool, a);
                     return 2;
                 }
                 if (!sss_cli_value(cli, o, a, argv[++i])) return 2;
                 continue;
             }
             if (a[0] == '-' && a[1]) {
-                fprintf(err_of(cli), cli->unknown_msg ? cli->unknown_msg : "%s: unknown option '%s' (see --help)\n",
+                sss_cli_printf(err_of(cli), cli->unknown_msg ? cli->unknown_msg : "%s: unknown option '%s' (see --help)\n",
                         cli->tool, a);
                 return 2;
             }
@@ -303,6 +361,17 @@ int sss_cli_parse_triple(const char *tool, const char *opt, const char *s, doubl
     const sss_cli cli = {.tool = tool};
     const sss_cli_opt o = {.kind = SSS_CLI_TRIPLE, .dest = out};
     return sss_cli_value(&cli, &o, opt, s);
+}
+
+uint64_t sss_cli_memory_limit(void)
+{
+    const char *lim = getenv("SSS_MEMORY_LIMIT_MB");
+    if (!lim || !*lim) return 0;
+    char *end;
+    errno = 0;
+    unsigned long long mb = strtoull(lim, &end, 10);
+    if (*end || errno || mb == 0 || mb > (UINT64_MAX >> 20)) return 0;
+    return (uint64_t)mb << 20;
 }
 
 double sss_cli_peak_rss_mib(void)

@@ -16,6 +16,10 @@ void sss_err_accum_init(sss_err_accum *acc, uint32_t channels, const double *are
     memset(acc, 0, sizeof *acc);
     acc->channels = channels;
     for (uint32_t v = 0; v < nv; v++) acc->area_sum += area[v];
+    if (!(acc->area_sum > 0.0)) {
+        acc->unweighted = 1;
+        acc->area_sum = nv;
+    }
 }
 
 void sss_err_accum_add(sss_err_accum *acc, const double *area, const float *a, const float *r, uint32_t nv)
@@ -23,9 +27,9 @@ void sss_err_accum_add(sss_err_accum *acc, const double *area, const float *a, c
     const size_t C = acc->channels;
     for (size_t v = 0; v < nv; v++)
         for (size_t c = 0; c < C; c++) {
-            const double x = r[v * C + c], e = (double)a[v * C + c] - x;
-            acc->num[c] += area[v] * e * e;
-            acc->den[c] += area[v] * x * x;
+            const double x = r[v * C + c], e = (double)a[v * C + c] - x, wv = acc->unweighted ? 1.0 : area[v];
+            acc->num[c] += wv * e * e;
+            acc->den[c] += wv * x * x;
             /* NaN must not hide behind a comparison */
             acc->max_abs[c] = isnan(e) || isnan(acc->max_abs[c]) ? NAN : fmax(acc->max_abs[c], fabs(e));
         }

@@ -76,28 +76,37 @@ uint32_t sss_material_channels(const sss_material *m)
 
 sss_result sss_material_validate(const sss_material *m, sss_error *err)
 {
-    const char *n = m->name[0] ? m->name : "custom";
+    return sss_material_check(m, 3, SSS_ERR_ARG, err);
+}
+
+sss_result sss_material_check(const sss_material *m, uint32_t channels, sss_result code, sss_error *err)
+{
+    const char *n = memchr(m->name, 0, sizeof m->name) && m->name[0] ? m->name : "custom";
     if (!isfinite(m->eta) || m->eta <= 0.0)
-        return sss_fail(err, SSS_ERR_ARG, "material '%s': eta %g must be a finite number > 0", n, m->eta);
+        return sss_fail(err, code, "material '%s': eta %g must be a finite number > 0", n, m->eta);
     /* The diffuse Fresnel fits (sss_fdr) reach 1 near η = 0.26 and 3.85,
      * where A = (1 + F_dr)/(1 − F_dr) and the virtual source blow up
      * (docs/robustness.md B1); every real material lies well inside. */
     if (m->eta < SSS_ETA_MIN || m->eta > SSS_ETA_MAX)
-        return sss_fail(err, SSS_ERR_ARG, "material '%s': eta %g is outside [%g, %g], where the diffuse Fresnel "
+        return sss_fail(err, code, "material '%s': eta %g is outside [%g, %g], where the diffuse Fresnel "
                         "fit F_dr stays below 1", n, m->eta, SSS_ETA_MIN, SSS_ETA_MAX);
     static const char rgb[] = "RGB";
-    for (int c = 0; c < 3; c++) {
+    for (uint32_t c = 0; c < channels && c < 3; c++) {
         if (!isfinite(m->sigma_a[c]) || m->sigma_a[c] < 0.0)
-            return sss_fail(err, SSS_ERR_ARG, "material '%s': sigma_a %c = %g must be finite and >= 0", n, rgb[c], m->sigma_a[c]);
+            return sss_fail(err, code, "material '%s': sigma_a %c = %g must be finite and >= 0", n, rgb[c], m->sigma_a[c]);
         if (!isfinite(m->sigmap_s[c]) || m->sigmap_s[c] < 0.0)
-            return sss_fail(err, SSS_ERR_ARG, "material '%s': sigma'_s %c = %g must be finite and >= 0", n, rgb[c], m->sigmap_s[c]);
+            return sss_fail(err, code, "material '%s': sigma'_s %c = %g must be finite and >= 0", n, rgb[c], m->sigmap_s[c]);
         /* above 1e6 /mm (a mean free path under a nanometre) σ′t and σtr
          * overflow or lose all digits (docs/robustness.md B2) */
         if (m->sigma_a[c] > SSS_SIGMA_MAX || m->sigmap_s[c] > SSS_SIGMA_MAX)
-            return sss_fail(err, SSS_ERR_ARG, "material '%s': channel %c: coefficients above %g /mm are not a "
+            return sss_fail(err, code, "material '%s': channel %c: coefficients above %g /mm are not a "
                             "scattering medium", n, rgb[c], SSS_SIGMA_MAX);
         if (!(m->sigma_a[c] + m->sigmap_s[c] > 0.0))
-            return sss_fail(err, SSS_ERR_ARG, "material '%s': channel %c has sigma'_t = 0 (no extinction: the dipole is undefined)", n, rgb[c]);
+            return sss_fail(err, code, "material '%s': channel %c has sigma'_t = 0 (no extinction: the dipole is undefined)", n, rgb[c]);
+        if (!(m->sigma_a[c] + m->sigmap_s[c] >= SSS_SIGMA_T_MIN))
+            return sss_fail(err, code, "material '%s': channel %c has sigma'_t = sigma_a + sigma'_s = %g /mm, below %g "
+                            "(a mean free path beyond 1e12 mm: the dipole's depths leave float range)", n, rgb[c],
+                            m->sigma_a[c] + m->sigmap_s[c], SSS_SIGMA_T_MIN);
     }
     return SSS_OK;
 }

@@ -55,7 +55,11 @@ int sss_fx_point_weights(const sss_bake_file *f, const double P[3], uint32_t row
             row[a * 3 + b] = (s + (uint32_t)a) * n + idx[b];
             w[a * 3 + b] = ws[a] * wb[b];
         }
-    *r2 = rr;
+    /* q_pt = stored / r²: a light inside the first shell is taken at its
+     * radius (at least SSS_SHELL_RADIUS_MIN, docs/format.md §5.13), so a
+     * light at the centre gives finite values, not 1/0 */
+    const double r0 = x->shell_radius[0];
+    *r2 = rr > r0 * r0 ? rr : r0 * r0;
     return 1;
 }
 

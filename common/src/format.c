@@ -18,14 +18,11 @@
 
 #include "sss/format.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/types.h>
-#include <unistd.h>
+
+#include "sss/fileio.h"
 
 #include "sections/sections.h"
 
@@ -170,6 +167,12 @@ sss_result sss_file_encode(const sss_bake_file *f, uint8_t **buf, size_t *len, s
 {
     if (!f || !buf || !len) return sss_fail(err, SSS_ERR_ARG, "sss_file_encode: NULL argument");
     return encode_named(f, "sss_file_encode", buf, len, err);
+}
+
+sss_result sss_file_encode_named(const sss_bake_file *f, const char *name, uint8_t **buf, size_t *len, sss_error *err)
+{
+    if (!f || !buf || !len) return sss_fail(err, SSS_ERR_ARG, "sss_file_encode: NULL argument");
+    return encode_named(f, name ? name : "sss_file_encode", buf, len, err);
 }
 
 /* ---- decoder --------------------------------------------------------- */
@@ -348,99 +351,26 @@ void sss_file_free(sss_bake_file *f)
 
 /* ---- files ----------------------------------------------------------- */
 
-static int write_all(int fd, const uint8_t *p, size_t n)
-{
-    while (n > 0) {
-        size_t chunk = n > ((size_t)1 << 30) ? ((size_t)1 << 30) : n;
-        ssize_t w = write(fd, p, chunk);
-        if (w < 0) {
-            if (errno == EINTR) continue;
-            return -1;
-        }
-        if (w == 0) {
-            errno = EIO;
-            return -1;
-        }
-        p += w;
-        n -= (size_t)w;
-    }
-    return 0;
-}
-
-/* fsync of the directory holding path, so the rename itself is durable. */
-static int sync_parent_dir(const char *path)
-{
-    const char *slash = strrchr(path, '/');
-    char *dir;
-    if (!slash) {
-        dir = malloc(2);
-        if (dir) strcpy(dir, ".");
-    } else {
-        size_t n = slash == path ? 1 : (size_t)(slash - path);
-        dir = malloc(n + 1);
-        if (dir) { memcpy(dir, path, n); dir[n] = 0; }
-    }
-    if (!dir) { errno = ENOMEM; return -1; }
-    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    free(dir);
-    if (fd < 0) return -1;
-    int rc = fsync(fd);
-    int e = errno;
-    close(fd);
-    /* Some file systems cannot sync directories; the rename has happened. */
-    if (rc != 0 && (e == EINVAL || e == ENOTSUP || e == EROFS)) rc = 0;
-    errno = e;
-    return rc;
-}
-
 sss_result sss_file_write(const char *path, const sss_bake_file *f, sss_error *err)
+{
+    return sss_file_write_with(path, f, NULL, err);
+}
+
+sss_result sss_file_write_with(const char *path, const sss_bake_file *f, const sss_inputs *in, sss_error *err)
 {
     if (!path || !*path) return sss_fail(err, SSS_ERR_ARG, "sss_file_write: empty path");
     if (!f) return sss_fail(err, SSS_ERR_ARG, "%s: sss_file_write: NULL file", path);
+    /* the output is checked before the encoding, so that a path that may
+     * not be written is named first (sss/fileio.h), and again at the rename */
+    sss_result r = sss_output_check(path, in, NULL, err);
+    if (r != SSS_OK) return r;
     uint8_t *buf;
     size_t len;
-    sss_result r = encode_named(f, path, &buf, &len, err);
+    r = encode_named(f, path, &buf, &len, err);
     if (r != SSS_OK) return r;
-
-    static const char suffix[] = ".tmp.XXXXXX";
-    size_t pl = strlen(path);
-    char *tmp = malloc(pl + sizeof suffix);
-    if (!tmp) {
-        free(buf);
-        return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", path);
-    }
-    memcpy(tmp, path, pl);
-    memcpy(tmp + pl, suffix, sizeof suffix);
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        int e = errno;
-        free(buf);
-        free(tmp);
-        return sss_fail(err, SSS_ERR_IO, "%s: cannot create temporary file: %s", path, strerror(e));
-    }
-    /* mkstemp creates 0600; keep the mode of the file being replaced, else 0644. */
-    struct stat st;
-    mode_t mode = 0644;
-    if (stat(path, &st) == 0 && S_ISREG(st.st_mode)) mode = st.st_mode & 0777;
-    (void)fchmod(fd, mode);
-
-    const char *what = NULL;
-    if (write_all(fd, buf, len) != 0) what = "write";
-    else if (fsync(fd) != 0) what = "fsync";
-    int e = errno;
-    if (close(fd) != 0 && !what) { what = "close"; e = errno; }
-    if (!what && rename(tmp, path) != 0) { what = "rename"; e = errno; }
+    r = sss_write_file(path, buf, len, in, err);
     free(buf);
-    if (what) {
-        unlink(tmp);
-        free(tmp);
-        return sss_fail(err, SSS_ERR_IO, "%s: %s of temporary file failed: %s", path, what, strerror(e));
-    }
-    free(tmp);
-    if (sync_parent_dir(path) != 0)
-        return sss_fail(err, SSS_ERR_IO, "%s: written, but syncing its directory failed: %s", path,
-                        strerror(errno));
-    return SSS_OK;
+    return r;
 }
 
 sss_result sss_file_read(const char *path, sss_bake_file *f, sss_error *err)
@@ -448,46 +378,12 @@ sss_result sss_file_read(const char *path, sss_bake_file *f, sss_error *err)
     if (!f) return sss_fail(err, SSS_ERR_ARG, "sss_file_read: NULL output");
     memset(f, 0, sizeof *f);
     if (!path || !*path) return sss_fail(err, SSS_ERR_ARG, "sss_file_read: empty path");
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return sss_fail(err, SSS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        int e = errno;
-        close(fd);
-        return sss_fail(err, SSS_ERR_IO, "%s: cannot stat: %s", path, strerror(e));
-    }
-    if (!S_ISREG(st.st_mode)) {
-        close(fd);
-        return sss_fail(err, SSS_ERR_IO, "%s: not a regular file", path);
-    }
-    if (st.st_size < 0 || (uint64_t)st.st_size > SIZE_MAX) {
-        close(fd);
-        return sss_fail(err, SSS_ERR_NOMEM, "%s: file of %lld bytes does not fit in memory", path,
-                        (long long)st.st_size);
-    }
-    size_t len = (size_t)st.st_size;
-    uint8_t *buf = malloc(len ? len : 1);
-    if (!buf) {
-        close(fd);
-        return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %zu bytes", path, len);
-    }
-    size_t got = 0;
-    while (got < len) {
-        size_t chunk = len - got > ((size_t)1 << 30) ? ((size_t)1 << 30) : len - got;
-        ssize_t n = read(fd, buf + got, chunk);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            int e = n < 0 ? errno : 0;
-            close(fd);
-            free(buf);
-            if (n == 0)
-                return sss_fail(err, SSS_ERR_IO, "%s: file shrank while reading (%zu of %zu bytes)", path, got, len);
-            return sss_fail(err, SSS_ERR_IO, "%s: read failed: %s", path, strerror(e));
-        }
-        got += (size_t)n;
-    }
-    close(fd);
-    sss_result r = sss_file_decode(buf, len, path, f, err);
+    char *buf;
+    size_t len;
+    /* a regular file only, opened without blocking (sss/fileio.h) */
+    sss_result r = sss_input_read_all(path, 0, &buf, &len, err);
+    if (r != SSS_OK) return r;
+    r = sss_file_decode(buf, len, path, f, err);
     free(buf);
     return r;
 }

@@ -50,6 +50,29 @@ double sss_mesh_bounds(const sss_mesh *m, double lo[3], double hi[3])
     return sqrt(d2);
 }
 
+sss_result sss_mesh_check_range(const sss_mesh *m, double mm_per_unit, const char *name, sss_error *err)
+{
+    if (!name) name = "mesh";
+    for (uint32_t v = 0; v < m->nv; v++)
+        for (int k = 0; k < 3; k++) {
+            const double x = m->pos[3 * (size_t)v + k];
+            if (!(fabs(x) <= SSS_COORD_MAX))
+                return sss_fail(err, SSS_ERR_MESH, "%s: vertex %u: coordinate %d is %g, beyond %g (the range the bake "
+                                "and the viewer compute in)", name, v, k, x, SSS_COORD_MAX);
+        }
+    if (mm_per_unit == 0.0) return SSS_OK;
+    if (!(mm_per_unit >= SSS_MM_PER_UNIT_MIN && mm_per_unit <= SSS_MM_PER_UNIT_MAX))
+        return sss_fail(err, SSS_ERR_MESH, "%s: %g mm per unit is outside [%g, %g]", name, mm_per_unit,
+                        SSS_MM_PER_UNIT_MIN, SSS_MM_PER_UNIT_MAX);
+    double lo[3], hi[3];
+    const double ext = sss_mesh_bounds(m, lo, hi) * mm_per_unit;
+    if (!(ext <= SSS_EXTENT_MM_MAX))
+        return sss_fail(err, SSS_ERR_MESH, "%s: the mesh spans %g mm at %g mm per unit, beyond %g mm (the range the "
+                        "bake's float geometry holds): lower the mm per unit", name, ext, mm_per_unit,
+                        SSS_EXTENT_MM_MAX);
+    return SSS_OK;
+}
+
 float sss_mesh_ray_offset(const sss_mesh *m)
 {
     double lo[3], hi[3];

@@ -28,6 +28,11 @@ sss_result sss_fail(sss_error *err, sss_result r, const char *fmt, ...)
         va_start(ap, fmt);
         vsnprintf(err->msg, sizeof err->msg, fmt, ap);
         va_end(ap);
+        /* one line, by construction (README.md, "Errors"): a file name or a
+         * key from a file holding a newline, an escape sequence or any
+         * other control character is shown with '?' there */
+        for (char *q = err->msg; *q; q++)
+            if ((unsigned char)*q < 0x20 || *q == 0x7f) *q = '?';
     }
     return r;
 }

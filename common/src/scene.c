@@ -10,6 +10,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "sss/scene.h"
+#include "sss/fileio.h"
 #include "sss/vec3.h"
 
 #include <cjson/cJSON.h>
@@ -62,12 +63,21 @@ static void join(char *out, size_t n, const char *parent, const char *key)
 
 static void join_index(char *out, size_t n, const char *parent, int i) { snprintf(out, n, "%s/%d", parent, i); }
 
-/* Refuses keys of obj not in `allowed` (NULL-terminated). */
+/* Refuses keys of obj not in `allowed` (NULL-terminated, at most 16), and a
+ * key given twice: cJSON keeps both and a lookup finds the first, so the
+ * second would be silently ignored. */
 static sss_result only_keys(const ctx *c, const cJSON *obj, const char *jpath, const char *const *allowed)
 {
+    unsigned seen = 0;
     for (const cJSON *it = obj->child; it; it = it->next) {
-        int ok = 0;
-        for (const char *const *a = allowed; *a && !ok; a++) ok = !strcmp(*a, it->string);
+        int ok = 0, idx = 0;
+        for (const char *const *a = allowed; *a && !ok; a++, idx++) ok = !strcmp(*a, it->string);
+        if (ok && (seen >> (idx - 1) & 1u)) {
+            char p[512];
+            join(p, sizeof p, jpath, it->string);
+            return fail_at(c, p, "given twice (a key may appear once in an object)");
+        }
+        if (ok) seen |= 1u << (idx - 1);
         if (!ok) {
             char p[512];
             join(p, sizeof p, jpath, it->string);
@@ -217,6 +227,9 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
             if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') || *s == '-' ||
                   *s == '_' || *s == '.'))
                 return fail_at(c, p, "'%s': only letters, digits, '-', '_' and '.' are allowed", nm->valuestring);
+        /* a leading '.' makes a hidden file ("." gives DIR/..sss) */
+        if (nm->valuestring[0] == '.')
+            return fail_at(c, p, "'%s': a name may not start with '.' (it names the object's file)", nm->valuestring);
         snprintf(out->name, sizeof out->name, "%s", nm->valuestring);
     }
     if ((r = get_path(c, o, jpath, "mesh", out->mesh)) != SSS_OK) return r;
@@ -239,6 +252,15 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
         if ((r = get_vec3(c, t, p, "translate", 0, -1e12, 1e12, out->translate)) != SSS_OK) return r;
         if ((r = get_vec3(c, t, p, "rotate_deg", 0, -1e6, 1e6, out->rotate_deg)) != SSS_OK) return r;
         if ((r = get_number(c, t, p, "scale", 0, 1e-12, 1e12, &out->scale)) != SSS_OK) return r;
+        /* the object is baked at mm_per_unit / scale mm per world unit: the
+         * bake's own range (sss/mesh.h) */
+        const double mpw = out->mm_per_unit / out->scale;
+        if (!(mpw >= SSS_MM_PER_UNIT_MIN && mpw <= SSS_MM_PER_UNIT_MAX)) {
+            char ps[540];
+            join(ps, sizeof ps, p, "scale");
+            return fail_at(c, ps, "mm_per_unit / scale = %g mm per world unit is outside [%g, %g]", mpw,
+                           SSS_MM_PER_UNIT_MIN, SSS_MM_PER_UNIT_MAX);
+        }
     }
     return SSS_OK;
 }
@@ -331,6 +353,26 @@ sss_result sss_scene_parse(const char *text, const char *path, sss_scene *out, s
         memcpy(c.dir, c.file, n);
         c.dir[n] = 0;
     }
+    /* cJSON decodes the escape \u0000 to a NUL that ends the string there:
+     * "a\u0000b" would be read as "a" with no word said. No name, key or
+     * path can hold a NUL: refused, with its line. */
+    {
+        int line = 1, in_str = 0;
+        for (const char *q = text; *q; q++) {
+            if (*q == '\n') line++;
+            if (!in_str) {
+                in_str = *q == '"';
+                continue;
+            }
+            if (*q == '"') in_str = 0;
+            else if (*q == '\\' && q[1]) {
+                if (q[1] == 'u' && q[2] == '0' && q[3] == '0' && q[4] == '0' && q[5] == '0')
+                    return sss_fail(err, SSS_ERR_ARG, "%s: line %d: a string holds \\u0000 (no name, key or path may "
+                                    "hold a NUL)", c.file, line);
+                q++; /* the escaped character, '"' and '\\' included */
+            }
+        }
+    }
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
     if (!root) {
@@ -351,6 +393,10 @@ sss_result sss_scene_parse(const char *text, const char *path, sss_scene *out, s
         goto done;
     }
     int no = cJSON_GetArraySize(objs);
+    if (no > SSS_SCENE_MAX_OBJECTS) {
+        r = fail_at(&c, "/objects", "%d objects, at most %d", no, SSS_SCENE_MAX_OBJECTS);
+        goto done;
+    }
     out->objects = calloc((size_t)no, sizeof *out->objects);
     if (!out->objects) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", c.file); goto done; }
     out->nobjects = (uint32_t)no;
@@ -371,6 +417,10 @@ sss_result sss_scene_parse(const char *text, const char *path, sss_scene *out, s
     if (ls) {
         if (!cJSON_IsArray(ls)) { r = fail_at(&c, "/lights", "expected an array"); goto done; }
         int nl = cJSON_GetArraySize(ls);
+        if (nl > SSS_SCENE_MAX_LIGHTS) {
+            r = fail_at(&c, "/lights", "%d lights, at most %d", nl, SSS_SCENE_MAX_LIGHTS);
+            goto done;
+        }
         out->lights = calloc((size_t)nl + 1, sizeof *out->lights);
         if (!out->lights) { r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", c.file); goto done; }
         out->nlights = (uint32_t)nl;
@@ -393,32 +443,13 @@ done:
 sss_result sss_scene_load(const char *path, sss_scene *out, sss_error *err)
 {
     memset(out, 0, sizeof *out);
-    FILE *f = fopen(path, "rb");
-    if (!f) return sss_fail(err, SSS_ERR_IO, "%s: cannot open scene file", path);
-    char *buf = NULL;
-    size_t len = 0, cap = 0;
-    for (;;) {
-        if (len + 4096 + 1 > cap) {
-            if (cap > ((size_t)64 << 20)) {
-                free(buf);
-                fclose(f);
-                return sss_fail(err, SSS_ERR_ARG, "%s: scene file larger than 64 MiB", path);
-            }
-            cap = cap ? 2 * cap : 8192;
-            char *nb = realloc(buf, cap);
-            if (!nb) { free(buf); fclose(f); return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", path); }
-            buf = nb;
-        }
-        size_t k = fread(buf + len, 1, cap - len - 1, f);
-        len += k;
-        if (k == 0) break;
-    }
-    int bad = ferror(f);
-    fclose(f);
-    if (bad) { free(buf); return sss_fail(err, SSS_ERR_IO, "%s: read error", path); }
-    buf[len] = 0;
+    char *buf;
+    size_t len;
+    /* a regular file only, opened without blocking (sss/fileio.h) */
+    sss_result r = sss_input_read_all(path, (uint64_t)64 << 20, &buf, &len, err);
+    if (r != SSS_OK) return r;
     if (strlen(buf) != len) { free(buf); return sss_fail(err, SSS_ERR_ARG, "%s: contains a NUL byte (not JSON text)", path); }
-    sss_result r = sss_scene_parse(buf, path, out, err);
+    r = sss_scene_parse(buf, path, out, err);
     free(buf);
     return r;
 }
@@ -455,6 +486,8 @@ sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mes
                     (float)(o->scale * (R[3 * k] * p[0] + R[3 * k + 1] * p[1] + R[3 * k + 2] * p[2]) + o->translate[k]);
         }
     r = sss_mesh_compute_normals_areas(out, o->name, err);
+    /* placed, in the range every stage computes in (sss/mesh.h) */
+    if (r == SSS_OK) r = sss_mesh_check_range(out, sss_scene_object_mm_per_world_unit(o), o->name, err);
     if (r != SSS_OK) sss_mesh_free(out);
     return r;
 }

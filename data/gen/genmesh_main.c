@@ -53,12 +53,15 @@ int main(int argc, char **argv)
     if (rc != SSS_CLI_RUN) return rc;
     sss_mesh m;
     sss_error err = {{0}};
+    /* a SIZE read as infinite (or so large its coordinates overflow float)
+     * makes no mesh the bake can take: refused by the range every stage
+     * computes in (sss/mesh.h), not written */
     if (sss_gen_by_name(a.kind, (unsigned)a.res, a.size, &m, &err) != SSS_OK ||
-        sss_export_ply(a.out, &m, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_mesh_check_range(&m, 0.0, a.out, &err) != SSS_OK || sss_export_ply(a.out, &m, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
-    fprintf(stderr, "%s: %s: %u vertices, %u triangles\n", TOOL, a.out, m.nv, m.nf);
+    sss_cli_printf(stderr, "%s: %s: %u vertices, %u triangles\n", TOOL, a.out, m.nv, m.nf);
     sss_mesh_free(&m);
     return 0;
 }

@@ -1,6 +1,6 @@
-/* bake_mpi.c: the MPI side of sss-bake (docs/benchmarks.md, "Bake at scale"). The bake itself
- * (libsss_bake) does not link MPI: it receives these collectives through
- * sss_bake_comm. Parts are moved in chunks of at most 1 GiB, since MPI
+/* bake_mpi.c: the MPI side of sss-bake (docs/benchmarks.md, "Bake at scale") and of sss-ref
+ * (docs/reference.md §4). The libraries (libsss_bake) do not link MPI: they receive these
+ * collectives through sss_bake_comm and sss_ref_comm. Parts are moved in chunks of at most 1 GiB, since MPI
  * counts are ints. */
 #include "bake_mpi.h"
 
@@ -52,6 +52,29 @@ static int gather0(const void *part, void *full, const uint64_t *offs, const uin
 
 static const sss_bake_comm comm = {allgather, gather0, NULL};
 
+/* sss-ref: element-wise sums of the rounds' block sums (each element
+ * non-zero on one rank only, so exact), in chunks of at most 2^27 doubles */
+static int ref_allsum(double *buf, uint64_t n, void *ctx)
+{
+    (void)ctx;
+    const uint64_t step = (uint64_t)1 << 27;
+    for (uint64_t o = 0; o < n; o += step) {
+        const int len = (int)(n - o < step ? n - o : step);
+        if (MPI_Allreduce(MPI_IN_PLACE, buf + o, len, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD) != MPI_SUCCESS) return -1;
+    }
+    return 0;
+}
+
+static int ref_bcast(int *flag, void *ctx)
+{
+    (void)ctx;
+    return MPI_Bcast(flag, 1, MPI_INT, 0, MPI_COMM_WORLD) == MPI_SUCCESS ? 0 : -1;
+}
+
+static const sss_ref_comm ref_comm = {ref_allsum, ref_bcast, NULL};
+
+const sss_ref_comm *sss_mpi_ref_comm(void) { return active ? &ref_comm : NULL; }
+
 void sss_mpi_start(int *argc, char ***argv, int *rank, int *nranks)
 {
     *rank = 0;
@@ -87,6 +110,7 @@ void sss_mpi_start(int *argc, char ***argv, int *rank, int *nranks)
     *nranks = 1;
 }
 const sss_bake_comm *sss_mpi_comm(void) { return NULL; }
+const sss_ref_comm *sss_mpi_ref_comm(void) { return NULL; }
 void sss_mpi_stop(void) {}
 void sss_mpi_abort(int code) { (void)code; }
 

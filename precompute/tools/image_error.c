@@ -37,6 +37,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "sss/fileio.h"
 #include "sss/random.h"
 #include "sss/vec3.h"
 #include "sss/reconstruct.h"
@@ -97,15 +98,45 @@ static void draw_backlit(const sss_dirset *ds, uint64_t *state, const double vie
     }
 }
 
-static sss_result write_pair(const char *dir, const char *name, const float *ldr, const float *hdr, int w, int h,
-                             sss_error *err)
+/* The worst view's images, by name and extension (--error-images DIR). */
+static const char *const image_names[6] = {"exact.png", "exact.exr", "approx.png", "approx.exr", "error.png",
+                                           "error.exr"};
+
+static void image_path(char *path, size_t n, const char *dir, int k) { snprintf(path, n, "%s/%s", dir, image_names[k]); }
+
+sss_result sss_image_error_check_outputs(const char *dir, const sss_inputs *in, sss_error *err)
 {
-    char path[4096];
-    snprintf(path, sizeof path, "%s/%s.png", dir, name);
-    sss_result r = sss_write_png(path, ldr, w, h, err);
-    if (r != SSS_OK) return r;
-    snprintf(path, sizeof path, "%s/%s.exr", dir, name);
-    return sss_write_exr(path, hdr, w, h, err);
+    for (int k = 0; k < 6; k++) {
+        char path[4096];
+        image_path(path, sizeof path, dir, k);
+        sss_result r = sss_output_check(path, in, NULL, err);
+        if (r != SSS_OK) return r;
+    }
+    return SSS_OK;
+}
+
+/* All six images, or none: each is staged into a temporary file first,
+ * and they replace their targets only when every one is complete
+ * (sss/fileio.h). img[k/2·2] is the ldr image of pair k/2, img[k/2·2+1]
+ * its hdr one. */
+static sss_result write_images(const char *dir, const float *const img[6], int w, int h, const sss_inputs *in,
+                               sss_error *err)
+{
+    sss_atomic a[6];
+    int staged = 0;
+    sss_result r = SSS_OK;
+    for (int k = 0; k < 6 && r == SSS_OK; k++) {
+        char path[4096];
+        image_path(path, sizeof path, dir, k);
+        const float *ldr = img[k / 2 * 2], *hdr = img[k / 2 * 2 + 1];
+        r = sss_image_stage(&a[k], path, ldr, hdr, w, h, in, err);
+        if (r == SSS_OK) staged = k + 1;
+    }
+    for (int k = 0; k < staged; k++) {
+        if (r == SSS_OK) r = sss_atomic_commit(&a[k], err);
+        else sss_atomic_abort(&a[k]);
+    }
+    return r;
 }
 
 sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, const sss_image_error_opts *o,
@@ -119,6 +150,12 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     const size_t nv = f->mesh.nv, C = f->channels, npx = (size_t)W * H;
     if (o->images_dir && mkdir(o->images_dir, 0777) != 0 && errno != EEXIST)
         return sss_fail(err, SSS_ERR_IO, "%s: cannot create the image directory: %s", o->images_dir, strerror(errno));
+    /* every image path checked before the measurement (sss/fileio.h);
+     * the writer checks each again */
+    if (o->images_dir) {
+        sss_result rc = sss_image_error_check_outputs(o->images_dir, o->inputs, err);
+        if (rc != SSS_OK) return rc;
+    }
 
     sss_offscreen *ctx = NULL;
     sss_result res = sss_offscreen_create(&ctx, err);
@@ -241,9 +278,8 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
         }
         out->error_map_gain = mx > 0.0 ? 1.0 / mx : 0.0;
         for (size_t i = 0; i < 3 * npx; i++) em[i] = (float)(fabs(ed[i]) * out->error_map_gain);
-        res = write_pair(o->images_dir, "exact", worst[0], worst[1], W, H, err);
-        if (res == SSS_OK) res = write_pair(o->images_dir, "approx", worst[2], worst[3], W, H, err);
-        if (res == SSS_OK) res = write_pair(o->images_dir, "error", em, ed, W, H, err);
+        const float *const img[6] = {worst[0], worst[1], worst[2], worst[3], em, ed};
+        res = write_images(o->images_dir, img, W, H, o->inputs, err);
         free(em);
         free(ed);
         if (res != SSS_OK) goto done;

@@ -33,6 +33,7 @@ typedef struct sss_image_error_opts {
      * per-vertex error); 2: the renderer's shadow map of shadow_size². */
     int near_mode;
     int shadow_size;        /* near_mode 2: texels per side (0: the renderer's default) */
+    const struct sss_inputs *inputs; /* files no image may be (the .sss measured: sss/fileio.h) */
     /* > 0: back-lit views, each light drawn uniformly within this many
      * degrees of the direction opposite the camera (the light behind the
      * object, its translucency and the terminators facing the camera);
@@ -62,5 +63,10 @@ typedef struct sss_image_error {
  * for a given renderer (llvmpipe gives the same images on every run). */
 sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, const sss_image_error_opts *o,
                                    sss_image_error *out, sss_error *err);
+
+/* Whether the six images of images_dir (exact, approx and error, as .png
+ * and .exr) may be written (sss_output_check): for a refusal before the
+ * measurement starts. */
+sss_result sss_image_error_check_outputs(const char *images_dir, const struct sss_inputs *in, sss_error *err);
 
 #endif

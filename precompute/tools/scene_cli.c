@@ -13,6 +13,9 @@
 #include <sys/stat.h>
 
 #include "sss/bake_scene.h"
+#include "sss/cli.h"
+#include "sss/fileio.h"
+#include "sss/jsontext.h"
 #include "sss/import.h"
 #include "sss/planner.h"
 
@@ -22,18 +25,18 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
     sss_error err = {{0}};
     sss_scene sc;
     if (sss_scene_load(scene_path, &sc, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", tool, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", tool, err.msg);
         return 2;
     }
     if (!plan_only) {
         struct stat sb;
         if (!outdir) {
-            fprintf(stderr, "%s: --scene needs -o DIR (one NAME.sss per object) or --plan\n", tool);
+            sss_cli_printf(stderr, "%s: --scene needs -o DIR (one NAME.sss per object) or --plan\n", tool);
             sss_scene_free(&sc);
             return 2;
         }
         if (stat(outdir, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
-            fprintf(stderr, "%s: %s: -o with --scene must be an existing directory\n", tool, outdir);
+            sss_cli_printf(stderr, "%s: %s: -o with --scene must be an existing directory\n", tool, outdir);
             sss_scene_free(&sc);
             return 2;
         }
@@ -42,24 +45,56 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
     sss_mesh *world = calloc(sc.nobjects, sizeof *world);
     sss_plan plan = {0};
     cJSON *report = json && !plan_only ? cJSON_CreateArray() : NULL;
-    if (!world) { fprintf(stderr, "%s: out of memory\n", tool); rc = 1; goto done; }
-    for (uint32_t i = 0; i < sc.nobjects; i++) {
-        sss_mesh m;
-        if (sss_import_mesh(sc.objects[i].mesh, &m, NULL, &err) != SSS_OK) {
-            fprintf(stderr, "%s: %s: /objects/%u/mesh: %s\n", tool, sc.path, i, err.msg);
-            rc = 1;
+    /* every file the bake reads (the scene, its meshes and probes): no
+     * output may be one of them (sss/fileio.h) */
+    const char **inputs = calloc((size_t)sc.nobjects + sc.nlights + 1, sizeof *inputs);
+    sss_atomic *pending = calloc((size_t)sc.nobjects + 1, sizeof *pending);
+    char (*outpath)[2048] = calloc((size_t)sc.nobjects + 1, sizeof *outpath);
+    uint32_t npending = 0;
+    sss_inputs ins = {inputs, 0};
+    if (!world || !inputs || !pending || !outpath) { sss_cli_printf(stderr, "%s: out of memory\n", tool); rc = 1; goto done; }
+    inputs[ins.n++] = scene_path;
+    for (uint32_t i = 0; i < sc.nobjects; i++) inputs[ins.n++] = sc.objects[i].mesh;
+    for (uint32_t l = 0; l < sc.nlights; l++)
+        if (sc.lights[l].kind == SSS_LIGHT_ENVIRONMENT) inputs[ins.n++] = sc.lights[l].probe;
+    /* every output checked before anything is baked (the writer checks
+     * each again) */
+    for (uint32_t i = 0; !plan_only && i < sc.nobjects; i++) {
+        const int n = snprintf(outpath[i], sizeof outpath[i], "%s/%s.sss", outdir, sc.objects[i].name);
+        if (n < 0 || (size_t)n >= sizeof outpath[i]) {
+            sss_cli_printf(stderr, "%s: %s: -o directory name too long\n", tool, outdir);
+            rc = 2;
             goto done;
         }
-        sss_result r = sss_scene_object_world(&sc.objects[i], &m, &world[i], &err);
-        sss_mesh_free(&m);
-        if (r != SSS_OK) {
-            fprintf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc.path, i, err.msg);
+        if (sss_output_check(outpath[i], &ins, NULL, &err) != SSS_OK) {
+            sss_cli_printf(stderr, "%s: %s\n", tool, err.msg);
             rc = 1;
             goto done;
         }
     }
-    if (sss_plan_scene(&sc, world, &plan, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", tool, err.msg);
+    for (uint32_t i = 0; i < sc.nobjects; i++) {
+        sss_mesh m;
+        sss_import_report rep;
+        if (sss_import_mesh(sc.objects[i].mesh, &m, &rep, &err) != SSS_OK) {
+            sss_cli_printf(stderr, "%s: %s: /objects/%u/mesh: %s\n", tool, sc.path, i, err.msg);
+            rc = 1;
+            goto done;
+        }
+        {
+            char prefix[1200], shown[1100];
+            snprintf(prefix, sizeof prefix, "%s: %s", tool, sss_cli_shown(sc.objects[i].mesh, shown, sizeof shown));
+            sss_import_print_warnings(&rep, prefix, stderr); /* as a plain bake prints them */
+        }
+        sss_result r = sss_scene_object_world(&sc.objects[i], &m, &world[i], &err);
+        sss_mesh_free(&m);
+        if (r != SSS_OK) {
+            sss_cli_printf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc.path, i, err.msg);
+            rc = 1;
+            goto done;
+        }
+    }
+    if (sss_plan_scene_limited(&sc, world, opt->memory_limit, &plan, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", tool, err.msg);
         rc = 2;
         goto done;
     }
@@ -73,29 +108,38 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
         }
         goto done;
     }
+    /* Each object's file is encoded into a temporary file as soon as it is
+     * baked; all of them replace their targets only once every object is
+     * baked (sss/fileio.h), so a failure leaves no part of the set. */
     for (uint32_t i = 0; i < sc.nobjects; i++) {
-        char path[2048];
-        snprintf(path, sizeof path, "%s/%s.sss", outdir, sc.objects[i].name);
+        const char *path = outpath[i];
         sss_bake_file f;
         sss_bake_stats st;
         double t0 = sss_now();
         if (sss_bake_object(&sc, &plan, world, i, opt, &f, &st, &err) != SSS_OK) {
-            fprintf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc.path, i, err.msg);
+            sss_cli_printf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc.path, i, err.msg);
             rc = 1;
             goto done;
         }
         double tb = sss_now() - t0;
-        sss_result r = sss_file_write(path, &f, &err);
+        uint8_t *buf = NULL;
+        size_t len = 0;
+        sss_result r = sss_file_encode_named(&f, path, &buf, &len, &err);
+        if (r == SSS_OK) r = sss_atomic_begin(&pending[npending], path, &ins, &err);
+        if (r == SSS_OK) {
+            npending++;
+            r = sss_atomic_write(&pending[npending - 1], buf, len, &err);
+        }
+        free(buf);
         if (r != SSS_OK) {
-            fprintf(stderr, "%s: %s\n", tool, err.msg);
+            sss_cli_printf(stderr, "%s: %s\n", tool, err.msg);
             sss_file_free(&f);
             rc = 1;
             goto done;
         }
-        struct stat sb;
-        const double bytes = stat(path, &sb) == 0 ? (double)sb.st_size : -1.0;
+        const double bytes = (double)len;
         if (!quiet)
-            fprintf(stderr, "%s: %s: %u vertices, %u channel%s, rays %llu, bake %.3fs, %.0f bytes (%.1f/vertex)\n",
+            sss_cli_printf(stderr, "%s: %s: %u vertices, %u channel%s, rays %llu, bake %.3fs, %.0f bytes (%.1f/vertex)\n",
                     tool, path, f.mesh.nv, f.channels, f.channels == 1 ? "" : "s", (unsigned long long)st.rays, tb,
                     bytes, bytes / f.mesh.nv);
         if (report) {
@@ -115,12 +159,28 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
         }
         sss_file_free(&f);
     }
+    for (uint32_t i = 0; i < npending; i++) {
+        sss_result r = sss_atomic_commit(&pending[i], &err);
+        if (r != SSS_OK) {
+            sss_cli_printf(stderr, "%s: %s\n", tool, err.msg);
+            rc = 1;
+            for (uint32_t k = i + 1; k < npending; k++) sss_atomic_abort(&pending[k]);
+            npending = 0;
+            goto done;
+        }
+    }
+    npending = 0;
     if (report) {
+        sss_json_utf8(report); /* valid JSON whatever the bytes of a file name (sss/jsontext.h) */
         char *s = cJSON_PrintUnformatted(report);
         if (s) puts(s);
         free(s);
     }
 done:
+    for (uint32_t i = 0; i < npending; i++) sss_atomic_abort(&pending[i]);
+    free(pending);
+    free(inputs);
+    free(outpath);
     cJSON_Delete(report);
     sss_plan_free(&plan);
     for (uint32_t i = 0; world && i < sc.nobjects; i++) sss_mesh_free(&world[i]);

@@ -5,6 +5,7 @@
  * combinations, options() turns it into the bake's options, compression
  * and material, run() imports, bakes, writes and reports. */
 #include <cjson/cJSON.h>
+#include <errno.h>
 #include <stdint.h>
 #include <math.h>
 #include <signal.h>
@@ -17,6 +18,8 @@
 #include "sss/cli.h"
 #include "sss/bake.h"
 #include "sss/compress.h"
+#include "sss/fileio.h"
+#include "sss/jsontext.h"
 #include "sss/import.h"
 #include "scene_cli.h"
 
@@ -111,13 +114,17 @@ static int read_weight_bits(const sss_cli *cli, const sss_cli_opt *o, const char
     return 1;
 }
 
-/* --rings K: read as a number in [lo, hi] (that message on failure), then
- * the row's "must be an integer" message after it, or after a fraction. */
+/* --rings K: an integer in [lo, hi]; anything else gets the row's one
+ * line, "must be an integer lo ... hi" (a number out of range printed the
+ * number's message before it: two lines). */
 static int read_rings(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
 {
-    double k;
-    const sss_cli_opt num = {.kind = SSS_CLI_DOUBLE, .dest = &k, .lo = o->lo, .hi = o->hi};
-    if (!sss_cli_value(cli, &num, opt, text) || k != floor(k)) return 0;
+    (void)cli;
+    (void)opt;
+    char *end;
+    errno = 0;
+    const double k = strtod(text, &end);
+    if (end == text || *end || errno || !(k >= o->lo && k <= o->hi) || k != floor(k)) return 0;
     *(uint32_t *)o->dest = (uint32_t)k;
     return 1;
 }
@@ -142,7 +149,7 @@ static int read_near_terms(const sss_cli *cli, const sss_cli_opt *o, const char 
  * together; returns the exit status 2. */
 static int refuse(const char *msg)
 {
-    fprintf(stderr, "%s: %s\n", TOOL, msg);
+    sss_cli_printf(stderr, "%s: %s\n", TOOL, msg);
     return 2;
 }
 
@@ -279,12 +286,7 @@ static int options(const bake_args *a, bake_setup *s)
     opt->near_rings = a->near_rings;
     opt->near_radius_mm = a->near_radius_given ? a->near_radius : 0.0;
     opt->weights = a->weights_given ? (uint32_t)a->weights : SSS_WEIGHTS_POINT;
-    const char *lim = getenv("SSS_MEMORY_LIMIT_MB");
-    if (lim && *lim) {
-        char *end;
-        unsigned long long mb = strtoull(lim, &end, 10);
-        if (*end == 0 && mb > 0 && mb <= (UINT64_MAX >> 20)) opt->memory_limit = (uint64_t)mb << 20;
-    }
+    opt->memory_limit = sss_cli_memory_limit();
     const char *log = getenv("SSS_PROGRESS_LOG");
     if (log && *log) opt->progress_log = log;
     opt->verbose = getenv("SSS_GATHER_VERBOSE") != NULL;
@@ -306,13 +308,13 @@ static int options(const bake_args *a, bake_setup *s)
         }
         mat->eta = a->eta;
     } else if (sss_material_preset(a->material ? a->material : "marble", mat, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 2;
     } else if (a->have_eta) {
         mat->eta = a->eta;
     }
     if (sss_material_validate(mat, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 2;
     }
     if (a->compress) {
@@ -348,56 +350,64 @@ typedef struct bake_result {
 /* The summary and the warnings on stderr (the warnings also with -q). */
 static void report_text(const bake_args *a, const bake_setup *s, const bake_result *r, int quiet)
 {
-    const char *in = a->mesh, *outp = a->out;
+    char in_shown[1024], out_shown[1024];
+    const char *in = sss_cli_shown(a->mesh, in_shown, sizeof in_shown), *outp = sss_cli_shown(a->out, out_shown,
+                                                                                                sizeof out_shown);
     const sss_bake_file *f = &r->f;
     const sss_bake_stats *st = &r->st;
     const uint32_t nv = f->mesh.nv, C = f->channels, N = f->dirs.n;
     const long long fsize = r->file_bytes;
+    /* the tree gather sums the near sources in dense blocks and never forms
+     * a vertex's row: there is no per-vertex maximum to report (it said
+     * "max 0"); its mean is the dense blocks' sources per vertex */
+    char maxtext[64];
+    if (st->gather == SSS_GATHER_TREE) snprintf(maxtext, sizeof maxtext, " in the dense blocks");
+    else snprintf(maxtext, sizeof maxtext, " (max %u)", st->neighbours_max);
     if (!quiet)
-        fprintf(stderr,
+        fprintf(stderr, /* several lines: the paths in them shown one-line (sss_cli_shown) */
                 "%s: %s: %u vertices, %u triangles, %u directions, %u channels, %s\n"
-                "  neighbourhood radius %.3g/%.3g/%.3g mm, mean %.1f neighbours (max %u)\n"
+                "  neighbourhood radius %.3g/%.3g/%.3g mm, mean %.1f neighbours%s\n"
                 "  rays %llu (%.1f%% occluded)%s\n"
                 "  time: import %.3fs, neighbourhoods %.3fs, visibility %.3fs, integrals %.3fs, quantise %.3fs, compress %.3fs, write %.3fs\n"
                 "  %s: %lld bytes, %.1f bytes/vertex (integrals %.1f)\n",
                 TOOL, in, nv, f->mesh.nf, N, C, sss_quant_name(f->quant), st->radius_mm[0],
-                st->radius_mm[1], st->radius_mm[2], st->neighbours_mean, st->neighbours_max, (unsigned long long)st->rays,
+                st->radius_mm[1], st->radius_mm[2], st->neighbours_mean, maxtext, (unsigned long long)st->rays,
                 100.0 * st->occluded_fraction, "", r->t_import, st->t_neighbourhoods, st->t_visibility, st->t_integrals,
                 st->t_quantise, st->t_compress, r->t_write, outp, fsize, (double)fsize / nv,
                 sss_file_integral_bytes_per_vertex(f));
     if (st->thin_vertices)
-        fprintf(stderr, "%s: %s: warning: %u vertices lie on parts thinner than the scattering length 1/sigma_tr = %.3g mm "
+        sss_cli_printf(stderr, "%s: %s: warning: %u vertices lie on parts thinner than the scattering length 1/sigma_tr = %.3g mm "
                 "(thinnest %.3g mm): the semi-infinite dipole counts light gathered through them twice, so q there comes "
                 "out too large (docs/robustness.md B8)\n", TOOL, in, st->thin_vertices, st->thin_limit_mm, st->thinnest_mm);
     if (!quiet)
-        fprintf(stderr, "  gather %s%s: tree %.3fs, %.1f GFLOP/s%s; memory predicted %.0f MiB, peak RSS %.0f MiB%s\n",
+        sss_cli_printf(stderr, "  gather %s%s: tree %.3fs, %.1f GFLOP/s%s; memory predicted %.0f MiB, peak RSS %.0f MiB%s\n",
                 st->gather == SSS_GATHER_TREE ? "tree" : "direct",
                 st->gather == SSS_GATHER_TREE ? "" : " (every neighbour)", st->t_tree, st->gather_gflops,
                 st->gather == SSS_GATHER_TREE ? " in the block products" : " multiply-adds x 2", st->predicted_peak_bytes / 1048576.0,
                 sss_cli_peak_rss_mib(), r->nranks > 1 ? " (rank 0)" : "");
     /* the memory plan (docs/benchmarks.md, "Memory: light directions in chunks") */
     if (!quiet && st->direction_chunks > 1)
-        fprintf(stderr, "  light directions in %u chunks of at most %u: the memory available would not hold the "
+        sss_cli_printf(stderr, "  light directions in %u chunks of at most %u: the memory available would not hold the "
                 "transfer rows and tree moments of all %u at once (same output)\n",
                 st->direction_chunks, st->direction_chunk_width, N);
     if (st->coarse_vertices && f->weights == SSS_WEIGHTS_HAT)
-        fprintf(stderr, "%s: %s: warning: %u vertices have an edge longer than %.3g mm, twice the scattering length "
+        sss_cli_printf(stderr, "%s: %s: warning: %u vertices have an edge longer than %.3g mm, twice the scattering length "
                 "1/sigma_tr = %.3g mm, whose ends' normals differ by more than 30 degrees (longest edge %.3g mm): "
                 "the irradiance, linear along such an edge, cannot follow the bend; resample the mesh finer\n", TOOL, in,
                 st->coarse_vertices, 2.0 * st->range_mm, st->range_mm, st->longest_edge_mm);
     else if (st->coarse_vertices)
-        fprintf(stderr, "%s: %s: warning: %u vertices have an edge longer than %.3g mm, twice the scattering length "
+        sss_cli_printf(stderr, "%s: %s: warning: %u vertices have an edge longer than %.3g mm, twice the scattering length "
                 "1/sigma_tr = %.3g mm (longest edge %.3g mm): the per-vertex sum does not resolve the profile there "
                 "and q comes out too large; resample the mesh finer\n", TOOL, in, st->coarse_vertices,
                 2.0 * st->range_mm, st->range_mm, st->longest_edge_mm);
     if (!quiet && f->quant == SSS_QUANT_REFS)
-        fprintf(stderr, "  %u references (%.2f%%), %u reference triangles, SH order %u (%s), %u-bit %s weights\n",
+        sss_cli_printf(stderr, "  %u references (%.2f%%), %u reference triangles, SH order %u (%s), %u-bit %s weights\n",
                 f->ref.nref, 100.0 * f->ref.nref / nv, f->ref.nrt, f->sh.order, sss_shq_name(f->sh.kind), f->ref.wbits,
                 s->co.ls_weights ? "least-squares" : "barycentric");
     if (!quiet && f->quant == SSS_QUANT_SH)
-        fprintf(stderr, "  SH order %u (%s) at every vertex\n", f->sh.order, sss_shq_name(f->sh.kind));
+        sss_cli_printf(stderr, "  SH order %u (%s) at every vertex\n", f->sh.order, sss_shq_name(f->sh.kind));
     if (!quiet && f->quant == SSS_QUANT_LLOYD8)
-        fprintf(stderr, "  lloyd8 SNR %.2f dB (R %.2f, G %.2f, B %.2f)\n", st->lloyd_snr_db_all, st->lloyd_snr_db[0],
+        sss_cli_printf(stderr, "  lloyd8 SNR %.2f dB (R %.2f, G %.2f, B %.2f)\n", st->lloyd_snr_db_all, st->lloyd_snr_db[0],
                 st->lloyd_snr_db[1], st->lloyd_snr_db[2]);
 }
 
@@ -447,7 +457,8 @@ static void report_json(const bake_args *a, const bake_setup *s, const bake_resu
     cJSON_AddNumberToObject(o, "longest_edge_mm", st->longest_edge_mm);
     cJSON_AddNumberToObject(o, "scattering_length_mm", st->range_mm);
     cJSON_AddNumberToObject(o, "neighbours_mean", st->neighbours_mean);
-    cJSON_AddNumberToObject(o, "neighbours_max", st->neighbours_max);
+    if (st->gather == SSS_GATHER_TREE) cJSON_AddNullToObject(o, "neighbours_max"); /* not formed by the tree gather */
+    else cJSON_AddNumberToObject(o, "neighbours_max", st->neighbours_max);
     cJSON_AddNumberToObject(o, "rays", (double)st->rays);
     cJSON_AddNumberToObject(o, "occluded_fraction", st->occluded_fraction);
     cJSON *tm = cJSON_AddObjectToObject(o, "seconds");
@@ -485,6 +496,7 @@ static void report_json(const bake_args *a, const bake_setup *s, const bake_resu
         cJSON_AddNumberToObject(o, "lloyd_snr_db", st->lloyd_snr_db_all);
         cJSON_AddItemToObject(o, "lloyd_snr_db_per_channel", cJSON_CreateDoubleArray(st->lloyd_snr_db, 3));
     }
+    sss_json_utf8(o); /* valid JSON whatever the bytes of a file name (sss/jsontext.h) */
     char *str = cJSON_PrintUnformatted(o);
     puts(str);
     free(str);
@@ -513,23 +525,33 @@ static int run(const bake_args *a, bake_setup *s, int *argc, char ***argv)
     signal(SIGTERM, on_sigint);
 
     sss_error err = {{0}};
+    /* the output is checked before the bake (sss/fileio.h), so that a path
+     * that may not be written is refused at once, not after the bake; the
+     * writer checks it again */
+    const char *inputs[1] = {in};
+    const sss_inputs ins = {inputs, 1};
+    if (mpi_rank == 0 && sss_output_check(outp, &ins, NULL, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_mpi_abort(1);
+        return 1;
+    }
     double t0 = sss_now();
     sss_mesh mesh;
     if (sss_import_mesh(in, &mesh, &r.rep, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
     r.t_import = sss_now() - t0;
     {
-        char prefix[600];
-        snprintf(prefix, sizeof prefix, "%s: %s", TOOL, in);
+        char prefix[1200], shown[1100];
+        snprintf(prefix, sizeof prefix, "%s: %s", TOOL, sss_cli_shown(in, shown, sizeof shown));
         if (!quiet) sss_import_print_repairs(&r.rep, prefix, stderr);
         sss_import_print_warnings(&r.rep, prefix, stderr); /* also with -q, like the bake's warnings */
     }
     if (r.rep.recentred) opt->import_offset = r.rep.offset; /* provenance (docs/robustness.md B6) */
 
     if (sss_bake(&mesh, sss_cli_basename(in), &s->mat, opt, &r.f, &r.st, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: %s\n", TOOL, in, err.msg);
+        sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, in, err.msg);
         sss_mesh_free(&mesh);
         sss_mpi_abort(interrupted ? 130 : 1); /* the other ranks wait in a collective */
         return interrupted ? 130 : 1;
@@ -543,10 +565,10 @@ static int run(const bake_args *a, bake_setup *s, int *argc, char ***argv)
     t0 = sss_now();
     /* a signal after the bake's last poll: still nothing is written */
     sss_result w = interrupted ? sss_fail(&err, SSS_ERR_INTERRUPTED, "%s: interrupted, nothing written", outp)
-                               : sss_file_write(outp, &r.f, &err);
+                               : sss_file_write_with(outp, &r.f, &ins, &err);
     r.t_write = sss_now() - t0;
     if (w != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         sss_file_free(&r.f);
         sss_mesh_free(&mesh);
         return w == SSS_ERR_INTERRUPTED ? 130 : 1;

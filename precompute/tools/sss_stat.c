@@ -19,7 +19,11 @@
 #include "sss/vertex_error.h"
 #include "sss/exact.h"
 #include "sss/reconstruct.h"
+#include "sss/fileio.h"
+#include "sss/jsontext.h"
 #include "sss/format.h"
+#include "sss/random.h"
+#include "sss/reference.h"
 
 static const char *TOOL = "sss-stat";
 
@@ -31,6 +35,8 @@ static void usage(FILE *f)
                "                [--image-size N] [--exposure E] [--error-images DIR] [--no-image]\n"
                "                [--image-visibility viewer|rays|map[:N]] [--backlit]\n"
                "                [--interp triangle|nearest4]\n"
+               "       sss-stat FILE.sss --model-error --light X,Y,Z --view X,Y,Z [--query VERTEX | --vertices N]\n"
+               "                [--paths N] [--seed S] [--json]\n"
                "Prints vertex count, channels, directions, storage, material, the bytes of every\n"
                "section, and every part of the scattering data (directions, reference indices,\n"
                "triangles, weights, tables, codes) in total and per vertex, with the compression\n"
@@ -64,6 +70,15 @@ static void usage(FILE *f)
                "ray visibility; the image error as the viewer adds them (its GPU rays; map[:N]: its\n"
                "shadow map of N x N texels, default 2048; rays: the bake's ray on the CPU).\n"
                "\n"
+               "--model-error: the radiance the viewer shows, L = E q F_t(eta, n.w_o) with E = 1 (q\n"
+               "reconstructed from the file, as sss-view draws it), against the path-traced reference\n"
+               "of the same mesh, material (g = 0), size and light (sss-ref, docs/reference.md) at N\n"
+               "vertices (--vertices, default 64; or the --query vertex) facing --view, drawn by area\n"
+               "(--seed), each with --paths paths (default 4096): the model error of the dipole, next\n"
+               "to the approximation error against the exact evaluator at the same vertices. Per\n"
+               "channel: mean radiance of each, their ratios, and the relative RMS over the vertices\n"
+               "(the model error's with the reference's own noise taken out).\n"
+               "\n"
                "Exit status: 0 success, 1 unreadable or unusable file, 2 bad arguments.\n");
 }
 
@@ -74,7 +89,7 @@ static int parse_vertex(const char *path, const char *s, uint32_t nv, uint32_t *
     const char *p = s;
     while (isspace((unsigned char)*p)) p++;
     if (*p == '-') {
-        fprintf(stderr, "%s: %s: --query '%s': a vertex index cannot be negative (the file has vertices 0 ... %u)\n",
+        sss_cli_printf(stderr, "%s: %s: --query '%s': a vertex index cannot be negative (the file has vertices 0 ... %u)\n",
                 TOOL, path, s, nv - 1);
         return 0;
     }
@@ -82,13 +97,13 @@ static int parse_vertex(const char *path, const char *s, uint32_t nv, uint32_t *
     for (const char *q = p; *q; q++)
         if (!isdigit((unsigned char)*q)) digits = 0;
     if (!digits) {
-        fprintf(stderr, "%s: %s: --query '%s' is not a vertex index (an integer in [0, %u])\n", TOOL, path, s, nv - 1);
+        sss_cli_printf(stderr, "%s: %s: --query '%s' is not a vertex index (an integer in [0, %u])\n", TOOL, path, s, nv - 1);
         return 0;
     }
     errno = 0;
     unsigned long long v = strtoull(p, NULL, 10);
     if (errno || v >= nv) {
-        fprintf(stderr, "%s: %s: --query %s: vertex index out of range: the file has %u vertices (0 ... %u)\n", TOOL,
+        sss_cli_printf(stderr, "%s: %s: --query %s: vertex index out of range: the file has %u vertices (0 ... %u)\n", TOOL,
                 path, s, nv, nv - 1);
         return 0;
     }
@@ -104,17 +119,24 @@ static int parse_light(const char *path, const char *s, double l[3])
         char *end;
         l[k] = strtod(p, &end);
         if (end == p || (k < 2 ? *end != ',' : *end != 0)) {
-            fprintf(stderr, "%s: %s: --light '%s' must be three numbers X,Y,Z\n", TOOL, path, s);
+            sss_cli_printf(stderr, "%s: %s: --light '%s' must be three numbers X,Y,Z\n", TOOL, path, s);
             return 0;
         }
         p = end + 1;
     }
     if (!isfinite(l[0]) || !isfinite(l[1]) || !isfinite(l[2])) {
-        fprintf(stderr, "%s: %s: --light '%s': every component must be a finite number\n", TOOL, path, s);
+        sss_cli_printf(stderr, "%s: %s: --light '%s': every component must be a finite number\n", TOOL, path, s);
         return 0;
     }
     if (l[0] == 0.0 && l[1] == 0.0 && l[2] == 0.0) {
-        fprintf(stderr, "%s: %s: --light '%s' is the zero vector: give a direction towards the light\n", TOOL, path, s);
+        sss_cli_printf(stderr, "%s: %s: --light '%s' is the zero vector: give a direction towards the light\n", TOOL, path, s);
+        return 0;
+    }
+    /* normalising must neither overflow nor divide by an underflowed length */
+    const double l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+    if (!(l2 >= DBL_MIN && l2 <= DBL_MAX)) {
+        sss_cli_printf(stderr, "%s: %s: --light '%s': its length is too small or too large to be a direction\n", TOOL, path,
+                s);
         return 0;
     }
     return 1;
@@ -128,13 +150,13 @@ static int query(const char *path, const sss_bake_file *f, const char *vs, const
     if (!parse_vertex(path, vs, f->mesh.nv, &v) || !parse_light(path, ls, light)) return 2;
     sss_exact *e;
     sss_error err = {{0}};
-    if (sss_exact_create(f, &e, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
+    if (sss_exact_create_limited(f, sss_cli_memory_limit(), &e, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
         return 1;
     }
     sss_reconstruct *rc = NULL;
     if (sss_reconstruct_create(f, &rc, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: reconstruction: %s\n", TOOL, path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: reconstruction: %s\n", TOOL, path, err.msg);
         sss_exact_destroy(e);
         return 1;
     }
@@ -190,6 +212,7 @@ static int query(const char *path, const sss_bake_file *f, const char *vs, const
             cJSON_AddItemToArray(rr, ex[c] != 0.0f ? cJSON_CreateNumber(diff[c] / ex[c]) : cJSON_CreateNull());
         }
         cJSON_AddNumberToObject(o, "max_abs_difference", maxdiff);
+        sss_json_utf8(o); /* valid JSON whatever the bytes of a file name (sss/jsontext.h) */
         char *s = cJSON_PrintUnformatted(o);
         puts(s);
         free(s);
@@ -234,15 +257,22 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
 
     sss_exact *e;
     sss_error err = {{0}};
-    if (sss_exact_create(f, &e, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
+    const char *inputs[1] = {path};
+    const sss_inputs ins = {inputs, 1};
+    /* the image paths before anything is measured (sss/fileio.h) */
+    if (a->images_dir && !a->no_image && sss_image_error_check_outputs(a->images_dir, &ins, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    if (sss_exact_create_limited(f, sss_cli_memory_limit(), &e, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
         return 1;
     }
     sss_vertex_error ve;
     sss_result r = sss_vertex_error_vs_exact_interp(f, e, views, seed, a->interp, &ve, &err);
     if (r != SSS_OK) {
         sss_exact_destroy(e);
-        fprintf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
         return 1;
     }
     /* image-space error (§3.3): unavailable without OpenGL, which is said
@@ -253,7 +283,7 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
     int have_image = 0;
     if (!a->no_image) {
         sss_image_error_opts io = {a->image_views ? a->image_views : views, seed, a->image_size, a->image_size,
-                                   a->exposure, a->interp, a->images_dir, a->near_mode, a->shadow_size,
+                                   a->exposure, a->interp, a->images_dir, a->near_mode, a->shadow_size, &ins,
                                    a->backlit ? 30.0 : 0.0};
         sss_error ierr = {{0}};
         r = sss_image_error_measure(f, e, &io, &ie, &ierr);
@@ -262,10 +292,10 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
             snprintf(image_status, sizeof image_status, "ok");
         } else if (r == SSS_ERR_UNSUPPORTED) {
             snprintf(image_status, sizeof image_status, "unavailable: %s", ierr.msg);
-            fprintf(stderr, "%s: %s: image error unavailable (no OpenGL 4.3 context): %s\n", TOOL, path, ierr.msg);
+            sss_cli_printf(stderr, "%s: %s: image error unavailable (no OpenGL 4.3 context): %s\n", TOOL, path, ierr.msg);
         } else {
             sss_exact_destroy(e);
-            fprintf(stderr, "%s: %s: image error: %s\n", TOOL, path, ierr.msg);
+            sss_cli_printf(stderr, "%s: %s: image error: %s\n", TOOL, path, ierr.msg);
             return 1;
         }
     }
@@ -326,6 +356,7 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
         } else {
             cJSON_AddNullToObject(o, "image_error");
         }
+        sss_json_utf8(o); /* valid JSON whatever the bytes of a file name (sss/jsontext.h) */
         char *s = cJSON_PrintUnformatted(o);
         puts(s);
         free(s);
@@ -351,6 +382,205 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
         }
     }
     return 0;
+}
+
+/* --model-error: what the viewer shows against the light transport
+ * itself (docs/reference.md; docs/accuracy.md, "Model error"). */
+typedef struct model_args {
+    double view[3];
+    uint32_t vertices, paths;
+    uint64_t seed;
+} model_args;
+
+/* n vertices facing view (n·view > 0), drawn with probability ∝ ΔA
+ * (the per-vertex error's area weighting) by the seeded generator; 0 when
+ * none faces it. */
+static uint32_t draw_vertices(const sss_bake_file *f, const double view[3], uint32_t n, uint64_t seed, uint32_t *out)
+{
+    const sss_mesh *m = &f->mesh;
+    double *cdf = malloc(sizeof(double) * (m->nv ? m->nv : 1));
+    if (!cdf) return 0;
+    sss_mesh_vertex_areas(m, cdf);
+    double total = 0.0;
+    for (uint32_t v = 0; v < m->nv; v++) {
+        const float *nv = &m->nrm[3 * (size_t)v];
+        total += nv[0] * view[0] + nv[1] * view[1] + nv[2] * view[2] > 0.0 ? cdf[v] : 0.0;
+        cdf[v] = total;
+    }
+    uint32_t k = 0;
+    uint64_t st = seed;
+    for (; total > 0.0 && k < n; k++) {
+        const double x = sss_rng_unit(&st) * total;
+        uint32_t lo = 0, hi = m->nv - 1;
+        while (lo < hi) {
+            const uint32_t mid = lo + (hi - lo) / 2;
+            if (cdf[mid] > x) hi = mid;
+            else lo = mid + 1;
+        }
+        out[k] = lo;
+    }
+    free(cdf);
+    return k;
+}
+
+static int model_error_report(const char *path, const sss_bake_file *f, const char *vs, const char *ls,
+                              const model_args *ma, int json)
+{
+    double light[3], view[3];
+    if (!parse_light(path, ls, light)) return 2;
+    memcpy(view, ma->view, sizeof view);
+    const double vl = sqrt(view[0] * view[0] + view[1] * view[1] + view[2] * view[2]);
+    for (int k = 0; k < 3; k++) view[k] /= vl;
+    uint32_t n = vs ? 1 : ma->vertices;
+    uint32_t *vert = malloc(sizeof(uint32_t) * n);
+    sss_ref_query *q = malloc(sizeof(sss_ref_query) * n);
+    sss_ref_estimate *ref = malloc(sizeof(sss_ref_estimate) * n);
+    float *rt = malloc(sizeof(float) * 3 * n), *ex = malloc(sizeof(float) * 3 * n);
+    double *ftv = malloc(sizeof(double) * n);
+    int rc = 1;
+    sss_exact *e = NULL;
+    sss_reconstruct *rc_ = NULL;
+    sss_ref_scene *sc = NULL;
+    sss_error err = {{0}};
+    if (!vert || !q || !ref || !rt || !ex || !ftv) {
+        sss_cli_printf(stderr, "%s: %s: out of memory\n", TOOL, path);
+        goto done;
+    }
+    if (vs) {
+        if (!parse_vertex(path, vs, f->mesh.nv, &vert[0])) {
+            rc = 2;
+            goto done;
+        }
+    } else if ((n = draw_vertices(f, view, n, ma->seed, vert)) == 0) {
+        sss_cli_printf(stderr, "%s: %s: no vertex faces the view (%g, %g, %g)\n", TOOL, path, view[0], view[1], view[2]);
+        goto done;
+    }
+    if (sss_exact_create(f, &e, &err) != SSS_OK || sss_reconstruct_create(f, &rc_, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
+        goto done;
+    }
+    /* the reference of the same mesh (the file's, with its normals), size,
+     * material (σ′s as baked, g = 0) and light */
+    sss_ref_medium med;
+    if (sss_ref_medium_from_material(&f->material, 0.0, &med, &err) != SSS_OK ||
+        sss_ref_scene_create(&f->mesh, f->mm_per_unit, &sc, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: reference: %s\n", TOOL, path, err.msg);
+        goto done;
+    }
+    const uint32_t C = f->channels;
+    for (uint32_t i = 0; i < n; i++) {
+        float a[SSS_MAX_CHANNELS], b[SSS_MAX_CHANNELS];
+        sss_reconstruct_eval_vertex(rc_, vert[i], light, a);
+        sss_exact_eval_vertex(e, vert[i], light, b);
+        const float *nv = &f->mesh.nrm[3 * (size_t)vert[i]];
+        /* L = E · q · F_t(η, n·ω_o), E = 1 (docs/physics.md §4) */
+        ftv[i] = sss_ft(f->material.eta, nv[0] * view[0] + nv[1] * view[1] + nv[2] * view[2]);
+        for (int c = 0; c < 3; c++) {
+            rt[3 * i + c] = (float)(a[C == 1 ? 0 : c] * ftv[i]);
+            ex[3 * i + c] = (float)(b[C == 1 ? 0 : c] * ftv[i]);
+        }
+        q[i].vertex = vert[i];
+        memcpy(q[i].view, view, sizeof view);
+    }
+    const sss_ref_light l = {.kind = SSS_REF_DIRECTIONAL, .dir = {light[0], light[1], light[2]}};
+    sss_ref_options o = {0};
+    o.seed = ma->seed;
+    o.paths = ma->paths;
+    o.progress = !json;
+    sss_ref_stats st;
+    if (sss_ref_queries(sc, &med, &l, q, n, &o, ref, &st, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: reference: %s\n", TOOL, path, err.msg);
+        goto done;
+    }
+    /* per channel: means, their ratios, relative RMS over the vertices (the
+     * model error's with the reference's variance Σ se² taken out) */
+    double m_rt[3], m_ex[3], m_ref[3], se_ref[3], approx[3], model[3], noise[3], ratio[3], ratio_se[3], aratio[3];
+    for (int c = 0; c < 3; c++) {
+        double srt = 0, sex = 0, sref = 0, sse = 0, dax = 0, dmo = 0, ex2 = 0, ref2 = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            const double a = rt[3 * i + c], b = ex[3 * i + c], r = ref[i].mean[c], se = ref[i].se[c];
+            srt += a, sex += b, sref += r, sse += se * se;
+            dax += (a - b) * (a - b), dmo += (a - r) * (a - r), ex2 += b * b, ref2 += r * r;
+        }
+        m_rt[c] = srt / n, m_ex[c] = sex / n, m_ref[c] = sref / n, se_ref[c] = sqrt(sse) / n;
+        approx[c] = ex2 > 0 ? sqrt(dax / ex2) : 0.0;
+        model[c] = ref2 > 0 ? sqrt(fmax(0.0, dmo - sse) / ref2) : 0.0;
+        noise[c] = ref2 > 0 ? sqrt(sse / ref2) : 0.0;
+        ratio[c] = sref > 0 ? srt / sref : 0.0;
+        ratio_se[c] = sref > 0 ? ratio[c] * se_ref[c] / m_ref[c] : 0.0;
+        aratio[c] = sex > 0 ? srt / sex : 0.0;
+    }
+    if (json) {
+        cJSON *o2 = cJSON_CreateObject();
+        cJSON_AddStringToObject(o2, "file", path);
+        cJSON_AddNumberToObject(o2, "vertices", f->mesh.nv);
+        cJSON_AddStringToObject(o2, "material", f->material.name);
+        cJSON_AddNumberToObject(o2, "mm_per_unit", f->mm_per_unit);
+        cJSON_AddStringToObject(o2, "quant", sss_quant_name(f->quant));
+        cJSON_AddItemToObject(o2, "light", cJSON_CreateDoubleArray(light, 3));
+        cJSON_AddItemToObject(o2, "view", cJSON_CreateDoubleArray(view, 3));
+        cJSON_AddNumberToObject(o2, "sampled_vertices", n);
+        cJSON_AddNumberToObject(o2, "paths", (double)st.paths);
+        cJSON_AddNumberToObject(o2, "seed", (double)ma->seed);
+        cJSON_AddNumberToObject(o2, "reference_seconds", st.seconds);
+        cJSON_AddNumberToObject(o2, "reference_leaks", (double)st.leaks);
+        cJSON_AddNumberToObject(o2, "reference_crossed", (double)st.crossed);
+        cJSON *mr = cJSON_AddObjectToObject(o2, "mean_radiance");
+        cJSON_AddItemToObject(mr, "realtime", cJSON_CreateDoubleArray(m_rt, 3));
+        cJSON_AddItemToObject(mr, "exact", cJSON_CreateDoubleArray(m_ex, 3));
+        cJSON_AddItemToObject(mr, "reference", cJSON_CreateDoubleArray(m_ref, 3));
+        cJSON_AddItemToObject(mr, "reference_stderr", cJSON_CreateDoubleArray(se_ref, 3));
+        cJSON *ae = cJSON_AddObjectToObject(o2, "approximation_error");
+        cJSON_AddItemToObject(ae, "ratio_of_means", cJSON_CreateDoubleArray(aratio, 3));
+        cJSON_AddItemToObject(ae, "rel_rms", cJSON_CreateDoubleArray(approx, 3));
+        cJSON *me = cJSON_AddObjectToObject(o2, "model_error");
+        cJSON_AddItemToObject(me, "ratio_of_means", cJSON_CreateDoubleArray(ratio, 3));
+        cJSON_AddItemToObject(me, "ratio_stderr", cJSON_CreateDoubleArray(ratio_se, 3));
+        cJSON_AddItemToObject(me, "rel_rms", cJSON_CreateDoubleArray(model, 3));
+        cJSON_AddItemToObject(me, "reference_noise_rel_rms", cJSON_CreateDoubleArray(noise, 3));
+        cJSON *vv = cJSON_AddArrayToObject(o2, "per_vertex");
+        for (uint32_t i = 0; i < n; i++) {
+            cJSON *x = cJSON_CreateObject();
+            double a[3], b[3];
+            for (int c = 0; c < 3; c++) a[c] = rt[3 * i + c], b[c] = ex[3 * i + c];
+            cJSON_AddNumberToObject(x, "vertex", vert[i]);
+            cJSON_AddItemToObject(x, "realtime", cJSON_CreateDoubleArray(a, 3));
+            cJSON_AddItemToObject(x, "exact", cJSON_CreateDoubleArray(b, 3));
+            cJSON_AddItemToObject(x, "reference", cJSON_CreateDoubleArray(ref[i].mean, 3));
+            cJSON_AddItemToObject(x, "reference_stderr", cJSON_CreateDoubleArray(ref[i].se, 3));
+            cJSON_AddItemToArray(vv, x);
+        }
+        char *str = cJSON_PrintUnformatted(o2);
+        puts(str);
+        free(str);
+        cJSON_Delete(o2);
+    } else {
+        printf("%s: %u vertices facing (%g, %g, %g), light (%g, %g, %g), storage %s: the viewer's radiance "
+               "against the exact evaluator (approximation) and the path-traced reference (model), %llu paths "
+               "per vertex, %.3g s\n", path, n, view[0], view[1], view[2], light[0], light[1], light[2],
+               sss_quant_name(f->quant), (unsigned long long)st.paths, st.seconds);
+        printf("  %-8s %11s %11s %18s | %12s %12s | %12s %12s %12s\n", "channel", "mean L rt", "exact", "reference",
+               "approx ratio", "approx RMS", "model ratio", "model RMS", "ref. noise");
+        static const char *const rgb[3] = {"R", "G", "B"};
+        for (int c = 0; c < 3; c++)
+            printf("  %-8s %11.5g %11.5g %11.5g+-%-6.2g | %12.4f %12.4g | %12.4f %12.4g %12.4g\n", rgb[c], m_rt[c], m_ex[c],
+                   m_ref[c], se_ref[c], aratio[c], approx[c], ratio[c], model[c], noise[c]);
+        if (st.leaks)
+            printf("  warning: %llu of %llu reference paths left the mesh through a hole (an open mesh)\n",
+                   (unsigned long long)st.leaks, (unsigned long long)st.walks);
+    }
+    rc = 0;
+done:
+    sss_ref_scene_destroy(sc);
+    sss_reconstruct_destroy(rc_);
+    sss_exact_destroy(e);
+    free(vert);
+    free(q);
+    free(ref);
+    free(rt);
+    free(ex);
+    free(ftv);
+    return rc;
 }
 
 /* The summary: what the file holds and where its bytes go. */
@@ -431,6 +661,7 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         }
         cJSON *p = f->params_json ? cJSON_Parse(f->params_json) : NULL;
         if (p) cJSON_AddItemToObject(o, "params", p);
+        sss_json_utf8(o); /* valid JSON whatever the bytes of a file name (sss/jsontext.h) */
         char *s = cJSON_PrintUnformatted(o);
         puts(s);
         free(s);
@@ -465,8 +696,13 @@ static int summary(const char *path, const sss_bake_file *f, int json)
             if (part[k].bytes)
                 printf("  %-24s %14llu %12.3f\n", part[k].name, (unsigned long long)part[k].bytes,
                        (double)part[k].bytes / nv);
-        printf("  %-24s %14llu %12.3f  (%.1fx smaller than 8-bit, %.1fx than float)\n", "all", (unsigned long long)st.total,
-               sbpv, raw8 / sbpv, rawf / sbpv);
+        /* a ratio below 1 is a file larger than the raw values (small
+         * meshes, scene bakes): said so, not "0.2x smaller" */
+        char r8[48], rf[48];
+        snprintf(r8, sizeof r8, raw8 / sbpv >= 1.0 ? "%.1fx smaller" : "%.1fx larger", raw8 / sbpv >= 1.0 ? raw8 / sbpv : sbpv / raw8);
+        snprintf(rf, sizeof rf, rawf / sbpv >= 1.0 ? "%.1fx smaller" : "%.1fx larger", rawf / sbpv >= 1.0 ? rawf / sbpv : sbpv / rawf);
+        printf("  %-24s %14llu %12.3f  (%s than 8-bit, %s than float)\n", "all", (unsigned long long)st.total, sbpv, r8,
+               rf);
     }
     return 0;
 }
@@ -474,7 +710,9 @@ static int summary(const char *path, const sss_bake_file *f, int json)
 /* The command line, as the option table fills it. */
 typedef struct stat_args {
     const char *path, *qvertex, *qlight;
-    int json, want_error;
+    int json, want_error, want_model;
+    model_args ma;         /* --model-error: --view, --vertices, --paths */
+    int have_view, model_opt;
     uint32_t views, seed;
     int interp;    /* --interp: SSS_INTERP_TRIANGLE (the default) or SSS_INTERP_NEAREST4 */
     int image_opt; /* given: --image-views, --image-size, --exposure, --error-images or --image-visibility */
@@ -506,6 +744,8 @@ static int parse_args(int argc, char **argv, stat_args *a)
     memset(a, 0, sizeof *a);
     a->views = 100;
     a->seed = 1;
+    a->ma.vertices = 64;
+    a->ma.paths = 4096;
     const sss_cli_opt opts[] = {
         {.name = "--json", .kind = SSS_CLI_FLAG, .dest = &a->json},
         {.name = "--query", .kind = SSS_CLI_STRING, .dest = &a->qvertex}, /* checked against the file: query() */
@@ -518,7 +758,8 @@ static int parse_args(int argc, char **argv, stat_args *a)
         {.name = "--image-size", .kind = SSS_CLI_INT, .dest = &a->ea.image_size, .lo = 16, .hi = 4096,
          .given = &a->image_opt},
         /* strtod's own reading: an underflow to a tiny positive number is taken */
-        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->ea.exposure, .lo = 0, .hi = DBL_MAX,
+        /* at most SSS_VIEW_GAIN_MAX: q · exposure stays inside float (1e38 drew NaN images) */
+        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->ea.exposure, .lo = 0, .hi = SSS_VIEW_GAIN_MAX,
          .flags = SSS_CLI_ABOVE_LO | SSS_CLI_LAX, .given = &a->image_opt,
          .msg = "%s: %s '%s' must be a positive number\n"},
         {.name = "--error-images", .kind = SSS_CLI_STRING, .dest = &a->ea.images_dir, .flags = SSS_CLI_NONEMPTY,
@@ -529,6 +770,10 @@ static int parse_args(int argc, char **argv, stat_args *a)
         {.name = "--backlit", .kind = SSS_CLI_FLAG, .dest = &a->ea.backlit, .given = &a->image_opt},
         {.name = "--interp", .kind = SSS_CLI_CHOICE, .dest = &a->interp, .choices = interps, .values = interp_values,
          .msg = "%s: %s '%s' must be triangle or nearest4\n"},
+        {.name = "--model-error", .kind = SSS_CLI_FLAG, .dest = &a->want_model},
+        {.name = "--view", .kind = SSS_CLI_TRIPLE, .dest = a->ma.view, .flags = SSS_CLI_NONZERO, .given = &a->have_view},
+        {.name = "--vertices", .kind = SSS_CLI_U32, .dest = &a->ma.vertices, .lo = 1, .hi = 1000000, .given = &a->model_opt},
+        {.name = "--paths", .kind = SSS_CLI_U32, .dest = &a->ma.paths, .lo = 1, .hi = 1u << 30, .given = &a->model_opt},
     };
     const sss_cli_opt pos[] = {{.name = "FILE.sss", .kind = SSS_CLI_STRING, .dest = &a->path}};
     const sss_cli cli = {
@@ -541,21 +786,59 @@ static int parse_args(int argc, char **argv, stat_args *a)
     return sss_cli_parse(&cli, argc, argv);
 }
 
+/* --query and --error measure the stored direction set (Hao–Varshney 2004
+ * §3.2) against the exact evaluator, which recomputes q from the file's
+ * mesh alone. A scene bake without a direction set (its lights are other
+ * effects: a static light's exact row, shells, SH) has nothing to
+ * interpolate, and one whose shadows come from other objects of its scene
+ * cannot be recomputed from the file: either would be measured as a 100 %
+ * error that is not one, so they are refused. 1 when measurable. */
+static int measurable(const char *path, const sss_bake_file *f)
+{
+    if (f->fx.mask && !(f->fx.mask & SSS_FX_DIR_SET)) {
+        sss_cli_printf(stderr, "%s: %s: --query and --error measure a direction set, and this scene bake has none (its "
+                       "lights are baked by other effects: see sss-stat without options)\n", TOOL, path);
+        return 0;
+    }
+    if (f->fx.mask & SSS_FX_SCENE_SHADOW) {
+        sss_cli_printf(stderr, "%s: %s: --query and --error recompute q from this file alone, and its shadows come from "
+                       "other objects of its scene (effect scene-shadow)\n", TOOL, path);
+        return 0;
+    }
+    return 1;
+}
+
 /* The combinations of options, checked once the file has been read (an
  * unreadable file is reported first, exit status 1). 1 if they go together,
  * else 0 after the message. */
 static int combinations_ok(const stat_args *a)
 {
     if ((a->image_opt || a->ea.no_image || a->interp != SSS_INTERP_TRIANGLE) && !a->want_error) {
-        fprintf(stderr, "%s: --image-views, --image-size, --exposure, --error-images, --image-visibility, --backlit, --no-image and --interp go with --error\n", TOOL);
+        sss_cli_printf(stderr, "%s: --image-views, --image-size, --exposure, --error-images, --image-visibility, --backlit, --no-image and --interp go with --error\n", TOOL);
         return 0;
     }
     if (a->ea.no_image && a->image_opt) {
-        fprintf(stderr, "%s: --no-image excludes the image options\n", TOOL);
+        sss_cli_printf(stderr, "%s: --no-image excludes the image options\n", TOOL);
         return 0;
     }
     if (a->qvertex && a->want_error) {
-        fprintf(stderr, "%s: --query and --error exclude each other\n", TOOL);
+        sss_cli_printf(stderr, "%s: --query and --error exclude each other\n", TOOL);
+        return 0;
+    }
+    if (a->want_model && a->want_error) {
+        sss_cli_printf(stderr, "%s: --model-error and --error exclude each other\n", TOOL);
+        return 0;
+    }
+    if ((a->have_view || a->model_opt) && !a->want_model) {
+        sss_cli_printf(stderr, "%s: --view, --vertices and --paths go with --model-error\n", TOOL);
+        return 0;
+    }
+    if (a->want_model && (!a->qlight || !a->have_view)) {
+        sss_cli_printf(stderr, "%s: --model-error needs --light X,Y,Z and --view X,Y,Z (see --help)\n", TOOL);
+        return 0;
+    }
+    if (a->want_model && a->qvertex && a->model_opt && a->ma.vertices != 64) {
+        sss_cli_printf(stderr, "%s: --query and --vertices exclude each other\n", TOOL);
         return 0;
     }
     return 1;
@@ -566,19 +849,23 @@ int main(int argc, char **argv)
     stat_args a;
     int rc = parse_args(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;
-    if (!a.qvertex != !a.qlight) {
-        fprintf(stderr, "%s: %s needs %s (see --help)\n", TOOL, a.qvertex ? "--query" : "--light",
+    if (!a.want_model && !a.qvertex != !a.qlight) {
+        sss_cli_printf(stderr, "%s: %s needs %s (see --help)\n", TOOL, a.qvertex ? "--query" : "--light",
                 a.qvertex ? "--light X,Y,Z" : "--query VERTEX");
         return 2;
     }
     sss_bake_file f;
     sss_error err = {{0}};
     if (sss_file_read(a.path, &f, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
     if (!combinations_ok(&a)) rc = 2;
-    else if (a.qvertex) rc = query(a.path, &f, a.qvertex, a.qlight, a.json);
+    else if ((a.qvertex || a.want_error || a.want_model) && !measurable(a.path, &f)) rc = 1;
+    else if (a.want_model) {
+        a.ma.seed = a.seed;
+        rc = model_error_report(a.path, &f, a.qvertex, a.qlight, &a.ma, a.json);
+    } else if (a.qvertex) rc = query(a.path, &f, a.qvertex, a.qlight, a.json);
     else if (a.want_error) {
         a.ea.views = a.views;
         a.ea.seed = a.seed;

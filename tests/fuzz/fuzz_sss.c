@@ -17,27 +17,9 @@
 #include "sss/decode.h"
 #include "sss/format.h"
 #include "test_util.h"
+#include "fuzz_sss_crc.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-static void wr32(uint8_t *p, uint32_t v)
-{
-    for (int i = 0; i < 4; i++) p[i] = (uint8_t)(v >> (8 * i));
-}
-
-/* Recomputes the CRCs of a file image in place (docs/format.md §2–3). */
-static void repair_crcs(uint8_t *b, size_t len)
-{
-    if (len < 28) return;
-    uint32_t n = test_rd32(b + 12);
-    if (n > 32 || 28 + 40 * (size_t)n > len) return;
-    for (uint32_t i = 0; i < n; i++) {
-        uint8_t *e = b + 24 + 40 * (size_t)i;
-        uint64_t off = test_rd64(e + 8), sz = test_rd64(e + 16);
-        if (off <= len && sz <= len - off) wr32(e + 32, sss_crc32(0, b + off, (size_t)sz));
-    }
-    wr32(b + 24 + 40 * (size_t)n, sss_crc32(0, b, 24 + 40 * (size_t)n));
-}
 
 static int check_one(const uint8_t *data, size_t size);
 
@@ -47,7 +29,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint8_t *copy = malloc(size + 1);
     if (!copy) return 0;
     if (size) memcpy(copy, data, size);
-    repair_crcs(copy, size);
+    fuzz_repair_crcs(copy, size);
     check_one(copy, size);
     free(copy);
     return 0;

@@ -23,7 +23,9 @@ done
 # a value is the next argument, whatever it looks like
 expect_msg "sss-view: --bench: '--size' must be an integer in [1, 100000]" "$F" --bench --size 8x8
 # --size: WxH, each 1 ... 16384
-for v in 0x10 10x0 10x 99999x2 2x16385 -1x5 10X10 '10x10 ' ''; do
+# (beyond int too: 4294967396 wrapped to 100 when sscanf read it; docs/robustness.md, item 5)
+for v in 0x10 10x0 10x 99999x2 2x16385 -1x5 10X10 '10x10 ' '' 4294967396x100 100x4294967396 \
+         99999999999999999999x10; do
   expect_msg "sss-view: --size: '$v' must be WxH with each in [1, 16384]" "$F" --size "$v"
 done
 # --light and --view: three finite numbers, not all zero
@@ -34,10 +36,16 @@ expect_msg "sss-view: --light: '0,0,0' is not a direction" "$F" --light 0,0,0
 expect_msg "sss-view: --light: '-0,0,0' is not a direction" "$F" --light -0,0,0
 expect_msg "sss-view: --view: '0,0,0' is not a direction" "$F" --view 0,0,0
 expect_msg "sss-view: --view: 'x,0,1' must be three numbers X,Y,Z" "$F" --view x,0,1
+# a direction whose length overflows or underflows when squared: no direction
+# (a huge --light drew NaN; docs/robustness.md, item 5)
+for v in 1e200,1e200,1e200 1e300,0,0 1e-200,0,0; do
+  expect_msg "sss-view: --light: '$v' is not a direction" "$F" --light "$v"
+done
 # --exposure and --intensity: a finite number > 0
-for v in 0 -1 inf nan 1e-310 1x ''; do
-  expect_msg "sss-view: --exposure: '$v' must be a number > 0" "$F" --exposure "$v"
-  expect_msg "sss-view: --intensity: '$v' must be a number > 0" "$F" --intensity "$v"
+# and at most 1e12 (1e38, 1e300 drew Inf/NaN; docs/robustness.md, item 5)
+for v in 0 -1 inf nan 1e-310 1x '' 1e38 1e300 1.000001e12; do
+  expect_msg "sss-view: --exposure: '$v' must be a number > 0 and <= 1e+12" "$F" --exposure "$v"
+  expect_msg "sss-view: --intensity: '$v' must be a number > 0 and <= 1e+12" "$F" --intensity "$v"
 done
 # the choices
 expect_msg "sss-view: --tonemap: 'Clamp' must be clamp or reinhard" "$F" --tonemap Clamp

@@ -19,15 +19,16 @@ declare -A hstage=(
   [refs]=compress [compress]=compress
   [bake]=bake [planner]=bake [bake_scene]=bake
   [exact]=measure [reconstruct]=measure [vertex_error]=measure
+  [reference]=reference
 )
-declare -A rank=([input]=0 [kernels]=1 [gather]=2 [compress]=3 [effects]=4 [bake]=4 [measure]=5)
+declare -A rank=([input]=0 [kernels]=1 [gather]=2 [compress]=3 [effects]=4 [bake]=4 [measure]=5 [reference]=5)
 
 # the stages a file includes: public headers by name, internal ones by folder
 includes() { grep -hoE '^#include "[^"]+"' "$1" | sed -E 's/#include "(.*)"/\1/'; }
 stage_of_include() {
   case "$1" in
     sss/*.h) local n=${1#sss/}; n=${n%.h}; echo "${hstage[$n]:-}";;
-    input/*|kernels/*|gather/*|effects/*|bake/*|compress/*|measure/*) echo "${1%%/*}";;
+    input/*|kernels/*|gather/*|effects/*|bake/*|compress/*|measure/*|reference/*) echo "${1%%/*}";;
   esac
 }
 
@@ -42,7 +43,7 @@ done < <(find common -name '*.[ch]')
 [ -z "$(find common -name '*.cpp' -o -name '*.hpp')" ] || complain "common holds C++ files"
 
 # 2. precompute stages
-for s in input kernels gather compress effects bake measure; do
+for s in input kernels gather compress effects bake measure reference; do
   while IFS= read -r f; do
     for i in $(includes "$f"); do
       t=$(stage_of_include "$i")

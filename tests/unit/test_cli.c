@@ -250,8 +250,15 @@ static void nonzeroTripleRefusesZeroVectorWithSecondMessage(void **state)
     assert_int_equal(run(&c, "--light", "0,-0,0", NULL), 2);
     assert_string_equal(take(err_f), "sss-test: --light: '0,-0,0' is not a direction\n");
     assert_true(t[2] == 1);
-    assert_int_equal(run(&c, "--light", "0,0,-1e-300", NULL), SSS_CLI_RUN);
-    assert_true(t[2] == -1e-300);
+    /* a length that underflows or overflows when squared is no direction
+     * either: normalising it gives 0 or NaN (docs/robustness.md, item 5) */
+    assert_int_equal(run(&c, "--light", "0,0,-1e-300", NULL), 2);
+    assert_string_equal(take(err_f), "sss-test: --light: '0,0,-1e-300' is not a direction\n");
+    assert_int_equal(run(&c, "--light", "1e200,0,0", NULL), 2);
+    assert_string_equal(take(err_f), "sss-test: --light: '1e200,0,0' is not a direction\n");
+    assert_true(t[2] == 1);
+    assert_int_equal(run(&c, "--light", "0,0,-1e-150", NULL), SSS_CLI_RUN);
+    assert_true(t[2] == -1e-150);
 }
 
 static void sizeReadsWxHWithinRange(void **state)
@@ -263,7 +270,10 @@ static void sizeReadsWxHWithinRange(void **state)
     assert_int_equal(run(&c, "--size", "16384x1", NULL), SSS_CLI_RUN);
     assert_int_equal(wh[0], 16384);
     assert_int_equal(wh[1], 1);
-    const char *bad[] = {"0x10", "10x16385", "10x10x", "10", "10 x10", "axb"};
+    /* a side beyond int wrapped to a valid one under sscanf's %d
+     * (4294967396 = 2^32 + 100; docs/robustness.md, item 5) */
+    const char *bad[] = {"0x10", "10x16385", "10x10x", "10", "10 x10", "axb", "4294967396x100", "100x4294967396",
+                         "99999999999999999999x1"};
     for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
         assert_int_equal(run(&c, "--size", bad[k], NULL), 2);
         char want[128];

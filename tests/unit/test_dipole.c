@@ -284,9 +284,31 @@ static void slabQIsTheBrightestChannelsFlatSurface(void **state)
     assert_true(sss_material_slab_q(&m, 3) == 0.0);
 }
 
+/* σ′t = σa + σ′s below 1e-12 /mm: the dipole's depths 1/σ′t leave float
+ * range (σa = 0 with σ′s = 1e-160 reached the file writer as NaN), so such
+ * a material is refused up front, naming the channel (docs/robustness.md
+ * item 5); σ′s = 0 alone stays valid. */
+static void materialWithVanishingExtinctionRefused(void **state)
+{
+    (void)state;
+    sss_material m = {"custom", {0, 0, 0}, {1e-160, 1e-160, 1e-160}, 1.3};
+    sss_error err = {{0}};
+    assert_int_equal(sss_material_validate(&m, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "channel R has sigma'_t = sigma_a + sigma'_s = 1e-160 /mm, below 1e-12"));
+    m.sigmap_s[0] = 1e-11;
+    m.sigmap_s[2] = 1.0;
+    assert_int_equal(sss_material_validate(&m, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "channel G"));
+    m.sigmap_s[1] = 1e-12;
+    assert_int_equal(sss_material_validate(&m, &err), SSS_OK);
+    sss_material z = {"custom", {0.1, 0.1, 0.1}, {0, 0, 0}, 1.3}; /* σ′s = 0: q = 0, valid */
+    assert_int_equal(sss_material_validate(&z, &err), SSS_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(materialWithVanishingExtinctionRefused),
         cmocka_unit_test(diskIntegralMatchesQuadratureForEveryPreset),
         cmocka_unit_test(diskIntegralApproachesClosedFormTotalForEveryPreset),
         cmocka_unit_test(offsetDiskIntegralMatchesQuadrature),

@@ -987,7 +987,7 @@ static void decodeRejectsBadMaterial(void **state)
     t_split(b, len, &u);
     wrf64(t_find(&u, "MATL")->data + 32, 0.0);
     wrf64(t_find(&u, "MATL")->data + 56, 0.0);
-    expect_reject_t(&u, SSS_ERR_CORRUPT, "not positive");
+    expect_reject_t(&u, SSS_ERR_CORRUPT, "sigma'_t = 0");
     t_free(&u);
     free(b);
     /* grey file: MATL says 1 channel, q has 3 per vertex -> size mismatch */
@@ -1553,10 +1553,164 @@ static void goldenFileReencodesToSameBytes(void **state)
     free(b);
 }
 
+/* ---- bounds a decode survives (docs/robustness.md items 3, 5, 6, 9) ----- */
+
+/* Decodes and requires acceptance. */
+static void expect_accept_t(const tfile *t)
+{
+    size_t len;
+    uint8_t *b = t_join(t, &len);
+    sss_bake_file f;
+    sss_error err = {{0}};
+    if (sss_file_decode(b, len, "t.sss", &f, &err) != SSS_OK) fail_msg("refused: %s", err.msg);
+    sss_file_free(&f);
+    free(b);
+}
+
+/* Coordinates beyond 1e15 (Embree asserted on the rays of a vertex at
+ * 2e18), normals that are not unit (3e38 long: the ray origins leave any
+ * range), a mesh spanning more than 1e15 mm, and mm per unit outside the
+ * bake's [1e-12, 1e12]: refused. A zero normal (the bake's, where incident
+ * normals cancel) is kept. */
+static void decodeRejectsGeometryOutsideTheRangeItComputesIn(void **state)
+{
+    (void)state;
+    size_t len;
+    uint8_t *b = encode_new(6, 3, SSS_QUANT_FLOAT, &len);
+    const size_t pos = 8, nrm = 8 + 12 * 6;
+    reject_edit_f32(b, len, "GEOM", pos, 2e18f, "vertex 0: position coordinate 0 is 2e+18, beyond 1e+15");
+    reject_edit_f32(b, len, "GEOM", pos + 4 * 5, -1.5e15f, "vertex 1: position coordinate 2");
+    reject_edit_f32(b, len, "GEOM", nrm, 3e38f, "vertex 0: normal has length");
+    reject_edit_f32(b, len, "GEOM", nrm + 12, 2.0f, "vertex 1: normal has length 2");
+    tfile t;
+    t_split(b, len, &t);
+    for (int k = 0; k < 3; k++) wrf32(t_find(&t, "GEOM")->data + nrm + 4 * k, 0.0f);
+    expect_accept_t(&t);
+    t_free(&t);
+    reject_edit_f64(b, len, "MATL", 88, 1e300, "mm_per_unit 1e+300 is outside");
+    reject_edit_f64(b, len, "MATL", 88, 1e-300, "mm_per_unit 1e-300 is outside");
+    /* coordinates within range, but 1e14 units at 1e12 mm per unit span 2e26 mm */
+    t_split(b, len, &t);
+    for (int v = 0; v < 6; v++)
+        for (int k = 0; k < 3; k++) {
+            uint8_t *p = t_find(&t, "GEOM")->data + pos + 12 * v + 4 * k;
+            float x;
+            uint32_t u = test_rd32(p);
+            memcpy(&x, &u, 4);
+            wrf32(p, x * 1e14f);
+        }
+    wrf64(t_find(&t, "MATL")->data + 88, 1e12);
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "section MATL: the mesh spans");
+    t_free(&t);
+    free(b);
+}
+
+/* Finite values near FLT_MAX in a valid layout made Inf/NaN in every
+ * decoder: every stored value is bounded by SSS_VALUE_MAX (1e6) now, so
+ * an accepted file decodes to finite q >= 0 by construction; a material
+ * whose σ′t is below 1e-12 (σa = 0, σ′s = 1e-160 gave NaN) or whose η lies
+ * where F_dr ≥ 1 is refused like the bake refuses it. */
+static void decodeRejectsValuesADecodeCannotSurvive(void **state)
+{
+    (void)state;
+    size_t len;
+    uint8_t *b = encode_new(6, 3, SSS_QUANT_FLOAT, &len);
+    reject_edit_f32(b, len, "QFLT", 4 * 7, 3e38f, "value 7 (3e+38) is beyond 1e+06");
+    reject_edit_f32(b, len, "QFLT", 0, 1.0000001e6f, "value 0");
+    tfile t;
+    t_split(b, len, &t);
+    wrf64(t_find(&t, "MATL")->data + 32 + 8, 0.0); /* fine alone: σa_G = 0 keeps σ′t = σ′s */
+    expect_accept_t(&t);
+    wrf64(t_find(&t, "MATL")->data + 56 + 8, 1e-160);
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "channel G has sigma'_t = sigma_a + sigma'_s = 1e-160");
+    t_free(&t);
+    reject_edit_f64(b, len, "MATL", 80, 4.0, "eta 4 is outside");
+    free(b);
+    b = encode_new(6, 3, SSS_QUANT_LLOYD8, &len);
+    reject_edit_f32(b, len, "QL8 ", 4 + 4 * 255, 3e38f, "level 255 (3e+38) is beyond 1e+06");
+    free(b);
+}
+
+/* The direction triangulation must cover the sphere once: one triangle
+ * reversed, or all of them, made the lookup interpolate over triangles
+ * that do not hold the light (errors 8–17 times the file's own). */
+static void decodeRejectsReversedOrInconsistentTriangulation(void **state)
+{
+    (void)state;
+    size_t len;
+    uint8_t *b = encode_new(6, 3, SSS_QUANT_FLOAT, &len);
+    const size_t tri = 8 + 24 * 6;
+    tfile t;
+    t_split(b, len, &t);
+    uint8_t *d = t_find(&t, "DIRS")->data;
+    uint32_t a = test_rd32(d + tri + 4), c = test_rd32(d + tri + 8);
+    wr32(d + tri + 4, c);
+    wr32(d + tri + 8, a);
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "triangle 0");
+    for (uint32_t k = 1; k < 8; k++) { /* all of them reversed */
+        a = test_rd32(d + tri + 12 * k + 4), c = test_rd32(d + tri + 12 * k + 8);
+        wr32(d + tri + 12 * k + 4, c);
+        wr32(d + tri + 12 * k + 8, a);
+    }
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "not counter-clockwise");
+    t_free(&t);
+    /* two triangles made one twice (covering part of the sphere twice) */
+    t_split(b, len, &t);
+    d = t_find(&t, "DIRS")->data;
+    memcpy(d + tri + 12, d + tri, 12);
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "DIRS");
+    t_free(&t);
+    free(b);
+}
+
+/* A FIFO given as a .sss file: refused at once (the regular-file check
+ * came after a blocking open, which waited for a writer forever). */
+static void readRefusesFifoWithoutBlocking(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/sss_test_fifo_XXXXXX", path[64];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/f.sss", dir);
+    assert_int_equal(mkfifo(path, 0600), 0);
+    alarm(10); /* the failure of a blocking open */
+    sss_bake_file f;
+    sss_error err = {{0}};
+    assert_int_equal(sss_file_read(path, &f, &err), SSS_ERR_IO);
+    alarm(0);
+    assert_non_null(strstr(err.msg, "f.sss: not a regular file"));
+    unlink(path);
+    rmdir(dir);
+}
+
+/* Area-weighted RMS on a mesh whose triangles all have zero area: every
+ * vertex then weighs 1, so the RMS is not 0 next to a non-zero maximum. */
+static void errorOfZeroAreaMeshIsNotZeroRms(void **state)
+{
+    (void)state;
+    sss_bake_file a, r;
+    make_file(&a, 6, 1, SSS_QUANT_FLOAT);
+    make_file(&r, 6, 1, SSS_QUANT_FLOAT);
+    for (uint32_t v = 0; v < a.mesh.nv; v++)
+        for (int k = 0; k < 3; k++) a.mesh.pos[3 * v + k] = r.mesh.pos[3 * v + k] = 0.5f; /* one point */
+    for (size_t i = 0; i < 6 * (size_t)a.mesh.nv; i++) a.q[i] += 0.2f;
+    double rel[2], rms[2], mx = 0;
+    sss_error err = {{0}};
+    assert_int_equal(sss_decode_error(&a, &r, 8, 1, rel, rms, &mx, &err), SSS_OK);
+    assert_true(fabs(mx - 0.2) < 1e-6);
+    assert_true(rms[0] > 0.19 && rms[0] < 0.21);
+    sss_file_free(&a);
+    sss_file_free(&r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(crc32MatchesCheckValueAndBitwiseReference),
+        cmocka_unit_test(decodeRejectsGeometryOutsideTheRangeItComputesIn),
+        cmocka_unit_test(decodeRejectsValuesADecodeCannotSurvive),
+        cmocka_unit_test(decodeRejectsReversedOrInconsistentTriangulation),
+        cmocka_unit_test(readRefusesFifoWithoutBlocking),
+        cmocka_unit_test(errorOfZeroAreaMeshIsNotZeroRms),
         cmocka_unit_test(encodeDecodeRoundTripIsExactFloat),
         cmocka_unit_test(encodeDecodeRoundTripIsExactLloyd8),
         cmocka_unit_test(encodeDecodeRoundTripIsExactGreyAndUntriangulated),

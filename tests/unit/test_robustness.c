@@ -505,10 +505,47 @@ static void referenceDeltasKeepPrecisionUnderCancellation(void **state)
     sss_mesh_free(&s);
 }
 
+/* A mesh spanning more than SSS_EXTENT_MM_MAX (1e15 mm): the tree
+ * gather's float squares of distances overflowed beyond about 1.8e19 mm
+ * and it wrote q = 0 everywhere with success, while the direct sum was
+ * right. Both gathers now refuse the mesh before anything is computed,
+ * naming its extent; 1e14 mm still bakes with both, to the same values
+ * (docs/robustness.md item 4). */
+static void meshBeyondTheFloatRangeIsRefusedByBothGathers(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 1e7, 1, &err), SSS_OK); /* 2e7 units across */
+    const sss_material mat = material("marble");
+    for (int g = SSS_GATHER_DIRECT; g <= SSS_GATHER_TREE; g++) {
+        sss_bake_options o = options(1e12, 12); /* 2e19 mm */
+        o.gather = g;
+        sss_bake_file f;
+        sss_bake_stats st;
+        assert_int_equal(sss_bake(&m, "big", &mat, &o, &f, &st, &err), SSS_ERR_MESH);
+        assert_non_null(strstr(err.msg, "the mesh spans"));
+        assert_non_null(strstr(err.msg, "beyond 1e+15 mm"));
+    }
+    double q[2] = {0, 0};
+    for (int g = SSS_GATHER_DIRECT; g <= SSS_GATHER_TREE; g++) {
+        sss_bake_options o = options(5e6, 12); /* 1e14 mm: inside */
+        o.gather = g;
+        sss_bake_file f;
+        sss_bake_stats st;
+        if (sss_bake(&m, "big", &mat, &o, &f, &st, &err) != SSS_OK) fail_msg("%s", err.msg);
+        q[g - SSS_GATHER_DIRECT] = assert_q_finite(&f);
+        sss_file_free(&f);
+    }
+    assert_true(q[0] > 0 && fabs(q[1] - q[0]) <= 1e-3 * q[0]);
+    sss_mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(farSphereBakesTheSameAsAtTheOrigin),
+        cmocka_unit_test(meshBeyondTheFloatRangeIsRefusedByBothGathers),
         cmocka_unit_test(nonManifoldMeshesBakeFinite),
         cmocka_unit_test(openSquareLosesLightAtItsBoundaryOnly),
         cmocka_unit_test(interpenetratingSpheresShadowTheBuriedPart),

@@ -109,6 +109,50 @@ static void invalidScenesNameFileAndJsonPath(void **state)
     sss_scene_free(&s);
 }
 
+/* Silent misreadings refused, naming the JSON path (docs/robustness.md
+ * item 9): a key given twice (cJSON keeps both and a lookup finds the
+ * first, so the second was ignored), a string holding \u0000 (the name was
+ * cut there), an object name starting with '.' ("." and ".." made hidden
+ * files), and mm per world unit outside the bake's range. */
+static void sceneRefusesDuplicateKeysNulAndDotNames(void **state)
+{
+    (void)state;
+    const char *obj = "{\"mesh\":\"a.ply\",\"material\":\"marble\"}";
+    char buf[1024];
+#define SCENE(L) (snprintf(buf, sizeof buf, "{\"objects\":[%s],\"lights\":[%s]}", obj, L), buf)
+    expect_error(SCENE("{\"type\":\"directional\",\"direction\":[0,0,1],\"direction\":[1,0,0]}"),
+                 "scene.json: /lights/0/direction: given twice");
+    expect_error(SCENE("{\"type\":\"directional\",\"moving\":false,\"direction\":[0,0,1],\"moving\":true}"),
+                 "scene.json: /lights/0/moving: given twice");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":\"marble\"}],\"objects\":[]}",
+                 "scene.json: /objects: given twice");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"eta\":1.2,\"eta\":1.5}}]}",
+                 "/objects/0/material/eta: given twice");
+#undef SCENE
+    expect_error("{\"objects\":[{\"name\":\"a\\u0000b\",\"mesh\":\"a.ply\",\"material\":\"marble\"}]}",
+                 "scene.json: line 1: a string holds \\u0000");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\\u0000.x\",\"material\":\"marble\"}]}", "\\u0000");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\n\"mate\\u0000rial\":\"marble\"}]}", "line 2: a string holds");
+    /* an escaped backslash before u0000 is text, not a NUL */
+    sss_scene s;
+    sss_error err = {{0}};
+    assert_int_equal(sss_scene_parse("{\"objects\":[{\"mesh\":\"a\\\\u0000.ply\",\"material\":\"marble\"}]}",
+                                     "scene.json", &s, &err), SSS_OK);
+    assert_string_equal(s.objects[0].mesh, "a\\u0000.ply");
+    sss_scene_free(&s);
+    for (int k = 0; k < 3; k++) {
+        static const char *const names[3] = {".", "..", ".hidden"};
+        char json[256], want[96];
+        snprintf(json, sizeof json, "{\"objects\":[{\"name\":\"%s\",\"mesh\":\"a.ply\",\"material\":\"marble\"}]}",
+                 names[k]);
+        snprintf(want, sizeof want, "/objects/0/name: '%s': a name may not start with '.'", names[k]);
+        expect_error(json, want);
+    }
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":\"marble\",\"mm_per_unit\":1e12,"
+                 "\"transform\":{\"scale\":1e-6}}]}",
+                 "/objects/0/transform/scale: mm_per_unit / scale = 1e+18 mm per world unit is outside");
+}
+
 /* ---- helpers: plan and bake a scene text -------------------------------- */
 
 typedef struct baked {
@@ -500,6 +544,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(invalidScenesNameFileAndJsonPath),
+        cmocka_unit_test(sceneRefusesDuplicateKeysNulAndDotNames),
         cmocka_unit_test(greyMaterialBakesOneChannel),
         cmocka_unit_test(convexObjectAloneTracesNoRaysAndMatchesVisibilityOn),
         cmocka_unit_test(secondObjectShadowsTheFirst),

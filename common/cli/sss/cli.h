@@ -60,12 +60,13 @@ typedef enum sss_cli_kind {
     SSS_CLI_INT,
     /* ((double *)dest)[0..2]: "X,Y,Z", three numbers read as SSS_CLI_DOUBLE
      * (no range) with exactly one comma between them; with SSS_CLI_NONZERO
-     * not all three zero (a direction).
+     * a direction: its squared length a positive normal double (not all
+     * zero, not so small or large that normalising it fails).
      * Default messages: "%s: %s: '%s' must be three numbers X,Y,Z\n";
      * all zero (msg2): "%s: %s: '%s' is not a direction\n". */
     SSS_CLI_TRIPLE,
-    /* ((int *)dest)[0..1] = W, H: "WxH" as sscanf's "%dx%d" reads it, each
-     * in [lo, hi], nothing after H.
+    /* ((int *)dest)[0..1] = W, H: "WxH" as sscanf's "%dx%d" reads it (blanks
+     * before W and H), each in [lo, hi] without wrapping, nothing after H.
      * Default message: "%s: %s: '%s' must be WxH with each in [%d, %d]\n". */
     SSS_CLI_SIZE,
     /* *(int *)dest = values[k] (or k when values is NULL) for the text equal
@@ -90,7 +91,8 @@ enum {
      * number like any other, an empty text reads as 0; only characters after
      * the number and the range refuse it. */
     SSS_CLI_LAX = 1u << 1,
-    /* SSS_CLI_TRIPLE: all three zero is refused with msg2. */
+    /* SSS_CLI_TRIPLE: no direction (all zero, or a length that underflows or
+     * overflows when squared) is refused with msg2. */
     SSS_CLI_NONZERO = 1u << 2,
     /* An option whose value is the empty string has no value (need message):
      * sss-stat's --error-images "" is a missing directory. */
@@ -219,6 +221,27 @@ int sss_cli_parse_u32(const char *tool, const char *opt, const char *s, uint32_t
 int sss_cli_parse_triple(const char *tool, const char *opt, const char *s, double out[3]);
 
 /* Peak resident memory of this process in MiB (getrusage; 0 if that fails). */
+/* fprintf for the tools' messages (README.md, "Errors": one line each):
+ * every control character of the formatted text, except a last '\n', is
+ * written as '?', so that a file name holding a newline or an escape
+ * sequence cannot split a message or drive the terminal. Returns
+ * fprintf's count. */
+int sss_cli_printf(FILE *f, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* s copied into buf (n bytes, truncated) with its control characters shown
+ * as '?': a path for a line of text the tool prints itself. Returns buf. */
+char *sss_cli_shown(const char *s, char *buf, size_t n);
+
+/* The memory limit a tool passes to the plans of the libraries
+ * (sss/memory.h): SSS_MEMORY_LIMIT_MB, in bytes (a share of a machine used
+ * by others; the tests use it to exercise the refusals); 0 when unset or not
+ * a positive integer. */
+uint64_t sss_cli_memory_limit(void);
+
 double sss_cli_peak_rss_mib(void);
 
 /* The part of path after its last '/' (a pointer into path, not a copy). */

@@ -56,6 +56,9 @@ void sss_decode_vertex(const sss_bake_file *f, uint32_t v, const double light[3]
 typedef struct sss_err_accum {
     uint32_t channels, ndirs;
     double area_sum;                            /* Σ_v A_v */
+    /* 1 when Σ_v A_v is 0 (every triangle degenerate): each vertex then
+     * weighs 1, so the RMS does not read 0 next to a non-zero maximum */
+    int unweighted;
     double num[SSS_MAX_CHANNELS], den[SSS_MAX_CHANNELS]; /* Σ A (a − r)², Σ A r² */
     double max_abs[SSS_MAX_CHANNELS];           /* max |a − r| (NaN once any difference was NaN) */
 } sss_err_accum;

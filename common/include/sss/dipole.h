@@ -47,10 +47,19 @@ sss_result sss_material_preset(const char *name, sss_material *out, sss_error *e
 #define SSS_ETA_MIN 0.3
 #define SSS_ETA_MAX 3.5
 #define SSS_SIGMA_MAX 1e6
+/* σ′t = σa + σ′s at least this (a mean free path of at most 1e12 mm): below
+ * it the dipole's depths z_r, z_v and their squares leave the range of the
+ * float gather and of double (σa = 0 with σ′s < 1e-154 made NaN;
+ * docs/robustness.md, "Materials"). */
+#define SSS_SIGMA_T_MIN 1e-12
 
-/* Checks a material: finite, 0 ≤ σa, σ′s ≤ SSS_SIGMA_MAX, σ′t > 0 per
- * channel, SSS_ETA_MIN ≤ η ≤ SSS_ETA_MAX. */
+/* Checks a material: finite, 0 ≤ σa, σ′s ≤ SSS_SIGMA_MAX, σ′t ≥
+ * SSS_SIGMA_T_MIN per channel, SSS_ETA_MIN ≤ η ≤ SSS_ETA_MAX. */
 sss_result sss_material_validate(const sss_material *m, sss_error *err);
+
+/* The same checks for the first `channels` channels only (a file's MATL
+ * keeps the unused ones as given); `code` is the result returned. */
+sss_result sss_material_check(const sss_material *m, uint32_t channels, sss_result code, sss_error *err);
 
 /* Colour channels a bake of m stores: 1 when σa and σ′s are equal in R, G
  * and B (one dipole profile serves all three, and a grey material pays for

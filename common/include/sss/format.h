@@ -26,6 +26,20 @@ extern "C" {
  * that their bytes do not change with 1.2, which only scene bakes use. */
 #define SSS_FORMAT_MINOR_PLAIN 1
 #define SSS_MAX_SECTIONS 32
+/* The largest magnitude of any stored value of q, or of a quantity built
+ * from q alone (Lloyd levels, SH codes' tables and scales, the exact
+ * values of QDIR, the transfer T_i of ENVT, the shells of PSHL), and of the
+ * probe coefficients L_i of ENVT. q is a fraction of the irradiance per sr
+ * (Hao–Varshney 2004 §3.1; a physical bake stays below about 10), so 1e6
+ * is far above anything a bake makes; with it every sum a decoder forms
+ * (three rows, 64 SH terms, blended references with weights within ±16,
+ * Σ_i T_i L_i) stays finite in float: an accepted file decodes to finite q
+ * >= 0 by construction (docs/format.md §6, docs/robustness.md "Values"). */
+#define SSS_VALUE_MAX 1e6
+#define SSS_PROBE_SH_MAX 1e30
+/* The smallest point-light shell radius (PSHL, world units): q_pt = stored
+ * / r² with r clamped at the first shell stays below 1e36 (sss_fx_point). */
+#define SSS_SHELL_RADIUS_MIN 1e-15
 /* sss_bake_file.near_terms: own term split off (section OWNT, format 1.3) */
 #define SSS_NEAR_TERMS_RUNTIME 1u
 #define SSS_NEAR_RINGS_MAX 8u
@@ -177,18 +191,29 @@ typedef struct sss_bake_file {
 
 /* Serialises f into a newly malloc'ed buffer (*buf, *len; caller frees). */
 sss_result sss_file_encode(const sss_bake_file *f, uint8_t **buf, size_t *len, sss_error *err);
+/* The same, with messages naming `name` (the file it is for). */
+sss_result sss_file_encode_named(const sss_bake_file *f, const char *name, uint8_t **buf, size_t *len, sss_error *err);
 
 /* Writes f to path atomically: a temporary file in the same directory,
  * fsync, rename, fsync of the directory. On failure the previous file under
- * path (if any) is untouched and no temporary is left behind. */
+ * path (if any) is untouched and no temporary is left behind. Only a path
+ * sss_output_check accepts is written (sss/fileio.h: a new or regular
+ * file, a symbolic link followed to one; never a directory or a device). */
 sss_result sss_file_write(const char *path, const sss_bake_file *f, sss_error *err);
+
+/* The same, refusing also a path that is the same file as one of the
+ * inputs (a bake's mesh, say). */
+struct sss_inputs;
+sss_result sss_file_write_with(const char *path, const sss_bake_file *f, const struct sss_inputs *in,
+                               sss_error *err);
 
 /* Decodes a complete file image. Checks every size, offset, count, checksum
  * and value range before use; never reads out of bounds. `name` is used in
  * error messages. On failure *f is left zeroed. */
 sss_result sss_file_decode(const void *buf, size_t len, const char *name, sss_bake_file *f, sss_error *err);
 
-/* Reads and decodes the file at path. */
+/* Reads and decodes the file at path: a regular file only, opened without
+ * blocking (sss/fileio.h). */
 sss_result sss_file_read(const char *path, sss_bake_file *f, sss_error *err);
 
 /* Frees everything owned by f and zeroes it. NULL-safe. */

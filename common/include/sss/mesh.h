@@ -15,6 +15,17 @@
 extern "C" {
 #endif
 
+/* The range of geometry every stage computes in (docs/robustness.md,
+ * "Ranges"). Coordinates (mesh units) and the mesh's extent in mm bound
+ * what reaches Embree (which asserts beyond about 1.8e18), FLANN and the
+ * tree gather (float positions in mm and their squares), the renderer
+ * (float) and the ray offset; mm per unit is the bake's own option range.
+ * The importer, the bake and the .sss reader refuse anything outside. */
+#define SSS_COORD_MAX 1e15        /* |coordinate|, mesh units */
+#define SSS_EXTENT_MM_MAX 1e15    /* bounding-box diagonal × mm per unit */
+#define SSS_MM_PER_UNIT_MIN 1e-12
+#define SSS_MM_PER_UNIT_MAX 1e12
+
 typedef struct sss_mesh {
     uint32_t nv;     /* vertex count */
     uint32_t nf;     /* triangle count */
@@ -45,6 +56,13 @@ sss_result sss_mesh_compute_normals_areas(sss_mesh *m, const char *name, sss_err
  * sss_mesh_compute_normals_areas, for a mesh that cannot be modified (e.g.
  * one read from a file). Indices must already be valid. */
 void sss_mesh_vertex_areas(const sss_mesh *m, double *area);
+
+/* Whether m lies in the range above: every coordinate finite and at most
+ * SSS_COORD_MAX in magnitude and, when mm_per_unit is not 0, mm_per_unit in
+ * [SSS_MM_PER_UNIT_MIN, SSS_MM_PER_UNIT_MAX] and the bounding-box diagonal
+ * times it at most SSS_EXTENT_MM_MAX. One line naming `name` and the vertex
+ * (SSS_ERR_MESH) otherwise. */
+sss_result sss_mesh_check_range(const sss_mesh *m, double mm_per_unit, const char *name, sss_error *err);
 
 /* Axis-aligned bounds of the positions; returns the diagonal length. */
 double sss_mesh_bounds(const sss_mesh *m, double lo[3], double hi[3]);

@@ -21,6 +21,12 @@ extern "C" {
 
 #define SSS_SCENE_PATH_MAX 1024
 #define SSS_SCENE_NAME_MAX 64
+/* The most objects and lights a scene may hold: each costs about 1 KiB
+ * parsed, and the planner keeps a row of every light per object; a 64 MiB
+ * file of minimal lights would otherwise take gigabytes before anything is
+ * planned (docs/robustness.md, item 7). */
+#define SSS_SCENE_MAX_OBJECTS 4096
+#define SSS_SCENE_MAX_LIGHTS 65536
 
 typedef enum sss_light_kind {
     SSS_LIGHT_DIRECTIONAL = 0, /* parallel light of irradiance `intensity` from `direction` */

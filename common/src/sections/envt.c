@@ -26,9 +26,10 @@ sss_result sss_sec_envt_check(const sss_bake_file *f, const char *name, sss_resu
     if (x->env_order < 1 || x->env_order > 8 || !x->env_t)
         return sss_fail(err, code, "%s: section ENVT: SH order %u (1 ... 8 expected)", name, x->env_order);
     const uint64_t K = ncoef(x->env_order);
-    sss_result r = sss_sec_check_floats(x->env_probe, 3 * K, 0, name, "ENVT", code, err);
+    sss_result r = sss_sec_check_floats(x->env_probe, 3 * K, 0, SSS_PROBE_SH_MAX, name, "ENVT", code, err);
     if (r == SSS_OK)
-        r = sss_sec_check_floats(x->env_t, (uint64_t)f->mesh.nv * f->channels * K, 0, name, "ENVT", code, err);
+        r = sss_sec_check_floats(x->env_t, (uint64_t)f->mesh.nv * f->channels * K, 0, SSS_VALUE_MAX, name, "ENVT", code,
+                                   err);
     return r;
 }
 

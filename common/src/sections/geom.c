@@ -21,15 +21,28 @@ sss_result sss_sec_geom_check(const sss_bake_file *f, const char *name, sss_resu
                         name, m->nv, m->nf);
     if (!m->pos || !m->nrm || !m->tri)
         return sss_fail(err, code, "%s: section GEOM: positions, normals or triangles missing", name);
-    for (uint32_t v = 0; v < m->nv; v++)
+    for (uint32_t v = 0; v < m->nv; v++) {
         for (int k = 0; k < 3; k++) {
             if (!isfinite(m->pos[3 * (size_t)v + k]))
                 return sss_fail(err, code, "%s: section GEOM: vertex %u: position coordinate %d is not finite",
                                 name, v, k);
+            /* the range every stage computes in (sss/mesh.h) */
+            if (!(fabs((double)m->pos[3 * (size_t)v + k]) <= SSS_COORD_MAX))
+                return sss_fail(err, code, "%s: section GEOM: vertex %u: position coordinate %d is %g, beyond %g",
+                                name, v, k, (double)m->pos[3 * (size_t)v + k], SSS_COORD_MAX);
             if (!isfinite(m->nrm[3 * (size_t)v + k]))
                 return sss_fail(err, code, "%s: section GEOM: vertex %u: normal coordinate %d is not finite",
                                 name, v, k);
         }
+        /* the bake's normals are unit, or (0,0,0) where the incident
+         * normals cancel (sss_mesh_compute_normals_areas): rays start at
+         * x + δn, so a long normal throws them out of range */
+        const float *n = &m->nrm[3 * (size_t)v];
+        const double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+        if (len != 0.0 && !(fabs(len - 1.0) <= 1e-4))
+            return sss_fail(err, code, "%s: section GEOM: vertex %u: normal has length %.9g, not 1 (or 0)", name, v,
+                            len);
+    }
     for (uint32_t t = 0; t < m->nf; t++)
         for (int k = 0; k < 3; k++)
             if (m->tri[3 * (size_t)t + k] >= m->nv)

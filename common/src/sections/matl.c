@@ -16,6 +16,11 @@ uint64_t sss_sec_matl_size(const sss_bake_file *f)
 
 uint64_t sss_sec_matl_count(const sss_bake_file *f) { return f->channels; }
 
+/* The material as the bake accepts it (sss_material_check: the ranges the
+ * dipole and the float gather survive), mm per unit in the bake's own
+ * range, and the mesh of GEOM (read before) spanning at most
+ * SSS_EXTENT_MM_MAX in mm: what the exact evaluator and the viewer
+ * recompute from must be what a bake could have used (docs/format.md §6). */
 sss_result sss_sec_matl_check(const sss_bake_file *f, const char *name, sss_result code, sss_error *err)
 {
     const sss_material *mat = &f->material;
@@ -24,23 +29,17 @@ sss_result sss_sec_matl_check(const sss_bake_file *f, const char *name, sss_resu
         return sss_fail(err, code, "%s: section MATL: material name is not NUL-terminated within 32 bytes", name);
     if (channels != 1 && channels != 3)
         return sss_fail(err, code, "%s: section MATL: channel count %u is not 1 or 3", name, channels);
-    for (int c = 0; c < SSS_MAX_CHANNELS; c++) {
-        double a = mat->sigma_a[c], s = mat->sigmap_s[c];
-        if (!isfinite(a) || !isfinite(s))
+    for (int c = 0; c < SSS_MAX_CHANNELS; c++)
+        if (!isfinite(mat->sigma_a[c]) || !isfinite(mat->sigmap_s[c]))
             return sss_fail(err, code, "%s: section MATL: channel %d: coefficients are not finite", name, c);
-        if ((uint32_t)c >= channels) continue; /* unused channel: stored as given, only required finite */
-        if (a < 0.0)
-            return sss_fail(err, code, "%s: section MATL: channel %d: sigma_a %g is negative", name, c, a);
-        if (s < 0.0)
-            return sss_fail(err, code, "%s: section MATL: channel %d: sigma'_s %g is negative", name, c, s);
-        if (!(a + s > 0.0))
-            return sss_fail(err, code, "%s: section MATL: channel %d: sigma_a + sigma'_s is not positive", name, c);
-    }
-    if (!isfinite(mat->eta) || !(mat->eta > 0.0))
-        return sss_fail(err, code, "%s: section MATL: eta %g is not a positive finite number", name, mat->eta);
-    if (!isfinite(f->mm_per_unit) || !(f->mm_per_unit > 0.0))
-        return sss_fail(err, code, "%s: section MATL: mm_per_unit %g is not a positive finite number", name,
-                        f->mm_per_unit);
+    sss_error e2 = {{0}};
+    if (sss_material_check(mat, channels, code, &e2) != SSS_OK)
+        return sss_fail(err, code, "%s: section MATL: %s", name, e2.msg);
+    if (!(f->mm_per_unit >= SSS_MM_PER_UNIT_MIN && f->mm_per_unit <= SSS_MM_PER_UNIT_MAX))
+        return sss_fail(err, code, "%s: section MATL: mm_per_unit %g is outside [%g, %g]", name, f->mm_per_unit,
+                        SSS_MM_PER_UNIT_MIN, SSS_MM_PER_UNIT_MAX);
+    if (f->mesh.nv && f->mesh.pos && sss_mesh_check_range(&f->mesh, f->mm_per_unit, "", &e2) != SSS_OK)
+        return sss_fail(err, code, "%s: section MATL%s", name, e2.msg);
     return SSS_OK;
 }
 

@@ -24,16 +24,21 @@ sss_result sss_sec_pshl_check(const sss_bake_file *f, const char *name, sss_resu
     if (x->nshells < 2 || x->nshells > 64 || !x->shell_radius || !x->shell_q)
         return sss_fail(err, code, "%s: section PSHL: %u distance shells (2 ... 64 expected)", name, x->nshells);
     for (int k = 0; k < 3; k++)
-        if (!isfinite(x->shell_centre[k])) return sss_fail(err, code, "%s: section PSHL: centre is not finite", name);
+        if (!(fabs(x->shell_centre[k]) <= SSS_COORD_MAX))
+            return sss_fail(err, code, "%s: section PSHL: centre is not finite or beyond %g", name, SSS_COORD_MAX);
+    /* radii within the geometry's range (sss/mesh.h): the decoder divides by
+     * at least the first one squared (sss_fx_point) */
     for (uint32_t s = 0; s < x->nshells; s++)
-        if (!isfinite(x->shell_radius[s]) || !(x->shell_radius[s] > (s ? x->shell_radius[s - 1] : 0.0)))
-            return sss_fail(err, code, "%s: section PSHL: radius %u (%g) is not finite, positive and larger "
-                            "than the previous one", name, s, x->shell_radius[s]);
+        if (!(x->shell_radius[s] <= 2.0 * SSS_COORD_MAX) || !(x->shell_radius[s] >= SSS_SHELL_RADIUS_MIN) ||
+            !(x->shell_radius[s] > (s ? x->shell_radius[s - 1] : 0.0)))
+            return sss_fail(err, code, "%s: section PSHL: radius %u (%g) is not in [%g, %g] and larger "
+                            "than the previous one", name, s, x->shell_radius[s], SSS_SHELL_RADIUS_MIN,
+                            2.0 * SSS_COORD_MAX);
     if (f->dirs.n < 4)
         return sss_fail(err, code, "%s: section PSHL: needs a triangulated direction set (%u directions)", name,
                         f->dirs.n);
-    return sss_sec_check_floats(x->shell_q, (uint64_t)f->mesh.nv * f->channels * f->dirs.n * x->nshells, 1, name,
-                                "PSHL", code, err);
+    return sss_sec_check_floats(x->shell_q, (uint64_t)f->mesh.nv * f->channels * f->dirs.n * x->nshells, 1,
+                                SSS_VALUE_MAX, name, "PSHL", code, err);
 }
 
 void sss_sec_pshl_pack(const sss_bake_file *f, uint8_t *p)

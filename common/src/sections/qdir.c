@@ -28,8 +28,8 @@ sss_result sss_sec_qdir_check(const sss_bake_file *f, const char *name, sss_resu
         if (!isfinite(len) || fabs(len - 1.0) > 1e-6)
             return sss_fail(err, code, "%s: section QDIR: direction %u is not a unit vector", name, l);
     }
-    return sss_sec_check_floats(x->exact_q, (uint64_t)f->mesh.nv * f->channels * x->nexact, 1, name, "QDIR", code,
-                                err);
+    return sss_sec_check_floats(x->exact_q, (uint64_t)f->mesh.nv * f->channels * x->nexact, 1, SSS_VALUE_MAX, name,
+                                "QDIR", code, err);
 }
 
 void sss_sec_qdir_pack(const sss_bake_file *f, uint8_t *p)

@@ -27,6 +27,9 @@ sss_result sss_sec_qflt_check(const sss_bake_file *f, const char *name, sss_resu
         if (!(f->q[i] >= 0.0f) || !isfinite(f->q[i]))
             return sss_fail(err, code, "%s: section QFLT: value %llu (%g) is not a finite number >= 0", name,
                             (unsigned long long)i, (double)f->q[i]);
+        else if (!(f->q[i] <= SSS_VALUE_MAX)) /* the bound a decode survives (sss/format.h) */
+            return sss_fail(err, code, "%s: section QFLT: value %llu (%g) is beyond %g", name, (unsigned long long)i,
+                            (double)f->q[i], SSS_VALUE_MAX);
     return SSS_OK;
 }
 

@@ -30,6 +30,9 @@ sss_result sss_sec_ql8_check(const sss_bake_file *f, const char *name, sss_resul
             if (!(x >= 0.0f) || !isfinite(x))
                 return sss_fail(err, code, "%s: section QL8 : channel %u: level %u (%g) is not a finite number >= 0",
                                 name, c, k, (double)x);
+            if (!(x <= SSS_VALUE_MAX)) /* the bound a decode survives (sss/format.h) */
+                return sss_fail(err, code, "%s: section QL8 : channel %u: level %u (%g) is beyond %g", name, c, k,
+                                (double)x, SSS_VALUE_MAX);
             if (k > 0 && x < levels[c * SSS_SEC_NLEVELS + k - 1])
                 return sss_fail(err, code, "%s: section QL8 : channel %u: level %u (%g) is below level %u (%g)",
                                 name, c, k, (double)x, k - 1, (double)levels[c * SSS_SEC_NLEVELS + k - 1]);

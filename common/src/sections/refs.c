@@ -97,6 +97,9 @@ sss_result sss_sec_refs_check(const sss_bake_file *f, const char *name, sss_resu
             if (!(l >= 0.0f) || !isfinite(l))
                 return sss_fail(err, code, "%s: section REFS: channel %u: level %u (%g) is not a finite number >= 0",
                                 name, c, x, (double)l);
+            if (!(l <= SSS_VALUE_MAX)) /* the bound a decode survives (sss/format.h) */
+                return sss_fail(err, code, "%s: section REFS: channel %u: level %u (%g) is beyond %g", name, c, x,
+                                (double)l, SSS_VALUE_MAX);
             if (x > 0 && l < r->levels[c * SSS_SEC_NLEVELS + x - 1])
                 return sss_fail(err, code, "%s: section REFS: channel %u: level %u is below level %u", name, c, x,
                                 x - 1);

@@ -191,14 +191,19 @@ static inline sss_result sss_sec_count_mismatch(sss_error *err, const char *name
 
 /* ---- the effect sections QDIR, ENVT, PSHL (§5.11–5.13) -------------------- */
 
-/* n floats finite (and >= 0 if nonneg). */
-static inline sss_result sss_sec_check_floats(const float *x, uint64_t n, int nonneg, const char *name,
+/* n floats finite (and >= 0 if nonneg), each at most max in magnitude
+ * (SSS_VALUE_MAX, SSS_PROBE_SH_MAX: the bounds a decode survives). */
+static inline sss_result sss_sec_check_floats(const float *x, uint64_t n, int nonneg, double max, const char *name,
                                               const char *tag, sss_result code, sss_error *err)
 {
-    for (uint64_t k = 0; k < n; k++)
+    for (uint64_t k = 0; k < n; k++) {
         if (!isfinite(x[k]) || (nonneg && x[k] < 0.0f))
             return sss_fail(err, code, "%s: section %s: value %llu (%g) is not a finite number%s", name, tag,
                             (unsigned long long)k, (double)x[k], nonneg ? " >= 0" : "");
+        if (!(fabs((double)x[k]) <= max))
+            return sss_fail(err, code, "%s: section %s: value %llu (%g) is beyond %g in magnitude", name, tag,
+                            (unsigned long long)k, (double)x[k], max);
+    }
     return SSS_OK;
 }
 

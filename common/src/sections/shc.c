@@ -78,16 +78,18 @@ sss_result sss_sec_shc_check(const sss_bake_file *f, const char *name, sss_resul
     const uint64_t ncodes = (uint64_t)s->ncoded * ntab;
     if ((ntab && !s->table) || (s->kind == SSS_SHQ_LINEAR8 && ntab && !s->scale) || (ncodes && !s->code))
         return sss_fail(err, code, "%s: section SHC : arrays missing", name);
+    /* scales and table entries at most SSS_VALUE_MAX: the bound a decode
+     * survives (sss/format.h) */
     if (s->kind == SSS_SHQ_LINEAR8) {
         for (uint64_t i = 0; i < ntab; i++)
-            if (!(s->scale[i] >= 0.0f) || !isfinite(s->scale[i]))
-                return sss_fail(err, code, "%s: section SHC : scale %llu (%g) is not a finite number >= 0", name,
-                                (unsigned long long)i, (double)s->scale[i]);
+            if (!(s->scale[i] >= 0.0f) || !(s->scale[i] <= SSS_VALUE_MAX))
+                return sss_fail(err, code, "%s: section SHC : scale %llu (%g) is not a number in [0, %g]", name,
+                                (unsigned long long)i, (double)s->scale[i], SSS_VALUE_MAX);
     } else {
         for (uint64_t i = 0; i < ntab * L; i++)
-            if (!isfinite(s->table[i]))
-                return sss_fail(err, code, "%s: section SHC : table entry %llu is not finite", name,
-                                (unsigned long long)i);
+            if (!(fabs((double)s->table[i]) <= SSS_VALUE_MAX))
+                return sss_fail(err, code, "%s: section SHC : table entry %llu (%g) is not finite or beyond %g", name,
+                                (unsigned long long)i, (double)s->table[i], SSS_VALUE_MAX);
     }
     /* An odd count of 4-bit codes leaves the last byte's high nibble unused:
      * it must be 0, so that one content has one encoding. */

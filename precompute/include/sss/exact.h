@@ -42,6 +42,13 @@ typedef struct sss_exact sss_exact;
  * the file (the caller knows its name). */
 sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *err);
 
+/* The same with the memory planned as the bake plans it: the neighbourhood
+ * rows are counted first and refused (SSS_ERR_NOMEM, the bake's one-line
+ * message) when they would take more than 90 % of what sss_memory_available
+ * (sss/memory.h) gives for memory_limit (0: what the system has available);
+ * sss_exact_create plans nothing. */
+sss_result sss_exact_create_limited(const sss_bake_file *f, uint64_t memory_limit, sss_exact **out, sss_error *err);
+
 /* q(x_v, ω) for every vertex into out[v * channels + c] (channels of the
  * file). light points towards the light and need not be unit; a zero or
  * non-finite light gives zeros. Each vertex's sum runs over its neighbours

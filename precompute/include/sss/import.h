@@ -51,6 +51,12 @@ typedef struct sss_import_report {
                                       * (non-orientable surface, e.g. a Moebius strip) */
     uint64_t recentred;              /* 1 when offset[] was subtracted from every position */
     double offset[3];                /* what was subtracted (file units), else 0 */
+    /* warning (OBJ): lines whose statement is not one of the OBJ
+     * specification's (v, f, vt, vn, g, o, s, usemtl, ...): ignored, but a
+     * misspelt or damaged "v" there would shift every later face index */
+    uint64_t unknown_statements;
+    char first_unknown[36];          /* the first one's keyword (at most 32 bytes, shown as sss_fail shows text) */
+    uint64_t first_unknown_line;     /* and its line */
 } sss_import_report;
 
 /* Polygons with more vertices than this are fanned even when non-convex

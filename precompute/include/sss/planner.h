@@ -51,6 +51,7 @@ typedef struct sss_object_plan {
     double size;                  /* bounding-box diagonal, world units */
     double centre[3];             /* bounding-box centre, world units */
     uint32_t pass_lights[SSS_PASS_KINDS]; /* per pass kind: how many lights use it (0: pass not run) */
+    uint32_t exact_rows;          /* directional-exact: distinct directions among its lights (QDIR rows) */
     uint32_t *light_pass;         /* per scene light: its sss_pass_kind, or UINT32_MAX if it adds nothing; owned */
     uint32_t ndecisions;
     sss_decision decisions[SSS_PLAN_MAX_DECISIONS];
@@ -63,8 +64,31 @@ typedef struct sss_plan {
 
 /* Plans every object of scene. world[i] is object i's mesh in world units
  * (sss_scene_object_world). Fails (SSS_ERR_ARG, naming the scene file and
- * JSON path) when the scene has no light. */
+ * JSON path) when the scene has no light, and refuses here, before any bake,
+ * what a bake would fail on late (docs/robustness.md, "Scenes"): more static
+ * directions than section QDIR holds (static directional lights with the
+ * same direction share one row), a probe that cannot be read or whose
+ * coefficients, times its light's intensity and colour, leave the range a
+ * file stores (SSS_PROBE_SH_MAX). Probes are read with the memory limit of
+ * sss_plan_scene_limited (this one: what the system has available). */
 sss_result sss_plan_scene(const sss_scene *scene, const sss_mesh *world, sss_plan *out, sss_error *err);
+sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world, uint64_t memory_limit, sss_plan *out,
+                                  sss_error *err);
+
+/* The most static light directions one file holds (section QDIR). */
+#define SSS_PLAN_MAX_EXACT 1024
+
+/* Whether static light directions a and b (unit) are one QDIR row: the
+ * viewer finds a light's row by this test (scene_view.c). */
+static inline int sss_plan_same_direction(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] > 1.0 - 1e-9;
+}
+
+/* The unit direction a static light of pass directional-exact is baked
+ * for: a directional light's own, or a far point light's from the object's
+ * centre. */
+void sss_plan_exact_direction(const sss_object_plan *p, const sss_scene_light *L, double d[3]);
 
 void sss_plan_free(sss_plan *p);
 

@@ -1,6 +1,7 @@
 /* sss/precompute.h: every public header of libsss_bake, the precompute
  * library, in the order of its stages (docs/architecture.md): input,
- * kernels, gather, the pipeline and scene bakes, compression, measurement.
+ * kernels, gather, the pipeline and scene bakes, compression, measurement,
+ * the path-traced reference.
  * Include the one header a file needs where that is enough.
  */
 #ifndef SSS_PRECOMPUTE_H
@@ -25,5 +26,7 @@
 #include "sss/exact.h"
 #include "sss/reconstruct.h"
 #include "sss/vertex_error.h"
+
+#include "sss/reference.h"
 
 #endif

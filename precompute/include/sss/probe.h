@@ -22,12 +22,30 @@ typedef struct sss_probe {
     float *rgb;      /* 3 * w * h, row-major from the top row; owned */
 } sss_probe;
 
-/* Reads R, G, B (a missing G or B copies R; Y alone is grey) of the first
- * part of a scanline or tiled EXR. Errors name the file. */
+/* Reads R, G, B (a missing G or B copies R; Y alone is grey; any other
+ * channel, alpha included, is read and dropped) of the first part of a
+ * scanline EXR of full-resolution channels (any pixel type). The file is
+ * opened as every input is (sss/fileio.h: a regular file only, never
+ * blocking). Pixels must be finite and >= 0. Errors name the file. */
 sss_result sss_probe_read(const char *path, sss_probe *out, sss_error *err);
 
-/* Writes a scanline EXR with float R, G, B, no compression (tests). */
+/* The same, refusing before allocating (SSS_ERR_NOMEM, the bake's one-line
+ * wording) a probe whose pixels need more than max_bytes (0: no limit). */
+sss_result sss_probe_read_limited(const char *path, uint64_t max_bytes, sss_probe *out, sss_error *err);
+
+/* Writes a scanline EXR with float R, G, B, no compression (tests),
+ * atomically (sss/fileio.h). */
 sss_result sss_probe_write(const char *path, const sss_probe *p, sss_error *err);
+/* The same, refusing a path that is one of the files in (sss/fileio.h). */
+struct sss_inputs;
+sss_result sss_probe_write_with(const char *path, const sss_probe *p, const struct sss_inputs *in, sss_error *err);
+/* The same, staged: the file is written to *out's temporary file and becomes
+ * the content of path only at sss_atomic_commit(out) (sss_atomic_abort
+ * throws it away), so that a tool writing several files writes all or none.
+ * On failure nothing is left and *out is released. */
+struct sss_atomic;
+sss_result sss_probe_write_staged(struct sss_atomic *out, const char *path, const sss_probe *p,
+                                  const struct sss_inputs *in, sss_error *err);
 
 void sss_probe_free(sss_probe *p);
 

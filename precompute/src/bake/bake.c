@@ -20,38 +20,10 @@
 #include "kernels/thickness.h"
 #include "sss/compress.h"
 #include "sss/lloyd.h"
+#include "sss/memory.h"
 #include "sss/nbhd.h"
 #include "sss/transfer.h"
 #include "sss/visibility.h"
-
-/* Memory this process may still use: MemAvailable from /proc/meminfo
- * (Linux), else all physical memory; 0 if unknown (no limit). A caller's
- * limit (sss_bake_options.memory_limit: a share of a machine used by
- * others; the tests use it to exercise the refusal) lowers it. */
-static uint64_t memory_available_system(void);
-static uint64_t memory_available(uint64_t limit)
-{
-    uint64_t sys = memory_available_system();
-    if (limit && (!sys || limit < sys)) sys = limit;
-    return sys;
-}
-
-static uint64_t memory_available_system(void)
-{
-    FILE *f = fopen("/proc/meminfo", "r");
-    if (f) {
-        char line[256];
-        unsigned long long kb;
-        while (fgets(line, sizeof line, f))
-            if (sscanf(line, "MemAvailable: %llu kB", &kb) == 1) {
-                fclose(f);
-                return (uint64_t)kb * 1024u;
-            }
-        fclose(f);
-    }
-    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
-    return pages > 0 && size > 0 ? (uint64_t)pages * (uint64_t)size : 0;
-}
 
 /* cos 30°: the bend along a long edge that the linear irradiance between
  * its ends cannot follow (the resolution check below) */
@@ -153,8 +125,9 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     if (o.mm_per_unit == 0) o.mm_per_unit = 1.0;
     if (o.n_dirs == 0) o.n_dirs = 200;
     if (o.eps == 0) o.eps = 1e-3;
-    if (!(o.mm_per_unit > 0) || !isfinite(o.mm_per_unit))
-        return sss_fail(err, SSS_ERR_ARG, "--mm-per-unit %g must be a finite number > 0", o.mm_per_unit);
+    if (!(o.mm_per_unit >= SSS_MM_PER_UNIT_MIN && o.mm_per_unit <= SSS_MM_PER_UNIT_MAX))
+        return sss_fail(err, SSS_ERR_ARG, "--mm-per-unit %g must be a number in [%g, %g]", o.mm_per_unit,
+                        SSS_MM_PER_UNIT_MIN, SSS_MM_PER_UNIT_MAX);
     if (!(o.eps > 0 && o.eps < 1)) return sss_fail(err, SSS_ERR_ARG, "eps %g must be in (0, 1)", o.eps);
     if ((o.near_terms && o.near_terms != SSS_NEAR_TERMS_RUNTIME) || o.near_rings > SSS_NEAR_RINGS_MAX)
         return sss_fail(err, SSS_ERR_ARG, "own term %u with %u rings: rings must be 0 ... %u", o.near_terms, o.near_rings,
@@ -181,6 +154,10 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     sss_weights nb = {0}, hat = {0};
     float *G = NULL;
     r = copy_mesh(mesh_in, &out->mesh, err);
+    if (r != SSS_OK) goto fail;
+    /* the geometry's range in mm (sss/mesh.h): Embree, FLANN and the tree
+     * gather compute in float */
+    r = sss_mesh_check_range(&out->mesh, o.mm_per_unit, "mesh", err);
     if (r != SSS_OK) goto fail;
     const sss_mesh *mesh = &out->mesh;
     r = sss_dirset_fibonacci(&out->dirs, o.n_dirs, err);
@@ -247,7 +224,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     /* Say so before starting when the bake cannot fit in memory: the
      * transfer table G and the integrals are sized by the input; the
      * neighbourhood rows are counted before they are allocated. */
-    uint64_t avail = memory_available(o.memory_limit);
+    uint64_t avail = sss_memory_available(o.memory_limit);
     uint64_t fixed = (uint64_t)mesh->nv * o.n_dirs * (4u + 4u * C + (o.quant == SSS_QUANT_LLOYD8 ? C : 0u));
     const size_t nq = (size_t)o.n_dirs * mesh->nv * C;
     double t;

@@ -23,6 +23,7 @@
 #include "effects/effect.h"
 #include "kernels/progress.h"
 #include "kernels/transfer.h"
+#include "sss/memory.h"
 
 void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, float *G, uint64_t *rays_out)
 {
@@ -100,6 +101,30 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     out->quant = SSS_QUANT_FLOAT;
     out->fx.mask = p->effects;
 
+    /* Memory planned before anything of the object's size is allocated, as
+     * the plain bake plans it (bake.c; docs/robustness.md, "Memory"): every
+     * pass's output and its largest work array, then the neighbourhoods get
+     * 90 % of the rest, counted before they are allocated. */
+    uint64_t need = (uint64_t)world[obj].nv * (12u + 12u + 8u) + (uint64_t)world[obj].nf * 12u, kept = 0, peak = 0;
+    for (int k = 0; k < SSS_PASS_KINDS; k++) {
+        if (!p->pass_lights[k] || !sss_effect_units[k]->memory) continue;
+        uint64_t kk = 0, tt = 0;
+        sss_effect_units[k]->memory(&c, &kk, &tt);
+        kept += kk;
+        if (kept + tt > peak) peak = kept + tt;
+    }
+    need += peak > kept ? peak : kept;
+    const uint64_t avail = sss_memory_available(opt->memory_limit);
+    if (avail && need > avail) {
+        r = sss_fail(err, SSS_ERR_NOMEM, "the bake needs at least %.2f GiB for %u vertices (the passes' data and "
+                     "work arrays) but %.2f GiB is available (estimate before starting; SSS_MEMORY_LIMIT_MB lowers the "
+                     "limit): use fewer directions or shells, or a lower SH order", need / 1073741824.0,
+                     world[obj].nv, avail / 1073741824.0);
+        sss_file_free(out);
+        return r;
+    }
+    const uint64_t nb_max = avail ? (avail - need) / 10 * 9 : 0;
+
     sss_dipole dip[SSS_MAX_CHANNELS];
     for (uint32_t k = 0; k < c.C; k++) sss_dipole_init(&dip[k], ob->material.sigma_a[k], ob->material.sigmap_s[k], c.eta);
     /* the radius rule of bake.c, so the exact evaluator (which recomputes
@@ -109,11 +134,19 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     sss_vis *vis = NULL;
     const sss_mesh **occ = NULL;
     double t = sss_now();
-    r = sss_nbhd_build(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0, 0, opt->cancel, &nb, err);
+    r = sss_nbhd_build(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0, nb_max, opt->cancel, &nb, err);
     if (r != SSS_OK) goto done;
     st.t_neighbourhoods = sss_now() - t;
     st.neighbours_total = nb.start[nb.nrows];
     st.neighbours_mean = (double)st.neighbours_total / nb.nrows;
+    for (uint32_t v = 0; v < nb.nrows; v++) {
+        const uint32_t k = (uint32_t)(nb.start[v + 1] - nb.start[v]);
+        if (k > st.neighbours_max) st.neighbours_max = k;
+    }
+    if (avail) { /* what is left for the probes (env_sh.c reads them) */
+        const uint64_t nbb = st.neighbours_total * (4u + 4u * c.C);
+        c.memory_left = avail - need > nbb ? avail - need - nbb : 1;
+    }
     c.nb = &nb;
     t = sss_now();
     if (p->self_shadow || p->noccluders) {

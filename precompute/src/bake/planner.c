@@ -16,6 +16,10 @@
 #include <string.h>
 
 #include "effects/effect.h"
+#include "sss/memory.h"
+#include "sss/jsontext.h"
+#include "sss/probe.h"
+#include "sss/sh.h"
 
 typedef struct plan_in {
     const sss_scene *scene;
@@ -219,14 +223,134 @@ static void rule_lights(const plan_in *in, sss_object_plan *p)
         if (p->pass_lights[k]) p->effects |= sss_effect_units[k]->fx;
 }
 
+void sss_plan_exact_direction(const sss_object_plan *p, const sss_scene_light *L, double d[3])
+{
+    if (L->kind == SSS_LIGHT_DIRECTIONAL) {
+        memcpy(d, L->direction, 3 * sizeof *d);
+        return;
+    }
+    double n = 0;
+    for (int a = 0; a < 3; a++) d[a] = L->position[a] - p->centre[a], n += d[a] * d[a];
+    n = sqrt(n);
+    for (int a = 0; a < 3; a++) d[a] /= n;
+}
+
+/* Static lights with one direction share one QDIR row (the viewer finds a
+ * light's row by its direction), and a file holds at most
+ * SSS_PLAN_MAX_EXACT rows: refused here, naming the first light past the
+ * limit, rather than after a bake of every other pass. */
+static sss_result count_exact_rows(const sss_scene *s, sss_object_plan *p, sss_error *err)
+{
+    double *dirs = malloc(3 * (size_t)(SSS_PLAN_MAX_EXACT + 1) * sizeof *dirs);
+    if (!dirs) return sss_fail(err, SSS_ERR_NOMEM, "planner: out of memory");
+    uint32_t n = 0;
+    sss_result r = SSS_OK;
+    for (uint32_t l = 0; l < s->nlights && r == SSS_OK; l++) {
+        if (p->light_pass[l] != SSS_PASS_DIR_EXACT) continue;
+        double d[3];
+        sss_plan_exact_direction(p, &s->lights[l], d);
+        uint32_t k = 0;
+        while (k < n && !sss_plan_same_direction(&dirs[3 * (size_t)k], d)) k++;
+        if (k < n) continue;
+        if (n == SSS_PLAN_MAX_EXACT) {
+            r = sss_fail(err, SSS_ERR_ARG, "%s: /lights/%u: more than %d static lights of distinct directions for "
+                         "object '%s' (a file holds at most %d: give lights one direction, or make some moving)",
+                         s->path, l, SSS_PLAN_MAX_EXACT, s->objects[p->object].name, SSS_PLAN_MAX_EXACT);
+            break;
+        }
+        memcpy(&dirs[3 * (size_t)n++], d, sizeof d);
+    }
+    free(dirs);
+    p->exact_rows = n;
+    return r;
+}
+
+/* Every environment probe of the scene read (with the memory plan) and
+ * projected as the environment pass projects it (env_sh.c), at the order
+ * the scene bakes: the sum of intensity × colour × L_i over the
+ * environment lights must stay within what ENVT stores (SSS_PROBE_SH_MAX),
+ * which a pixel of 3e38 exceeds; refused here, naming the light, not at the
+ * writer after the bake. */
+/* Environment lights in the order of their probes' paths (qsort has no
+ * context argument in C11: the scene is passed through this file-scope
+ * pointer, set and used only inside check_probes). */
+static const sss_scene *g_probe_scene;
+
+static int cmp_probe(const void *a, const void *b)
+{
+    const uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    const int c = strcmp(g_probe_scene->lights[x].probe, g_probe_scene->lights[y].probe);
+    return c ? c : (x > y) - (x < y);
+}
+
+static sss_result check_probes(const sss_scene *s, uint64_t memory_limit, sss_error *err)
+{
+    const uint32_t order = s->bake.sh_order ? s->bake.sh_order : 4, K = order * order;
+    double Lsum[3 * SSS_SH_MAX_COUNT] = {0};
+    const uint64_t avail = sss_memory_available(memory_limit);
+    /* each distinct probe is read and projected once, however many lights
+     * name it */
+    uint32_t *env = malloc(((size_t)s->nlights + 1) * sizeof *env), nenv = 0;
+    if (!env) return sss_fail(err, SSS_ERR_NOMEM, "planner: out of memory");
+    for (uint32_t l = 0; l < s->nlights; l++)
+        if (s->lights[l].kind == SSS_LIGHT_ENVIRONMENT && s->lights[l].intensity != 0.0) env[nenv++] = l;
+    g_probe_scene = s;
+    qsort(env, nenv, sizeof *env, cmp_probe);
+    double Ll[3 * SSS_SH_MAX_COUNT];
+    for (uint32_t e = 0; e < nenv; e++) {
+        const uint32_t l = env[e];
+        const sss_scene_light *L = &s->lights[l];
+        if (e == 0 || strcmp(L->probe, s->lights[env[e - 1]].probe) != 0) {
+            sss_probe pr;
+            sss_error e2 = {{0}};
+            if (sss_probe_read_limited(L->probe, avail, &pr, &e2) != SSS_OK) {
+                free(env);
+                return sss_fail(err, SSS_ERR_ARG, "%s: /lights/%u/probe: %s", s->path, l, e2.msg);
+            }
+            sss_probe_sh(&pr, order, Ll);
+            sss_probe_free(&pr);
+        }
+        for (int ch = 0; ch < 3; ch++)
+            for (uint32_t i = 0; i < K; i++) {
+                Lsum[ch * K + i] += L->intensity * L->colour[ch] * Ll[ch * K + i];
+                if (!(fabs(Lsum[ch * K + i]) <= SSS_PROBE_SH_MAX)) {
+                    free(env);
+                    return sss_fail(err, SSS_ERR_ARG, "%s: /lights/%u: the probe's radiance times the intensity and "
+                                    "colour reaches %g in its SH coefficients, beyond %g (section ENVT): scale the "
+                                    "probe or the intensity down", s->path, l, fabs(Lsum[ch * K + i]),
+                                    SSS_PROBE_SH_MAX);
+                }
+            }
+    }
+    free(env);
+    return SSS_OK;
+}
+
 typedef void (*rule_fn)(const plan_in *, sss_object_plan *);
 static const rule_fn rules[] = {rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights};
 
 sss_result sss_plan_scene(const sss_scene *scene, const sss_mesh *world, sss_plan *out, sss_error *err)
 {
+    return sss_plan_scene_limited(scene, world, 0, out, err);
+}
+
+sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world, uint64_t memory_limit, sss_plan *out,
+                                  sss_error *err)
+{
     memset(out, 0, sizeof *out);
     if (scene->nlights == 0)
         return sss_fail(err, SSS_ERR_ARG, "%s: /lights: no light: nothing would be visible", scene->path);
+    /* the plan's own memory, before it is allocated (docs/robustness.md,
+     * item 7): per object its decisions and a row of every light and object */
+    const uint64_t need = (uint64_t)scene->nobjects *
+                          (sizeof(sss_object_plan) + 4u * ((uint64_t)scene->nobjects + scene->nlights));
+    const uint64_t avail = sss_memory_available(memory_limit);
+    if (avail && need > avail)
+        return sss_fail(err, SSS_ERR_NOMEM, "%s: the plan needs at least %.2f GiB for %u objects x %u lights but %.2f "
+                        "GiB is available (estimate before starting; SSS_MEMORY_LIMIT_MB lowers the limit)",
+                        scene->path, need / 1073741824.0, scene->nobjects, scene->nlights, avail / 1073741824.0);
+    sss_result pr = check_probes(scene, memory_limit, err);
+    if (pr != SSS_OK) return pr;
     out->obj = calloc(scene->nobjects, sizeof *out->obj);
     if (!out->obj) return sss_fail(err, SSS_ERR_NOMEM, "planner: out of memory");
     out->nobjects = scene->nobjects;
@@ -245,6 +369,11 @@ sss_result sss_plan_scene(const sss_scene *scene, const sss_mesh *world, sss_pla
         for (int k = 0; k < 3; k++) p->centre[k] = 0.5 * (lo[k] + hi[k]);
         p->convex = sss_mesh_is_convex(&world[i]);
         for (size_t r = 0; r < sizeof rules / sizeof rules[0]; r++) rules[r](&in, p);
+        sss_result rr = count_exact_rows(scene, p, err);
+        if (rr != SSS_OK) {
+            sss_plan_free(out);
+            return rr;
+        }
         if (!(p->effects & (SSS_FX_DIR_EXACT | SSS_FX_DIR_SET | SSS_FX_POINT_SHELLS | SSS_FX_ENV_SH))) {
             sss_plan_free(out);
             return sss_fail(err, SSS_ERR_ARG, "%s: /lights: every light has zero intensity: nothing would be visible",
@@ -344,6 +473,7 @@ char *sss_plan_json(const sss_scene *scene, const sss_plan *p)
             }
         sss_plan_add_decisions_json(o, jo);
     }
+    sss_json_utf8(root); /* valid JSON whatever the bytes of a file name (sss/jsontext.h) */
     char *s = cJSON_Print(root);
     cJSON_Delete(root);
     return s;

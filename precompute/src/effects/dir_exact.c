@@ -32,7 +32,7 @@ static int claim(const sss_scene *s, const sss_object_plan *p, const sss_scene_l
 static sss_result bake(const sss_pass_ctx *c, sss_error *err)
 {
     const sss_scene *s = c->scene;
-    const uint32_t nv = c->mesh->nv, nl = c->plan->pass_lights[SSS_PASS_DIR_EXACT];
+    const uint32_t nv = c->mesh->nv, nl = c->plan->exact_rows;
     sss_effects *fx = &c->out->fx;
     fx->exact_dir = malloc(3 * (size_t)nl * sizeof(double));
     fx->exact_q = malloc((size_t)nl * nv * c->C * sizeof(float) + 1);
@@ -44,16 +44,13 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
     uint32_t k = 0;
     for (uint32_t l = 0; l < s->nlights; l++) {
         if (c->plan->light_pass[l] != SSS_PASS_DIR_EXACT) continue;
-        const sss_scene_light *L = &s->lights[l];
         double d[3];
-        if (L->kind == SSS_LIGHT_DIRECTIONAL) {
-            memcpy(d, L->direction, sizeof d);
-        } else {
-            double n = 0;
-            for (int a = 0; a < 3; a++) d[a] = L->position[a] - c->plan->centre[a], n += d[a] * d[a];
-            n = sqrt(n);
-            for (int a = 0; a < 3; a++) d[a] /= n;
-        }
+        sss_plan_exact_direction(c->plan, &s->lights[l], d);
+        /* one row per direction: lights sharing one are summed by the
+         * viewer from that row (the planner counted the rows) */
+        uint32_t j = 0;
+        while (j < k && !sss_plan_same_direction(&fx->exact_dir[3 * (size_t)j], d)) j++;
+        if (j < k) continue;
         memcpy(&fx->exact_dir[3 * (size_t)k], d, sizeof d);
         sss_pass_transfer(c, d, 1, G, &c->st->rays);
         sss_integrate(c->nb, G, 1, &fx->exact_q[(size_t)k * nv * c->C]);
@@ -64,5 +61,12 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
     return SSS_OK;
 }
 
+static void memory(const sss_pass_ctx *c, uint64_t *kept, uint64_t *transient)
+{
+    const uint64_t nv = c->mesh->nv, nl = c->plan->exact_rows;
+    *kept = nl * (24u + nv * c->C * 4u);
+    *transient = nv * 4u;
+}
+
 const sss_effect_unit sss_effect_dir_exact = {SSS_PASS_DIR_EXACT, "directional-exact", SSS_FX_DIR_EXACT, claim, bake,
-                                              NULL};
+                                              NULL, memory};

@@ -44,5 +44,12 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
 
 static void provenance(const sss_pass_ctx *c, cJSON *params) { cJSON_AddNumberToObject(params, "dirs", c->n_dirs); }
 
+static void memory(const sss_pass_ctx *c, uint64_t *kept, uint64_t *transient)
+{
+    const uint64_t nv = c->mesh->nv, n = c->n_dirs;
+    *kept = n * nv * c->C * 4u + n * 36u; /* q, and the directions with their triangles */
+    *transient = nv * n * 4u;             /* G */
+}
+
 const sss_effect_unit sss_effect_dir_set = {SSS_PASS_DIR_SET, "direction-set", SSS_FX_DIR_SET, claim, bake,
-                                            provenance};
+                                            provenance, memory};

@@ -35,6 +35,7 @@ typedef struct sss_pass_ctx {
     double near_factor;
     sss_bake_file *out;
     sss_bake_stats *st;
+    uint64_t memory_left;      /* bytes a pass may still take beyond the plan (0: no limit): the probes' */
 } sss_pass_ctx;
 
 typedef struct sss_effect_unit {
@@ -50,6 +51,10 @@ typedef struct sss_effect_unit {
     sss_result (*bake)(const sss_pass_ctx *c, sss_error *err);
     /* The pass's own parameters in the provenance JSON (may be NULL). */
     void (*provenance)(const sss_pass_ctx *c, struct cJSON *params);
+    /* Bytes the pass allocates, planned before the scene bake starts
+     * (docs/robustness.md, "Memory"): what it keeps in c->out, and the most
+     * it holds besides while it runs. c->nb and c->vis are not built yet. */
+    void (*memory)(const sss_pass_ctx *c, uint64_t *kept, uint64_t *transient);
 } sss_effect_unit;
 
 /* Every unit, in pass-kind order (effects.c). */

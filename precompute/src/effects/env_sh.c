@@ -43,7 +43,7 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
         if (c->plan->light_pass[l] != SSS_PASS_ENV_SH) continue;
         const sss_scene_light *L = &c->scene->lights[l];
         sss_probe pr;
-        sss_result r = sss_probe_read(L->probe, &pr, err);
+        sss_result r = sss_probe_read_limited(L->probe, c->memory_left, &pr, err);
         if (r != SSS_OK) return r;
         double Ll[3 * SSS_SH_MAX_COUNT];
         sss_probe_sh(&pr, order, Ll);
@@ -109,4 +109,15 @@ done:
 
 static void provenance(const sss_pass_ctx *c, cJSON *params) { cJSON_AddNumberToObject(params, "sh_order", c->sh_order); }
 
-const sss_effect_unit sss_effect_env_sh = {SSS_PASS_ENV_SH, "environment-sh", SSS_FX_ENV_SH, claim, bake, provenance};
+/* The probes' pixels are planned where they are read
+ * (sss_probe_read_limited, with what is left after this). */
+static void memory(const sss_pass_ctx *c, uint64_t *kept, uint64_t *transient)
+{
+    const uint64_t nv = c->mesh->nv, K = (uint64_t)c->sh_order * c->sh_order;
+    const uint64_t M = K * 128 > 2048 ? K * 128 : 2048;
+    *kept = nv * K * c->C * 4u;
+    *transient = nv * K * 8u + M * K * 8u + M * 36u + nv * K * 4u + nv * K * c->C * 4u; /* gsh, Y, directions, g32, tmp */
+}
+
+const sss_effect_unit sss_effect_env_sh = {SSS_PASS_ENV_SH, "environment-sh", SSS_FX_ENV_SH, claim, bake, provenance,
+                                           memory};

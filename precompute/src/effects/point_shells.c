@@ -105,8 +105,15 @@ static void provenance(const sss_pass_ctx *c, cJSON *params)
     cJSON_AddNumberToObject(params, "shells", c->shells);
 }
 
+static void memory(const sss_pass_ctx *c, uint64_t *kept, uint64_t *transient)
+{
+    const uint64_t nv = c->mesh->nv, n = c->n_dirs, S = c->shells;
+    *kept = S * n * nv * c->C * 4u + S * 8u + n * 36u;
+    *transient = nv * S * n * 4u; /* G */
+}
+
 const sss_effect_unit sss_effect_point_shells = {SSS_PASS_POINT_SHELLS, "point-shells", SSS_FX_POINT_SHELLS, claim,
-                                                 bake, provenance};
+                                                 bake, provenance, memory};
 
 sss_result sss_point_exact(const sss_bake_file *f, int self_shadow, const double P[3], float *out, sss_error *err)
 {

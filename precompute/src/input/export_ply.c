@@ -5,6 +5,8 @@
 
 #include <errno.h>
 
+#include "sss/fileio.h"
+
 static void put_u32le(unsigned char *b, uint32_t v)
 {
     b[0] = (unsigned char)(v & 0xffu);
@@ -23,16 +25,20 @@ sss_result sss_export_ply(const char *path, const sss_mesh *m, sss_error *err)
         if (m->tri[i] >= m->nv)
             return sss_fail(err, SSS_ERR_ARG, "%s: face %zu: vertex index %u out of range [0, %u)", path, i / 3, m->tri[i],
                             m->nv);
-    FILE *f = fopen(path, "wb");
-    if (!f) return sss_fail(err, SSS_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
-    int ok = fprintf(f,
-                     "ply\nformat binary_little_endian 1.0\nelement vertex %u\nproperty float x\nproperty float y\n"
-                     "property float z\nelement face %u\nproperty list uchar int vertex_indices\nend_header\n",
-                     m->nv, m->nf) > 0;
+    /* written atomically, to a path the output policy allows (sss/fileio.h) */
+    sss_atomic a;
+    sss_result r = sss_atomic_begin(&a, path, NULL, err);
+    if (r != SSS_OK) return r;
+    char hdr[256];
+    const int hn = snprintf(hdr, sizeof hdr,
+                            "ply\nformat binary_little_endian 1.0\nelement vertex %u\nproperty float x\nproperty float y\n"
+                            "property float z\nelement face %u\nproperty list uchar int vertex_indices\nend_header\n",
+                            m->nv, m->nf);
+    r = sss_atomic_write(&a, hdr, (size_t)hn, err);
     unsigned char buf[65536];
     size_t used = 0;
-    for (uint32_t v = 0; ok && v < m->nv; v++) {
-        if (used + 12 > sizeof buf) { ok = fwrite(buf, 1, used, f) == used; used = 0; }
+    for (uint32_t v = 0; r == SSS_OK && v < m->nv; v++) {
+        if (used + 12 > sizeof buf) { r = sss_atomic_write(&a, buf, used, err); used = 0; }
         for (int k = 0; k < 3; k++) {
             uint32_t u;
             memcpy(&u, &m->pos[3 * (size_t)v + k], 4);
@@ -40,20 +46,18 @@ sss_result sss_export_ply(const char *path, const sss_mesh *m, sss_error *err)
             used += 4;
         }
     }
-    for (uint32_t t = 0; ok && t < m->nf; t++) {
-        if (used + 13 > sizeof buf) { ok = fwrite(buf, 1, used, f) == used; used = 0; }
+    for (uint32_t t = 0; r == SSS_OK && t < m->nf; t++) {
+        if (used + 13 > sizeof buf) { r = sss_atomic_write(&a, buf, used, err); used = 0; }
         buf[used++] = 3;
         for (int k = 0; k < 3; k++) {
             put_u32le(buf + used, m->tri[3 * (size_t)t + k]);
             used += 4;
         }
     }
-    if (ok && used) ok = fwrite(buf, 1, used, f) == used;
-    int e = errno;
-    if (fclose(f) != 0 && ok) { ok = 0; e = errno; }
-    if (!ok) {
-        remove(path);
-        return sss_fail(err, SSS_ERR_IO, "%s: write failed: %s", path, strerror(e));
+    if (r == SSS_OK && used) r = sss_atomic_write(&a, buf, used, err);
+    if (r != SSS_OK) {
+        sss_atomic_abort(&a);
+        return r;
     }
-    return SSS_OK;
+    return sss_atomic_commit(&a, err);
 }

@@ -123,6 +123,9 @@ sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *r
          * then use a vertex twice. */
         if (ex.nf == ULLONG_MAX) ex.repeated += ex.nf_max - soup.nf;
         r = sss_soup_to_mesh(path, &soup, &ex, out, rep, err);
+        /* after the recentring: the range every stage computes in
+         * (sss/mesh.h), before anything reaches Embree */
+        if (r == SSS_OK) r = sss_mesh_check_range(out, 0.0, path, err);
     }
     sss_om_soup_free(&soup);
     free(ex.drop);
@@ -184,6 +187,10 @@ void sss_import_print_warnings(const sss_import_report *rep, const char *prefix,
                 "vertices, or past the import's ear-clipping budget) and %s fan-triangulated: some of %s triangles may overlap or face the wrong way\n", prefix, sep,
                 (ull)rep->polygons_unclipped, rep->polygons_unclipped == 1 ? "" : "s", SSS_IMPORT_EAR_MAX,
                 rep->polygons_unclipped == 1 ? "was" : "were", rep->polygons_unclipped == 1 ? "its" : "their");
+    if (rep->unknown_statements)
+        fprintf(f, "%s%swarning: %llu line%s with a statement OBJ does not have %s ignored (the first: '%s' on line "
+                "%llu)\n", prefix, sep, (ull)rep->unknown_statements, rep->unknown_statements == 1 ? "" : "s",
+                rep->unknown_statements == 1 ? "was" : "were", rep->first_unknown, (ull)rep->first_unknown_line);
     if (rep->orientation_conflicts)
         fprintf(f, "%s%swarning: %llu edge%s between triangles of opposite orientation could not be made consistent "
                 "(a non-orientable surface such as a Moebius strip): normals there are unreliable\n", prefix, sep,

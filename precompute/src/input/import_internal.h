@@ -105,8 +105,9 @@ typedef struct src {
     FILE *f;
     ull size;
     char *mem;        /* SLACK bytes, then the file, then one spare byte */
-    char *data;       /* mem + SLACK */
-    size_t have;      /* bytes of the file read so far */
+    char *data;       /* mem + SLACK + skip */
+    size_t have;      /* bytes of the file read so far (after the skipped ones) */
+    size_t skip;      /* bytes dropped at the start: a UTF-8 byte-order mark (sss_src_drop_bom) */
 } src;
 
 /* What the reader must deliver, and the repairs counted before it ran. */
@@ -129,12 +130,23 @@ typedef struct expect {
      * far-off mesh be recentred before the float conversion
      * (docs/robustness.md B6). */
     double *dpos;
+    /* OBJ: statements the specification does not know (sss_import_report) */
+    ull unknown;
+    char first_unknown[36];
+    ull first_unknown_line;
 } expect;
 
 sss_result sss_src_open(src *s, const char *path, sss_error *err);
 /* Makes the first n bytes of the file available at s->data (n <= size). */
 sss_result sss_src_read(src *s, size_t n, sss_error *err);
 sss_result sss_src_read_all(src *s, sss_error *err);
+/* Text formats: a UTF-8 byte-order mark (EF BB BF) at the start of the file
+ * is not part of the first token (an OBJ's first "v" would become an unknown
+ * statement and every face index would shift by one), so it is dropped:
+ * s->data then starts after it and s->size counts the bytes after it. Needs
+ * the first 3 bytes read (or the whole file when it is shorter); returns 1
+ * when a mark was dropped. */
+int sss_src_drop_bom(src *s);
 void sss_src_close(src *s);
 /* Writes hdr so that it ends at data + at; returns where it starts, or NULL
  * if there is not enough room in front. */

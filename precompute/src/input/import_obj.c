@@ -5,10 +5,25 @@
 
 #include <math.h>
 
+/* The statements of the OBJ specification (Wavefront, Appendix B1 of the
+ * Advanced Visualizer manual) other than v and f. */
+static int known_statement(tok kw)
+{
+    static const char *const known[] = {"vt", "vn", "vp", "g", "o", "s", "mg", "usemtl", "mtllib", "l", "p",
+                                        "curv", "curv2", "surf", "cstype", "deg", "bmat", "step", "parm", "trim",
+                                        "hole", "scrv", "sp", "end", "con", "bevel", "c_interp", "d_interp", "lod",
+                                        "usemap", "maplib", "shadow_obj", "trace_obj", "ctech", "stech", "call",
+                                        "csh", NULL};
+    for (const char *const *k = known; *k; k++)
+        if (tok_is(kw, *k)) return 1;
+    return 0;
+}
+
 sss_result sss_scan_obj(src *s, expect *ex, sss_error *err)
 {
     sss_result r = sss_src_read_all(s, err);
     if (r != SSS_OK) return r;
+    sss_src_drop_bom(s);
     char *base = s->data, *end = s->data + s->size, *b, *e;
     tok t;
 
@@ -105,7 +120,21 @@ sss_result sss_scan_obj(src *s, expect *ex, sss_error *err)
             drop[added++] = d != n;
         } else {
             /* vt, vn, mtllib, usemtl, g, o, s, l, ...: nothing the bake needs,
-             * and the reader fails on a one-number vt or opens material files. */
+             * and the reader fails on a one-number vt or opens material files.
+             * A keyword the format does not have is counted and warned about:
+             * a damaged "v" among them shifts every later index. */
+            if (!known_statement(kw)) {
+                if (!ex->unknown) {
+                    size_t k = kw.n < 32 ? kw.n : 32;
+                    for (size_t i = 0; i < k; i++) {
+                        const unsigned char c = (unsigned char)kw.s[i];
+                        ex->first_unknown[i] = c < 0x20 || c == 0x7f ? '?' : (char)c;
+                    }
+                    ex->first_unknown[k] = 0;
+                    ex->first_unknown_line = it.no;
+                }
+                ex->unknown++;
+            }
             *b = '#';
         }
     }

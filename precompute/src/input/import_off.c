@@ -24,6 +24,7 @@ sss_result sss_scan_off(src *s, expect *ex, sss_error *err)
     size_t n = s->size < HEADER_MAX ? (size_t)s->size : HEADER_MAX;
     sss_result r = sss_src_read(s, n, err);
     if (r != SSS_OK) return r;
+    if (sss_src_drop_bom(s)) n -= 3;
     char *p = s->data, *end = s->data + n, *base = s->data;
     tok t;
     if (!off_tok(&p, end, &t)) return sss_fail(err, SSS_ERR_FORMAT, "%s: not an OFF file (no OFF keyword)", s->name);

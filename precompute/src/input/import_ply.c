@@ -518,6 +518,7 @@ sss_result sss_scan_ply(src *s, expect *ex, sss_error *err)
     size_t n = s->size < HEADER_MAX ? (size_t)s->size : HEADER_MAX;
     sss_result r = sss_src_read(s, n, err);
     if (r != SSS_OK) return r;
+    if (sss_src_drop_bom(s)) n -= 3; /* the header is text */
     ply_header *h = malloc(sizeof *h);
     if (!h) return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", s->name);
     r = ply_parse_header(s, n, h, err);

@@ -6,7 +6,9 @@
 
 #include <errno.h>
 #include <math.h>
-#include <sys/stat.h>
+#include <unistd.h>
+
+#include "sss/fileio.h"
 
 /* Next whitespace-delimited token in [*pp, end); 0 at the end. */
 int sss_scan_token(char **pp, char *end, tok *t)
@@ -123,14 +125,18 @@ sss_result sss_src_open(src *s, const char *path, sss_error *err)
 {
     memset(s, 0, sizeof *s);
     s->name = path;
-    s->f = fopen(path, "rb");
-    if (!s->f) return sss_fail(err, SSS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    struct stat st;
-    if (fstat(fileno(s->f), &st) != 0)
-        return sss_fail(err, SSS_ERR_IO, "%s: cannot stat: %s", path, strerror(errno));
-    if (!S_ISREG(st.st_mode)) return sss_fail(err, SSS_ERR_IO, "%s: not a regular file", path);
-    if (st.st_size <= 0) return sss_fail(err, SSS_ERR_FORMAT, "%s: file is empty", path);
-    s->size = (ull)st.st_size;
+    /* a regular file only, opened without blocking (sss/fileio.h) */
+    int fd;
+    uint64_t size;
+    sss_result r = sss_input_open(path, &fd, &size, err);
+    if (r != SSS_OK) return r;
+    s->f = fdopen(fd, "rb");
+    if (!s->f) {
+        close(fd);
+        return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", path);
+    }
+    if (size == 0) return sss_fail(err, SSS_ERR_FORMAT, "%s: file is empty", path);
+    s->size = (ull)size;
     if (s->size > (ull)SIZE_MAX - SLACK - 2)
         return sss_fail(err, SSS_ERR_NOMEM, "%s: file too large (%llu bytes)", path, s->size);
     return SSS_OK;
@@ -140,10 +146,10 @@ sss_result sss_src_open(src *s, const char *path, sss_error *err)
 sss_result sss_src_read(src *s, size_t n, sss_error *err)
 {
     if (n <= s->have) return SSS_OK;
-    char *m = realloc(s->mem, SLACK + n + 1);
+    char *m = realloc(s->mem, SLACK + s->skip + n + 1);
     if (!m) return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %zu bytes", s->name, n);
     s->mem = m;
-    s->data = m + SLACK;
+    s->data = m + SLACK + s->skip;
     while (s->have < n) {
         size_t got = fread(s->data + s->have, 1, n - s->have, s->f);
         if (got == 0) {
@@ -157,6 +163,16 @@ sss_result sss_src_read(src *s, size_t n, sss_error *err)
 }
 
 sss_result sss_src_read_all(src *s, sss_error *err) { return sss_src_read(s, (size_t)s->size, err); }
+
+int sss_src_drop_bom(src *s)
+{
+    if (s->skip || s->have < 3 || memcmp(s->data, "\xEF\xBB\xBF", 3) != 0) return 0;
+    s->skip = 3;
+    s->data += 3;
+    s->have -= 3;
+    s->size -= 3;
+    return 1;
+}
 
 void sss_src_close(src *s)
 {

@@ -33,6 +33,8 @@ sss_result sss_scan_stl(src *s, expect *ex, sss_error *err)
     ull count = s->size >= 84 ? rd_uint(u + 80, 4, 0) : 0;
     int binary = s->size >= 84 && 84 + 50 * count == s->size;
     int ascii = 0;
+    /* a binary STL's 80-byte header is any bytes; only ascii STL is text */
+    if (!binary && sss_src_drop_bom(s)) n -= 3;
     if (!binary) {
         /* "solid", then "facet" or "endsolid" after the first line. */
         size_t i = 0;

@@ -346,6 +346,9 @@ sss_result sss_soup_to_mesh(const char *name, sss_om_soup *s, const expect *ex, 
     rep->faces_read = ex->faces_in_file;
     rep->faces_too_small = ex->too_small;
     rep->faces_repeated_index = ex->repeated;
+    rep->unknown_statements = ex->unknown;
+    memcpy(rep->first_unknown, ex->first_unknown, sizeof rep->first_unknown);
+    rep->first_unknown_line = ex->first_unknown_line;
     if (nv > (ull)UINT32_MAX - 1)
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "%s: %llu vertices; at most 4294967294 are supported", name, nv);
     for (ull v = 0; v < nv; v++)

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "sss/hatweights.h"
+#include "sss/memory.h"
 #include "sss/nbhd.h"
 #include "sss/transfer.h"
 #include "sss/visibility.h"
@@ -78,7 +79,19 @@ static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
     return SSS_OK;
 }
 
+static sss_result create(const sss_bake_file *f, int plan, uint64_t memory_limit, sss_exact **out, sss_error *err);
+
 sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *err)
+{
+    return create(f, 0, 0, out, err);
+}
+
+sss_result sss_exact_create_limited(const sss_bake_file *f, uint64_t memory_limit, sss_exact **out, sss_error *err)
+{
+    return create(f, 1, memory_limit, out, err);
+}
+
+static sss_result create(const sss_bake_file *f, int plan, uint64_t memory_limit, sss_exact **out, sss_error *err)
 {
     *out = NULL;
     if (!f || f->mesh.nv == 0 || f->mesh.nf == 0 || !f->mesh.pos || !f->mesh.nrm || !f->mesh.tri)
@@ -114,7 +127,18 @@ sss_result sss_exact_create(const sss_bake_file *f, sss_exact **out, sss_error *
      * the search uses the largest. Recomputed, not read from PARM, where it
      * is rounded to 9 digits: the membership test r ≤ radius must match. */
     e->search_radius_mm = sss_nbhd_radii(&e->mesh, f->mm_per_unit, dip, f->channels, eps, NULL);
-    r = sss_nbhd_build(&e->mesh, f->mm_per_unit, dip, f->channels, e->search_radius_mm, NULL, 0, 0, NULL, &e->nb, err);
+    /* The neighbourhood rows are counted before they are allocated and
+     * refused, as the bake refuses them (bake.c), beyond 90 % of what is
+     * left after the mesh copy and one row of G per vertex: for σa → 0 they
+     * hold every pair of vertices (docs/robustness.md, "Memory"). */
+    uint64_t max_bytes = 0;
+    const uint64_t avail = plan ? sss_memory_available(memory_limit) : 0;
+    if (avail) {
+        const uint64_t fixed = (uint64_t)f->mesh.nv * (12u + 12u + 8u + 4u) + (uint64_t)f->mesh.nf * 12u;
+        max_bytes = avail > fixed ? (avail - fixed) / 10 * 9 : 1;
+    }
+    r = sss_nbhd_build(&e->mesh, f->mm_per_unit, dip, f->channels, e->search_radius_mm, NULL, 0, max_bytes, NULL,
+                       &e->nb, err);
     /* the bake's weight rule (section QUAD): its corrections, as the bake
      * computed them */
     if (r == SSS_OK && f->weights == SSS_WEIGHTS_HAT)

@@ -98,6 +98,11 @@ typedef enum sss_tonemap {
     SSS_TONEMAP_REINHARD = 1 /* x / (1 + x) after exposure: for viewing bright scenes */
 } sss_tonemap;
 
+/* The largest exposure and light irradiance the tools accept: with every
+ * stored value at most SSS_VALUE_MAX (sss/format.h), q · E · exposure stays
+ * below 1e30, far inside float (docs/robustness.md, "Values"). */
+#define SSS_VIEW_GAIN_MAX 1e12
+
 /* Everything a frame depends on. Directions need not be normalised. */
 typedef struct sss_view_params {
     double light[3];      /* towards the light, world (= mesh) space */
@@ -265,8 +270,21 @@ void sss_scene_eval_destroy(sss_scene_eval *e);
 /* q for the frame into q[v * channels + c] (nv × channels floats,
  * caller-owned; light colours and intensities folded in: render with
  * light_rgb = 1). angle (radians) turns the moving lights about +z, so a
- * benchmark's frames differ. The reference of the GPU sum. */
+ * benchmark's frames differ. The reference of the GPU sum. For a file with
+ * OWNT (a plain bake with near terms at run time, viewed with a scene) each
+ * direction-set light's term is its full q: the stored rows plus its own
+ * near terms, the visibility by the bake's ray traced on the CPU through
+ * the BVH the GPU traces (operation for operation), as
+ * sss_scene_eval_set_view asks; so the q of a scene is drawn without adding
+ * near terms again (sss_scene_render_image). */
 void sss_scene_eval_frame(sss_scene_eval *e, double angle, float *q);
+
+/* The view settings the sums follow: p->near_terms (0: the rows alone, as
+ * --no-own-term asks), and for the GPU sum p->near_visibility and
+ * p->shadow_size (the CPU sum traces the bake's rays either way). Default:
+ * near terms on, rays. */
+void sss_scene_eval_set_view(sss_scene_eval *e, const sss_view_params *p);
+const sss_view_params *sss_scene_eval_view(const sss_scene_eval *e);
 
 /* One light's parameters for the frame at angle (the vertex-independent
  * part of sss_scene_eval_frame), so that another evaluator (the GPU path,
@@ -330,6 +348,14 @@ void sss_fx_gpu_destroy(sss_fx_gpu *g);
  * (sss_renderer_draw; or sss_renderer_read_q). */
 void sss_fx_gpu_frame(sss_fx_gpu *g, double angle);
 
+/* The picture `sss-view --scene` draws for the frame at angle: the lights
+ * summed on the GPU (g) or, with g NULL, on the CPU (ev), with the near
+ * terms of each light as p asks (sss_scene_eval_set_view is called with p),
+ * then drawn with p but without adding near terms again (the sum holds
+ * them). As sss_renderer_render_image returns it. */
+sss_result sss_scene_render_image(sss_renderer *r, sss_scene_eval *ev, sss_fx_gpu *g, const sss_view_params *p,
+                                  double angle, int width, int height, float **rgb, float **hdr, sss_error *err);
+
 /* SSS_FXGPU_* bits of the programs built. */
 unsigned sss_fx_gpu_programs(const sss_fx_gpu *g);
 
@@ -339,20 +365,50 @@ const char *sss_fx_gpu_describe(const sss_fx_gpu *g);
 
 /* ---- images ---------------------------------------------------------------
  * Input pixels are linear RGB floats, 3 per pixel, rows bottom-up (as
- * glReadPixels returns them). The files are written in place; a failure
- * (SSS_ERR_IO, naming the path) can leave a partial file. Need no context. */
+ * glReadPixels returns them). Every image is written atomically to a path
+ * the output policy allows (sss/fileio.h: a new or regular file, a symbolic
+ * link followed to one; never a directory or a device): the target holds
+ * its old content or the complete image, never a partial one. A pixel that
+ * is not a finite number is refused (SSS_ERR_ARG, naming the pixel) and
+ * nothing is written. Failures name the path. Need no context. The _with
+ * forms refuse also a path that is the same file as one of the inputs. */
+struct sss_inputs;
 
 /* 8-bit sRGB PNG of values clamped to [0, 1]. */
 sss_result sss_write_png(const char *path, const float *rgb, int width, int height, sss_error *err);
+sss_result sss_write_png_with(const char *path, const float *rgb, int width, int height, const struct sss_inputs *in,
+                              sss_error *err);
+
+/* 8-bit RGB PNG of bytes already encoded (3 per pixel, rows bottom-up), with
+ * the sRGB chunk: a window's screenshot. */
+sss_result sss_write_png_rgb8(const char *path, const unsigned char *px, int width, int height,
+                              const struct sss_inputs *in, sss_error *err);
 
 /* 32-bit float RGB OpenEXR (ZIP compression), through the
  * OpenEXR C API. Values are written as they are (no clamp, no curve). */
 sss_result sss_write_exr(const char *path, const float *rgb, int width, int height, sss_error *err);
+sss_result sss_write_exr_with(const char *path, const float *rgb, int width, int height, const struct sss_inputs *in,
+                              sss_error *err);
 
 /* Chooses PNG (from ldr) or EXR (from hdr, or ldr when hdr is NULL) by the
  * extension, case-insensitive; SSS_ERR_ARG for any other. */
 sss_result sss_write_image(const char *path, const float *ldr, const float *hdr, int width, int height,
                            sss_error *err);
+sss_result sss_write_image_with(const char *path, const float *ldr, const float *hdr, int width, int height,
+                                const struct sss_inputs *in, sss_error *err);
+
+/* sss_write_image_with without the last step: checks the path, encodes the
+ * image into a temporary file and leaves it in a (sss/fileio.h) for the
+ * caller to sss_atomic_commit or sss_atomic_abort, so that a tool writing
+ * several images writes none when one fails. On failure nothing is left
+ * and a needs no abort. */
+struct sss_atomic;
+sss_result sss_image_stage(struct sss_atomic *a, const char *path, const float *ldr, const float *hdr, int width,
+                           int height, const struct sss_inputs *in, sss_error *err);
+
+/* 1 when path ends in .png or .exr (any case): an image sss_write_image
+ * can write. */
+int sss_image_type_known(const char *path);
 
 /* sRGB transfer function of a linear value, clamped to [0, 1] first. */
 float sss_srgb_encode(float x);

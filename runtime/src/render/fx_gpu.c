@@ -158,6 +158,7 @@ void sss_fx_gpu_frame(sss_fx_gpu *g, double angle)
     sss_effect_frame fr;
     memset(&fr, 0, sizeof fr);
     fr.r = g->r;
+    fr.p = sss_scene_eval_view(g->ev); /* the near terms of an OWNT file, per light */
     fr.row_program = g->prog_row;
     fr.whole = (g->row_bytes + 3) / 4 * 4;
     int first = 1;
@@ -192,4 +193,28 @@ void sss_fx_gpu_frame(sss_fx_gpu *g, double angle)
     }
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+sss_result sss_scene_render_image(sss_renderer *r, sss_scene_eval *ev, sss_fx_gpu *g, const sss_view_params *p,
+                                  double angle, int width, int height, float **rgb, float **hdr, sss_error *err)
+{
+    *rgb = NULL;
+    if (hdr) *hdr = NULL;
+    const sss_bake_file *f = r->mesh.f;
+    float *q = malloc((size_t)f->mesh.nv * f->channels * sizeof *q + 1);
+    if (!q) return sss_fail(err, SSS_ERR_NOMEM, "scene: out of memory for %u vertices", f->mesh.nv);
+    sss_scene_eval_set_view(ev, p);
+    if (g) {
+        /* the GPU sum, read back so that the one image path draws it */
+        sss_fx_gpu_frame(g, angle);
+        sss_renderer_read_q(r, q);
+    } else {
+        sss_scene_eval_frame(ev, angle, q);
+    }
+    /* the sum holds every light's near terms already (sss_scene_eval_frame) */
+    sss_view_params d = *p;
+    d.near_terms = 0;
+    sss_result res = sss_renderer_render_q_image(r, &d, q, width, height, rgb, hdr, err);
+    free(q);
+    return res;
 }

@@ -21,6 +21,7 @@
 
 #include "effects/effects.h"
 #include "sss/effects.h"
+#include "sss/nearterms.h"
 #include "sss/vec3.h"
 
 typedef struct lightref {
@@ -36,7 +37,46 @@ struct sss_scene_eval {
     lightref *l;
     float *tmp, *env;
     char paths[160];
+    sss_view_params view;  /* the near-term settings (sss_scene_eval_set_view) */
+    /* a file with OWNT: its near-term rows, the BVH of the bake's rays, the
+     * rays' offset, and per-vertex scratch (V, g V) */
+    int has_near;
+    sss_weights near;
+    sss_bvh bvh;
+    float delta;
+    uint8_t *lit;
+    float *gv;
 };
+
+/* The near terms of unit light `light` added to the row q (nv × channels):
+ * every vertex's own visibility by the bake's ray (origin x + δn in float,
+ * towards ω, blocked by a hit beyond δ) through the BVH the GPU traces,
+ * with the arithmetic of its shader (sss_bvh_occluded, near_vis.comp.glsl),
+ * then Σ_i w̃(o, i) g_i V_i per row in sss_near_sum's order: what the
+ * renderer's near pass adds on the GPU (Hao–Varshney 2004 §3.1's terms of
+ * the vertex and its rings, docs/viewer.md). */
+static void cpu_add_near(void *ctx, const double light[3], float *q)
+{
+    sss_scene_eval *e = ctx;
+    const sss_bake_file *f = e->f;
+    const uint32_t nv = f->mesh.nv;
+    double d[3] = {light[0], light[1], light[2]};
+    if (!(sss_normalize3(d) > 0)) return;
+    const float df[3] = {(float)d[0], (float)d[1], (float)d[2]};
+    for (uint32_t v = 0; v < nv; v++) {
+        const float *x = &f->mesh.pos[3 * (size_t)v], *n = &f->mesh.nrm[3 * (size_t)v];
+        /* the bake's facing test in double (float n, double ω), left to right */
+        const double c = (double)n[0] * d[0] + (double)n[1] * d[1] + (double)n[2] * d[2];
+        uint8_t vis = 0;
+        if (c > 0.0) {
+            const float o[3] = {x[0] + e->delta * n[0], x[1] + e->delta * n[1], x[2] + e->delta * n[2]};
+            vis = e->bvh.ntri == 0 || !sss_bvh_occluded(&e->bvh, o, df, e->delta);
+        }
+        e->lit[v] = vis;
+    }
+    sss_near_transfer(f->mesh.nrm, nv, (float)f->material.eta, d, e->lit, e->gv);
+    sss_near_add(&e->near, e->gv, q);
+}
 
 static void centre_of(const sss_bake_file *f, double c[3])
 {
@@ -64,6 +104,21 @@ sss_result sss_scene_eval_create(const sss_bake_file *f, const sss_scene *sc, ss
     e->tmp = malloc((size_t)f->mesh.nv * 3 * sizeof(float));
     e->env = malloc((size_t)f->mesh.nv * 3 * sizeof(float));
     if (!e->l || !e->tmp || !e->env) { sss_scene_eval_destroy(e); return sss_fail(err, SSS_ERR_NOMEM, "out of memory"); }
+    sss_view_params_default(&e->view);
+    if (f->near_terms) {
+        /* the CPU sum's near terms (cpu_add_near): built once */
+        sss_result nr = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, f->channels, f->near_rings, &e->near, err);
+        if (nr == SSS_OK) nr = sss_bvh_build(f->mesh.pos, f->mesh.nv, f->mesh.tri, f->mesh.nf, &e->bvh, err);
+        e->lit = malloc((size_t)f->mesh.nv + 1);
+        e->gv = malloc((size_t)f->mesh.nv * sizeof *e->gv + 1);
+        e->has_near = 1;
+        if (nr == SSS_OK && (!e->lit || !e->gv)) nr = sss_fail(err, SSS_ERR_NOMEM, "out of memory");
+        if (nr != SSS_OK) {
+            sss_scene_eval_destroy(e);
+            return nr;
+        }
+        e->delta = sss_mesh_ray_offset(&f->mesh);
+    }
     const uint32_t m = f->fx.mask ? f->fx.mask : SSS_FX_DIR_SET; /* a plain bake is a direction set */
     double c[3];
     centre_of(f, c);
@@ -121,9 +176,24 @@ sss_result sss_scene_eval_create(const sss_bake_file *f, const sss_scene *sc, ss
     return SSS_OK;
 }
 
+void sss_scene_eval_set_view(sss_scene_eval *e, const sss_view_params *p)
+{
+    e->view.near_terms = p->near_terms;
+    e->view.near_visibility = p->near_visibility;
+    e->view.shadow_size = p->shadow_size;
+}
+
+const sss_view_params *sss_scene_eval_view(const sss_scene_eval *e) { return &e->view; }
+
 void sss_scene_eval_destroy(sss_scene_eval *e)
 {
     if (!e) return;
+    if (e->has_near) {
+        sss_weights_free(&e->near);
+        sss_bvh_free(&e->bvh);
+    }
+    free(e->lit);
+    free(e->gv);
     free(e->l);
     free(e->tmp);
     free(e->env);
@@ -182,7 +252,8 @@ void sss_scene_eval_frame(sss_scene_eval *e, double angle, float *q)
 {
     const sss_bake_file *f = e->f;
     const size_t n = (size_t)f->mesh.nv * f->channels;
-    const sss_effect_scratch scratch = {e->tmp, e->env};
+    const int near = e->has_near && e->view.near_terms;
+    const sss_effect_scratch scratch = {e->tmp, e->env, near ? cpu_add_near : NULL, e};
     memset(q, 0, n * sizeof *q);
     for (uint32_t i = 0; i < e->n; i++) {
         sss_scene_light_frame lf;

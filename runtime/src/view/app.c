@@ -11,7 +11,6 @@
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE /* epoxy provides the GL declarations */
 #include <GLFW/glfw3.h>
-#include <png.h>
 
 #include <math.h>
 #include <stdio.h>
@@ -21,6 +20,8 @@
 
 #include "app.h"
 #include "font.h"
+#include "sss/cli.h"
+#include "sss/fileio.h"
 #include "sss/render.h"
 #include "sss/vec3.h"
 
@@ -248,40 +249,16 @@ static void on_glfw_error(int code, const char *desc)
 
 /* ---- screenshots -------------------------------------------------------- */
 
-/* 8-bit RGB PNG of rows stored bottom-up (as glReadPixels returns them).
- * The pixels are already sRGB-encoded by the shader, hence the sRGB chunk
- * and no conversion (sss_write_png expects linear floats). */
-static int write_png_rgb8(const char *path, const unsigned char *px, int w, int h)
-{
-    FILE *fp = fopen(path, "wb");
-    if (!fp) return 0;
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
-    png_infop info = png ? png_create_info_struct(png) : NULL;
-    if (!png || !info || setjmp(png_jmpbuf(png))) {
-        png_destroy_write_struct(&png, &info);
-        fclose(fp);
-        return 0;
-    }
-    png_init_io(png, fp);
-    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
-    png_write_info(png, info);
-    for (int y = h - 1; y >= 0; y--) png_write_row(png, (png_const_bytep)(px + (size_t)y * (size_t)w * 3));
-    png_write_end(png, NULL);
-    png_destroy_write_struct(&png, &info);
-    return fclose(fp) == 0;
-}
-
-/* Reads the back buffer just drawn (scene + overlay) and saves it. Written
- * under a temporary name and renamed, so that anything watching for the
- * file never sees half of it. */
+/* Reads the back buffer just drawn (scene + overlay) and saves it, atomically
+ * (sss_write_png_rgb8: anything watching for the file never sees half of
+ * it), never over the .sss file shown (sss/fileio.h). The pixels are already
+ * sRGB-encoded by the shader. */
 static void save_screenshot(const app *a, int w, int h)
 {
-    char path[4096], tmp[4200];
+    char path[4096];
     if (a->opt->screenshot_path) {
         if (strlen(a->opt->screenshot_path) >= sizeof path) {
-            fprintf(stderr, "%s: screenshot not saved: --screenshot path too long\n", TOOL);
+            sss_cli_printf(stderr, "%s: screenshot not saved: --screenshot path too long\n", TOOL);
             return;
         }
         snprintf(path, sizeof path, "%s", a->opt->screenshot_path);
@@ -293,13 +270,13 @@ static void save_screenshot(const app *a, int w, int h)
             if (stat(path, &st) != 0) break;
         }
         if (n > 999) {
-            fprintf(stderr, "%s: screenshot not saved: sss-view-001.png ... sss-view-999.png all exist\n", TOOL);
+            sss_cli_printf(stderr, "%s: screenshot not saved: sss-view-001.png ... sss-view-999.png all exist\n", TOOL);
             return;
         }
     }
     unsigned char *px = malloc((size_t)w * (size_t)h * 3);
     if (!px) {
-        fprintf(stderr, "%s: screenshot not saved: out of memory for %dx%d\n", TOOL, w, h);
+        sss_cli_printf(stderr, "%s: screenshot not saved: out of memory for %dx%d\n", TOOL, w, h);
         return;
     }
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
@@ -307,13 +284,13 @@ static void save_screenshot(const app *a, int w, int h)
     glPixelStorei(GL_PACK_ALIGNMENT, 1); /* tightly packed RGB rows of any width */
     glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, px);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    if (!write_png_rgb8(tmp, px, w, h) || rename(tmp, path) != 0) {
-        remove(tmp);
-        fprintf(stderr, "%s: screenshot not saved: cannot write %s\n", TOOL, path);
-    } else {
-        fprintf(stderr, "%s: saved %s\n", TOOL, path);
-    }
+    sss_error err = {{0}};
+    const char *inputs[1] = {a->opt->file_path};
+    const sss_inputs in = {inputs, 1};
+    if (sss_write_png_rgb8(path, px, w, h, &in, &err) != SSS_OK)
+        sss_cli_printf(stderr, "%s: screenshot not saved: %s\n", TOOL, err.msg);
+    else
+        sss_cli_printf(stderr, "%s: saved %s\n", TOOL, path);
     free(px);
 }
 
@@ -385,7 +362,7 @@ static double smooth(double prev, double x, int first)
 
 static void no_window(void)
 {
-    fprintf(stderr, "%s: cannot open a window (no display?); use --offscreen%s%s%s\n", TOOL,
+    sss_cli_printf(stderr, "%s: cannot open a window (no display?); use --offscreen%s%s%s\n", TOOL,
             glfw_error[0] ? " [GLFW: " : "", glfw_error, glfw_error[0] ? "]" : "");
 }
 
@@ -445,15 +422,15 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
     int rc = 0;
     sss_error err = {{0}};
     if (sss_renderer_create(f, &a.r, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: %s\n", TOOL, opt->file_path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, opt->file_path, err.msg);
         rc = 1;
     } else if (sss_text_create(&a.text, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         rc = 1;
     } else {
         GLenum e = glGetError();
         if (e != GL_NO_ERROR) {
-            fprintf(stderr, "%s: OpenGL error 0x%04X while setting up the window (%s)\n", TOOL, (unsigned)e,
+            sss_cli_printf(stderr, "%s: OpenGL error 0x%04X while setting up the window (%s)\n", TOOL, (unsigned)e,
                     (const char *)glGetString(GL_RENDERER));
             rc = 1;
         }
@@ -497,15 +474,18 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
             a.near_ms = smooth(a.near_ms, ft.near_ms, a.frames == 1);
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, a.r, t)) != NULL) {
+        sss_view_params dp = a.p;
+        if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, &a.p, a.r, t)) != NULL) {
             /* the scene's lights summed on the GPU, straight into q */
+            dp.near_terms = 0; /* the sum holds each light's near terms */
         } else if (scene_q) {
-            opt->frame_q(opt->user, t, scene_q);
+            opt->frame_q(opt->user, &a.p, t, scene_q);
             sss_renderer_upload_q(a.r, scene_q);
+            dp.near_terms = 0; /* the sum holds each light's near terms */
         } else {
             sss_renderer_evaluate(a.r, &a.p);
         }
-        sss_renderer_draw(a.r, &a.p, fw, fh);
+        sss_renderer_draw(a.r, &dp, fw, fh);
         if (a.overlay) draw_overlay(&a, fw, fh);
         if (a.want_shot) {
             a.want_shot = 0;
@@ -517,7 +497,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
     }
 
     free(scene_q);
-    if (opt->frame_gpu) opt->frame_gpu(opt->user, NULL, 0.0);
+    if (opt->frame_gpu) opt->frame_gpu(opt->user, NULL, NULL, 0.0);
     sss_text_destroy(a.text);
     sss_renderer_destroy(a.r);
     glfwDestroyWindow(win);

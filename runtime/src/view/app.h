@@ -11,14 +11,15 @@ typedef struct sss_app_options {
     /* Optional (NULL: the renderer's own evaluation for the light under the
      * mouse): per-vertex q of each frame, t in seconds; sss-view --scene
      * sums the scene's lights here (scene_view.c, docs/scenes.md). */
-    void (*frame_q)(void *user, double t, float *q);
+    void (*frame_q)(void *user, const sss_view_params *p, double t, float *q);
     void *user;
     /* Optional: writes the frame's q into the renderer's q buffer on the GPU
      * (sss-view --scene: fx_gpu.c) and returns a one-line description for
      * the overlay, or NULL when it did not (frame_q is then used). Called
      * with r NULL before the renderer and context go, to release its GL
-     * objects. */
-    const char *(*frame_gpu)(void *user, sss_renderer *r, double t);
+     * objects. Both sums hold the near terms of an OWNT file as p asks, so
+     * the frame is drawn without adding them again. */
+    const char *(*frame_gpu)(void *user, const sss_view_params *p, sss_renderer *r, double t);
 } sss_app_options;
 
 /* Opens a window, runs the event loop until closed (Esc / Q / window close),

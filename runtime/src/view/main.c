@@ -9,6 +9,7 @@
 #include "app.h"
 #include "sss/cli.h"
 #include "sss/clock.h"
+#include "sss/fileio.h"
 #include "sss/format.h"
 #include "sss/render.h"
 
@@ -69,6 +70,8 @@ typedef struct view_args {
     int exposure_given; /* --exposure given; else 1 / the file material's flat-slab q */
     int tonemap, cpu;  /* --tonemap, --cpu */
     sss_view_params p;
+    const char *input[2]; /* the files read (FILE.sss, --scene): no output may be one of them */
+    sss_inputs inputs;
 } view_args;
 
 /* Reads argv into *a: the option table, then the one combination it cannot
@@ -86,7 +89,7 @@ static int parse(int argc, char **argv, view_args *a)
     static const int visibility_values[] = {SSS_NEAR_RAYS, SSS_NEAR_MAP};
     static const int off[] = {0};
     /* sss-view's own wordings where they differ from the library's defaults */
-    static const char *const positive = "%s: %s: '%s' must be a number > 0\n";
+    static const char *const positive = "%s: %s: '%s' must be a number > %g and <= %g\n";
     const sss_cli_opt opts[] = {
         {.name = "--offscreen", .kind = SSS_CLI_FLAG, .dest = &a->offscreen},
         {.name = "--out", .kind = SSS_CLI_STRING, .dest = &a->out},
@@ -94,9 +97,11 @@ static int parse(int argc, char **argv, view_args *a)
         {.name = "--size", .kind = SSS_CLI_SIZE, .dest = a->size, .lo = 1, .hi = 16384},
         {.name = "--light", .kind = SSS_CLI_TRIPLE, .dest = a->p.light, .flags = SSS_CLI_NONZERO},
         {.name = "--view", .kind = SSS_CLI_TRIPLE, .dest = a->p.view, .flags = SSS_CLI_NONZERO},
-        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->p.exposure, .lo = 0, .hi = INFINITY,
+        /* at most 1e12 each: with the stored values' bound (SSS_VALUE_MAX)
+         * q · E · exposure stays far inside float (docs/robustness.md) */
+        {.name = "--exposure", .kind = SSS_CLI_DOUBLE, .dest = &a->p.exposure, .lo = 0, .hi = SSS_VIEW_GAIN_MAX,
          .flags = SSS_CLI_ABOVE_LO, .msg = positive, .given = &a->exposure_given},
-        {.name = "--intensity", .kind = SSS_CLI_DOUBLE, .dest = &a->intensity, .lo = 0, .hi = INFINITY,
+        {.name = "--intensity", .kind = SSS_CLI_DOUBLE, .dest = &a->intensity, .lo = 0, .hi = SSS_VIEW_GAIN_MAX,
          .flags = SSS_CLI_ABOVE_LO, .msg = positive},
         {.name = "--tonemap", .kind = SSS_CLI_CHOICE, .dest = &a->tonemap, .choices = tonemaps,
          .values = tonemap_values},
@@ -120,7 +125,11 @@ static int parse(int argc, char **argv, view_args *a)
     int rc = sss_cli_parse(&cli, argc, argv);
     if (rc != SSS_CLI_RUN) return rc;
     if (a->offscreen && !a->out && !a->nbench) {
-        fprintf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL);
+        sss_cli_printf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL);
+        return 2;
+    }
+    if (a->out && !sss_image_type_known(a->out)) {
+        sss_cli_printf(stderr, "%s: --out %s: unknown image type (use .png or .exr)\n", TOOL, a->out);
         return 2;
     }
     for (int k = 0; k < 3; k++) a->p.light_rgb[k] = a->intensity;
@@ -205,11 +214,11 @@ static int offscreen_render(const sss_bake_file *f, view_args *a)
     sss_offscreen *ctx;
     sss_renderer *r;
     if (sss_offscreen_create(&ctx, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
     if (sss_renderer_create(f, &r, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: %s\n", TOOL, a->path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, a->path, err.msg);
         sss_offscreen_destroy(ctx);
         return 1;
     }
@@ -218,11 +227,11 @@ static int offscreen_render(const sss_bake_file *f, view_args *a)
     if (a->out) {
         float *rgb, *hdr;
         if (sss_renderer_render_image(r, &a->p, w, h, &rgb, &hdr, &err) != SSS_OK ||
-            sss_write_image(a->out, rgb, hdr, w, h, &err) != SSS_OK) {
-            fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+            sss_write_image_with(a->out, rgb, hdr, w, h, &a->inputs, &err) != SSS_OK) {
+            sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
             rc = 1;
         } else {
-            fprintf(stderr, "%s: %s: %dx%d, %s, %s path\n", TOOL, a->out, w, h, sss_gl_renderer_name(),
+            sss_cli_printf(stderr, "%s: %s: %dx%d, %s, %s path\n", TOOL, a->out, w, h, sss_gl_renderer_name(),
                     a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU");
             free(rgb);
             free(hdr);
@@ -240,11 +249,11 @@ static int scene_open(const sss_bake_file *f, const char *scene_path, sss_view_p
 {
     sss_error err = {{0}};
     if (sss_scene_load(scene_path, sc, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
     if (sss_scene_eval_create(f, sc, ev, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         sss_scene_free(sc);
         return 1;
     }
@@ -263,6 +272,11 @@ static void scene_bench(const sss_bake_file *f, sss_scene_eval *ev, sss_fx_gpu *
            *frame = malloc(sizeof(double) * (size_t)n);
     float *rgb, *hdr;
     sss_error err = {{0}};
+    sss_scene_eval_set_view(ev, p);
+    /* the sums hold the near terms: the draw adds none */
+    sss_view_params dp = *p;
+    dp.near_terms = 0;
+    p = &dp;
     sss_scene_eval_frame(ev, 0.0, q);
     if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) == SSS_OK) { free(rgb); free(hdr); }
     sss_renderer_bind_offscreen(r, w, h, &err);
@@ -311,33 +325,28 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
     sss_renderer *r = NULL;
     float *q = malloc((size_t)f->mesh.nv * f->channels * sizeof(float));
     int rc = 1;
-    if (!q) { fprintf(stderr, "%s: out of memory\n", TOOL); goto done; }
+    if (!q) { sss_cli_printf(stderr, "%s: out of memory\n", TOOL); goto done; }
     if (sss_offscreen_create(&ctx, &err) != SSS_OK || sss_renderer_create(f, &r, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s: %s\n", TOOL, a->path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, a->path, err.msg);
         goto done;
     }
     rc = 0;
     sss_fx_gpu *g = NULL;
     if (a->p.path != SSS_EVAL_CPU && sss_fx_gpu_create(f, ev, r, &g, &err) != SSS_OK)
-        fprintf(stderr, "%s: %s: the scene's lights are summed on the CPU (%s)\n", TOOL, a->path, err.msg);
+        sss_cli_printf(stderr, "%s: %s: the scene's lights are summed on the CPU (%s)\n", TOOL, a->path, err.msg);
     char evals[96];
     snprintf(evals, sizeof evals, g ? "gpu (programs: %s)" : "cpu%s", g ? sss_fx_gpu_describe(g) : "");
     if (a->nbench) scene_bench(f, ev, g, r, &a->p, q, w, h, a->nbench);
     if (a->out) {
         float *rgb, *hdr;
-        if (g) {
-            /* the GPU sum, read back so that the one image path draws it */
-            sss_fx_gpu_frame(g, 0.0);
-            sss_renderer_read_q(r, q);
-        } else {
-            sss_scene_eval_frame(ev, 0.0, q);
-        }
-        if (sss_renderer_render_q_image(r, &a->p, q, w, h, &rgb, &hdr, &err) != SSS_OK ||
-            sss_write_image(a->out, rgb, hdr, w, h, &err) != SSS_OK) {
-            fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        /* the sum (GPU or CPU) holds each light's near terms; drawn without
+         * adding them again (sss_scene_render_image) */
+        if (sss_scene_render_image(r, ev, g, &a->p, 0.0, w, h, &rgb, &hdr, &err) != SSS_OK ||
+            sss_write_image_with(a->out, rgb, hdr, w, h, &a->inputs, &err) != SSS_OK) {
+            sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
             rc = 1;
         } else {
-            fprintf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, a->out, w, h,
+            sss_cli_printf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, a->out, w, h,
                     sss_gl_renderer_name(), evals, a->scene, sss_scene_eval_paths(ev));
             free(rgb);
             free(hdr);
@@ -365,11 +374,16 @@ typedef struct scene_win {
     char desc[192];
 } scene_win;
 
-static void scene_frame(void *user, double t, float *q) { sss_scene_eval_frame(((scene_win *)user)->ev, 0.3 * t, q); }
+static void scene_frame(void *user, const sss_view_params *p, double t, float *q)
+{
+    sss_scene_eval_set_view(((scene_win *)user)->ev, p); /* the near terms as the O key leaves them */
+    sss_scene_eval_frame(((scene_win *)user)->ev, 0.3 * t, q);
+}
 
-static const char *scene_frame_gpu(void *user, sss_renderer *r, double t)
+static const char *scene_frame_gpu(void *user, const sss_view_params *p, sss_renderer *r, double t)
 {
     scene_win *s = user;
+    if (p) sss_scene_eval_set_view(s->ev, p);
     if (!r) {
         sss_fx_gpu_destroy(s->g);
         s->g = NULL;
@@ -379,13 +393,13 @@ static const char *scene_frame_gpu(void *user, sss_renderer *r, double t)
     if (!s->g) {
         sss_error err = {{0}};
         if (sss_fx_gpu_create(s->f, s->ev, r, &s->g, &err) != SSS_OK) {
-            fprintf(stderr, "%s: the scene's lights are summed on the CPU (%s)\n", TOOL, err.msg);
+            sss_cli_printf(stderr, "%s: the scene's lights are summed on the CPU (%s)\n", TOOL, err.msg);
             s->cpu = 1;
             return NULL;
         }
         snprintf(s->desc, sizeof s->desc, "%s on the GPU (programs: %s)", sss_scene_eval_paths(s->ev),
                  sss_fx_gpu_describe(s->g));
-        fprintf(stderr, "%s: scene lights: %s\n", TOOL, s->desc);
+        sss_cli_printf(stderr, "%s: scene lights: %s\n", TOOL, s->desc);
     }
     sss_fx_gpu_frame(s->g, 0.3 * t);
     return s->desc;
@@ -419,10 +433,19 @@ int main(int argc, char **argv)
     view_args a;
     int rc = parse(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;
-    sss_bake_file f;
     sss_error err = {{0}};
+    a.input[0] = a.path;
+    a.input[1] = a.scene;
+    a.inputs = (sss_inputs){a.input, a.scene ? 2 : 1};
+    /* the output before anything is read or drawn (sss/fileio.h); the
+     * writer checks it again */
+    if (a.out && sss_output_check(a.out, &a.inputs, NULL, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    sss_bake_file f;
     if (sss_file_read(a.path, &f, &err) != SSS_OK) {
-        fprintf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
     /* a first render neither black nor clipped: the brightest q of the

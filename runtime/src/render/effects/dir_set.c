@@ -24,6 +24,14 @@ GLuint sss_pass_dir_set_frame(void *state, const sss_effect_frame *fr)
     sss_view_params_default(&p);
     memcpy(p.light, lf->dir, sizeof p.light);
     p.path = SSS_EVAL_GPU;
+    /* a file with OWNT: the evaluation adds this light's near terms as the
+     * view asks (on, off, rays or map), so the sum holds each light's full
+     * q and the draw adds nothing more */
+    if (fr->p) {
+        p.near_terms = fr->p->near_terms;
+        p.near_visibility = fr->p->near_visibility;
+        p.shadow_size = fr->p->shadow_size;
+    }
     sss_renderer_evaluate(fr->r, &p);
     sss_pass_light_begin(fr->row_program, nvc, fr->first, lf->w);
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, m->qbuf, 0, fr->whole);
@@ -40,5 +48,6 @@ void sss_pass_dir_set_cpu(const sss_bake_file *f, const sss_scene_light_frame *l
                           float *q)
 {
     sss_decode_all(f, lf->dir, s->tmp);
+    if (s->add_near) s->add_near(s->near_ctx, lf->dir, s->tmp); /* OWNT: this light's near terms (scene_view.c) */
     sss_pass_cpu_add_row(f, lf->w, s->tmp, q);
 }

@@ -44,12 +44,17 @@ typedef struct sss_effect_frame {
     sss_renderer *r;                  /* the renderer whose q buffer the sum goes to */
     int first;                        /* the frame's first light: the sum starts at 0 */
     GLuint row_program;               /* the row kernel (light_row.comp.glsl), when a pass needs it */
+    /* (p above: for scene lights, the view's near-term settings, sss_scene_eval_view) */
     GLsizeiptr whole;                 /* one row's bytes rounded up to 4: the range a row binds */
 } sss_effect_frame;
 
-/* Scratch of the CPU sum (scene_view.c): nv·3 floats each. */
+/* Scratch of the CPU sum (scene_view.c): nv·3 floats each; and, for a
+ * file with OWNT and the near terms asked for, what adds a light's near
+ * terms to a row of q (the direction set's pass calls it; NULL: none). */
 typedef struct sss_effect_scratch {
     float *tmp, *env;
+    void (*add_near)(void *ctx, const double light[3], float *row);
+    void *near_ctx;
 } sss_effect_scratch;
 
 typedef struct sss_effect {
