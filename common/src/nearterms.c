@@ -64,6 +64,20 @@ static int cmp_vkey(const void *x, const void *y)
     return (a->v > b->v) - (a->v < b->v);
 }
 
+double sss_near_radius_material(const sss_material *m, uint32_t channels, double fraction)
+{
+    if (!(fraction > 0.0 && fraction < 1.0)) return 0.0;
+    double R = 0.0;
+    for (uint32_t c = 0; c < channels && c < SSS_MAX_CHANNELS; c++) {
+        sss_dipole d;
+        if (sss_dipole_init(&d, m->sigma_a[c], m->sigmap_s[c], m->eta) != SSS_OK) return 0.0;
+        /* 10 m: beyond any object; the bake's own search radius clamps it
+         * further (α′ → 1 tails, docs/physics.md §6) */
+        R = fmax(R, sss_rd_radius(&d, 1.0 - fraction, 1e4));
+    }
+    return R;
+}
+
 static int cmp_u32(const void *a, const void *b)
 {
     uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;

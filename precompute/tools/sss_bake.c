@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "sss/clock.h"
+#include "sss/nearterms.h"
 #include "bake_mpi.h"
 #include "sss/cli.h"
 #include "sss/bake.h"
@@ -43,10 +44,16 @@ static void usage(FILE *f)
         "  --dirs N             number of light directions (default 200)\n"
         "  --eps E              neighbourhood energy cutoff: radius holds 1-E of R_d total (default 1e-3)\n"
         "  --quant float|lloyd8 storage of the integrals (default float)\n"
+        "  --weights point|hat  R_d sampled at the vertices (the paper; default) or integrated over\n"
+        "                       their hat functions, whatever the tessellation (docs/physics.md 9)\n"
         "  --own-term M         baked: the vertex's own term stays in q (the paper); runtime:\n"
-        "                       it and its --rings are split off and readers add them back\n"
-        "                       with a shadow test per vertex (format 1.3; docs/accuracy.md)\n"
-        "  --rings K            with --own-term runtime: mesh rings split off too, 0..8 (default 1)\n"
+        "                       the near terms are split off and readers add them back with a\n"
+        "                       shadow test per vertex (docs/accuracy.md): every vertex within\n"
+        "                       the radius that holds --near-fraction of the material's R_d total\n"
+        "  --near-fraction F    with --own-term runtime: that fraction, in [0.5, 0.999] (default 0.95)\n"
+        "  --near-radius MM     with --own-term runtime: the near terms within MM millimetres instead\n"
+        "  --rings K            with --own-term runtime: K mesh rings instead, 0..8 (expert: a fine\n"
+        "                       mesh's rings cover less of the scattering than a coarse one's)\n"
         "Compression (Hao & Varshney 2004 sec. 4; docs/compression.md); any of these\n"
         "stores the compressed form instead of --quant:\n"
         "  --compress P         preset: paper (3%% references, SH order 3, linear 8-bit codes,\n"
@@ -90,6 +97,8 @@ typedef struct bake_args {
     int near_terms_given, rings_given;
     double near_radius; /* --near-radius MM (> 0) */
     int near_radius_given;
+    double near_fraction; /* --near-fraction F; without --rings and --near-radius the radius is the material's */
+    int near_fraction_given;
     int weights, weights_given; /* --weights: SSS_WEIGHTS_HAT or SSS_WEIGHTS_POINT */
     /* compression: the sss_compress_opts fields, each with its given flag so
      * that the preset fills only the rest (docs/compression.md) */
@@ -207,6 +216,8 @@ static int parse(int argc, char **argv, bake_args *a)
          .parse = read_rings, .given = &a->rings_given, .msg = "%s: %s: '%s' must be an integer %g ... %g\n"},
         {.name = "--near-radius", .kind = SSS_CLI_DOUBLE, .dest = &a->near_radius, .lo = 1e-6, .hi = 1e6,
          .given = &a->near_radius_given},
+        {.name = "--near-fraction", .kind = SSS_CLI_DOUBLE, .dest = &a->near_fraction, .lo = 0.5, .hi = 0.999,
+         .given = &a->near_fraction_given},
         {.name = "--weights", .kind = SSS_CLI_CHOICE, .dest = &a->weights, .choices = weight_rules,
          .values = weight_values, .given = &a->weights_given},
         {.name = "--theta", .kind = SSS_CLI_DOUBLE, .dest = &a->theta, .lo = 1e-3, .hi = 0.95},
@@ -231,6 +242,10 @@ static int parse(int argc, char **argv, bake_args *a)
     if (a->near_radius_given && a->near_terms != SSS_NEAR_TERMS_RUNTIME)
         return refuse("--near-radius needs --own-term runtime");
     if (a->near_radius_given && a->rings_given) return refuse("--near-radius and --rings exclude each other");
+    if (a->near_fraction_given && a->near_terms != SSS_NEAR_TERMS_RUNTIME)
+        return refuse("--near-fraction needs --own-term runtime");
+    if (a->near_fraction_given && (a->rings_given || a->near_radius_given))
+        return refuse("--near-fraction sizes the near terms by the material: not with --rings or --near-radius");
     if (a->scene && a->near_terms_given)
         return refuse("--own-term applies to plain bakes, not to --scene (scene bakes keep the own term)");
     if (a->scene) {
@@ -285,6 +300,13 @@ static int options(const bake_args *a, bake_setup *s)
     opt->near_terms = a->near_terms;
     opt->near_rings = a->near_rings;
     opt->near_radius_mm = a->near_radius_given ? a->near_radius : 0.0;
+    /* --own-term runtime alone: the radius holding a fraction of R_d,total
+     * (sss_near_radius_material), the same physical neighbourhood on a fine
+     * and a coarse mesh; --rings and --near-radius are the expert's */
+    if (a->near_terms == SSS_NEAR_TERMS_RUNTIME && !a->rings_given && !a->near_radius_given) {
+        opt->near_rings = 0;
+        opt->near_fraction = a->near_fraction_given ? a->near_fraction : SSS_NEAR_FRACTION_DEFAULT;
+    }
     opt->weights = a->weights_given ? (uint32_t)a->weights : SSS_WEIGHTS_POINT;
     opt->memory_limit = sss_cli_memory_limit();
     const char *log = getenv("SSS_PROGRESS_LOG");

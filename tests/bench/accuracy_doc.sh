@@ -5,7 +5,8 @@
 # around them was written against the run of the date below — re-read it
 # when the figures move. The section "Model error" is
 # docs/data/model_error/section.md, written from tests/bench/model_error.sh's
-# tables (a run of its own), included as it stands.
+# tables (a run of its own), included as it stands; so is "Near terms sized
+# by the material", docs/data/near_radius/section.md (tests/bench/near_radius.sh).
 E200_D23=$(get d23_dirs200_float .image.rms_max)
 M200_D23=$(get d23_dirs200_float .image.rms_mean)
 E200_BUNNY=$(get bunny_dirs200_float .image.rms_max)
@@ -267,9 +268,10 @@ $(table_sources)
   are longer than the scattering length (the bake warns), so its error is
   mostly the lobe and terminator of the few neighbours that matter.
 
-So the bake can do this (\`sss-bake --own-term runtime [--rings K]\`,
-default K = 1; \`sss/nearterms.h\`, format 1.3 section OWNT, docs/format.md
-§5.14): it stores q_rest = q − N_o at every direction sample, N_o the sum of
+So the bake can do this (\`sss-bake --own-term runtime [--rings K]\`;
+\`sss/nearterms.h\`, format 1.3 section OWNT, docs/format.md §5.14; the
+study below used K rings, and without \`--rings\` the near terms are now
+every vertex within a radius chosen from the material, next section): it stores q_rest = q − N_o at every direction sample, N_o the sum of
 the near terms with the bake's visibility; a reader adds N_o(ω) back for the
 actual light, from every vertex's own visibility (one shadow test per vertex
 per frame, shared by every row that holds it: the paper's run-time local
@@ -294,6 +296,8 @@ set, so directions can be traded for bytes. The viewer's optional shadow
 map (cyan) stays near 6×10⁻³ whatever the directions: its disagreements
 with the bake's rays, not the interpolation, are then the error
 (docs/viewer.md).
+
+$(cat "$(dirname "${BASH_SOURCE[0]}")/../../docs/data/near_radius/section.md")
 
 ## Interpolation: spherical triangle vs the paper's 4 nearest
 

@@ -21,7 +21,7 @@ B=(m.ply -o x.sss)
 
 # a value missing at the end of the line
 for o in -o --out --material --sigma-a --sigma-s --eta --mm-per-unit --dirs --eps --quant --compress --sh-order \
-         --refs --sh-quant --weight-bits --illum-refs --gather --own-term --rings --theta --threads --scene; do
+         --refs --sh-quant --weight-bits --illum-refs --gather --own-term --rings --near-fraction --theta --threads --scene; do
   expect_arg_error "$T: $o needs a value" "$SSS_BAKE" m.ply $o
 done
 
@@ -51,6 +51,8 @@ expect_arg_error "$T: --rings: '1.5' must be an integer 0 ... 8" "$SSS_BAKE" "${
 # one line, not the number's message and then the row's (docs/robustness.md, item 9)
 expect_arg_error "$T: --rings: '9' must be an integer 0 ... 8" "$SSS_BAKE" "${B[@]}" --own-term runtime --rings 9
 expect_arg_error "$T: --rings: '1e30' must be an integer 0 ... 8" "$SSS_BAKE" "${B[@]}" --own-term runtime --rings 1e30
+expect_arg_error "$T: --near-fraction: '0.3' must be a number in [0.5, 0.999]" "$SSS_BAKE" "${B[@]}" --own-term runtime --near-fraction 0.3
+expect_arg_error "$T: --near-fraction: '1' must be a number in [0.5, 0.999]" "$SSS_BAKE" "${B[@]}" --own-term runtime --near-fraction 1
 expect_arg_error "$T: --sigma-a: '1,2' must be three numbers X,Y,Z" "$SSS_BAKE" "${B[@]}" --sigma-a 1,2
 expect_arg_error "$T: --sigma-s: 'inf,1,1' must be three numbers X,Y,Z" "$SSS_BAKE" "${B[@]}" --sigma-s inf,1,1
 
@@ -76,6 +78,12 @@ echo '{"objects": [{"name": "m", "mesh": "m.ply", "material": "marble"}]}' > s.j
 expect_arg_error "$T: --plan needs --scene S.json" "$SSS_BAKE" "${B[@]}" --plan --rings 2
 expect_arg_error "$T: --rings needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --rings 2
 expect_arg_error "$T: --rings needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --own-term runtime --own-term baked --rings 2
+expect_arg_error "$T: --near-fraction needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --near-fraction 0.9
+for x in "--rings 1" "--near-radius 2"; do
+  # shellcheck disable=SC2086
+  expect_arg_error "$T: --near-fraction sizes the near terms by the material: not with --rings or --near-radius" \
+    "$SSS_BAKE" "${B[@]}" --own-term runtime $x --near-fraction 0.9
+done
 expect_arg_error "$T: --own-term applies to plain bakes, not to --scene (scene bakes keep the own term)" \
   "$SSS_BAKE" --scene s.json --own-term runtime m.ply
 expect_arg_error "$T: --scene and a MESH argument exclude each other (the scene names the meshes)" \

@@ -62,6 +62,19 @@ expect_fail 'sh-order' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --sh-order 9
 expect_fail 'refs' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --refs 1.5
 expect_fail 'weight-bits' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --weight-bits 12
 [ ! -e "$TMP/x.sss" ] || fail "a refused bake left a file"
+# --own-term runtime alone sizes the near terms by the material: the radius
+# that holds --near-fraction (default 0.95) of R_d,total in every channel,
+# 8.71 mm for skin1 whatever the mesh's scale (docs/accuracy.md)
+for s in 20 5; do
+  expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/n$s.sss" --material skin1 --mm-per-unit $s --dirs 20 --own-term runtime -q
+  expect_ok "$SSS_STAT" "$TMP/n$s.sss" --json
+  contains "$TMP/out" '"near_radius_mm":8.71073'
+  contains "$TMP/out" '"near_fraction":0.95'
+done
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/n99.sss" --material skin1 --mm-per-unit 20 --dirs 20 --own-term runtime \
+  --near-fraction 0.99 -q
+expect_ok "$SSS_STAT" "$TMP/n99.sss"
+contains "$TMP/out" 'every vertex within 13.6'
 # the bundled sample bakes too
 expect_ok "$SSS_BAKE" "$SSS_SOURCE/data/meshes/blob.ply" -o "$TMP/sample.sss" --material marble --mm-per-unit 100 --dirs 25 -q
 echo "cli_bake_stat: ok"

@@ -41,9 +41,9 @@ read -r _ _ offmean _ _ < <("$SSS_PNGSTATS" "$TMP/o_off.png") || fail "cannot re
 awk -v a="$omean" -v b="$offmean" 'BEGIN { exit !(a > 2 && b < a) }' \
   || fail "near terms: image mean $omean with them, $offmean without (expected brighter with them)"
 expect_ok view "$TMP/o.sss" --offscreen --bench 3 --size 64x64
-contains "$TMP/out" '"own_term":"1 ring(s), rays"'
+contains "$TMP/out" '"own_term":"within 8.71 mm, rays"'
 expect_ok view "$TMP/o.sss" --offscreen --bench 3 --size 64x64 --near-visibility map
-contains "$TMP/out" '"own_term":"1 ring(s), shadow map 2048"'
+contains "$TMP/out" '"own_term":"within 8.71 mm, shadow map 2048"'
 expect_ok view "$TMP/o.sss" --offscreen --out "$TMP/o_map.png" --size 160x120 --light 0.6,0.5,0.6 --view 0,0,1 \
   --near-visibility map
 d=$("$SSS_PNGSTATS" "$TMP/o.png" "$TMP/o_map.png") || fail "cannot compare o.png and o_map.png"

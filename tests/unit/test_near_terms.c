@@ -440,6 +440,124 @@ static void nearRowsByRadiusAndHatWeights(void **state)
     sss_mesh_free(&m);
 }
 
+/* The radius from the material (sss_near_radius_material): the disk that
+ * holds the fraction in every channel, exactly so in the widest one. */
+static void materialRadiusHoldsTheFraction(void **state)
+{
+    (void)state;
+    for (int p = 0; p < sss_material_preset_count(); p++) {
+        sss_material m;
+        assert_int_equal(sss_material_preset(sss_material_preset_name(p), &m, NULL), SSS_OK);
+        const double f = SSS_NEAR_FRACTION_DEFAULT, R = sss_near_radius_material(&m, 3, f);
+        assert_true(R > 0.0 && R < 1e4);
+        double tightest = 0.0;
+        for (int c = 0; c < 3; c++) {
+            sss_dipole d;
+            assert_int_equal(sss_dipole_init(&d, m.sigma_a[c], m.sigmap_s[c], m.eta), SSS_OK);
+            const double held = sss_rd_disk(&d, R) / sss_rd_total(&d);
+            assert_true(held >= f - 1e-9);
+            tightest = c ? fmin(tightest, held) : held;
+        }
+        assert_true(tightest <= f + 1e-6);
+        assert_true(sss_near_radius_material(&m, 3, 0.99) > R);
+        assert_true(sss_near_radius_material(&m, 1, f) <= R);
+        assert_true(sss_near_radius_material(&m, 3, 0.0) == 0.0 && sss_near_radius_material(&m, 3, 1.0) == 0.0);
+    }
+}
+
+/* Near terms sized by the material: one sphere (20 mm, skin1) tessellated
+ * at 2562 and 10242 vertices (the coarse vertices are vertices of the fine
+ * one) gets the same radius, so the same physical neighbourhood: where lit
+ * (n.w >= 0.4, docs/physics.md §9) the near terms' part of q and the whole
+ * q (rows + near terms) agree within 1 % at every shared vertex and every
+ * direction sample. One ring would hold half the distance on the fine
+ * mesh and so a different part of q. */
+static void materialRadiusSameOnFineAndCoarseSphere(void **state)
+{
+    (void)state;
+    sss_material m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_material_preset("skin1", &m, NULL), SSS_OK);
+    sss_bake_file f[2];
+    for (int k = 0; k < 2; k++) {
+        sss_mesh mesh;
+        assert_int_equal(sss_gen_sphere(&mesh, 1.0, 4 + (unsigned)k, &err), SSS_OK);
+        sss_bake_options o;
+        memset(&o, 0, sizeof o);
+        o.mm_per_unit = 20.0;
+        o.n_dirs = 8;
+        o.weights = SSS_WEIGHTS_HAT;
+        o.near_terms = SSS_NEAR_TERMS_RUNTIME;
+        o.near_fraction = SSS_NEAR_FRACTION_DEFAULT;
+        o.threads = 2;
+        if (sss_bake(&mesh, "sphere", &m, &o, &f[k], NULL, &err) != SSS_OK) fail_msg("%s", err.msg);
+        sss_mesh_free(&mesh);
+        assert_non_null(strstr(f[k].params_json, "\"near_fraction\":0.95"));
+    }
+    const double R = sss_near_radius_material(&m, 3, SSS_NEAR_FRACTION_DEFAULT);
+    assert_true(f[0].near_radius_mm == R && f[1].near_radius_mm == R && f[0].near_rings == 0);
+    const uint32_t n0 = f[0].mesh.nv, n1 = f[1].mesh.nv, C = f[0].channels;
+    assert_true(n1 > 3 * n0);
+    sss_reconstruct *rc[2];
+    float *tot[2];
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(sss_reconstruct_create(&f[k], &rc[k], &err), SSS_OK);
+        tot[k] = malloc((size_t)f[k].mesh.nv * C * sizeof(float));
+        assert_non_null(tot[k]);
+    }
+    double worst_q = 0.0, worst_near = 0.0, share = 1.0;
+    for (uint32_t j = 0; j < f[0].dirs.n; j++) {
+        const double *w = f[0].dirs.dir + 3 * (size_t)j;
+        for (int k = 0; k < 2; k++) sss_reconstruct_eval(rc[k], w, SSS_INTERP_TRIANGLE, tot[k]);
+        for (uint32_t v = 0; v < n0; v++) {
+            assert_memory_equal(f[0].mesh.pos + 3 * (size_t)v, f[1].mesh.pos + 3 * (size_t)v, 3 * sizeof(float));
+            const float *n = f[0].mesh.nrm + 3 * (size_t)v;
+            if (n[0] * w[0] + n[1] * w[1] + n[2] * w[2] < 0.4) continue;
+            for (uint32_t c = 0; c < C; c++) {
+                const double a = tot[0][(size_t)v * C + c], b = tot[1][(size_t)v * C + c];
+                const double na = a - f[0].q[((size_t)j * n0 + v) * C + c], nb = b - f[1].q[((size_t)j * n1 + v) * C + c];
+                worst_q = fmax(worst_q, fabs(a / b - 1.0));
+                worst_near = fmax(worst_near, fabs(na / nb - 1.0));
+                share = fmin(share, na / a);
+            }
+        }
+    }
+    print_message("sphere at 2562 / 10242 vertices, near terms within %.3g mm (%.2f of R_d,total): near part differs "
+                  "by %.3f %%, q by %.3f %% (near part at least %.1f %% of q)\n", R, SSS_NEAR_FRACTION_DEFAULT,
+                  100 * worst_near, 100 * worst_q, 100 * share);
+    assert_true(worst_near <= 0.01);
+    assert_true(worst_q <= 0.01);
+    assert_true(share > 0.5);
+    /* what one ring would have split off: the near point weights' sum (the
+     * near part under a uniform irradiance) at the shared vertices, coarse
+     * over fine, is about 2 (half the distance: R_d is peaked, so less than
+     * the 4 of the area) where the radius gives 1 within the point rule's
+     * own tessellation error (3 %, docs/physics.md §9) */
+    double ratio[2] = {0, 0};
+    for (int byring = 0; byring < 2; byring++) {
+        const sss_near_spec spec = {.rings = byring ? 1 : 0, .radius_mm = byring ? 0.0 : R};
+        sss_weights w[2];
+        for (int k = 0; k < 2; k++)
+            assert_int_equal(sss_near_build_spec(&f[k].mesh, &m, 20.0, 3, &spec, NULL, &w[k], &err), SSS_OK);
+        double sa = 0.0, sb = 0.0;
+        for (uint32_t v = 0; v < n0; v++) {
+            for (uint32_t e = w[0].start[v]; e < w[0].start[v + 1]; e++) sa += w[0].w[3 * (size_t)e];
+            for (uint32_t e = w[1].start[v]; e < w[1].start[v + 1]; e++) sb += w[1].w[3 * (size_t)e];
+        }
+        ratio[byring] = sa / sb;
+        for (int k = 0; k < 2; k++) sss_weights_free(&w[k]);
+    }
+    print_message("near weights' sum (red), coarse / fine: %.3f within the radius, %.3f with one ring\n", ratio[0],
+                  ratio[1]);
+    assert_true(fabs(ratio[0] - 1.0) < 0.05);
+    assert_true(ratio[1] > 1.6);
+    for (int k = 0; k < 2; k++) {
+        sss_reconstruct_destroy(rc[k]);
+        free(tot[k]);
+        sss_file_free(&f[k]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -451,6 +569,8 @@ int main(void)
         cmocka_unit_test(compressionKeepsTheMark),
         cmocka_unit_test(nearRowsHoldRingsAndCopies),
         cmocka_unit_test(nearRowsByRadiusAndHatWeights),
+        cmocka_unit_test(materialRadiusHoldsTheFraction),
+        cmocka_unit_test(materialRadiusSameOnFineAndCoarseSphere),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

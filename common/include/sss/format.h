@@ -182,7 +182,7 @@ typedef struct sss_bake_file {
                                * functions (sss/hatweights.h), which the exact evaluator and the near
                                * terms must use too */
     double near_radius_mm;    /* (1.5) with near_terms: > 0 when the near terms are every vertex within this
-                               * distance through the mesh (section NRAD) rather than near_rings rings */
+                               * distance, connected or not (section NRAD), rather than near_rings rings */
     /* Filled by the reader (ignored by the writer): */
     uint64_t file_size;
     uint32_t nsections;

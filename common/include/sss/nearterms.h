@@ -65,6 +65,20 @@ float sss_near_g(float eta, const float n[3], const float d[3]);
 sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double mm_per_unit, uint32_t channels,
                           uint32_t rings, sss_weights *out, sss_error *err);
 
+/* The fraction of R_d,total the run-time near terms hold by default when
+ * their radius comes from the material (docs/accuracy.md, "Near terms sized
+ * by the material": the baked rest's image error measured about
+ * proportional to the fraction left in the rows). */
+#define SSS_NEAR_FRACTION_DEFAULT 0.95
+
+/* The near terms' radius for material m, in mm: the smallest disk that
+ * holds `fraction` of R_d,total (docs/physics.md §2) in every one of its
+ * first `channels` channels, i.e. the largest channel's sss_rd_radius with
+ * ε = 1 − fraction. A property of the material alone, so a fine and a
+ * coarse mesh of one object get the same physical neighbourhood. 0 for an
+ * invalid material or a fraction outside (0, 1). */
+double sss_near_radius_material(const sss_material *m, uint32_t channels, double fraction);
+
 /* Which near terms, and with which weights. */
 typedef struct sss_near_spec {
     uint32_t rings;   /* mesh rings 0 … 8 (when radius_mm is 0) */

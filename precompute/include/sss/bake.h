@@ -51,9 +51,15 @@ typedef struct sss_bake_options {
     uint32_t near_terms;
     uint32_t near_rings;
     /* > 0 (with near_terms): the near terms are every vertex within this
-     * many mm of x_o through the mesh (sss_near_spec, section NRAD) instead
-     * of near_rings rings */
+     * many mm of x_o, connected or not (sss_near_spec, section NRAD),
+     * instead of near_rings rings */
     double near_radius_mm;
+    /* In (0, 1), with near_terms and near_radius_mm 0: the radius is chosen
+     * from the material, the disk that holds this fraction of R_d,total in
+     * every channel (sss_near_radius_material; docs/accuracy.md, "Near terms
+     * sized by the material"), so that a fine and a coarse mesh of one
+     * object split off the same neighbourhood. 0: rings or near_radius_mm. */
+    double near_fraction;
     /* The weights of the sum (sss/hatweights.h): SSS_WEIGHTS_POINT (0, the
      * paper's point samples) or SSS_WEIGHTS_HAT (integrated over the
      * vertices' hat functions; section QUAD, docs/physics.md §9). */

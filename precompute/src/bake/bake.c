@@ -22,6 +22,7 @@
 #include "sss/lloyd.h"
 #include "sss/memory.h"
 #include "sss/nbhd.h"
+#include "sss/nearterms.h"
 #include "sss/transfer.h"
 #include "sss/visibility.h"
 
@@ -79,11 +80,14 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
                      "vertex and its mesh rings of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)\",\"own_rings\":%u}",
                      o->near_rings);
     } else if (o->near_terms) { /* format 1.5: the near terms by radius (docs/format.md §5.17) */
+        /* a radius from the material: which fraction of R_d,total it holds */
+        char frac[48] = "";
+        if (o->near_fraction > 0.0) snprintf(frac, sizeof frac, ",\"near_fraction\":%.9g", o->near_fraction);
         const size_t L = strlen(buf);
-        if (L > 0 && L + 200 < sizeof buf)
+        if (L > 0 && L + 250 < sizeof buf)
             snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"own_term\":\"runtime: rows hold q minus the sum over the "
-                     "vertices within near_radius_mm of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)\",\"near_radius_mm\":%.9g}",
-                     o->near_radius_mm);
+                     "vertices within near_radius_mm of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)\",\"near_radius_mm\":%.9g%s}",
+                     o->near_radius_mm, frac);
     }
     if (o->weights == SSS_WEIGHTS_HAT) { /* format 1.5 (docs/format.md §5.16) */
         const size_t L = strlen(buf);
@@ -129,9 +133,18 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
         return sss_fail(err, SSS_ERR_ARG, "--mm-per-unit %g must be a number in [%g, %g]", o.mm_per_unit,
                         SSS_MM_PER_UNIT_MIN, SSS_MM_PER_UNIT_MAX);
     if (!(o.eps > 0 && o.eps < 1)) return sss_fail(err, SSS_ERR_ARG, "eps %g must be in (0, 1)", o.eps);
+    sss_result r0;
     if ((o.near_terms && o.near_terms != SSS_NEAR_TERMS_RUNTIME) || o.near_rings > SSS_NEAR_RINGS_MAX)
         return sss_fail(err, SSS_ERR_ARG, "own term %u with %u rings: rings must be 0 ... %u", o.near_terms, o.near_rings,
                         SSS_NEAR_RINGS_MAX);
+    if (o.near_fraction != 0.0) { /* the radius from the material (docs/accuracy.md, "Near terms sized by the material") */
+        if (!(o.near_fraction > 0.0 && o.near_fraction < 1.0) || !o.near_terms || o.near_radius_mm != 0.0)
+            return sss_fail(err, SSS_ERR_ARG, "near-terms fraction %g: in (0, 1), with the near terms at run time and "
+                            "no radius of its own", o.near_fraction);
+        r0 = sss_material_validate(mat, err);
+        if (r0 != SSS_OK) return r0;
+        o.near_radius_mm = sss_near_radius_material(mat, sss_material_channels(mat), o.near_fraction);
+    }
     if (!(o.near_radius_mm >= 0.0) || !isfinite(o.near_radius_mm) || (o.near_radius_mm > 0.0 && !o.near_terms))
         return sss_fail(err, SSS_ERR_ARG, "near-terms radius %g mm: a finite number >= 0, with the near terms at run time",
                         o.near_radius_mm);
@@ -170,6 +183,9 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     /* Neighbourhood radius per channel: the disk that holds 1−ε of the total
      * diffuse reflectance, clamped to the object's size (α′ → 1). */
     st.search_radius_mm = sss_nbhd_radii(mesh, o.mm_per_unit, dip, C, o.eps, st.radius_mm);
+    /* a radius from the material beyond the neighbourhood (α′ → 1, a
+     * fraction above 1 − ε) would only add terms of weight 0 */
+    if (o.near_fraction > 0.0 && o.near_radius_mm > st.search_radius_mm) o.near_radius_mm = st.search_radius_mm;
     /* Resolution check (docs/robustness.md B3): the smoothest profile has
      * scale 1/σtr of the channel with the smallest σtr (a vanishing σa means
      * an unbounded range: the radius stands in for it). With point weights

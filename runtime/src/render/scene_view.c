@@ -106,8 +106,10 @@ sss_result sss_scene_eval_create(const sss_bake_file *f, const sss_scene *sc, ss
     if (!e->l || !e->tmp || !e->env) { sss_scene_eval_destroy(e); return sss_fail(err, SSS_ERR_NOMEM, "out of memory"); }
     sss_view_params_default(&e->view);
     if (f->near_terms) {
-        /* the CPU sum's near terms (cpu_add_near): built once */
-        sss_result nr = sss_near_build(&f->mesh, &f->material, f->mm_per_unit, f->channels, f->near_rings, &e->near, err);
+        /* the CPU sum's near terms (cpu_add_near): built once, as the file
+         * says (rings or radius, weight rule: sss_near_build_file), so that
+         * they are the terms the bake took off the rows */
+        sss_result nr = sss_near_build_file(f, &e->near, err);
         if (nr == SSS_OK) nr = sss_bvh_build(f->mesh.pos, f->mesh.nv, f->mesh.tri, f->mesh.nf, &e->bvh, err);
         e->lit = malloc((size_t)f->mesh.nv + 1);
         e->gv = malloc((size_t)f->mesh.nv * sizeof *e->gv + 1);

@@ -314,7 +314,10 @@ static void draw_overlay(app *a, int fw, int fh)
     char own[160] = "", vis[48] = "rays";
     if (a->p.near_visibility == SSS_NEAR_MAP)
         snprintf(vis, sizeof vis, "shadow map %d^2", a->p.shadow_size ? a->p.shadow_size : SSS_SHADOW_SIZE);
-    if (f->near_terms)
+    if (f->near_terms && f->near_radius_mm > 0.0)
+        snprintf(own, sizeof own, "near terms (within %.3g mm, %s, V): %s\n", f->near_radius_mm, vis,
+                 a->p.near_terms ? "on" : "off (O)");
+    else if (f->near_terms)
         snprintf(own, sizeof own, "near terms (own + %u ring%s, %s, V): %s\n", f->near_rings,
                  f->near_rings == 1 ? "" : "s", vis, a->p.near_terms ? "on" : "off (O)");
     if (f->near_terms && a->p.near_terms)

@@ -189,9 +189,14 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
      * them; near_terms says whether they ran */
     if (!f->near_terms) snprintf(own, sizeof own, "none");
     else if (!p->near_terms) snprintf(own, sizeof own, "off (--no-own-term)");
-    else if (p->near_visibility == SSS_NEAR_MAP)
-        snprintf(own, sizeof own, "%u ring(s), shadow map %d", f->near_rings, p->shadow_size ? p->shadow_size : SSS_SHADOW_SIZE);
-    else snprintf(own, sizeof own, "%u ring(s), rays", f->near_rings);
+    else {
+        char set[40];
+        if (f->near_radius_mm > 0.0) snprintf(set, sizeof set, "within %.3g mm", f->near_radius_mm);
+        else snprintf(set, sizeof set, "%u ring(s)", f->near_rings);
+        if (p->near_visibility == SSS_NEAR_MAP)
+            snprintf(own, sizeof own, "%s, shadow map %d", set, p->shadow_size ? p->shadow_size : SSS_SHADOW_SIZE);
+        else snprintf(own, sizeof own, "%s, rays", set);
+    }
     printf("{\"vertices\":%u,\"channels\":%u,\"quant\":\"%s\",\"storage\":\"%s\",\"path\":\"%s\",\"renderer\":\"%s\",\"frames\":%d,"
            "\"width\":%d,\"height\":%d,\"own_term\":\"%s\",\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,"
            "\"frame_ms_median\":%.4f,\"scatter_vertices_per_s\":%.6g,\"fps\":%.3f,\"gpu_timer_scatter_ms_last\":%.4f,"

@@ -64,9 +64,9 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     if (max_block > 0 && nent * C * sizeof(float) > (uint64_t)max_block) {
         sss_weights_free(&nr);
         return sss_fail(err, SSS_ERR_UNSUPPORTED,
-                        "renderer: the near terms of %u rings need a %.1f MiB storage buffer, above this GL's limit "
-                        "of %.1f MiB (bake with fewer --rings)",
-                        f->near_rings, (double)(nent * C * sizeof(float)) / 1048576.0,
+                        "renderer: the near terms (%.1f per vertex) need a %.1f MiB storage buffer, above this GL's "
+                        "limit of %.1f MiB (bake with a smaller --near-fraction, --near-radius or fewer --rings)",
+                        (double)nent / nv, (double)(nent * C * sizeof(float)) / 1048576.0,
                         (double)max_block / 1048576.0);
     }
     /* the shader's offsets are 32-bit: the entries fit, as the buffer
