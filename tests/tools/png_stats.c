@@ -10,6 +10,10 @@
  *   sss-pngstats A.png B.png
  *     prints the fraction of pixels that differ between two images of the
  *     same size (exit 1 if the sizes differ).
+ *   sss-pngstats --range IMG.png
+ *     prints "MAX CLIPPED" over the object's pixels (those that differ from
+ *     the background): the largest 8-bit sample, and the fraction of them
+ *     with a channel at 255 (a first render neither black nor clipped).
  *
  * "Differs" means some channel differs by more than 2 levels, so that a
  * background that is merely dithered would still count as background.
@@ -59,11 +63,53 @@ static int cmp_u32(const void *x, const void *y)
     return (a > b) - (a < b);
 }
 
+/* The most frequent colour (the background): sort packed RGB values, take
+ * the longest run. UINT32_MAX when out of memory. */
+static uint32_t background(const uint8_t *px, size_t n)
+{
+    uint32_t *c = malloc((n ? n : 1) * sizeof *c);
+    if (!c) return UINT32_MAX;
+    for (size_t i = 0; i < n; i++) c[i] = (uint32_t)px[3 * i] << 16 | (uint32_t)px[3 * i + 1] << 8 | px[3 * i + 2];
+    qsort(c, n, sizeof *c, cmp_u32);
+    uint32_t bg = n ? c[0] : 0;
+    for (size_t i = 0, best = 0; i < n;) {
+        size_t j = i;
+        while (j < n && c[j] == c[i]) j++;
+        if (j - i > best) { best = j - i; bg = c[i]; }
+        i = j;
+    }
+    free(c);
+    return bg;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc == 3 && strcmp(argv[1], "--range") == 0) {
+        unsigned w, h;
+        uint8_t *px = load(argv[2], &w, &h);
+        if (!px) return 1;
+        const size_t n = (size_t)w * h;
+        const uint32_t bg = background(px, n);
+        if (bg == UINT32_MAX) { free(px); fprintf(stderr, "sss-pngstats: out of memory\n"); return 1; }
+        const uint8_t bgp[3] = {(uint8_t)(bg >> 16), (uint8_t)(bg >> 8), (uint8_t)bg};
+        size_t obj = 0, clipped = 0;
+        int mx = 0;
+        for (size_t i = 0; i < n; i++) {
+            if (!differs(px + 3 * i, bgp)) continue;
+            obj++;
+            int top = 0;
+            for (int k = 0; k < 3; k++) top = px[3 * i + k] > top ? px[3 * i + k] : top;
+            mx = top > mx ? top : mx;
+            clipped += top == 255;
+        }
+        printf("%d %.6f\n", mx, obj ? (double)clipped / (double)obj : 0.0);
+        free(px);
+        return 0;
+    }
     if (argc != 2 && argc != 3) {
         fprintf(stderr, "usage: sss-pngstats IMG.png        -> WIDTH HEIGHT MEAN STDDEV NONBG\n"
-                        "       sss-pngstats A.png B.png    -> fraction of pixels that differ\n");
+                        "       sss-pngstats A.png B.png    -> fraction of pixels that differ\n"
+                        "       sss-pngstats --range IMG.png -> MAX CLIPPED over the object's pixels\n");
         return 2;
     }
     unsigned w, h;
@@ -91,19 +137,8 @@ int main(int argc, char **argv)
         sum2 += (double)px[i] * px[i];
     }
     double mean = n ? sum / (3.0 * (double)n) : 0, var = n ? sum2 / (3.0 * (double)n) - mean * mean : 0;
-    /* the most frequent colour: sort packed RGB values, longest run */
-    uint32_t *c = malloc((n ? n : 1) * sizeof *c);
-    if (!c) { free(px); fprintf(stderr, "sss-pngstats: out of memory\n"); return 1; }
-    for (size_t i = 0; i < n; i++) c[i] = (uint32_t)px[3 * i] << 16 | (uint32_t)px[3 * i + 1] << 8 | px[3 * i + 2];
-    qsort(c, n, sizeof *c, cmp_u32);
-    uint32_t bg = n ? c[0] : 0;
-    for (size_t i = 0, best = 0; i < n;) {
-        size_t j = i;
-        while (j < n && c[j] == c[i]) j++;
-        if (j - i > best) { best = j - i; bg = c[i]; }
-        i = j;
-    }
-    free(c);
+    const uint32_t bg = background(px, n);
+    if (bg == UINT32_MAX) { free(px); fprintf(stderr, "sss-pngstats: out of memory\n"); return 1; }
     const uint8_t bgp[3] = {(uint8_t)(bg >> 16), (uint8_t)(bg >> 8), (uint8_t)bg};
     size_t other = 0;
     for (size_t i = 0; i < n; i++) other += (size_t)differs(px + 3 * i, bgp);

@@ -30,8 +30,9 @@ static void usage(FILE *f)
         "  --size WxH           image or window size (default 800x600)\n"
         "  --light X,Y,Z        direction towards the light (default 0,0,1)\n"
         "  --view X,Y,Z         direction from the object towards the camera (default 0,0,1)\n"
-        "  --exposure E         radiance multiplier before tone mapping (default: 1 / the q of a flat\n"
-        "                       surface of the file's material lit head-on, so the brightest lit parts reach 1)\n"
+        "  --exposure E         radiance multiplier before tone mapping (default: 1 / (I q_slab), q_slab\n"
+        "                       the q of a flat surface of the file's material lit head-on: the\n"
+        "                       brightest lit parts reach about 1, neither black nor clipped)\n"
         "  --intensity I        light irradiance E (default 1)\n"
         "  --tonemap clamp|reinhard   (default clamp: values in [0,1], the measurement convention)\n"
         "  --cpu                evaluate on the CPU (C decoder; with --scene, the CPU sum of the lights)\n"
@@ -453,11 +454,13 @@ int main(int argc, char **argv)
         sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
-    /* a first render neither black nor clipped: the brightest q of the
-     * material (a flat surface lit head-on) maps to 1 (sss/dipole.h) */
+    /* a first render neither black nor clipped: the radiance of a flat
+     * surface of the material lit head-on, E q F_t(η, n_o·ω_o) with q its
+     * slab value (docs/physics.md §4), maps to F_t(η, 1) ≈ 1; --scene's
+     * lights carry their own irradiance, so there E = 1 */
     if (!a.exposure_given) {
-        const double qs = sss_material_slab_q(&f.material, f.channels);
-        a.p.exposure = qs > 0.0 ? 1.0 / qs : 1.0;
+        const double qs = sss_material_slab_q(&f.material, f.channels) * (a.scene ? 1.0 : a.intensity);
+        a.p.exposure = qs > 0.0 && isfinite(1.0 / qs) ? 1.0 / qs : 1.0;
     }
     if (a.offscreen) rc = a.scene ? scene_offscreen(&f, &a) : offscreen_render(&f, &a);
     else rc = a.scene ? scene_window(&f, &a) : window(&f, &a);
