@@ -42,6 +42,8 @@ static void usage(FILE *f)
         "  --eta E              relative index of refraction (default 1.3)\n"
         "  --mm-per-unit S      millimetres per mesh unit (default 1)\n"
         "  --dirs N             number of light directions (default 200)\n"
+        "  --preset paper       Hao & Varshney 2004 exactly: 200 directions, point weights, every\n"
+        "                       term baked, --compress paper (refuses options that would change it)\n"
         "  --eps E              neighbourhood energy cutoff: radius holds 1-E of R_d total (default 1e-3)\n"
         "  --quant float|lloyd8 storage of the integrals (default float)\n"
         "  --weights point|hat  R_d sampled at the vertices (the paper; default) or integrated over\n"
@@ -88,6 +90,11 @@ typedef struct bake_args {
     int have_sigma_a, have_sigma_s, have_eta;
     double mm_per_unit, eps, theta;
     uint32_t dirs;
+    int dirs_given;
+    /* --preset paper: Hao–Varshney 2004's configuration, every other option
+     * that would change it refused (docs/accuracy.md, "The paper's
+     * configuration") */
+    int bake_preset, bake_preset_given;
     int threads;
     int quant, have_quant; /* sss_quant */
     int gather;
@@ -175,6 +182,8 @@ static int parse(int argc, char **argv, bake_args *a)
     static const char *const gathers[] = {"direct", "tree", NULL};
     static const int gather_values[] = {SSS_GATHER_DIRECT, SSS_GATHER_TREE};
     static const char *const weight_rules[] = {"hat", "point", NULL};
+    static const char *const bake_presets[] = {"paper", NULL};
+    static const int bake_preset_values[] = {0};
     static const int weight_values[] = {SSS_WEIGHTS_HAT, SSS_WEIGHTS_POINT};
     memset(a, 0, sizeof *a);
     a->eta = 1.3;
@@ -195,7 +204,9 @@ static int parse(int argc, char **argv, bake_args *a)
         {.name = "--sigma-s", .kind = SSS_CLI_TRIPLE, .dest = a->sigma_s, .given = &a->have_sigma_s},
         {.name = "--eta", .kind = SSS_CLI_DOUBLE, .dest = &a->eta, .lo = 1e-3, .hi = 1e3, .given = &a->have_eta},
         {.name = "--mm-per-unit", .kind = SSS_CLI_DOUBLE, .dest = &a->mm_per_unit, .lo = 1e-12, .hi = 1e12},
-        {.name = "--dirs", .kind = SSS_CLI_U32, .dest = &a->dirs, .lo = 1, .hi = 100000},
+        {.name = "--dirs", .kind = SSS_CLI_U32, .dest = &a->dirs, .lo = 1, .hi = 100000, .given = &a->dirs_given},
+        {.name = "--preset", .kind = SSS_CLI_CHOICE, .dest = &a->bake_preset, .choices = bake_presets,
+         .values = bake_preset_values, .given = &a->bake_preset_given},
         {.name = "--eps", .kind = SSS_CLI_DOUBLE, .dest = &a->eps, .lo = 1e-12, .hi = 0.5},
         {.name = "--quant", .kind = SSS_CLI_CHOICE, .dest = &a->quant, .choices = quants, .values = quant_values,
          .given = &a->have_quant},
@@ -234,6 +245,32 @@ static int parse(int argc, char **argv, bake_args *a)
                          .extra_msg = "%s: unexpected argument '%s' (one MESH only)\n"};
     const int rc = sss_cli_parse(&cli, argc, argv);
     if (rc != SSS_CLI_RUN) return rc;
+    /* --preset paper, Hao–Varshney 2004: 200 light directions (§3.2), the
+     * paper's point weights with every term baked (§3.1), its compression
+     * (§4: 3 % references, SH order 3, linear 8-bit codes, 16-bit
+     * barycentric weights). Exactly that: an option that would change it
+     * is refused, not quietly applied. */
+    if (a->bake_preset_given) {
+        const struct { int given; const char *name; } fixed[] = {
+            {a->dirs_given, "--dirs"}, {a->weights_given, "--weights"}, {a->near_terms_given, "--own-term"},
+            {a->rings_given, "--rings"}, {a->near_radius_given, "--near-radius"},
+            {a->near_fraction_given, "--near-fraction"}, {a->have_quant, "--quant"}, {a->preset_given, "--compress"},
+            {a->order_given, "--sh-order"}, {a->refs_given, "--refs"}, {a->sh_quant_given, "--sh-quant"},
+            {a->wbits_given, "--weight-bits"}, {a->ls_given, "--ls-weights"}, {a->illum_given, "--illum-refs"}};
+        for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; k++)
+            if (fixed[k].given) {
+                sss_cli_printf(stderr, "%s: --preset paper is the paper's configuration exactly: not with %s\n", TOOL,
+                               fixed[k].name);
+                return 2;
+            }
+        if (a->scene) return refuse("--preset applies to plain bakes, not to --scene");
+        a->dirs = 200;
+        a->weights = SSS_WEIGHTS_POINT;
+        a->weights_given = 1;
+        a->near_terms = 0;
+        a->preset = SSS_COMPRESS_PAPER;
+        a->preset_given = 1;
+    }
     a->compress = a->preset_given || a->order_given || a->refs_given || a->sh_quant_given || a->wbits_given ||
                   a->ls_given || a->illum_given;
 

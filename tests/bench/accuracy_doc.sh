@@ -459,7 +459,8 @@ What the tables say:
   (everything counted), the 23K $(fmt "$ES_D23_R1") at $(fmt1 "$BS_D23_R1"). Without the near
   terms, \`--compress compact\`: $(fmt "$EC_D100") at $(fmt1 "$BC_D100") bytes.
   sss-bake's own default stays the paper's (every term baked, 200 float
-  directions).
+  directions); \`--preset paper\` adds the paper's compression (\`--compress
+  paper\`, docs/compression.md) and refuses any option that would change it.
 - **Target — image RMS ≤ 1×10⁻³ at ≤ 16 bytes per vertex on the dragon:
   met** with the near terms at run time, RGB, worst of $VIEWS views / mean:
   **23K dragon $(fmt "$ES2_D23") / $(fmt "$MS2_D23") at $(fmt1 "$BS2_D23")

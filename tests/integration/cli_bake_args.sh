@@ -21,7 +21,7 @@ B=(m.ply -o x.sss)
 
 # a value missing at the end of the line
 for o in -o --out --material --sigma-a --sigma-s --eta --mm-per-unit --dirs --eps --quant --compress --sh-order \
-         --refs --sh-quant --weight-bits --illum-refs --gather --own-term --rings --near-fraction --theta --threads --scene; do
+         --refs --sh-quant --weight-bits --illum-refs --gather --own-term --rings --near-fraction --preset --theta --threads --scene; do
   expect_arg_error "$T: $o needs a value" "$SSS_BAKE" m.ply $o
 done
 
@@ -79,6 +79,13 @@ expect_arg_error "$T: --plan needs --scene S.json" "$SSS_BAKE" "${B[@]}" --plan 
 expect_arg_error "$T: --rings needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --rings 2
 expect_arg_error "$T: --rings needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --own-term runtime --own-term baked --rings 2
 expect_arg_error "$T: --near-fraction needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --near-fraction 0.9
+for x in "--dirs 200" "--weights hat" "--own-term baked" "--quant float" "--compress compact" "--sh-order 3" "--refs 0.03"; do
+  # shellcheck disable=SC2086
+  expect_arg_error "$T: --preset paper is the paper's configuration exactly: not with ${x%% *}" \
+    "$SSS_BAKE" "${B[@]}" --preset paper $x
+done
+expect_arg_error "$T: --preset: 'compact' must be paper" "$SSS_BAKE" "${B[@]}" --preset compact
+expect_arg_error "$T: --preset applies to plain bakes, not to --scene" "$SSS_BAKE" --scene s.json --preset paper
 for x in "--rings 1" "--near-radius 2"; do
   # shellcheck disable=SC2086
   expect_arg_error "$T: --near-fraction sizes the near terms by the material: not with --rings or --near-radius" \

@@ -75,6 +75,19 @@ expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/n99.sss" --material skin1 --mm-pe
   --near-fraction 0.99 -q
 expect_ok "$SSS_STAT" "$TMP/n99.sss"
 contains "$TMP/out" 'every vertex within 13.6'
+# --preset paper: Hao-Varshney 2004 exactly (200 directions, point weights,
+# every term baked, 3 % references, SH order 3, linear 8-bit codes, 16-bit
+# barycentric weights), the same bytes as those options spelt out
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/hv.sss" --material skin1 --mm-per-unit 20 --preset paper -q
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/hv2.sss" --material skin1 --mm-per-unit 20 --dirs 200 --weights point \
+  --own-term baked --compress paper -q
+cmp -s "$TMP/hv.sss" "$TMP/hv2.sss" || fail "--preset paper differs from its options spelt out"
+expect_ok "$SSS_STAT" "$TMP/hv.sss"
+for k in 'directions 200, storage refs' 'weights: point samples' '16-bit weights in \[0, 1\], SH order 3 (linear8)' \
+         'references ([23]\.[0-9]*%)'; do
+  contains "$TMP/out" "$k"
+done
+grep -q 'near terms added at run time' "$TMP/out" && fail "--preset paper split near terms off"
 # the bundled sample bakes too
 expect_ok "$SSS_BAKE" "$SSS_SOURCE/data/meshes/blob.ply" -o "$TMP/sample.sss" --material marble --mm-per-unit 100 --dirs 25 -q
 echo "cli_bake_stat: ok"
