@@ -136,7 +136,14 @@ visibility rays):
   coverage_mean, exposure, views, width, height, worst_view, gl_renderer}\`,
   \`image_error_status\` ("ok", "skipped (--no-image)" or "unavailable: …"
   when no OpenGL 4.3 context exists — the per-vertex error is printed
-  either way).
+  either way). \`--backlit\` draws every view's light within 30° of the
+  direction opposite the camera (\`image_error.lights\`), where the
+  translucency and the terminators face the viewer;
+- **scene bakes**: besides the moving light's direction set, every static
+  directional light (QDIR) against the exact evaluator at its own direction
+  (\`static_lights[].{rms, rel_rms, max_abs}\`; the bake and the evaluator use
+  the same weights, so it is float-exact); point shells and the
+  environment's SH transfer are named in \`not_measured\`.
 
 Conventions that move the numbers, so that they can be compared with care:
 

@@ -47,6 +47,26 @@ sed 's/"lights": \[/"lights": [{"type": "environment", "probe": "nope.exr"}, /' 
 expect_fail "nope.exr" "$SSS_BAKE" --scene "$TMP/bad3.json" -o "$TMP/o3" -q
 [ -z "$(ls -A "$TMP/o3" | grep -v '^blob.sss$\|^ball.sss$' )" ] || fail "temporary files left: $(ls "$TMP/o3")"
 [ ! -e "$TMP/o3/blob.sss" ] || fail "blob.sss written although its bake failed"
+# sss-stat --error on a scene bake measures its static lights too (QDIR):
+# each stored row against the exact evaluator at its direction, which the
+# bake computed with the same weights (float-exact), next to the moving
+# light's direction set; the point shells are named as not measured
+cat > "$TMP/m.json" <<'J'
+{"objects": [{"name": "blob", "mesh": "blob.ply", "material": "skin1", "mm_per_unit": 10}],
+ "lights": [{"type": "directional", "direction": [1, 0, 1]}, {"type": "directional", "direction": [0, 1, 0.2]},
+            {"type": "directional", "direction": [0, 1, 0], "moving": true},
+            {"type": "point", "position": [0, 3, 0], "moving": true}],
+ "bake": {"dirs": 40, "shells": 2}}
+J
+mkdir -p "$TMP/o4"
+expect_ok "$SSS_BAKE" --scene "$TMP/m.json" -o "$TMP/o4" -q
+expect_ok "$SSS_STAT" "$TMP/o4/blob.sss" --error --views 4 --no-image --json
+contains "$TMP/out" '"static_lights":\[{"direction":\[0.70710678'
+contains "$TMP/out" '"not_measured":"point-shells"'
+n=$(grep -o '"rel_rms":[-0-9.eE+]*' "$TMP/out" | sed -n '2,3p' | awk -F: '$2 <= 1e-6' | wc -l)
+[ "$n" -eq 2 ] || fail "static lights' rows differ from the exact evaluator: $(cat "$TMP/out")"
+expect_ok "$SSS_STAT" "$TMP/o4/blob.sss" --error --views 4 --no-image
+contains "$TMP/out" 'static light 1 (0, 0.9806, 0.1961), exact values (QDIR): RMS'
 expect_fail "must be an existing directory" "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/nodir"
 expect_fail "needs --scene" "$SSS_BAKE" --plan
 echo "cli_scene: ok"
