@@ -434,6 +434,14 @@ static void report_text(const bake_args *a, const bake_setup *s, const bake_resu
                 100.0 * st->occluded_fraction, "", r->t_import, st->t_neighbourhoods, st->t_visibility, st->t_integrals,
                 st->t_quantise, st->t_compress, r->t_write, outp, fsize, (double)fsize / nv,
                 sss_file_integral_bytes_per_vertex(f));
+    /* the viewer's near-terms weights, one float per channel and entry, in
+     * one storage buffer: above OpenGL 4.3's guaranteed 2^27 bytes some
+     * readers refuse the file (runtime/src/render/effects/near.c) */
+    if (f->near_terms && (double)st->near_entries * 4.0 * C > 134217728.0)
+        sss_cli_printf(stderr, "%s: %s: warning: the near terms hold %.1f entries per vertex, %.0f MiB of weights at run "
+                "time, above the 128 MiB storage buffer every OpenGL 4.3 reader has (llvmpipe's limit): such a viewer "
+                "refuses the file; a smaller --near-fraction or --near-radius fits (docs/accuracy.md)\n", TOOL, in,
+                (double)st->near_entries / nv, (double)st->near_entries * 4.0 * C / 1048576.0);
     if (st->thin_vertices)
         sss_cli_printf(stderr, "%s: %s: warning: %u vertices lie on parts thinner than the scattering length 1/sigma_tr = %.3g mm "
                 "(thinnest %.3g mm): the semi-infinite dipole counts light gathered through them twice, so q there comes "
@@ -512,6 +520,7 @@ static void report_json(const bake_args *a, const bake_setup *s, const bake_resu
     cJSON_AddItemToObject(o, "radius_mm", cJSON_CreateDoubleArray(st->radius_mm, 3));
     cJSON_AddNumberToObject(o, "coarse_vertices", st->coarse_vertices);
     cJSON_AddNumberToObject(o, "thin_vertices", st->thin_vertices);
+    if (f->near_terms && nv) cJSON_AddNumberToObject(o, "near_entries_per_vertex", (double)st->near_entries / nv);
     if (isfinite(st->thinnest_mm)) cJSON_AddNumberToObject(o, "thinnest_mm", st->thinnest_mm);
     cJSON_AddNumberToObject(o, "longest_edge_mm", st->longest_edge_mm);
     cJSON_AddNumberToObject(o, "scattering_length_mm", st->range_mm);

@@ -66,11 +66,18 @@ expect_fail 'weight-bits' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --weight-b
 # that holds --near-fraction (default 0.95) of R_d,total in every channel,
 # 8.71 mm for skin1 whatever the mesh's scale (docs/accuracy.md)
 for s in 20 5; do
-  expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/n$s.sss" --material skin1 --mm-per-unit $s --dirs 20 --own-term runtime -q
+  expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/n$s.sss" --material skin1 --mm-per-unit $s --dirs 20 --own-term runtime -q \
+    --json
+  cp "$TMP/out" "$TMP/n$s.json"
   expect_ok "$SSS_STAT" "$TMP/n$s.sss" --json
   contains "$TMP/out" '"near_radius_mm":8.71073'
   contains "$TMP/out" '"near_fraction":0.95'
 done
+# the entries a reader builds: more per vertex on the smaller object (the
+# radius is the same number of mm, so it spans more of the mesh)
+e20=$(sed -n 's/.*"near_entries_per_vertex":\([0-9.eE+]*\).*/\1/p' "$TMP/n20.json")
+e5=$(sed -n 's/.*"near_entries_per_vertex":\([0-9.eE+]*\).*/\1/p' "$TMP/n5.json")
+awk -v a="$e20" -v b="$e5" 'BEGIN { exit !(a >= 1 && b > 4 * a) }' || fail "near entries per vertex: $e20 at 20 mm/unit, $e5 at 5"
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/n99.sss" --material skin1 --mm-per-unit 20 --dirs 20 --own-term runtime \
   --near-fraction 0.99 -q
 expect_ok "$SSS_STAT" "$TMP/n99.sss"

@@ -315,7 +315,7 @@ quantise:
     if (o.near_terms) {
         t = sss_now();
         r = sss_near_terms_split(mesh, mat, &o, C, &out->dirs, o.weights == SSS_WEIGHTS_HAT ? &hat : NULL, out->q,
-                                 &st.rays, err);
+                                 &st.rays, &st.near_entries, err);
         if (r != SSS_OK) goto fail;
         out->near_terms = SSS_NEAR_TERMS_RUNTIME;
         out->near_rings = o.near_radius_mm > 0.0 ? 0 : o.near_rings;

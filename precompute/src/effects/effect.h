@@ -86,10 +86,11 @@ void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, fl
  * o->near_radius_mm) at every direction sample of ds, with the bake's own
  * visibility rule and weights (hat: the bake's hat-function corrections
  * when o->weights says so), so that a reader adding them back for a
- * sample restores q. In place; polls o->cancel. */
+ * sample restores q. In place; polls o->cancel. *entries (when not NULL):
+ * the terms' count over all rows, what every reader builds. */
 sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
                                 const sss_dirset *ds, const sss_weights *hat, float *q, uint64_t *rays,
-                                sss_error *err);
+                                uint64_t *entries, sss_error *err);
 
 /* The units (one file each). */
 extern const sss_effect_unit sss_effect_dir_exact;    /* dir_exact.c */

@@ -19,7 +19,8 @@
  * back at ω_j restores q_j up to rounding (and the clamp at 0 below).
  * Independent elements: the result does not depend on the thread count. */
 sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
-                                const sss_dirset *ds, const sss_weights *hat, float *q, uint64_t *rays, sss_error *err)
+                                const sss_dirset *ds, const sss_weights *hat, float *q, uint64_t *rays,
+                                uint64_t *entries, sss_error *err)
 {
     const uint32_t nv = mesh->nv, D = ds->n;
     sss_weights nr;
@@ -27,6 +28,7 @@ sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, c
                                 .weights = o->weights, .eps = o->eps};
     sss_result r = sss_near_build_spec(mesh, mat, o->mm_per_unit, C, &spec, hat, &nr, err);
     if (r != SSS_OK) return r;
+    if (entries) *entries = nr.start[nv];
     sss_vis *vis = NULL;
     uint8_t *lit = malloc((size_t)nv + 1);
     float *gv = malloc((size_t)nv * sizeof *gv + 1);
