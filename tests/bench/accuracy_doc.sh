@@ -142,8 +142,13 @@ visibility rays):
 - **scene bakes**: besides the moving light's direction set, every static
   directional light (QDIR) against the exact evaluator at its own direction
   (\`static_lights[].{rms, rel_rms, max_abs}\`; the bake and the evaluator use
-  the same weights, so it is float-exact); point shells and the
-  environment's SH transfer are named in \`not_measured\`.
+  the same weights, so it is float-exact); the point shells (PSHL, §3.3)
+  as the viewer interpolates them (\`sss_fx_point\`) against the exact point
+  light (\`sss_point_exact\`) at up to 16 random positions between the first
+  and the last shell (\`point_shells.{rel_rms_max, rel_rms_mean}\`: 0.24 with
+  2 shells × 40 directions, 0.028 with 6 × 200 on the blob of
+  \`tests/integration/cli_scene.sh\`); the environment's SH transfer is
+  named in \`not_measured\`.
 
 Conventions that move the numbers, so that they can be compared with care:
 

@@ -50,7 +50,8 @@ expect_fail "nope.exr" "$SSS_BAKE" --scene "$TMP/bad3.json" -o "$TMP/o3" -q
 # sss-stat --error on a scene bake measures its static lights too (QDIR):
 # each stored row against the exact evaluator at its direction, which the
 # bake computed with the same weights (float-exact), next to the moving
-# light's direction set; the point shells are named as not measured
+# light's direction set; and its point shells, interpolated against the
+# exact point light
 cat > "$TMP/m.json" <<'J'
 {"objects": [{"name": "blob", "mesh": "blob.ply", "material": "skin1", "mm_per_unit": 10}],
  "lights": [{"type": "directional", "direction": [1, 0, 1]}, {"type": "directional", "direction": [0, 1, 0.2]},
@@ -62,11 +63,23 @@ mkdir -p "$TMP/o4"
 expect_ok "$SSS_BAKE" --scene "$TMP/m.json" -o "$TMP/o4" -q
 expect_ok "$SSS_STAT" "$TMP/o4/blob.sss" --error --views 4 --no-image --json
 contains "$TMP/out" '"static_lights":\[{"direction":\[0.70710678'
-contains "$TMP/out" '"not_measured":"point-shells"'
+contains "$TMP/out" '"not_measured":""'
+contains "$TMP/out" '"point_shells":{"lights":4,"rel_rms_max":'
+p2=$(sed -n 's/.*"point_shells":{[^}]*"rel_rms_max":\([-0-9.eE+]*\).*/\1/p' "$TMP/out")
 n=$(grep -o '"rel_rms":[-0-9.eE+]*' "$TMP/out" | sed -n '2,3p' | awk -F: '$2 <= 1e-6' | wc -l)
 [ "$n" -eq 2 ] || fail "static lights' rows differ from the exact evaluator: $(cat "$TMP/out")"
 expect_ok "$SSS_STAT" "$TMP/o4/blob.sss" --error --views 4 --no-image
 contains "$TMP/out" 'static light 1 (0, 0.9806, 0.1961), exact values (QDIR): RMS'
+contains "$TMP/out" 'point shells (PSHL), 4 point lights'
+# the point shells' interpolation (Hao-Varshney 2004 sec. 3.3) against the
+# exact point light: finer in distance and direction, smaller
+sed 's/"shells": 2/"shells": 6/; s/"dirs": 40/"dirs": 200/' "$TMP/m.json" > "$TMP/m6.json"
+mkdir -p "$TMP/o5"
+expect_ok "$SSS_BAKE" --scene "$TMP/m6.json" -o "$TMP/o5" -q
+expect_ok "$SSS_STAT" "$TMP/o5/blob.sss" --error --views 4 --no-image --json
+p6=$(sed -n 's/.*"point_shells":{[^}]*"rel_rms_max":\([-0-9.eE+]*\).*/\1/p' "$TMP/out")
+awk -v a="$p2" -v b="$p6" 'BEGIN { exit !(b > 0 && b < 0.5 * a && b < 0.1) }' ||
+  fail "point shells' rel. RMS: $p2 with 2 shells x 40 directions, $p6 with 6 x 200 (want the second < half the first, < 0.1)"
 expect_fail "must be an existing directory" "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/nodir"
 expect_fail "needs --scene" "$SSS_BAKE" --plan
 echo "cli_scene: ok"
