@@ -77,6 +77,11 @@ static int copy_base(const sss_bake_file *s, sss_bake_file *d)
     d->channels = s->channels;
     d->near_terms = s->near_terms; /* the rows compressed are what the source holds */
     d->near_rings = s->near_rings;
+    /* and which near terms and weights (sections NRAD, QUAD): readers
+     * rebuild the near terms and the exact evaluator the sums from them,
+     * so a compressed file without them would add the wrong terms back */
+    d->near_radius_mm = s->near_radius_mm;
+    d->weights = s->weights;
     d->dirs.n = s->dirs.n;
     d->dirs.ntri = s->dirs.ntri;
     d->dirs.dir = dup_bytes(s->dirs.dir, 3 * (size_t)s->dirs.n * sizeof(double));
