@@ -33,6 +33,9 @@ static void usage(FILE *f)
         "  --exposure E         radiance multiplier before tone mapping (default 1)\n"
         "  --intensity I        light irradiance E (default 1)\n"
         "  --tonemap clamp|reinhard   (default clamp: values in [0,1], the measurement convention)\n"
+        "  --exit jensen|normalised  the subsurface exit term: Jensen's F_t (default, as the paper), or\n"
+        "                       F_t / c(eta) so that the radiance integrates to the dipole's exitance\n"
+        "                       (docs/physics.md section 4; closer to the path-traced reference in marble)\n"
         "  --cpu                evaluate on the CPU (C decoder; with --scene, the CPU sum of the lights)\n"
         "  --no-scatter, --no-specular   drop one of the two terms\n"
         "  --no-own-term        files baked with --own-term runtime: draw the stored rows alone, without\n"
@@ -85,6 +88,7 @@ static int parse(int argc, char **argv, view_args *a)
     static const int tonemap_values[] = {SSS_TONEMAP_CLAMP, SSS_TONEMAP_REINHARD};
     static const char *const visibilities[] = {"rays", "map", NULL};
     static const int visibility_values[] = {SSS_NEAR_RAYS, SSS_NEAR_MAP};
+    static const char *const exits[] = {"jensen", "normalised", NULL};
     static const int off[] = {0};
     /* sss-view's own wordings where they differ from the library's defaults */
     static const char *const positive = "%s: %s: '%s' must be a number > %g and <= %g\n";
@@ -103,6 +107,7 @@ static int parse(int argc, char **argv, view_args *a)
          .flags = SSS_CLI_ABOVE_LO, .msg = positive},
         {.name = "--tonemap", .kind = SSS_CLI_CHOICE, .dest = &a->tonemap, .choices = tonemaps,
          .values = tonemap_values},
+        {.name = "--exit", .kind = SSS_CLI_CHOICE, .dest = &a->p.exit_normalised, .choices = exits},
         {.name = "--cpu", .kind = SSS_CLI_FLAG, .dest = &a->cpu},
         {.name = "--no-scatter", .kind = SSS_CLI_FLAG, .dest = &a->p.scatter, .values = off},
         {.name = "--no-specular", .kind = SSS_CLI_FLAG, .dest = &a->p.specular, .values = off},
