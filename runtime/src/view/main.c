@@ -161,7 +161,7 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
 {
     double *scatter = malloc(sizeof(double) * (size_t)n), *draw = malloc(sizeof(double) * (size_t)n),
            *frame = malloc(sizeof(double) * (size_t)n);
-    float *rgb, *hdr;
+    float *rgb = NULL, *hdr = NULL;
     sss_error err;
     sss_renderer_render_image(r, p, w, h, &rgb, &hdr, &err); /* warms caches */
     free(rgb);
@@ -228,7 +228,7 @@ static int offscreen_render(const sss_bake_file *f, view_args *a)
     int rc = 0;
     if (a->nbench) bench(r, f, &a->p, w, h, a->nbench);
     if (a->out) {
-        float *rgb, *hdr;
+        float *rgb = NULL, *hdr = NULL;
         if (sss_renderer_render_image(r, &a->p, w, h, &rgb, &hdr, &err) != SSS_OK ||
             sss_write_image_with(a->out, rgb, hdr, w, h, &a->inputs, &err) != SSS_OK) {
             sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
@@ -236,9 +236,9 @@ static int offscreen_render(const sss_bake_file *f, view_args *a)
         } else {
             sss_cli_printf(stderr, "%s: %s: %dx%d, %s, %s path\n", TOOL, a->out, w, h, sss_gl_renderer_name(),
                     a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU");
-            free(rgb);
-            free(hdr);
         }
+        free(rgb);
+        free(hdr);
     }
     sss_renderer_destroy(r);
     sss_offscreen_destroy(ctx);
@@ -273,7 +273,7 @@ static void scene_bench(const sss_bake_file *f, sss_scene_eval *ev, sss_fx_gpu *
 {
     double *ev_ms = malloc(sizeof(double) * (size_t)n), *draw = malloc(sizeof(double) * (size_t)n),
            *frame = malloc(sizeof(double) * (size_t)n);
-    float *rgb, *hdr;
+    float *rgb = NULL, *hdr = NULL;
     sss_error err = {{0}};
     sss_scene_eval_set_view(ev, p);
     /* the sums hold the near terms: the draw adds none */
@@ -341,7 +341,7 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
     snprintf(evals, sizeof evals, g ? "gpu (programs: %s)" : "cpu%s", g ? sss_fx_gpu_describe(g) : "");
     if (a->nbench) scene_bench(f, ev, g, r, &a->p, q, w, h, a->nbench);
     if (a->out) {
-        float *rgb, *hdr;
+        float *rgb = NULL, *hdr = NULL;
         /* the sum (GPU or CPU) holds each light's near terms; drawn without
          * adding them again (sss_scene_render_image) */
         if (sss_scene_render_image(r, ev, g, &a->p, 0.0, w, h, &rgb, &hdr, &err) != SSS_OK ||
@@ -351,9 +351,9 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
         } else {
             sss_cli_printf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, a->out, w, h,
                     sss_gl_renderer_name(), evals, a->scene, sss_scene_eval_paths(ev));
-            free(rgb);
-            free(hdr);
         }
+        free(rgb);
+        free(hdr);
     }
     sss_fx_gpu_destroy(g);
 done:
