@@ -135,6 +135,17 @@ double sss_ft(double eta, double c)
     return 1.0 - Fr;
 }
 
+double sss_exit_norm(double eta)
+{
+    const int n = 4096;
+    double s = 0.0;
+    for (int k = 0; k < n; k++) {
+        const double mu = (k + 0.5) / n;
+        s += sss_ft(eta, mu) * mu;
+    }
+    return 2.0 * s / n;
+}
+
 sss_result sss_dipole_init(sss_dipole *d, double sigma_a, double sigmap_s, double eta)
 {
     memset(d, 0, sizeof *d);

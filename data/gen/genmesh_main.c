@@ -2,6 +2,7 @@
  * Usage: sss-genmesh KIND RES OUT.ply [SIZE] */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 #include <stdlib.h>
 
 #include "genmesh.h"
@@ -52,6 +53,7 @@ int main(int argc, char **argv)
     int rc = parse_args(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;
     sss_mesh m;
+    memset(&m, 0, sizeof m); /* freed on every path, also when no mesh was made */
     sss_error err = {{0}};
     /* a SIZE read as infinite (or so large its coordinates overflow float)
      * makes no mesh the bake can take: refused by the range every stage
@@ -59,6 +61,7 @@ int main(int argc, char **argv)
     if (sss_gen_by_name(a.kind, (unsigned)a.res, a.size, &m, &err) != SSS_OK ||
         sss_mesh_check_range(&m, 0.0, a.out, &err) != SSS_OK || sss_export_ply(a.out, &m, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_mesh_free(&m);
         return 1;
     }
     sss_cli_printf(stderr, "%s: %s: %u vertices, %u triangles\n", TOOL, a.out, m.nv, m.nf);

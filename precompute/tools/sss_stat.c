@@ -38,7 +38,7 @@ static void usage(FILE *f)
                "                [--image-visibility viewer|rays|map[:N]] [--backlit]\n"
                "                [--interp triangle|nearest4]\n"
                "       sss-stat FILE.sss --model-error --light X,Y,Z --view X,Y,Z [--query VERTEX | --vertices N]\n"
-               "                [--paths N] [--seed S] [--json]\n"
+               "                [--paths N] [--seed S] [--exit jensen|normalised] [--json]\n"
                "Prints vertex count, channels, directions, storage, material, the bytes of every\n"
                "section, and every part of the scattering data (directions, reference indices,\n"
                "triangles, weights, tables, codes) in total and per vertex, with the compression\n"
@@ -82,7 +82,8 @@ static void usage(FILE *f)
                "(--seed), each with --paths paths (default 4096): the model error of the dipole, next\n"
                "to the approximation error against the exact evaluator at the same vertices. Per\n"
                "channel: mean radiance of each, their ratios, and the relative RMS over the vertices\n"
-               "(the model error's with the reference's own noise taken out).\n"
+               "(the model error's with the reference's own noise taken out). --exit normalised divides\n"
+               "the exit term by c(eta) = 2 int F_t mu dmu, as sss-view --exit normalised.\n"
                "\n"
                "Exit status: 0 success, 1 unreadable or unusable file, 2 bad arguments.\n");
 }
@@ -504,6 +505,7 @@ typedef struct model_args {
     double view[3];
     uint32_t vertices, paths;
     uint64_t seed;
+    int exit_normalised; /* --exit normalised: F_t / c(η), as sss-view --exit */
 } model_args;
 
 /* n vertices facing view (n·view > 0), drawn with probability ∝ ΔA
@@ -587,8 +589,10 @@ static int model_error_report(const char *path, const sss_bake_file *f, const ch
         sss_reconstruct_eval_vertex(rc_, vert[i], light, a);
         sss_exact_eval_vertex(e, vert[i], light, b);
         const float *nv = &f->mesh.nrm[3 * (size_t)vert[i]];
-        /* L = E · q · F_t(η, n·ω_o), E = 1 (docs/physics.md §4) */
-        ftv[i] = sss_ft(f->material.eta, nv[0] * view[0] + nv[1] * view[1] + nv[2] * view[2]);
+        /* L = E · q · F_t(η, n·ω_o), E = 1, or divided by c(η) for the
+         * normalised exit (docs/physics.md §4) */
+        ftv[i] = sss_ft(f->material.eta, nv[0] * view[0] + nv[1] * view[1] + nv[2] * view[2]) /
+                 (ma->exit_normalised ? sss_exit_norm(f->material.eta) : 1.0);
         for (int c = 0; c < 3; c++) {
             rt[3 * i + c] = (float)(a[C == 1 ? 0 : c] * ftv[i]);
             ex[3 * i + c] = (float)(b[C == 1 ? 0 : c] * ftv[i]);
@@ -633,6 +637,7 @@ static int model_error_report(const char *path, const sss_bake_file *f, const ch
         cJSON_AddStringToObject(o2, "quant", sss_quant_name(f->quant));
         cJSON_AddItemToObject(o2, "light", cJSON_CreateDoubleArray(light, 3));
         cJSON_AddItemToObject(o2, "view", cJSON_CreateDoubleArray(view, 3));
+        cJSON_AddStringToObject(o2, "exit", ma->exit_normalised ? "normalised" : "jensen");
         cJSON_AddNumberToObject(o2, "sampled_vertices", n);
         cJSON_AddNumberToObject(o2, "paths", (double)st.paths);
         cJSON_AddNumberToObject(o2, "seed", (double)ma->seed);
@@ -860,6 +865,7 @@ static int parse_args(int argc, char **argv, stat_args *a)
     a->seed = 1;
     a->ma.vertices = 64;
     a->ma.paths = 4096;
+    static const char *const exits[] = {"jensen", "normalised", NULL};
     const sss_cli_opt opts[] = {
         {.name = "--json", .kind = SSS_CLI_FLAG, .dest = &a->json},
         {.name = "--query", .kind = SSS_CLI_STRING, .dest = &a->qvertex}, /* checked against the file: query() */
@@ -888,6 +894,8 @@ static int parse_args(int argc, char **argv, stat_args *a)
         {.name = "--view", .kind = SSS_CLI_TRIPLE, .dest = a->ma.view, .flags = SSS_CLI_NONZERO, .given = &a->have_view},
         {.name = "--vertices", .kind = SSS_CLI_U32, .dest = &a->ma.vertices, .lo = 1, .hi = 1000000, .given = &a->model_opt},
         {.name = "--paths", .kind = SSS_CLI_U32, .dest = &a->ma.paths, .lo = 1, .hi = 1u << 30, .given = &a->model_opt},
+        {.name = "--exit", .kind = SSS_CLI_CHOICE, .dest = &a->ma.exit_normalised, .choices = exits,
+         .given = &a->model_opt},
     };
     const sss_cli_opt pos[] = {{.name = "FILE.sss", .kind = SSS_CLI_STRING, .dest = &a->path}};
     const sss_cli cli = {
@@ -944,7 +952,7 @@ static int combinations_ok(const stat_args *a)
         return 0;
     }
     if ((a->have_view || a->model_opt) && !a->want_model) {
-        sss_cli_printf(stderr, "%s: --view, --vertices and --paths go with --model-error\n", TOOL);
+        sss_cli_printf(stderr, "%s: --view, --vertices, --paths and --exit go with --model-error\n", TOOL);
         return 0;
     }
     if (a->want_model && (!a->qlight || !a->have_view)) {

@@ -6,6 +6,7 @@ uniform vec3 u_light;     // unit, towards the light
 uniform vec3 u_light_rgb; // irradiance E per channel
 uniform float u_eta;
 uniform float u_exposure;
+uniform float u_exit_scale; // 1, or 1/c(η) for the normalised exit (docs/physics.md §4)
 uniform int u_scatter;
 uniform int u_specular;
 uniform int u_tonemap;    // 0 clamp, 1 Reinhard, -1 none (HDR readback)
@@ -30,8 +31,9 @@ void main() {
     vec3 v = normalize(u_eye - v_pos);
     float nv = dot(n, v);
     vec3 L = vec3(0.0);
-    // Subsurface term: L = E q F_t(eta, n.w_o) (Hao–Varshney 2004 §3.1)
-    if (u_scatter != 0) L += u_light_rgb * v_q * (1.0 - fresnel_r(u_eta, nv));
+    // Subsurface term: L = E q F_t(eta, n.w_o) (Hao–Varshney 2004 §3.1),
+    // divided by c(η) for the normalised exit
+    if (u_scatter != 0) L += u_light_rgb * v_q * ((1.0 - fresnel_r(u_eta, nv)) * u_exit_scale);
     // Surface reflection: Fresnel-weighted normalised Blinn-Phong lobe.
     if (u_specular != 0) {
         vec3 h = normalize(u_light + v);

@@ -11,7 +11,17 @@
 # input as it was (checksums and file types) and write nothing (the output
 # directories list the same files before and after: no output, no
 # temporary).
+# the scratch tmpfs mounts (root only) are unmounted on every exit, and a
+# run killed before its trap leaves none for the next one to trip over
+unmount_scratch() {
+  local d
+  for d in "${1:-}/ro" "${1:-}/full"; do
+    while mountpoint -q "$d" 2>/dev/null; do umount "$d" || break; done
+  done
+}
+unmount_scratch "${1:-}"
 . "$(dirname "$0")/lib.sh"
+trap 'unmount_scratch "$TMP"' EXIT
 # sanitizer builds preload Mesa's driver into the viewer (tests/CMakeLists.txt);
 # a command, not a function, so that timeout can run it
 VIEW=(env "LD_PRELOAD=${SSS_VIEW_PRELOAD:-}" "$SSS_VIEW")

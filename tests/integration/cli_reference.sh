@@ -100,6 +100,19 @@ for key in mean_radiance realtime exact reference reference_stderr approximation
   contains "$TMP/out" "\"$key\":"
 done
 contains "$TMP/out" '"sampled_vertices":4,'
+cp "$TMP/out" "$TMP/jensen.json"
+# the normalised exit divides the real-time and exact radiance by c(1.3) = 0.93887, not the reference
+expect_ok "$SSS_STAT" "$TMP/b.sss" --model-error --light 0,0.3,1 --view 0,0,1 --vertices 4 --paths 64 --json --exit normalised
+contains "$TMP/out" '"exit":"normalised"'
+python3 - "$TMP/jensen.json" "$TMP/out" <<'PY' || fail "--exit normalised is not the Jensen exit divided by c(eta)"
+import json, sys
+a, b = (json.load(open(p))["mean_radiance"] for p in sys.argv[1:])
+for k in ("realtime", "exact"):
+    for x, y in zip(a[k], b[k]):
+        assert abs(y * 0.93887 - x) <= 1e-4 * x, (k, x, y)
+assert a["reference"] == b["reference"]
+PY
+expect_rc 2 "must be jensen or normalised" "$SSS_STAT" "$TMP/b.sss" --model-error --light 0,0.3,1 --view 0,0,1 --exit nope
 expect_ok "$SSS_STAT" "$TMP/b.sss" --model-error --light 0,0.3,1 --view 0,0,1 --query 5 --paths 64
 contains "$TMP/out" "model ratio"
 expect_rc 2 "needs --light" "$SSS_STAT" "$TMP/b.sss" --model-error --view 0,0,1

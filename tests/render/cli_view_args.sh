@@ -16,7 +16,7 @@ expect_msg() {
 # the file is never opened for these, so it need not exist
 F=$TMP/none.sss
 # a value missing at the end of the line
-for o in --out --screenshot --size --light --view --exposure --intensity --tonemap --scene --near-visibility \
+for o in --out --screenshot --size --light --view --exposure --intensity --tonemap --exit --scene --near-visibility \
          --shadow-size --bench; do
   expect_msg "sss-view: $o needs a value" "$F" "$o"
 done
@@ -50,6 +50,7 @@ done
 # the choices
 expect_msg "sss-view: --tonemap: 'Clamp' must be clamp or reinhard" "$F" --tonemap Clamp
 expect_msg "sss-view: --tonemap: '' must be clamp or reinhard" "$F" --tonemap ''
+expect_msg "sss-view: --exit: 'normalized' must be jensen or normalised" "$F" --exit normalized
 expect_msg "sss-view: --near-visibility: 'maps' must be rays or map" "$F" --near-visibility maps
 # --shadow-size: an integer 256 ... 8192; --bench: an integer in [1, 100000]
 for v in 255 8193 -512 512x 1e3 ''; do

@@ -22,6 +22,7 @@
 #include "sss/import.h"
 
 #include "gl_fixture.h"
+#include "sss/dipole.h"
 #include "sss/vec3.h"
 #include "test_util.h"
 
@@ -196,6 +197,49 @@ static void check_images(const sss_bake_file *f, const char *name)
     sss_renderer_destroy(r);
 }
 
+/* The normalised exit (sss_view_params.exit_normalised) divides the
+ * subsurface term by c(η), pixel for pixel in the HDR image; the specular
+ * term stays as it was. */
+static void normalisedExitDividesSubsurfaceTermByC(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 1.0, 3, &err), SSS_OK);
+    sss_bake_file f;
+    bake_preset(&m, "marble", 0, 30.0, 50, SSS_QUANT_FLOAT, -1, &f);
+    sss_renderer *r;
+    assert_int_equal(sss_renderer_create(&f, &r, &err), SSS_OK);
+    const int W = 64, H = 48;
+    const double c = sss_exit_norm(f.material.eta);
+    assert_true(c > 0.93 && c < 0.95);
+    for (int spec = 0; spec < 2; spec++) {
+        sss_view_params p;
+        sss_view_params_default(&p);
+        p.specular = spec;
+        float *rgb, *a, *b;
+        assert_int_equal(sss_renderer_render_image(r, &p, W, H, &rgb, &a, &err), SSS_OK);
+        free(rgb);
+        p.exit_normalised = 1;
+        assert_int_equal(sss_renderer_render_image(r, &p, W, H, &rgb, &b, &err), SSS_OK);
+        free(rgb);
+        size_t lit = 0;
+        double sa = 0, sb = 0;
+        for (size_t i = 0; i < (size_t)W * H * 3; i++) {
+            if (a[i] > 0) lit++;
+            sa += a[i], sb += b[i];
+            if (!spec) assert_true(fabs(b[i] - a[i] / c) <= 1e-5 * (1.0 + a[i]));
+        }
+        assert_true(lit > 100);
+        if (spec) assert_true(sb > sa && sb < sa / c); /* the specular part is not divided */
+        free(a);
+        free(b);
+    }
+    sss_renderer_destroy(r);
+    sss_file_free(&f);
+    sss_mesh_free(&m);
+}
+
 static void offscreenSphereMatchesCDecoderImage(void **state)
 {
     (void)state;
@@ -248,6 +292,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gpuEvaluationMatchesCDecoderPerVertex),
         cmocka_unit_test(gpuEvaluationMatchesCDecoderCompressed),
+        cmocka_unit_test(normalisedExitDividesSubsurfaceTermByC),
         cmocka_unit_test(offscreenSphereMatchesCDecoderImage),
         cmocka_unit_test(offscreenCompressedSphereMatchesCDecoderImage),
         cmocka_unit_test(offscreenBunnyMatchesCDecoderImage),

@@ -213,6 +213,22 @@ static void fresnelTransmittanceLimits(void **state)
     assert_true(sss_ft(0.7, 0.2) == 0.0);               /* total internal reflection */
 }
 
+/* c(η) = 2 ∫ F_t μ dμ: 1 index-matched; 0.93887 at η = 1.3 (the 10⁵-cell
+ * quadrature of tests/bench/halfspace_terms); at η = 1.5 one minus the
+ * diffuse reflectance of glass from air, 0.0918 (Judd's table, quoted as
+ * 9.2 % in the optics literature). */
+static void exitNormalisationIsTheHemisphericalTransmittance(void **state)
+{
+    (void)state;
+    assert_true(fabs(sss_exit_norm(1.0) - 1.0) < 1e-7);
+    assert_true(fabs(sss_exit_norm(1.3) - 0.93887) < 1e-5);
+    assert_true(fabs(sss_exit_norm(1.5) - (1.0 - 0.0918)) < 5e-4);
+    for (double eta = 0.5; eta <= 2.5; eta += 0.25) {
+        const double c = sss_exit_norm(eta);
+        assert_true(c > 0.0 && c <= 1.0 + 1e-12);
+    }
+}
+
 static void radiusCapturesRequestedEnergyAndClampsWhenAlbedoIsOne(void **state)
 {
     (void)state;
@@ -315,6 +331,7 @@ int main(void)
         cmocka_unit_test(fresnelDiffuseReflectanceMatchesSheetAt1_3),
         cmocka_unit_test(sanityValuesMatchSheet),
         cmocka_unit_test(fresnelTransmittanceLimits),
+        cmocka_unit_test(exitNormalisationIsTheHemisphericalTransmittance),
         cmocka_unit_test(radiusCapturesRequestedEnergyAndClampsWhenAlbedoIsOne),
         cmocka_unit_test(presetsAndValidation),
         cmocka_unit_test(slabQIsTheBrightestChannelsFlatSurface),

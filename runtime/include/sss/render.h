@@ -124,6 +124,9 @@ typedef struct sss_view_params {
                            * 256 … 8192 (0: SSS_SHADOW_SIZE); finer agrees with the bake's rays at more
                            * vertices and costs more per light change (docs/viewer.md) */
     int near_visibility;  /* files with OWNT: SSS_NEAR_RAYS (default) or SSS_NEAR_MAP (docs/viewer.md) */
+    int exit_normalised;  /* 1: the subsurface exit term F_t(η, n·ω_o) divided by c(η) = sss_exit_norm(η),
+                           * so that the radiance integrates to the dipole's exitance (docs/physics.md §4);
+                           * 0 (default): Jensen's F_t, as the paper */
 } sss_view_params;
 
 /* Fills the defaults: light and view (0, 0, 1), light_rgb (1, 1, 1),

@@ -11,6 +11,7 @@
 #include "gl_util.h"
 #include "renderer.h"
 #include "shaders.h"
+#include "sss/dipole.h"
 #include "sss/vec3.h"
 
 void sss_view_params_default(sss_view_params *p)
@@ -161,6 +162,9 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     glUniform3f(glGetUniformLocation(pr, "u_light_rgb"), (float)p->light_rgb[0], (float)p->light_rgb[1],
                 (float)p->light_rgb[2]);
     glUniform1f(glGetUniformLocation(pr, "u_eta"), (float)m->f->material.eta);
+    /* the exit term F_t/π, or F_t/(π c) normalised (sss/dipole.h) */
+    glUniform1f(glGetUniformLocation(pr, "u_exit_scale"),
+                (float)(p->exit_normalised ? 1.0 / sss_exit_norm(m->f->material.eta) : 1.0));
     glUniform1f(glGetUniformLocation(pr, "u_exposure"), (float)(p->exposure > 0 ? p->exposure : 1.0));
     glUniform1i(glGetUniformLocation(pr, "u_scatter"), p->scatter);
     glUniform1i(glGetUniformLocation(pr, "u_specular"), p->specular);

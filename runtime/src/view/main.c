@@ -35,6 +35,9 @@ static void usage(FILE *f)
         "                       brightest lit parts reach about 1, neither black nor clipped)\n"
         "  --intensity I        light irradiance E (default 1)\n"
         "  --tonemap clamp|reinhard   (default clamp: values in [0,1], the measurement convention)\n"
+        "  --exit jensen|normalised  the subsurface exit term: Jensen's F_t (default, as the paper), or\n"
+        "                       F_t / c(eta) so that the radiance integrates to the dipole's exitance\n"
+        "                       (docs/physics.md section 4; closer to the path-traced reference in marble)\n"
         "  --cpu                evaluate on the CPU (C decoder; with --scene, the CPU sum of the lights)\n"
         "  --no-scatter, --no-specular   drop one of the two terms\n"
         "  --no-own-term        files baked with --own-term runtime: draw the stored rows alone, without\n"
@@ -88,6 +91,7 @@ static int parse(int argc, char **argv, view_args *a)
     static const int tonemap_values[] = {SSS_TONEMAP_CLAMP, SSS_TONEMAP_REINHARD};
     static const char *const visibilities[] = {"rays", "map", NULL};
     static const int visibility_values[] = {SSS_NEAR_RAYS, SSS_NEAR_MAP};
+    static const char *const exits[] = {"jensen", "normalised", NULL};
     static const int off[] = {0};
     /* sss-view's own wordings where they differ from the library's defaults */
     static const char *const positive = "%s: %s: '%s' must be a number > %g and <= %g\n";
@@ -106,6 +110,7 @@ static int parse(int argc, char **argv, view_args *a)
          .flags = SSS_CLI_ABOVE_LO, .msg = positive},
         {.name = "--tonemap", .kind = SSS_CLI_CHOICE, .dest = &a->tonemap, .choices = tonemaps,
          .values = tonemap_values},
+        {.name = "--exit", .kind = SSS_CLI_CHOICE, .dest = &a->p.exit_normalised, .choices = exits},
         {.name = "--cpu", .kind = SSS_CLI_FLAG, .dest = &a->cpu},
         {.name = "--no-scatter", .kind = SSS_CLI_FLAG, .dest = &a->p.scatter, .values = off},
         {.name = "--no-specular", .kind = SSS_CLI_FLAG, .dest = &a->p.specular, .values = off},
@@ -159,7 +164,7 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
 {
     double *scatter = malloc(sizeof(double) * (size_t)n), *draw = malloc(sizeof(double) * (size_t)n),
            *frame = malloc(sizeof(double) * (size_t)n);
-    float *rgb, *hdr;
+    float *rgb = NULL, *hdr = NULL;
     sss_error err;
     sss_renderer_render_image(r, p, w, h, &rgb, &hdr, &err); /* warms caches */
     free(rgb);
@@ -231,7 +236,7 @@ static int offscreen_render(const sss_bake_file *f, view_args *a)
     int rc = 0;
     if (a->nbench) bench(r, f, &a->p, w, h, a->nbench);
     if (a->out) {
-        float *rgb, *hdr;
+        float *rgb = NULL, *hdr = NULL;
         if (sss_renderer_render_image(r, &a->p, w, h, &rgb, &hdr, &err) != SSS_OK ||
             sss_write_image_with(a->out, rgb, hdr, w, h, &a->inputs, &err) != SSS_OK) {
             sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
@@ -239,9 +244,9 @@ static int offscreen_render(const sss_bake_file *f, view_args *a)
         } else {
             sss_cli_printf(stderr, "%s: %s: %dx%d, %s, %s path\n", TOOL, a->out, w, h, sss_gl_renderer_name(),
                     a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU");
-            free(rgb);
-            free(hdr);
         }
+        free(rgb);
+        free(hdr);
     }
     sss_renderer_destroy(r);
     sss_offscreen_destroy(ctx);
@@ -276,7 +281,7 @@ static void scene_bench(const sss_bake_file *f, sss_scene_eval *ev, sss_fx_gpu *
 {
     double *ev_ms = malloc(sizeof(double) * (size_t)n), *draw = malloc(sizeof(double) * (size_t)n),
            *frame = malloc(sizeof(double) * (size_t)n);
-    float *rgb, *hdr;
+    float *rgb = NULL, *hdr = NULL;
     sss_error err = {{0}};
     sss_scene_eval_set_view(ev, p);
     /* the sums hold the near terms: the draw adds none */
@@ -344,7 +349,7 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
     snprintf(evals, sizeof evals, g ? "gpu (programs: %s)" : "cpu%s", g ? sss_fx_gpu_describe(g) : "");
     if (a->nbench) scene_bench(f, ev, g, r, &a->p, q, w, h, a->nbench);
     if (a->out) {
-        float *rgb, *hdr;
+        float *rgb = NULL, *hdr = NULL;
         /* the sum (GPU or CPU) holds each light's near terms; drawn without
          * adding them again (sss_scene_render_image) */
         if (sss_scene_render_image(r, ev, g, &a->p, 0.0, w, h, &rgb, &hdr, &err) != SSS_OK ||
@@ -354,9 +359,9 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
         } else {
             sss_cli_printf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, a->out, w, h,
                     sss_gl_renderer_name(), evals, a->scene, sss_scene_eval_paths(ev));
-            free(rgb);
-            free(hdr);
         }
+        free(rgb);
+        free(hdr);
     }
     sss_fx_gpu_destroy(g);
 done:
