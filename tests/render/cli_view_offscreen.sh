@@ -63,17 +63,19 @@ echo "cli_view_offscreen: ok"
 # the flat surface lit head-on, docs/physics.md §4): a first render with the
 # default light and view is neither dark (the brightest object pixel at 192
 # or more of 255) nor clipped (at most 2 % of the object's pixels at 255),
-# for materials whose q differ by 3x, one channel or three, at any --intensity;
+# for materials whose q differ by 3x, one channel or three, at any --intensity
+# and with the normalised exit term;
 # --exposure 1 is the old, dimmer picture
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/g.sss" --sigma-a 0.01,0.01,0.01 --sigma-s 1,1,1 --mm-per-unit 20 --dirs 50 -q
 for m in marble skin1 ketchup grey; do
   f=$TMP/g.sss
   [ $m = grey ] || { f=$TMP/e_$m.sss; expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$f" --material $m --mm-per-unit 20 --dirs 50 -q; }
-  for i in 1 4; do
-    expect_ok view "$f" --offscreen --out "$TMP/e.png" --size 128x96 --intensity $i
+  for i in "--intensity 1" "--intensity 4" "--exit normalised"; do
+    # shellcheck disable=SC2086
+    expect_ok view "$f" --offscreen --out "$TMP/e.png" --size 128x96 $i
     read -r mx clip < <("$SSS_PNGSTATS" --range "$TMP/e.png") || fail "cannot read e.png"
     awk -v m="$mx" -v c="$clip" 'BEGIN { exit !(m >= 192 && c <= 0.02) }' \
-      || fail "$m, intensity $i, default exposure: brightest sample $mx, clipped fraction $clip (want >= 192, <= 0.02)"
+      || fail "$m, $i, default exposure: brightest sample $mx, clipped fraction $clip (want >= 192, <= 0.02)"
   done
 done
 expect_ok view "$TMP/e_skin1.sss" --offscreen --out "$TMP/e1.png" --size 128x96 --exposure 1

@@ -462,9 +462,11 @@ int main(int argc, char **argv)
     /* a first render neither black nor clipped: the radiance of a flat
      * surface of the material lit head-on, E q F_t(η, n_o·ω_o) with q its
      * slab value (docs/physics.md §4), maps to F_t(η, 1) ≈ 1; --scene's
-     * lights carry their own irradiance, so there E = 1 */
+     * lights carry their own irradiance, so there E = 1; --exit normalised
+     * divides the exit term by c(η), so the exposure multiplies by it */
     if (!a.exposure_given) {
-        const double qs = sss_material_slab_q(&f.material, f.channels) * (a.scene ? 1.0 : a.intensity);
+        const double c = a.p.exit_normalised ? sss_exit_norm(f.material.eta) : 1.0;
+        const double qs = sss_material_slab_q(&f.material, f.channels) * (a.scene ? 1.0 : a.intensity) / c;
         a.p.exposure = qs > 0.0 && isfinite(1.0 / qs) ? 1.0 / qs : 1.0;
     }
     if (a.offscreen) rc = a.scene ? scene_offscreen(&f, &a) : offscreen_render(&f, &a);
