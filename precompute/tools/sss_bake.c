@@ -434,13 +434,15 @@ static void report_text(const bake_args *a, const bake_setup *s, const bake_resu
                 100.0 * st->occluded_fraction, "", r->t_import, st->t_neighbourhoods, st->t_visibility, st->t_integrals,
                 st->t_quantise, st->t_compress, r->t_write, outp, fsize, (double)fsize / nv,
                 sss_file_integral_bytes_per_vertex(f));
-    /* the viewer's near-terms weights, one float per channel and entry, in
-     * one storage buffer: above OpenGL 4.3's guaranteed 2^27 bytes some
-     * readers refuse the file (runtime/src/render/effects/near.c) */
+    /* the near terms' weights, one float per channel and entry, which every
+     * reader builds and sums each frame: beyond OpenGL 4.3's guaranteed
+     * storage block of 2^27 bytes the viewer splits them into chunks
+     * (runtime/src/render/effects/near.c) and the frame time grows with
+     * them (docs/accuracy.md, "Near terms sized by the material") */
     if (f->near_terms && (double)st->near_entries * 4.0 * C > 134217728.0)
-        sss_cli_printf(stderr, "%s: %s: warning: the near terms hold %.1f entries per vertex, %.0f MiB of weights at run "
-                "time, above the 128 MiB storage buffer every OpenGL 4.3 reader has (llvmpipe's limit): such a viewer "
-                "refuses the file; a smaller --near-fraction or --near-radius fits (docs/accuracy.md)\n", TOOL, in,
+        sss_cli_printf(stderr, "%s: %s: warning: the near terms hold %.1f entries per vertex, %.0f MiB of weights that "
+                "every reader builds and sums each frame (more than the 128 MiB storage block OpenGL 4.3 guarantees); "
+                "a smaller --near-fraction or --near-radius costs less (docs/accuracy.md)\n", TOOL, in,
                 (double)st->near_entries / nv, (double)st->near_entries * 4.0 * C / 1048576.0);
     if (st->thin_vertices)
         sss_cli_printf(stderr, "%s: %s: warning: %u vertices lie on parts thinner than the scattering length 1/sigma_tr = %.3g mm "

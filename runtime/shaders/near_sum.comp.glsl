@@ -1,10 +1,13 @@
 layout(local_size_x = 256) in;
 const uint C = uint(CHANNELS);
+// one chunk of receivers u_first ... u_first + u_count - 1 (near.c): row o of
+// the chunk is [start[o], start[o + 1]) of its own Idx and W
 layout(std430, binding = 0) readonly buffer Start { uint start[]; }; // row o: [start[o], start[o + 1])
 layout(std430, binding = 1) readonly buffer Idx { uint idx[]; };     // the row's vertices, o first
 layout(std430, binding = 2) readonly buffer Gv { float gv[]; };
 layout(std430, binding = 3) buffer Q { float q[]; };
 layout(std430, binding = 4) readonly buffer W { float w[]; };        // w~(o, i) per channel
+uniform uint u_first;
 uniform uint u_count;
 void main() {
     uint o = gl_GlobalInvocationID.x;
@@ -15,7 +18,7 @@ void main() {
         for (uint ch = 0u; ch < C; ch++) s[ch] += w[a * C + ch] * g;
     }
     for (uint ch = 0u; ch < C; ch++) {
-        precise float x = q[o * C + ch] + s[ch];
-        q[o * C + ch] = x;
+        precise float x = q[(u_first + o) * C + ch] + s[ch];
+        q[(u_first + o) * C + ch] = x;
     }
 }

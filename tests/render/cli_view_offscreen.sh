@@ -42,6 +42,19 @@ awk -v a="$omean" -v b="$offmean" 'BEGIN { exit !(a > 2 && b < a) }' \
   || fail "near terms: image mean $omean with them, $offmean without (expected brighter with them)"
 expect_ok view "$TMP/o.sss" --offscreen --bench 3 --size 64x64
 contains "$TMP/out" '"own_term":"within 8.71 mm, rays"'
+# rows larger than the GL's storage block go up in chunks of receivers
+# (runtime/src/render/effects/near.c; SSS_NEAR_BLOCK_BYTES lowers the
+# limit): the same picture on both paths; a block below one row is refused
+for c in "" --cpu; do
+  # shellcheck disable=SC2086
+  SSS_NEAR_BLOCK_BYTES=2048 expect_ok view "$TMP/o.sss" --offscreen --out "$TMP/o_chunks.png" --size 160x120 \
+    --light 0.6,0.5,0.6 --view 0,0,1 $c
+  ref=$TMP/o.png; [ -n "$c" ] && ref=$TMP/o_cpu.png
+  cmp -s "$TMP/o_chunks.png" "$ref" || fail "near terms in chunks ${c:-(GPU)}: the picture differs from one buffer's"
+done
+SSS_NEAR_BLOCK_BYTES=12 expect_fail "near terms (.* entries) exceed this GL's storage block" view "$TMP/o.sss" \
+  --offscreen --out "$TMP/o_x.png" --size 32x32
+[ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "the refusal should be one line: $(cat "$TMP/err")"
 expect_ok view "$TMP/o.sss" --offscreen --bench 3 --size 64x64 --near-visibility map
 contains "$TMP/out" '"own_term":"within 8.71 mm, shadow map 2048"'
 expect_ok view "$TMP/o.sss" --offscreen --out "$TMP/o_map.png" --size 160x120 --light 0.6,0.5,0.6 --view 0,0,1 \

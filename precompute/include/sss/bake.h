@@ -118,9 +118,10 @@ typedef struct sss_bake_stats {
      * edge, cannot follow. The tool warns with this count. */
     uint32_t coarse_vertices;
     /* Near terms at run time: their entries over all rows, which every
-     * reader builds (an index and a float per channel each) and the viewer
-     * holds in one GPU storage buffer; the tool warns above the 128 MiB
-     * that OpenGL 4.3 guarantees (GL_MAX_SHADER_STORAGE_BLOCK_SIZE ≥ 2^27). */
+     * reader builds (an index and a float per channel each) and sums each
+     * frame; the tool warns when the weights exceed the 128 MiB storage
+     * block that OpenGL 4.3 guarantees (GL_MAX_SHADER_STORAGE_BLOCK_SIZE ≥
+     * 2^27), beyond which the viewer uploads them in chunks. */
     uint64_t near_entries;
     double longest_edge_mm;              /* the longest edge of the mesh */
     double range_mm;                     /* 1/σtr of that channel (∞ for σa = 0 is reported as the radius) */

@@ -42,7 +42,13 @@ typedef struct sss_near_pass {
     GLuint lit, gv;     /* V (uint) and g V (float) per vertex */
     GLuint fan;         /* incident triangles per vertex: offsets (nv + 1), then triangle indices */
     GLuint fan_sin;     /* per vertex: sin of the largest angle between n_o and its triangles' normals */
-    GLuint near_start, near_idx, near_w; /* sss_weights: rows of (vertex, w̃ per channel) */
+    /* sss_weights: rows of (vertex, w̃ per channel), in chunks of
+     * consecutive receivers [first, first + count) whose entries fit one
+     * storage buffer each (near_build); one chunk unless the rows are larger
+     * than the GL's block limit */
+    uint32_t nchunk;
+    GLuint *near_start, *near_idx, *near_w; /* per chunk: row starts from the chunk's first entry, vertices, weights */
+    uint32_t *chunk_first, *chunk_count;
     float delta;        /* the rays' offset δ, sss_mesh_ray_offset (sss/mesh.h) */
 } sss_near_pass;
 
@@ -59,28 +65,64 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     sss_weights nr;
     sss_result res = sss_near_build_file(f, &nr, err);
     if (res != SSS_OK) return res;
-    const uint64_t nent = nr.start[nv];
-    const GLint64 max_block = c->max_block;
-    if (max_block > 0 && nent * C * sizeof(float) > (uint64_t)max_block) {
-        sss_weights_free(&nr);
-        return sss_fail(err, SSS_ERR_UNSUPPORTED,
-                        "renderer: the near terms (%.1f per vertex) need a %.1f MiB storage buffer, above this GL's "
-                        "limit of %.1f MiB (bake with a smaller --near-fraction, --near-radius or fewer --rings)",
-                        (double)nent / nv, (double)(nent * C * sizeof(float)) / 1048576.0,
-                        (double)max_block / 1048576.0);
+    /* The rows go to the GPU in chunks of consecutive receivers whose
+     * entries (4 bytes of index, 4·C of weights each) fit the GL's storage
+     * block limit (OpenGL 4.3 guarantees 2^27 bytes; llvmpipe gives no
+     * more): the material's radius holds hundreds of entries per row on a
+     * fine mesh (docs/accuracy.md, "Near terms sized by the material").
+     * SSS_NEAR_BLOCK_BYTES lowers the limit (tests exercise the chunks on
+     * small meshes). Pass 2 runs once per chunk; every receiver's sum is the
+     * same float sum in the same order whatever the chunks. */
+    uint64_t limit = c->max_block > 0 ? (uint64_t)c->max_block : UINT64_MAX;
+    const char *env = getenv("SSS_NEAR_BLOCK_BYTES");
+    if (env && *env) {
+        char *end;
+        const unsigned long long v = strtoull(env, &end, 10);
+        if (*end == 0 && v > 0 && v < limit) limit = v;
     }
-    /* the shader's offsets are 32-bit: the entries fit, as the buffer
-     * limit above holds them */
-    uint32_t *start32 = malloc(((size_t)nv + 1) * sizeof *start32);
-    if (!start32) {
+    const uint64_t per_entry = (uint64_t)C * sizeof(float) > sizeof(uint32_t) ? (uint64_t)C * sizeof(float) : sizeof(uint32_t);
+    const uint64_t cap = limit / per_entry < UINT32_MAX ? limit / per_entry : UINT32_MAX; /* entries per chunk */
+    r->chunk_first = malloc(((size_t)nv + 1) * sizeof *r->chunk_first);
+    r->chunk_count = malloc(((size_t)nv + 1) * sizeof *r->chunk_count);
+    if (!r->chunk_first || !r->chunk_count) {
         sss_weights_free(&nr);
         return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the near terms of %u vertices", nv);
     }
-    for (uint32_t v = 0; v <= nv; v++) start32[v] = (uint32_t)nr.start[v];
-    r->near_start = sss_gl_ssbo((GLsizeiptr)(((size_t)nv + 1) * sizeof(uint32_t)), start32, GL_STATIC_DRAW);
+    for (uint32_t v0 = 0; v0 < nv;) {
+        uint32_t v1 = v0 + 1;
+        const uint64_t row = nr.start[v1] - nr.start[v0];
+        if (row > cap) {
+            sss_weights_free(&nr);
+            return sss_fail(err, SSS_ERR_UNSUPPORTED,
+                            "renderer: vertex %u's near terms (%llu entries) exceed this GL's storage block of "
+                            "%.1f MiB (bake with a smaller --near-fraction, --near-radius or fewer --rings)",
+                            v0, (unsigned long long)row, (double)limit / 1048576.0);
+        }
+        while (v1 < nv && nr.start[v1 + 1] - nr.start[v0] <= cap) v1++;
+        r->chunk_first[r->nchunk] = v0;
+        r->chunk_count[r->nchunk] = v1 - v0;
+        r->nchunk++;
+        v0 = v1;
+    }
+    r->near_start = calloc((size_t)r->nchunk + 1, sizeof *r->near_start);
+    r->near_idx = calloc((size_t)r->nchunk + 1, sizeof *r->near_idx);
+    r->near_w = calloc((size_t)r->nchunk + 1, sizeof *r->near_w);
+    uint32_t *start32 = malloc(((size_t)nv + 1) * sizeof *start32);
+    if (!r->near_start || !r->near_idx || !r->near_w || !start32) {
+        free(start32);
+        sss_weights_free(&nr);
+        return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the near terms of %u vertices", nv);
+    }
+    for (uint32_t k = 0; k < r->nchunk; k++) {
+        const uint32_t v0 = r->chunk_first[k], n = r->chunk_count[k];
+        const uint64_t e0 = nr.start[v0], ne = nr.start[v0 + n] - e0;
+        for (uint32_t v = 0; v <= n; v++) start32[v] = (uint32_t)(nr.start[v0 + v] - e0); /* below cap: 32 bits */
+        r->near_start[k] = sss_gl_ssbo((GLsizeiptr)(((size_t)n + 1) * sizeof(uint32_t)), start32, GL_STATIC_DRAW);
+        /* every row holds its vertex: ne ≥ n ≥ 1 */
+        r->near_idx[k] = sss_gl_ssbo((GLsizeiptr)(ne * sizeof(uint32_t)), nr.idx + e0, GL_STATIC_DRAW);
+        r->near_w[k] = sss_gl_ssbo((GLsizeiptr)(ne * C * sizeof(float)), nr.w + e0 * C, GL_STATIC_DRAW);
+    }
     free(start32);
-    r->near_idx = sss_gl_ssbo((GLsizeiptr)(nent * sizeof(uint32_t)), nr.idx, GL_STATIC_DRAW);
-    r->near_w = sss_gl_ssbo((GLsizeiptr)(nent * C * sizeof(float)), nr.w, GL_STATIC_DRAW);
     sss_weights_free(&nr);
     r->gv = sss_gl_ssbo((GLsizeiptr)nv * sizeof(float), NULL, GL_DYNAMIC_COPY);
     r->lit = sss_gl_ssbo((GLsizeiptr)nv * sizeof(uint32_t), NULL, GL_DYNAMIC_COPY);
@@ -147,6 +189,7 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     if (res != SSS_OK) return res;
     const uint64_t node_bytes = (uint64_t)bvh.nnode * sizeof *bvh.node;
     const uint64_t tri_bytes = (uint64_t)bvh.ntri * 12 * sizeof(float);
+    const GLint64 max_block = c->max_block;
     if (max_block <= 0 || (node_bytes <= (uint64_t)max_block && tri_bytes <= (uint64_t)max_block)) {
         r->bvh_node = sss_gl_ssbo((GLsizeiptr)node_bytes, bvh.node, GL_STATIC_DRAW);
         r->bvh_tri = sss_gl_ssbo((GLsizeiptr)tri_bytes, bvh.tri, GL_STATIC_DRAW);
@@ -169,9 +212,18 @@ void sss_pass_near_destroy(void *state)
 {
     sss_near_pass *r = state;
     if (!r) return;
-    GLuint bufs[9] = {r->lit, r->gv, r->fan, r->near_start, r->near_idx, r->near_w, r->fan_sin, r->bvh_node,
-                      r->bvh_tri};
-    glDeleteBuffers(9, bufs);
+    GLuint bufs[6] = {r->lit, r->gv, r->fan, r->fan_sin, r->bvh_node, r->bvh_tri};
+    glDeleteBuffers(6, bufs);
+    for (uint32_t k = 0; k < r->nchunk; k++) {
+        GLuint cb[3] = {r->near_start ? r->near_start[k] : 0, r->near_idx ? r->near_idx[k] : 0,
+                        r->near_w ? r->near_w[k] : 0};
+        glDeleteBuffers(3, cb);
+    }
+    free(r->near_start);
+    free(r->near_idx);
+    free(r->near_w);
+    free(r->chunk_first);
+    free(r->chunk_count);
     if (r->prog_vis) glDeleteProgram(r->prog_vis);
     if (r->prog_ray) glDeleteProgram(r->prog_ray);
     if (r->prog_near) glDeleteProgram(r->prog_near);
@@ -279,13 +331,16 @@ GLuint sss_pass_near_frame(void *state, const sss_effect_frame *fr)
     /* pass 2: q[o] += Σ_i w̃(o, i) g_i V_i over o's row */
     GLuint pr = r->prog_near;
     glUseProgram(pr);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r->near_start);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r->near_idx);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r->gv);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m->qbuf);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->near_w);
-    glUniform1ui(glGetUniformLocation(pr, "u_count"), m->nv);
-    glDispatchCompute((m->nv + 255) / 256, 1, 1);
+    for (uint32_t k = 0; k < r->nchunk; k++) { /* disjoint receivers: no barrier between chunks */
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r->near_start[k]);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r->near_idx[k]);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->near_w[k]);
+        glUniform1ui(glGetUniformLocation(pr, "u_first"), r->chunk_first[k]);
+        glUniform1ui(glGetUniformLocation(pr, "u_count"), r->chunk_count[k]);
+        glDispatchCompute((r->chunk_count[k] + 255) / 256, 1, 1);
+    }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glEndQuery(GL_TIME_ELAPSED);
     return 1;
