@@ -18,6 +18,12 @@ int fuzz_cli_bake(int argc, char **argv)
     if (o->eps != 0 && !(o->eps >= 1e-12 && o->eps <= 0.5)) abort();
     if (o->theta != 0 && !(o->theta >= 1e-3 && o->theta <= 0.95)) abort();
     if (o->near_rings > SSS_NEAR_RINGS_MAX) abort();
+    /* a radius from the material: a fraction in range, only for run-time
+     * near terms without a radius or rings of their own */
+    if (o->near_fraction != 0 && !(o->near_fraction >= 0.5 && o->near_fraction <= 0.999 &&
+                                   o->near_terms == SSS_NEAR_TERMS_RUNTIME && o->near_radius_mm == 0 &&
+                                   o->near_rings == 0))
+        abort();
     if (!a.scene) {
         sss_error err = {{0}};
         if (sss_material_validate(&s.mat, &err) != SSS_OK) abort();
