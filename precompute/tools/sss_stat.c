@@ -274,8 +274,12 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
         sss_cli_printf(stderr, "%s: %s: exact evaluator: %s\n", TOOL, path, err.msg);
         return 1;
     }
+    /* a scene bake without a moving directional light has no direction
+     * set: only its other effects are measured (below) */
+    const int dirset = !f->fx.mask || (f->fx.mask & SSS_FX_DIR_SET);
     sss_vertex_error ve;
-    sss_result r = sss_vertex_error_vs_exact_interp(f, e, views, seed, a->interp, &ve, &err);
+    memset(&ve, 0, sizeof ve);
+    sss_result r = dirset ? sss_vertex_error_vs_exact_interp(f, e, views, seed, a->interp, &ve, &err) : SSS_OK;
     if (r != SSS_OK) {
         sss_exact_destroy(e);
         sss_cli_printf(stderr, "%s: %s: %s\n", TOOL, path, err.msg);
@@ -286,8 +290,9 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
     sss_image_error ie;
     memset(&ie, 0, sizeof ie);
     char image_status[600] = "skipped (--no-image)";
+    if (!dirset) snprintf(image_status, sizeof image_status, "skipped (no direction set)");
     int have_image = 0;
-    if (!a->no_image) {
+    if (!a->no_image && dirset) {
         sss_image_error_opts io = {a->image_views ? a->image_views : views, seed, a->image_size, a->image_size,
                                    a->exposure, a->interp, a->images_dir, a->near_mode, a->shadow_size, &ins,
                                    a->backlit ? 30.0 : 0.0};
@@ -400,7 +405,9 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
         cJSON_AddNumberToObject(o, "views", views);
         cJSON_AddNumberToObject(o, "seed", (double)seed);
         cJSON_AddNumberToObject(o, "bytes_per_vertex", sss_file_integral_bytes_per_vertex(f));
-        cJSON *v = cJSON_AddObjectToObject(o, "vertex_error");
+        cJSON *v = dirset ? cJSON_AddObjectToObject(o, "vertex_error") : NULL;
+        if (!dirset) cJSON_AddNullToObject(o, "vertex_error");
+        else {
         cJSON_AddItemToObject(v, "rms", cJSON_CreateDoubleArray(ve.rms, (int)C));
         cJSON_AddItemToObject(v, "rel_rms", cJSON_CreateDoubleArray(ve.rel_rms, (int)C));
         cJSON_AddItemToObject(v, "max_abs", cJSON_CreateDoubleArray(ve.max_abs, (int)C));
@@ -408,6 +415,7 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
         cJSON_AddNumberToObject(v, "rms_all", ve.rms[C]);
         cJSON_AddNumberToObject(v, "rel_rms_all", ve.rel_rms[C]);
         cJSON_AddNumberToObject(v, "max_abs_all", ve.max_abs[C]);
+        }
         cJSON_AddStringToObject(o, "interp", a->interp == SSS_INTERP_NEAREST4 ? "nearest4" : "triangle");
         cJSON_AddStringToObject(o, "image_error_status", image_status);
         if (have_image) {
@@ -468,13 +476,18 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
         free(s);
         cJSON_Delete(o);
     } else {
-        printf("%s: %u vertices, storage %s, %u directions: error against the exact evaluator at %u random "
-               "light directions (seed %llu)\n", path, f->mesh.nv, sss_quant_name(f->quant), f->dirs.n, views,
-               (unsigned long long)seed);
-        printf("  %-8s %12s %12s %12s %12s\n", "channel", "RMS", "rel. RMS", "max |diff|", "RMS of q");
-        for (uint32_t c = 0; c <= C; c++)
-            printf("  %-8s %12.4g %12.4g %12.4g %12.4g\n", c == C ? "all" : C == 1 ? "grey" : rgb[c], ve.rms[c],
-                   ve.rel_rms[c], ve.max_abs[c], ve.rms_exact[c]);
+        if (dirset) {
+            printf("%s: %u vertices, storage %s, %u directions: error against the exact evaluator at %u random "
+                   "light directions (seed %llu)\n", path, f->mesh.nv, sss_quant_name(f->quant), f->dirs.n, views,
+                   (unsigned long long)seed);
+            printf("  %-8s %12s %12s %12s %12s\n", "channel", "RMS", "rel. RMS", "max |diff|", "RMS of q");
+            for (uint32_t c = 0; c <= C; c++)
+                printf("  %-8s %12.4g %12.4g %12.4g %12.4g\n", c == C ? "all" : C == 1 ? "grey" : rgb[c], ve.rms[c],
+                       ve.rel_rms[c], ve.max_abs[c], ve.rms_exact[c]);
+        } else {
+            printf("%s: %u vertices, no direction set (scene bake): its other effects against the exact evaluator\n",
+                   path, f->mesh.nv);
+        }
         if (have_image) {
             printf("  image RMS (section 3.3) over %u %sviews, %dx%d, exposure %.4g: max %.4g, mean %.4g, median %.4g"
                    " (worst view %u; over its covered pixels %.4g; %s)\n", ie.views, a->backlit ? "back-lit " : "",
@@ -915,11 +928,15 @@ static int parse_args(int argc, char **argv, stat_args *a)
  * interpolate, and one whose shadows come from other objects of its scene
  * cannot be recomputed from the file: either would be measured as a 100 %
  * error that is not one, so they are refused. 1 when measurable. */
-static int measurable(const char *path, const sss_bake_file *f)
+static int measurable(const char *path, const sss_bake_file *f, int error)
 {
-    if (f->fx.mask && !(f->fx.mask & SSS_FX_DIR_SET)) {
-        sss_cli_printf(stderr, "%s: %s: --query and --error measure a direction set, and this scene bake has none (its "
-                       "lights are baked by other effects: see sss-stat without options)\n", TOOL, path);
+    /* --error measures the other effects of a scene bake without one too
+     * (static lights, point shells: error_report) */
+    const int others = f->fx.mask & (SSS_FX_DIR_EXACT | SSS_FX_POINT_SHELLS);
+    if (f->fx.mask && !(f->fx.mask & SSS_FX_DIR_SET) && !(error && others)) {
+        sss_cli_printf(stderr, "%s: %s: --query measures a direction set, --error one or static lights or point shells, "
+                       "and this scene bake has none of them (its lights are baked by other effects: see sss-stat "
+                       "without options)\n", TOOL, path);
         return 0;
     }
     if (f->fx.mask & SSS_FX_SCENE_SHADOW) {
@@ -983,7 +1000,7 @@ int main(int argc, char **argv)
         return 1;
     }
     if (!combinations_ok(&a)) rc = 2;
-    else if ((a.qvertex || a.want_error || a.want_model) && !measurable(a.path, &f)) rc = 1;
+    else if ((a.qvertex || a.want_error || a.want_model) && !measurable(a.path, &f, a.want_error)) rc = 1;
     else if (a.want_model) {
         a.ma.seed = a.seed;
         rc = model_error_report(a.path, &f, a.qvertex, a.qlight, &a.ma, a.json);

@@ -148,7 +148,9 @@ visibility rays):
   and the last shell (\`point_shells.{rel_rms_max, rel_rms_mean}\`: 0.24 with
   2 shells × 40 directions, 0.028 with 6 × 200 on the blob of
   \`tests/integration/cli_scene.sh\`); the environment's SH transfer is
-  named in \`not_measured\`.
+  named in \`not_measured\`. A scene bake without a moving directional
+  light has no direction set: \`--error\` then reports these alone
+  (\`vertex_error\` null), and refuses a file that has none of them.
 
 Conventions that move the numbers, so that they can be compared with care:
 

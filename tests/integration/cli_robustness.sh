@@ -17,6 +17,9 @@ mkdir -p "$S/env"
 expect_ok "$SSS_BAKE" --scene "$S/env.json" -o "$S/env" -q
 expect_ok "$SSS_STAT" "$S/env/ball.sss"
 contains "$TMP/out" "ENVT"
+# its SH transfer has no exact counterpart in sss-stat --error yet: refused in one line
+expect_fail "has none of them" "$SSS_STAT" "$S/env/ball.sss" --error --no-image
+one_line
 
 # ---- 3: coordinates beyond the range: one line, no abort -----------------------
 printf 'OFF\n4 4 0\n2e18 0 0\n-1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > "$S/huge.off"
@@ -89,7 +92,9 @@ sed 's/"lights": \[.*\]/"lights": [{"type": "directional", "direction": [0, 0, 1
 expect_ok "$SSS_BAKE" --scene "$S/static.json" -o "$S/static" -q
 expect_fail "this scene bake has none" "$SSS_STAT" "$S/static/ball.sss" --query 0 --light 0,0,1
 one_line
-expect_fail "this scene bake has none" "$SSS_STAT" "$S/static/ball.sss" --error --views 2 --no-image
+# --error measures what the file has: its static light's exact values (QDIR)
+expect_ok "$SSS_STAT" "$S/static/ball.sss" --error --views 2 --no-image
+contains "$TMP/out" 'static light 0 (0, 0, 1), exact values (QDIR)'
 # the tree gather has no per-vertex maximum: not "max 0"
 expect_ok "$SSS_BAKE" "$S/s.ply" -o "$S/t.sss" --dirs 8
 grep -q "(max 0)" "$TMP/err" && fail "the tree gather reports 'max 0 neighbours'"

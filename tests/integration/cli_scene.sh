@@ -80,6 +80,23 @@ expect_ok "$SSS_STAT" "$TMP/o5/blob.sss" --error --views 4 --no-image --json
 p6=$(sed -n 's/.*"point_shells":{[^}]*"rel_rms_max":\([-0-9.eE+]*\).*/\1/p' "$TMP/out")
 awk -v a="$p2" -v b="$p6" 'BEGIN { exit !(b > 0 && b < 0.5 * a && b < 0.1) }' ||
   fail "point shells' rel. RMS: $p2 with 2 shells x 40 directions, $p6 with 6 x 200 (want the second < half the first, < 0.1)"
+# a scene bake without a moving directional light has no direction set:
+# --error measures its static light and point shells alone; --query refuses
+cat > "$TMP/nd.json" <<'J'
+{"objects": [{"name": "blob", "mesh": "blob.ply", "material": "skin1", "mm_per_unit": 10}],
+ "lights": [{"type": "directional", "direction": [1, 0, 1]}, {"type": "point", "position": [0, 3, 0], "moving": true}],
+ "bake": {"dirs": 40, "shells": 2}}
+J
+mkdir -p "$TMP/o6"
+expect_ok "$SSS_BAKE" --scene "$TMP/nd.json" -o "$TMP/o6" -q
+expect_ok "$SSS_STAT" "$TMP/o6/blob.sss" --error --views 4 --json
+for k in '"vertex_error":null' '"image_error_status":"skipped (no direction set)"' '"static_lights":\[{' \
+         '"rel_rms":0,' '"point_shells":{"lights":4'; do
+  contains "$TMP/out" "$k"
+done
+expect_ok "$SSS_STAT" "$TMP/o6/blob.sss" --error --views 4
+contains "$TMP/out" 'no direction set (scene bake)'
+expect_fail "has none of them" "$SSS_STAT" "$TMP/o6/blob.sss" --query 3 --light 0,0,1
 expect_fail "must be an existing directory" "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/nodir"
 expect_fail "needs --scene" "$SSS_BAKE" --plan
 echo "cli_scene: ok"
