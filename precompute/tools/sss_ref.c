@@ -367,6 +367,15 @@ static int run_query(const ref_args *a, const ref_setup *s, const sss_ref_scene 
     return 0;
 }
 
+/* The files an output must not be (sss/fileio.h): the mesh and the
+ * probe, in paths[2]. */
+static sss_inputs ref_inputs(const ref_args *a, const char *paths[2])
+{
+    paths[0] = a->mesh;
+    paths[1] = a->env;
+    return (sss_inputs){paths, a->env ? 2u : 1u};
+}
+
 /* IMG.exr → IMG.stderr.exr */
 static void stderr_path(const char *out, char *buf, size_t n)
 {
@@ -404,8 +413,8 @@ static int run_image(const ref_args *a, const ref_setup *s, const sss_mesh *mesh
         /* the probe writer is a plain float RGB EXR writer, rows from the top;
          * both images staged and committed together, never over an input
          * (docs/robustness.md, "Paths") */
-        const char *inputs[2] = {a->mesh, a->env};
-        const sss_inputs in = {inputs, a->env ? 2u : 1u};
+        const char *paths[2];
+        const sss_inputs in = ref_inputs(a, paths);
         sss_atomic w[2];
         sss_result wr = sss_probe_write_staged(&w[0], a->out, &img, &in, &err);
         if (wr == SSS_OK && (wr = sss_probe_write_staged(&w[1], sepath, &sei, &in, &err)) != SSS_OK)
@@ -472,8 +481,8 @@ static int run(const ref_args *a, ref_setup *s, int *argc, char ***argv)
     if (a->out) { /* every rank, so that all stop together */
         char sepath[4096];
         stderr_path(a->out, sepath, sizeof sepath);
-        const char *inputs[2] = {a->mesh, a->env};
-        const sss_inputs in = {inputs, a->env ? 2u : 1u};
+        const char *paths[2];
+        const sss_inputs in = ref_inputs(a, paths);
         if (sss_output_check(a->out, &in, NULL, &err) != SSS_OK || sss_output_check(sepath, &in, NULL, &err) != SSS_OK) {
             if (rank == 0) sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
             sss_mpi_stop();

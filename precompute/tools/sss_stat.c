@@ -715,6 +715,18 @@ done:
     return rc;
 }
 
+/* "N.Nx smaller", "N.Nx larger" or "the size", of bytes b against raw
+ * bytes r: a ratio below 1 is a file larger than the raw values (small
+ * meshes, scene bakes), said so, not "0.2x smaller"; one that prints as
+ * 1.0 either way is the same size. */
+static void size_ratio(double r, double b, char *out, size_t n)
+{
+    const double x = r / b;
+    if (x >= 0.95 && x < 1.05) snprintf(out, n, "the size of");
+    else if (x >= 1.0) snprintf(out, n, "%.1fx smaller than", x);
+    else snprintf(out, n, "%.1fx larger than", 1.0 / x);
+}
+
 /* The summary: what the file holds and where its bytes go. */
 static int summary(const char *path, const sss_bake_file *f, int json)
 {
@@ -828,12 +840,10 @@ static int summary(const char *path, const sss_bake_file *f, int json)
             if (part[k].bytes)
                 printf("  %-24s %14llu %12.3f\n", part[k].name, (unsigned long long)part[k].bytes,
                        (double)part[k].bytes / nv);
-        /* a ratio below 1 is a file larger than the raw values (small
-         * meshes, scene bakes): said so, not "0.2x smaller" */
         char r8[48], rf[48];
-        snprintf(r8, sizeof r8, raw8 / sbpv >= 1.0 ? "%.1fx smaller" : "%.1fx larger", raw8 / sbpv >= 1.0 ? raw8 / sbpv : sbpv / raw8);
-        snprintf(rf, sizeof rf, rawf / sbpv >= 1.0 ? "%.1fx smaller" : "%.1fx larger", rawf / sbpv >= 1.0 ? rawf / sbpv : sbpv / rawf);
-        printf("  %-24s %14llu %12.3f  (%s than 8-bit, %s than float)\n", "all", (unsigned long long)st.total, sbpv, r8,
+        size_ratio(raw8, sbpv, r8, sizeof r8);
+        size_ratio(rawf, sbpv, rf, sizeof rf);
+        printf("  %-24s %14llu %12.3f  (%s 8-bit, %s float)\n", "all", (unsigned long long)st.total, sbpv, r8,
                rf);
     }
     return 0;

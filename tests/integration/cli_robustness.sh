@@ -103,6 +103,12 @@ contains "$TMP/err" "neighbours in the dense blocks"
 expect_ok "$SSS_STAT" "$S/t.sss"
 grep -q " 0\.[0-9]x smaller" "$TMP/out" && fail "'0.Nx smaller' printed"
 contains "$TMP/out" "x larger than 8-bit"
+# a file of 8-bit codes is the size of the 8-bit values, not "1.0x larger"
+expect_ok "$SSS_GENMESH" sphere 4 "$S/s4.ply"
+expect_ok "$SSS_BAKE" "$S/s4.ply" -o "$S/t8.sss" --dirs 200 --quant lloyd8
+expect_ok "$SSS_STAT" "$S/t8.sss"
+grep -q " 1\.0x " "$TMP/out" && fail "'1.0x smaller/larger' printed"
+contains "$TMP/out" "(the size of 8-bit"
 # --json is valid UTF-8 whatever the bytes of a file name
 bad=$S/$(printf 'bad\xff')
 cp "$S/s.ply" "$bad.ply"

@@ -210,25 +210,33 @@ static void halfSpaceRadianceMatchesChandrasekhar(void **state)
  *     L⁽¹⁾ = ω p F_t(μ₀) F_t(μ) μ₀ / (η² (μ′₀ + μ′)),
  * which at η = 1 is ω p μ₀ / (μ₀ + μ) (Jensen et al. 2001, eq. 4–5, for a
  * flat surface; docs/reference.md §5.4). */
-static void single_scattering_case(double eta, double g, double mu0, double mu, double az, uint64_t seed)
+static double hg_phase(double g, double cos_theta)
+{
+    return (1.0 - g * g) / (4.0 * SSS_PI * pow(1.0 + g * g - 2.0 * g * cos_theta, 1.5));
+}
+
+/* D = 0: the directional light; D > 0: a point light at distance D along
+ * it with intensity D² (unit irradiance), whose answer tends to the same. */
+static void single_scattering_case(double eta, double g, double mu0, double mu, double az, uint64_t seed, double D)
 {
     const sss_ref_medium m = albedo_medium(eta, g);
     double l[3], v[3];
     dir_at(mu0, 0.0, l);
     dir_at(mu, az, v);
-    const sss_ref_estimate e = query(&m, l, v, 6000, seed, 1, 0);
+    const sss_ref_light pl = {.kind = SSS_REF_POINT, .pos = {D * l[0], D * l[1], 100.0 + D * l[2]}, .intensity = D * D};
+    const sss_ref_estimate e = D > 0 ? query_light(&m, &pl, v, 6000, seed, 1, 0) : query(&m, l, v, 6000, seed, 1, 0);
     /* refracted propagation directions inside: the light's going down, the
      * view's (reversed) going down too */
     const double s0 = sqrt(1.0 - mu0 * mu0) / eta, s1 = sqrt(1.0 - mu * mu) / eta;
     const double mu0p = sqrt(1.0 - s0 * s0), mup = sqrt(1.0 - s1 * s1);
     /* the light propagates along (−s0 cos 0, −s0 sin 0, −μ′₀); the scattered
      * light towards the eye along (s1 cos az, s1 sin az, μ′) */
-    const double cos_theta = -s0 * s1 * cos(az) - mu0p * mup;
-    const double p = (1.0 - g * g) / (4.0 * SSS_PI * pow(1.0 + g * g - 2.0 * g * cos_theta, 1.5));
+    const double p = hg_phase(g, -s0 * s1 * cos(az) - mu0p * mup);
     for (int c = 0; c < 3; c++) {
         const double L = k_omega[c] * p * sss_ft(eta, mu0) * sss_ft(eta, mu) * mu0 / (eta * eta * (mu0p + mup));
         char what[96];
-        snprintf(what, sizeof what, "single scattering eta %.1f g %.1f omega %.2f", eta, g, k_omega[c]);
+        snprintf(what, sizeof what, D > 0 ? "far point light, eta %.1f g %.1f omega %.2f" : "single scattering eta %.1f g %.1f omega %.2f",
+                 eta, g, k_omega[c]);
         check_within(what, e.mean[c], e.se[c], L, 4.0);
     }
 }
@@ -236,9 +244,9 @@ static void single_scattering_case(double eta, double g, double mu0, double mu, 
 static void singleScatteringMatchesClosedForm(void **state)
 {
     (void)state;
-    single_scattering_case(1.0, 0.0, 0.7, 0.9, 2.5, 21);
-    single_scattering_case(1.0, 0.6, 0.6, 0.8, 3.0, 22);
-    single_scattering_case(1.3, 0.6, 0.5, 0.8, 2.8, 23);
+    single_scattering_case(1.0, 0.0, 0.7, 0.9, 2.5, 21, 0.0);
+    single_scattering_case(1.0, 0.6, 0.6, 0.8, 3.0, 22, 0.0);
+    single_scattering_case(1.3, 0.6, 0.5, 0.8, 2.8, 23, 0.0);
 }
 
 /* A point light near the half-space at η = 1: single scattering along the
@@ -270,8 +278,7 @@ static void pointLightNearHalfSpaceMatchesSingleScatteringIntegral(void **state)
             sss_sub3(d, z, P); /* the light's travel */
             const double r = sqrt(sss_dot3(d, d)), depth = 100.0 - z[2], tl = depth * r / (P[2] - z[2]);
             const double ct = sss_dot3(d, v) / r;
-            const double p = (1.0 - g * g) / (4.0 * SSS_PI * pow(1.0 + g * g - 2.0 * g * ct, 1.5));
-            sum += ss * p * exp(-st * (sd + tl)) * I / (r * r);
+            sum += ss * hg_phase(g, ct) * exp(-st * (sd + tl)) * I / (r * r);
         }
         char what[96];
         snprintf(what, sizeof what, "near point light, single scattering, omega %.2f", k_omega[c]);
@@ -286,23 +293,7 @@ static void pointLightNearHalfSpaceMatchesSingleScatteringIntegral(void **state)
 static void farPointLightMatchesDirectionalLight(void **state)
 {
     (void)state;
-    const double eta = 1.3, g = 0.6, mu0 = 0.5, mu = 0.8, az = 2.8, D = 1e4;
-    const sss_ref_medium m = albedo_medium(eta, g);
-    double l[3], v[3];
-    dir_at(mu0, 0.0, l);
-    dir_at(mu, az, v);
-    const sss_ref_light pl = {.kind = SSS_REF_POINT, .pos = {D * l[0], D * l[1], 100.0 + D * l[2]}, .intensity = D * D};
-    const sss_ref_estimate e = query_light(&m, &pl, v, 6000, 23, 1, 0);
-    const double s0 = sqrt(1.0 - mu0 * mu0) / eta, s1 = sqrt(1.0 - mu * mu) / eta;
-    const double mu0p = sqrt(1.0 - s0 * s0), mup = sqrt(1.0 - s1 * s1);
-    const double cos_theta = -s0 * s1 * cos(az) - mu0p * mup;
-    const double p = (1.0 - g * g) / (4.0 * SSS_PI * pow(1.0 + g * g - 2.0 * g * cos_theta, 1.5));
-    for (int c = 0; c < 3; c++) {
-        const double L = k_omega[c] * p * sss_ft(eta, mu0) * sss_ft(eta, mu) * mu0 / (eta * eta * (mu0p + mup));
-        char what[96];
-        snprintf(what, sizeof what, "far point light, eta 1.3, omega %.2f", k_omega[c]);
-        check_within(what, e.mean[c], e.se[c], L, 4.0);
-    }
+    single_scattering_case(1.3, 0.6, 0.5, 0.8, 2.8, 23, 1e4);
 }
 
 /* A point light inside the mesh, or with no intensity, is refused. */
