@@ -64,6 +64,65 @@ static int cmp_vkey(const void *x, const void *y)
     return (a->v > b->v) - (a->v < b->v);
 }
 
+/* Σ_o |{i : ‖x_i − x_o‖ ≤ r}| over the vertices (each counts itself),
+ * through the grid of sss_near_build_spec; stops counting past `stop`.
+ * 0 when out of memory. */
+static uint64_t pairs_within(const sss_mesh *mesh, double s, double r, uint64_t stop)
+{
+    const uint32_t nv = mesh->nv;
+    vkey_entry *vk = malloc((size_t)nv * sizeof *vk + 1);
+    if (!vk) return 0;
+    double lo[3] = {INFINITY, INFINITY, INFINITY};
+    for (uint32_t v = 0; v < nv; v++)
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], (double)mesh->pos[3 * (size_t)v + k] * s);
+    for (uint32_t v = 0; v < nv; v++) {
+        int64_t c[3];
+        cell3(mesh, v, s, lo, r, c);
+        vk[v].key = vkey(c[0], c[1], c[2]);
+        vk[v].v = v;
+    }
+    qsort(vk, nv, sizeof *vk, cmp_vkey);
+    uint64_t total = 0;
+    for (uint32_t o = 0; o < nv && total <= stop; o++) {
+        int64_t c0[3];
+        cell3(mesh, o, s, lo, r, c0);
+        for (int64_t dx = -1; dx <= 1; dx++)
+            for (int64_t dy = -1; dy <= 1; dy++)
+                for (int64_t dz = -1; dz <= 1; dz++) {
+                    const int64_t cx = c0[0] + dx, cy = c0[1] + dy, cz = c0[2] + dz;
+                    if (cx < 0 || cy < 0 || cz < 0 || cx > VGRID_MAX || cy > VGRID_MAX || cz > VGRID_MAX) continue;
+                    const uint64_t key = vkey(cx, cy, cz);
+                    uint32_t a = 0, b = nv;
+                    while (a < b) {
+                        const uint32_t mid = a + (b - a) / 2;
+                        if (vk[mid].key < key) a = mid + 1;
+                        else b = mid;
+                    }
+                    for (; a < nv && vk[a].key == key; a++) total += dist_mm(mesh, o, vk[a].v, s) <= r;
+                }
+    }
+    free(vk);
+    return total;
+}
+
+double sss_near_radius_capped(const sss_mesh *mesh, double mm_per_unit, double radius_mm)
+{
+    const uint32_t nv = mesh->nv;
+    const uint64_t cap = (uint64_t)SSS_NEAR_ENTRIES_MAX * nv;
+    if (!(radius_mm > 0.0) || nv <= SSS_NEAR_ENTRIES_MAX) return radius_mm;
+    /* count, and shrink by the square root of the excess (entries grow as
+     * r² on a surface) until the mean fits; a count stopped at 16x the cap
+     * shrinks by 4 */
+    double r = radius_mm;
+    for (int it = 0; it < 40; it++) {
+        const uint64_t n = pairs_within(mesh, mm_per_unit, r, 16 * cap);
+        if (n == 0) return radius_mm; /* out of memory: the radius as it is */
+        if (n <= cap) return r;
+        r *= n > 16 * cap ? 0.25 : 0.97 * sqrt((double)cap / (double)n);
+    }
+    return r;
+}
+
 double sss_near_radius_material(const sss_material *m, uint32_t channels, double fraction)
 {
     if (!(fraction > 0.0 && fraction < 1.0)) return 0.0;
@@ -76,6 +135,18 @@ double sss_near_radius_material(const sss_material *m, uint32_t channels, double
         R = fmax(R, sss_rd_radius(&d, 1.0 - fraction, 1e4));
     }
     return R;
+}
+
+double sss_near_fraction_held(const sss_material *m, uint32_t channels, double radius_mm)
+{
+    double f = 1.0;
+    for (uint32_t c = 0; c < channels && c < SSS_MAX_CHANNELS; c++) {
+        sss_dipole d;
+        if (sss_dipole_init(&d, m->sigma_a[c], m->sigmap_s[c], m->eta) != SSS_OK) return 0.0;
+        const double total = sss_rd_total(&d);
+        if (total > 0.0) f = fmin(f, sss_rd_disk(&d, radius_mm) / total);
+    }
+    return f;
 }
 
 static int cmp_u32(const void *a, const void *b)

@@ -45,28 +45,28 @@ static void usage(FILE *f)
         "  --preset paper       Hao & Varshney 2004 exactly: 200 directions, point weights, every\n"
         "                       term baked, --compress paper (refuses options that would change it)\n"
         "  --eps E              neighbourhood energy cutoff: radius holds 1-E of R_d total (default 1e-3)\n"
-        "  --quant float|lloyd8 storage of the integrals (default float)\n"
-        "  --weights point|hat  R_d sampled at the vertices (the paper; default) or integrated over\n"
-        "                       their hat functions, whatever the tessellation (docs/physics.md 9)\n"
-        "  --own-term M         baked: the vertex's own term stays in q (the paper); runtime:\n"
-        "                       the near terms are split off and readers add them back with a\n"
-        "                       shadow test per vertex (docs/accuracy.md): every vertex within\n"
-        "                       the radius that holds --near-fraction of the material's R_d total\n"
+        "  --quant float|lloyd8 store the integrals uncompressed, as floats or 8-bit codes\n"
+        "                       (default: compressed, --compress compact)\n"
+        "  --weights hat|point  R_d integrated over the vertices' hat functions, whatever the\n"
+        "                       tessellation (default; docs/physics.md 9), or sampled at the\n"
+        "                       vertices (the paper)\n"
+        "  --own-term M         runtime (default): the near terms are split off and readers add\n"
+        "                       them back with a shadow test per vertex (docs/accuracy.md): every\n"
+        "                       vertex within the radius that holds --near-fraction of the\n"
+        "                       material's R_d total; baked: they stay in q (the paper)\n"
         "  --near-fraction F    with --own-term runtime: that fraction, in [0.5, 0.999] (default 0.95)\n"
         "  --near-radius MM     with --own-term runtime: the near terms within MM millimetres instead\n"
         "  --rings K            with --own-term runtime: K mesh rings instead, 0..8 (expert: a fine\n"
         "                       mesh's rings cover less of the scattering than a coarse one's)\n"
-        "Compression (Hao & Varshney 2004 sec. 4; docs/compression.md); any of these\n"
-        "stores the compressed form instead of --quant:\n"
-        "  --compress P         preset: paper (3%% references, SH order 3, linear 8-bit codes,\n"
-        "                       16-bit barycentric weights) or compact (<= 16 / 30 bytes per\n"
-        "                       vertex grey / RGB at lower error: docs/compression.md);\n"
-        "                       the options below override it\n"
+        "Compression (Hao & Varshney 2004 sec. 4; docs/compression.md), the default storage:\n"
+        "  --compress P         preset: compact (default: 1 %% references for RGB, 3 %% grey, SH\n"
+        "                       order 3 in 4-bit codes, 8-bit least-squares weights; docs/compression.md)\n"
+        "                       or paper (3 %% references, SH order 3, linear 8-bit codes, 16-bit\n"
+        "                       barycentric weights); the options below override it\n"
         "  --sh-order N         SH order 0..8 (N^2 coefficients per vertex and channel)\n"
-        "  --refs FRACTION      reference vertices as a fraction of all (0: SH only;\n"
-        "                       default 0.03 with --sh-order)\n"
-        "  --sh-quant K         SH codes: linear8 (paper) | lloyd8 | lloyd4 (default linear8)\n"
-        "  --weight-bits B      8 or 16 bits per stored weight (default 16)\n"
+        "  --refs FRACTION      reference vertices as a fraction of all (0: SH only)\n"
+        "  --sh-quant K         SH codes: linear8 (paper) | lloyd8 | lloyd4\n"
+        "  --weight-bits B      8 or 16 bits per stored weight\n"
         "  --ls-weights         least-squares weights instead of barycentrics\n"
         "  --illum-refs W       illumination-aware references, feature weight W > 0\n"
         "  --gather direct|tree how the integrals are summed: every neighbour, or far sources\n"
@@ -189,6 +189,12 @@ static int parse(int argc, char **argv, bake_args *a)
     a->eta = 1.3;
     a->quant = SSS_QUANT_FLOAT;
     a->gather = SSS_GATHER_AUTO;
+    /* the defaults give the best answer at the fewest bytes (docs/accuracy.md
+     * §1): hat weights, the near terms at run time within the material's
+     * radius, the compact compression; --preset paper is Hao–Varshney's */
+    a->near_terms = SSS_NEAR_TERMS_RUNTIME;
+    a->weights = SSS_WEIGHTS_HAT;
+    a->preset = SSS_COMPRESS_COMPACT;
     sss_compress_opts co; /* what a compression option left unset starts from */
     sss_compress_opts_default(&co);
     a->sh_order = co.order;
@@ -271,8 +277,11 @@ static int parse(int argc, char **argv, bake_args *a)
         a->preset = SSS_COMPRESS_PAPER;
         a->preset_given = 1;
     }
-    a->compress = a->preset_given || a->order_given || a->refs_given || a->sh_quant_given || a->wbits_given ||
-                  a->ls_given || a->illum_given;
+    const int compress_given = a->preset_given || a->order_given || a->refs_given || a->sh_quant_given ||
+                               a->wbits_given || a->ls_given || a->illum_given;
+    /* --quant float|lloyd8 asks for the uncompressed rows; without it the
+     * rows are compressed (compact unless a preset is named) */
+    a->compress = compress_given || !a->have_quant;
 
     if (a->plan && !a->scene) return refuse("--plan needs --scene S.json");
     if (a->rings_given && a->near_terms != SSS_NEAR_TERMS_RUNTIME) return refuse("--rings needs --own-term runtime");
@@ -289,7 +298,7 @@ static int parse(int argc, char **argv, bake_args *a)
         if (a->mesh) return refuse("--scene and a MESH argument exclude each other (the scene names the meshes)");
         return SSS_CLI_RUN; /* the scene names meshes and materials: the rest is the plain bake's */
     }
-    if (a->compress && a->have_quant)
+    if (compress_given && a->have_quant)
         return refuse("--quant and the compression options (--sh-order, --refs, ...) exclude each other");
     if (a->compress && !a->refs_given && a->order_given && a->sh_order == 0)
         return refuse("--sh-order 0 needs --refs FRACTION > 0 (nothing would be stored)");
@@ -344,7 +353,7 @@ static int options(const bake_args *a, bake_setup *s)
         opt->near_rings = 0;
         opt->near_fraction = a->near_fraction_given ? a->near_fraction : SSS_NEAR_FRACTION_DEFAULT;
     }
-    opt->weights = a->weights_given ? (uint32_t)a->weights : SSS_WEIGHTS_POINT;
+    opt->weights = (uint32_t)a->weights;
     opt->memory_limit = sss_cli_memory_limit();
     const char *log = getenv("SSS_PROGRESS_LOG");
     if (log && *log) opt->progress_log = log;
@@ -389,6 +398,10 @@ static int options(const bake_args *a, bake_setup *s)
                                (a->sh_quant_given ? SSS_CO_SH_KIND : 0) | (a->wbits_given ? SSS_CO_WBITS : 0) |
                                (a->ls_given ? SSS_CO_LS_WEIGHTS : 0) | (a->illum_given ? SSS_CO_ILLUM : 0);
         sss_compress_preset_apply(co, (sss_compress_preset)a->preset, sss_material_channels(mat), given);
+        /* a preset's SH order fits no more coefficients than there are
+         * direction samples (a few directions: the lower orders) */
+        const uint32_t n_dirs = a->dirs ? a->dirs : 200;
+        while (!a->order_given && co->order > 1 && co->order * co->order > n_dirs) co->order--;
         opt->quant = SSS_QUANT_FLOAT;
         opt->compress = co;
     }
@@ -434,6 +447,11 @@ static void report_text(const bake_args *a, const bake_setup *s, const bake_resu
                 100.0 * st->occluded_fraction, "", r->t_import, st->t_neighbourhoods, st->t_visibility, st->t_integrals,
                 st->t_quantise, st->t_compress, r->t_write, outp, fsize, (double)fsize / nv,
                 sss_file_integral_bytes_per_vertex(f));
+    if (!quiet && f->near_terms && f->near_radius_mm > 0.0 && nv)
+        sss_cli_printf(stderr, "  near terms at run time: every vertex within %.3g mm (%.1f%% of R_d total%s), %.1f per "
+                "vertex\n", f->near_radius_mm, 100.0 * st->near_fraction_held,
+                st->near_capped ? ", shrunk to hold at most 512 vertices on average: the object is small against "
+                "the scattering range" : "", (double)st->near_entries / nv);
     /* the near terms' weights, one float per channel and entry, which every
      * reader builds and sums each frame: beyond OpenGL 4.3's guaranteed
      * storage block of 2^27 bytes the viewer splits them into chunks
@@ -523,6 +541,11 @@ static void report_json(const bake_args *a, const bake_setup *s, const bake_resu
     cJSON_AddNumberToObject(o, "coarse_vertices", st->coarse_vertices);
     cJSON_AddNumberToObject(o, "thin_vertices", st->thin_vertices);
     if (f->near_terms && nv) cJSON_AddNumberToObject(o, "near_entries_per_vertex", (double)st->near_entries / nv);
+    if (f->near_terms && f->near_radius_mm > 0.0) {
+        cJSON_AddNumberToObject(o, "near_radius_mm", f->near_radius_mm);
+        if (st->near_fraction_held > 0.0) cJSON_AddNumberToObject(o, "near_fraction_held", st->near_fraction_held);
+        cJSON_AddBoolToObject(o, "near_capped", st->near_capped);
+    }
     if (isfinite(st->thinnest_mm)) cJSON_AddNumberToObject(o, "thinnest_mm", st->thinnest_mm);
     cJSON_AddNumberToObject(o, "longest_edge_mm", st->longest_edge_mm);
     cJSON_AddNumberToObject(o, "scattering_length_mm", st->range_mm);

@@ -76,9 +76,9 @@ expect_arg_error "$T: missing -o OUT.sss (see --help)" "$SSS_BAKE" m.ply
 # combinations, in the order they are checked
 echo '{"objects": [{"name": "m", "mesh": "m.ply", "material": "marble"}]}' > s.json
 expect_arg_error "$T: --plan needs --scene S.json" "$SSS_BAKE" "${B[@]}" --plan --rings 2
-expect_arg_error "$T: --rings needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --rings 2
+expect_arg_error "$T: --rings needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --own-term baked --rings 2
 expect_arg_error "$T: --rings needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --own-term runtime --own-term baked --rings 2
-expect_arg_error "$T: --near-fraction needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --near-fraction 0.9
+expect_arg_error "$T: --near-fraction needs --own-term runtime" "$SSS_BAKE" "${B[@]}" --own-term baked --near-fraction 0.9
 for x in "--dirs 200" "--weights hat" "--own-term baked" "--quant float" "--compress compact" "--sh-order 3" "--refs 0.03"; do
   # shellcheck disable=SC2086
   expect_arg_error "$T: --preset paper is the paper's configuration exactly: not with ${x%% *}" \

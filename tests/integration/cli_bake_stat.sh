@@ -15,6 +15,21 @@ for q in float lloyd8; do
   contains "$TMP/out" 'bytes/vertex'
 done
 contains "$TMP/bake_lloyd8.json" '"lloyd_snr_db"'
+# no flags: the best answer at the fewest bytes (docs/accuracy.md §1): hat
+# weights, the near terms at run time within the material's radius, the
+# compact compression (1 % references for RGB); --quant keeps the rows whole
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_default.sss" --material skin1 --mm-per-unit 20 --json -q
+contains "$TMP/out" '"quant":"refs"'
+contains "$TMP/out" '"near_capped":false'
+expect_ok "$SSS_STAT" "$TMP/blob_default.sss" --json
+for key in '"format_version":"1.5"' '"weights":"hat"' '"near_fraction":0.95' '"sh_quant":"lloyd4"' '"weight_bits":8' \
+  '"refs_fraction":0.01' '"directions":200'; do
+  contains "$TMP/out" "$key"
+done
+# skin1's radius holding 95 % of R_d total in every channel (red: 1/sigma_tr
+# is the longest), the same whatever the mesh
+sed -n 's/.*"near_radius_mm":\([0-9.eE+-]*\).*/\1/p' "$TMP/out" | awk '{ exit !($1 > 8 && $1 < 25) }' ||
+  fail "default near radius out of range: $(cat "$TMP/out")"
 # lloyd8 integrals take 1 byte instead of 4: the file must be much smaller
 f=$(stat -c %s "$TMP/blob_float.sss"); l=$(stat -c %s "$TMP/blob_lloyd8.sss")
 [ $((l * 3)) -lt "$f" ] || fail "lloyd8 file ($l B) should be < 1/3 of float ($f B)"
@@ -23,7 +38,7 @@ expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_sh.sss" --material skin1 --m
 contains "$TMP/out" '"quant":"sh"'
 contains "$TMP/out" '"sh_order":3'
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_refs.sss" --material skin1 --mm-per-unit 20 --dirs 50 \
-  --sh-order 2 --refs 0.05 --sh-quant lloyd4 --weight-bits 8 --ls-weights --json -q
+  --sh-order 2 --refs 0.05 --sh-quant lloyd4 --weight-bits 8 --ls-weights --own-term baked --weights point --json -q
 contains "$TMP/out" '"quant":"refs"'
 expect_ok "$SSS_STAT" "$TMP/blob_refs.sss" --json
 contains "$TMP/out" '"format_version":"1.4"'
@@ -42,13 +57,13 @@ contains "$TMP/out" 'smaller than 8-bit'
 s=$(stat -c %s "$TMP/blob_sh.sss"); l=$(stat -c %s "$TMP/blob_lloyd8.sss")
 [ "$s" -lt "$l" ] || fail "SH file ($s B) should be smaller than lloyd8 ($l B)"
 # the compact preset: 4-bit Lloyd SH codes, 8-bit least-squares weights,
-# illumination-aware references, 2 % of the vertices for RGB; an explicit
+# illumination-aware references, 1 % of the vertices for RGB; an explicit
 # option overrides the preset
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_compact.sss" --material skin1 --mm-per-unit 20 --dirs 50 --compress compact -q
 expect_ok "$SSS_STAT" "$TMP/blob_compact.sss" --json
 contains "$TMP/out" '"sh_quant":"lloyd4"'
 contains "$TMP/out" '"weight_bits":8'
-contains "$TMP/out" '"refs":13,'
+contains "$TMP/out" '"refs":6,'
 contains "$TMP/out" '"ls_weights":true'
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_compact2.sss" --material skin1 --mm-per-unit 20 --dirs 50 --compress compact --sh-order 2 -q
 expect_ok "$SSS_STAT" "$TMP/blob_compact2.sss" --json
@@ -65,10 +80,11 @@ expect_fail 'weight-bits' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --weight-b
 # --own-term runtime alone sizes the near terms by the material: the radius
 # that holds --near-fraction (default 0.95) of R_d,total in every channel,
 # 8.71 mm for skin1 whatever the mesh's scale (docs/accuracy.md)
-for s in 20 5; do
+for s in 20 10; do
   expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/n$s.sss" --material skin1 --mm-per-unit $s --dirs 20 --own-term runtime -q \
     --json
   cp "$TMP/out" "$TMP/n$s.json"
+  contains "$TMP/n$s.json" '"near_capped":false'
   expect_ok "$SSS_STAT" "$TMP/n$s.sss" --json
   contains "$TMP/out" '"near_radius_mm":8.71073'
   contains "$TMP/out" '"near_fraction":0.95'
@@ -76,8 +92,17 @@ done
 # the entries a reader builds: more per vertex on the smaller object (the
 # radius is the same number of mm, so it spans more of the mesh)
 e20=$(sed -n 's/.*"near_entries_per_vertex":\([0-9.eE+]*\).*/\1/p' "$TMP/n20.json")
-e5=$(sed -n 's/.*"near_entries_per_vertex":\([0-9.eE+]*\).*/\1/p' "$TMP/n5.json")
-awk -v a="$e20" -v b="$e5" 'BEGIN { exit !(a >= 1 && b > 4 * a) }' || fail "near entries per vertex: $e20 at 20 mm/unit, $e5 at 5"
+e10=$(sed -n 's/.*"near_entries_per_vertex":\([0-9.eE+]*\).*/\1/p' "$TMP/n10.json")
+awk -v a="$e20" -v b="$e10" 'BEGIN { exit !(a >= 1 && b > 2.5 * a) }' || fail "near entries per vertex: $e20 at 20 mm/unit, $e10 at 10"
+# smaller still (5 mm/unit, a 10 mm blob), the radius would take most of the
+# mesh: it shrinks until the rows hold at most 512 entries per vertex
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/n5.sss" --material skin1 --mm-per-unit 5 --dirs 20 -q --json
+contains "$TMP/out" '"near_capped":true'
+e5=$(sed -n 's/.*"near_entries_per_vertex":\([0-9.eE+]*\).*/\1/p' "$TMP/out")
+r5=$(sed -n 's/.*"near_radius_mm":\([0-9.eE+]*\).*/\1/p' "$TMP/out")
+h5=$(sed -n 's/.*"near_fraction_held":\([0-9.eE+]*\).*/\1/p' "$TMP/out")
+awk -v e="$e5" -v r="$r5" -v h="$h5" 'BEGIN { exit !(e <= 512 && e > 256 && r < 8.71 && h < 0.95 && h > 0.5) }' ||
+  fail "capped near terms: $e5 entries per vertex within $r5 mm holding $h5 of R_d total"
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/n99.sss" --material skin1 --mm-per-unit 20 --dirs 20 --own-term runtime \
   --near-fraction 0.99 -q
 expect_ok "$SSS_STAT" "$TMP/n99.sss"

@@ -54,7 +54,7 @@ pid=$!; wait_handler "$pid"; sleep 0.5; kill -INT "$pid"; wait "$pid"
 # with ~900 neighbours per vertex and one direction spends nearly all its
 # time there; the signal comes 40 % into the phase, timed by a first run.
 if "$SSS_BAKE" --help | grep -q -- '--gather direct'; then
-  nb=(--sigma-a 0.002,0.002,0.002 --sigma-s 2,2,2 --mm-per-unit 60 --dirs 1 --gather direct -q)
+  nb=(--sigma-a 0.002,0.002,0.002 --sigma-s 2,2,2 --mm-per-unit 60 --dirs 1 --gather direct --weights point --own-term baked --quant float -q)
   expect_ok "$SSS_BAKE" "$mesh" -o "$TMP/nb.sss" "${nb[@]}" --json
   t_imp=$(grep -o '"import":[0-9.e+-]*' "$TMP/out" | cut -d: -f2)
   t_nb=$(grep -o '"neighbourhoods":[0-9.e+-]*' "$TMP/out" | cut -d: -f2)

@@ -42,9 +42,14 @@ awk 'BEGIN { nx = 120; ny = 6; print "OFF"; print (nx + 1) * (ny + 1), 2 * nx * 
   for (j = 0; j <= ny; j++) for (i = 0; i <= nx; i++) print -30 + 60 * i / nx, -30 + 60 * j / ny, 0
   for (j = 0; j < ny; j++) for (i = 0; i < nx; i++) { a = j * (nx + 1) + i
     print 3, a, a + 1, a + nx + 2; print 3, a, a + nx + 2, a + nx + 1 } }' > "$TMP/strip.off"
-expect_ok "$SSS_BAKE" "$TMP/strip.off" -o "$TMP/strip.sss" --material skin1 --dirs 12 -q --json
+expect_ok "$SSS_BAKE" "$TMP/strip.off" -o "$TMP/strip.sss" --material skin1 --dirs 12 --weights point -q --json
 contains "$TMP/err" 'warning: .* vertices have an edge longer than 7.35 mm'
 grep -q '"coarse_vertices":[1-9]' "$TMP/out" || fail "coarse_vertices should count the strip's vertices"
+# the default hat weights integrate R_d over those triangles: a flat strip
+# bends nowhere, so nothing is left to warn about (docs/physics.md §9)
+expect_ok "$SSS_BAKE" "$TMP/strip.off" -o "$TMP/strip.sss" --material skin1 --dirs 12 -q --json
+contains "$TMP/out" '"coarse_vertices":0'
+! grep -q 'edge longer' "$TMP/err" || fail "a flat strip with hat weights was warned about"
 expect_ok "$SSS_BAKE" "$TMP/s.ply" -o "$TMP/fine.sss" "${m[@]}" --dirs 12 --json
 contains "$TMP/out" '"coarse_vertices":0'
 ! grep -q 'warning' "$TMP/err" || fail "a fine mesh was warned about"

@@ -4,7 +4,7 @@
 . "$(dirname "$0")/lib.sh"
 expect_ok "$SSS_GENMESH" blob 2 "$TMP/blob.ply"
 for n in 25 200; do
-  expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/b$n.sss" --material skin1 --mm-per-unit 20 --dirs $n -q
+  expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/b$n.sss" --material skin1 --mm-per-unit 20 --dirs $n --quant float -q
 done
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/sh2.sss" --material skin1 --mm-per-unit 20 --dirs 200 --sh-order 2 --refs 0 -q
 num() { sed -n "s/.*\"$2\":\([-0-9.eE+]*\).*/\1/p" "$1"; }

@@ -3,7 +3,7 @@
 # sanitizer builds preload Mesa's driver into the viewer only (tests/CMakeLists.txt)
 view() { LD_PRELOAD=${SSS_VIEW_PRELOAD:-} "$SSS_VIEW" "$@"; }
 expect_ok "$SSS_GENMESH" blob 3 "$TMP/blob.ply"
-expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/b.sss" --material skin1 --mm-per-unit 20 --dirs 50 -q
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/b.sss" --material skin1 --mm-per-unit 20 --dirs 50 --own-term baked -q
 expect_ok view "$TMP/b.sss" --offscreen --out "$TMP/a.png" --size 160x120 --light 0,0,1 --view 0,0,1
 [ "$(head -c 8 "$TMP/a.png" | od -An -tx1 | tr -d ' ')" = "89504e470d0a1a0a" ] || fail "a.png is not a PNG"
 expect_ok view "$TMP/b.sss" --offscreen --out "$TMP/a.exr" --size 160x120 --light 0,1,0 --cpu

@@ -71,6 +71,24 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
  * proportional to the fraction left in the rows). */
 #define SSS_NEAR_FRACTION_DEFAULT 0.95
 
+/* The most near terms a vertex holds on average when their radius comes
+ * from the material: on an object small against its scattering range (a
+ * 2 mm blob of marble) the material's radius covers the whole mesh and the
+ * terms grow as nv²; the radius then shrinks until the rows hold at most
+ * this many entries per vertex on average (docs/accuracy.md, "Near terms
+ * sized by the material"). 512 keeps the 100K dragon at 20 cm (445) at the
+ * material's radius. */
+#define SSS_NEAR_ENTRIES_MAX 512
+
+/* radius_mm, or the largest radius found below it whose rows (every vertex
+ * within it, sss_near_spec.radius_mm) hold at most SSS_NEAR_ENTRIES_MAX
+ * entries per vertex on average, counted exactly. Deterministic. */
+double sss_near_radius_capped(const sss_mesh *mesh, double mm_per_unit, double radius_mm);
+
+/* The fraction of R_d,total (docs/physics.md §2) a disk of radius_mm holds
+ * in the channel that holds the least of it (the first `channels`). */
+double sss_near_fraction_held(const sss_material *m, uint32_t channels, double radius_mm);
+
 /* The near terms' radius for material m, in mm: the smallest disk that
  * holds `fraction` of R_d,total (docs/physics.md §2) in every one of its
  * first `channels` channels, i.e. the largest channel's sss_rd_radius with

@@ -123,6 +123,10 @@ typedef struct sss_bake_stats {
      * block that OpenGL 4.3 guarantees (GL_MAX_SHADER_STORAGE_BLOCK_SIZE ≥
      * 2^27), beyond which the viewer uploads them in chunks. */
     uint64_t near_entries;
+    /* With the radius from the material: the fraction of R_d,total it
+     * holds, and 1 where SSS_NEAR_ENTRIES_MAX shrank it (sss/nearterms.h) */
+    double near_fraction_held;
+    int near_capped;
     double longest_edge_mm;              /* the longest edge of the mesh */
     double range_mm;                     /* 1/σtr of that channel (∞ for σa = 0 is reported as the radius) */
     /* Vertices whose thickness (from the vertex along −n to the next

@@ -45,7 +45,7 @@ static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
  * import offset and the compression settings, when there are any, are
  * added through cJSON, whose number format the files made so far carry. */
 static char *params_json(const char *mesh_name, const sss_material *m, const sss_bake_options *o,
-                         uint32_t channels, const double *radius, double search)
+                         uint32_t channels, const double *radius, double search, const sss_bake_stats *st)
 {
     char buf[2048];
     const char *nm = mesh_name ? mesh_name : "";
@@ -81,10 +81,12 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
                      o->near_rings);
     } else if (o->near_terms) { /* format 1.5: the near terms by radius (docs/format.md §5.17) */
         /* a radius from the material: which fraction of R_d,total it holds */
-        char frac[48] = "";
-        if (o->near_fraction > 0.0) snprintf(frac, sizeof frac, ",\"near_fraction\":%.9g", o->near_fraction);
+        char frac[120] = "";
+        if (o->near_fraction > 0.0)
+            snprintf(frac, sizeof frac, ",\"near_fraction\":%.9g,\"near_fraction_held\":%.9g%s", o->near_fraction,
+                     st->near_fraction_held, st->near_capped ? ",\"near_capped\":true" : "");
         const size_t L = strlen(buf);
-        if (L > 0 && L + 250 < sizeof buf)
+        if (L > 0 && L + 330 < sizeof buf)
             snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"own_term\":\"runtime: rows hold q minus the sum over the "
                      "vertices within near_radius_mm of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)\",\"near_radius_mm\":%.9g%s}",
                      o->near_radius_mm, frac);
@@ -186,6 +188,16 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     /* a radius from the material beyond the neighbourhood (α′ → 1, a
      * fraction above 1 − ε) would only add terms of weight 0 */
     if (o.near_fraction > 0.0 && o.near_radius_mm > st.search_radius_mm) o.near_radius_mm = st.search_radius_mm;
+    /* and one that would hold more than SSS_NEAR_ENTRIES_MAX vertices on
+     * average (an object small against its range) is shrunk to that */
+    if (o.near_fraction > 0.0) {
+        const double capped = sss_near_radius_capped(mesh, o.mm_per_unit, o.near_radius_mm);
+        if (capped < o.near_radius_mm) {
+            o.near_radius_mm = capped;
+            st.near_capped = 1;
+        }
+        st.near_fraction_held = sss_near_fraction_held(mat, C, o.near_radius_mm);
+    }
     /* Resolution check (docs/robustness.md B3): the smoothest profile has
      * scale 1/σtr of the channel with the smallest σtr (a vanishing σa means
      * an unbounded range: the radius stands in for it). With point weights
@@ -248,12 +260,15 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     st.theta = o.theta = o.theta > 0 ? o.theta : SSS_GATHER_THETA_DEFAULT;
     /* The hat-function weights (docs/physics.md §9): the corrections to
      * the point weights, which the gathers below use as they are. Under MPI
-     * every rank computes them (rank 0 applies them; the near terms need
-     * them too), a small cost next to the gather. */
-    if (o.weights == SSS_WEIGHTS_HAT && (o.nranks <= 1 || o.rank == 0)) {
+     * the tree gather's rank 0 alone applies them (and the near terms need
+     * them there); the direct gather sums every row on every rank. */
+    const int hat_here = o.weights == SSS_WEIGHTS_HAT &&
+                         (o.nranks <= 1 || o.rank == 0 || st.gather != SSS_GATHER_TREE);
+    if (hat_here) {
         t = sss_now();
         sss_progress_begin("hat weights", 1);
         r = sss_hat_corrections(mesh, o.mm_per_unit, dip, C, st.search_radius_mm, NULL, 0, o.cancel, &hat, err);
+        if (r == SSS_OK) sss_progress_tick(1);
         sss_progress_end();
         if (r != SSS_OK) goto fail;
         st.t_hat = sss_now() - t;
@@ -263,7 +278,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     out->weights = o.weights;
     if (st.gather == SSS_GATHER_TREE) {
         r = sss_bake_tree(mesh, mat, &o, dip, C, avail > st.hat_entries * (4u + 4u * C) ? avail - st.hat_entries * (4u + 4u * C) : avail,
-                          o.weights == SSS_WEIGHTS_HAT && (o.nranks <= 1 || o.rank == 0) ? &hat : NULL, out, &st, err);
+                          hat_here ? &hat : NULL, out, &st, err);
         if (r != SSS_OK) goto fail;
         goto quantise;
     }
@@ -297,7 +312,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     out->q = malloc(nq * sizeof(float) + 1);
     if (!out->q) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %zu integrals", nq); goto fail; }
     sss_progress_begin("integrals", nb.start[nb.nrows]); /* ticks neighbours: the work of a row */
-    sss_integrate_hat(&nb, o.weights == SSS_WEIGHTS_HAT ? &hat : NULL, G, o.n_dirs, out->q);
+    sss_integrate_hat(&nb, hat_here ? &hat : NULL, G, o.n_dirs, out->q);
     sss_progress_end();
     st.t_integrals = sss_now() - t;
     free(G);
@@ -355,7 +370,7 @@ quantise:
     sss_weights_free(&hat);
     out->eps = o.eps;
     free(out->params_json);
-    out->params_json = params_json(mesh_name, mat, &o, C, st.radius_mm, st.search_radius_mm);
+    out->params_json = params_json(mesh_name, mat, &o, C, st.radius_mm, st.search_radius_mm, &st);
     if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto fail; }
     if (st_out) *st_out = st;
     return SSS_OK;

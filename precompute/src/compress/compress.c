@@ -44,7 +44,7 @@ void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint
          * least-squares weights, illumination-aware references; 3 %
          * references for one channel, 2 % for three (RGB shares triangles
          * and weights but not rows) */
-        d.fraction = channels == 1 ? 0.03 : 0.02;
+        d.fraction = channels == 1 ? 0.03 : 0.01;
         d.sh_kind = SSS_SHQ_LLOYD4;
         d.wbits = 8;
         d.ls_weights = 1;
