@@ -189,9 +189,10 @@ static int parse(int argc, char **argv, bake_args *a)
     a->eta = 1.3;
     a->quant = SSS_QUANT_FLOAT;
     a->gather = SSS_GATHER_AUTO;
-    /* the defaults give the best answer at the fewest bytes (docs/accuracy.md
-     * §1): hat weights, the near terms at run time within the material's
-     * radius, the compact compression; --preset paper is Hao–Varshney's */
+    /* the defaults give the best answer at the fewest bytes (docs/accuracy.md,
+     * "The defaults"): hat weights, the near terms at run time within the
+     * material's radius, the compact compression; --preset paper is
+     * Hao–Varshney's */
     a->near_terms = SSS_NEAR_TERMS_RUNTIME;
     a->weights = SSS_WEIGHTS_HAT;
     a->preset = SSS_COMPRESS_COMPACT;

@@ -414,6 +414,14 @@ target; the lowest measured is given). Two criteria: **the paper's
 (maximum over $VIEWS views)**, and the mean over the views, which says what
 a typical frame looks like.
 
+These rows were measured at 4000 mm per unit before the bake's defaults
+changed (section "The defaults"): each configuration is spelt as it was
+then, when a missing `--quant`/`--compress` meant float rows, a missing
+`--own-term` every term baked and the weights were the paper's point
+weights; today that is `--quant float --own-term baked --weights point`
+added to the row. The study at the real sizes with the new defaults is not
+regenerated yet.
+
 Maximum over views:
 
 $(table_choose rms_max)

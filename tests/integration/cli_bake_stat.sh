@@ -15,7 +15,7 @@ for q in float lloyd8; do
   contains "$TMP/out" 'bytes/vertex'
 done
 contains "$TMP/bake_lloyd8.json" '"lloyd_snr_db"'
-# no flags: the best answer at the fewest bytes (docs/accuracy.md §1): hat
+# no flags: the best answer at the fewest bytes (docs/accuracy.md, "The defaults"): hat
 # weights, the near terms at run time within the material's radius, the
 # compact compression (1 % references for RGB); --quant keeps the rows whole
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_default.sss" --material skin1 --mm-per-unit 20 --json -q
