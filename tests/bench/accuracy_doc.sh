@@ -6,7 +6,9 @@
 # when the figures move. The section "Model error" is
 # docs/data/model_error/section.md, written from tests/bench/model_error.sh's
 # tables (a run of its own), included as it stands; so is "Near terms sized
-# by the material", docs/data/near_radius/section.md (tests/bench/near_radius.sh).
+# by the material", docs/data/near_radius/section.md (tests/bench/near_radius.sh),
+# and "The defaults", docs/data/default_targets/section.md
+# (tests/bench/default_targets.sh).
 E200_D23=$(get d23_dirs200_float .image.rms_max)
 M200_D23=$(get d23_dirs200_float .image.rms_mean)
 E200_BUNNY=$(get bunny_dirs200_float .image.rms_max)
@@ -113,6 +115,8 @@ Against the light transport itself (section "Model error", a path-traced
 reference) the dipole's own error is larger than all of that: 16–20 % too
 dark front-lit in marble, 30–90 % back-lit, 1.4–2.1× too bright on a
 thin slab; front-lit, 2 to 17 times the approximation error.
+
+$(cat "$(dirname "${BASH_SOURCE[0]}")/../../docs/data/default_targets/section.md")
 
 ## How the error is measured
 
