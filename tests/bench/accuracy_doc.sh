@@ -97,8 +97,8 @@ error-measurement part, which dominates.
 
 **At the defaults** (`sss-bake MESH -o OUT --material M --mm-per-unit S`,
 section "The defaults"): the 20 cm dragon gives image RMS 7.3–7.6×10⁻⁴
-(23K vertices, worst of 100 views; back-lit 5.3–5.7×10⁻⁴) and 2.2–4.5×10⁻⁴
-(100K, 10–30 views) at 24 bytes per vertex RGB; the 10 cm bunny 7.2×10⁻⁴ at
+(23K vertices, worst of 100 views; back-lit 5.3–5.7×10⁻⁴) and 4.5–4.9×10⁻⁴
+(100K, 30 views) at 24 bytes per vertex RGB; the 10 cm bunny 7.2×10⁻⁴ at
 31.3 bytes per vertex. The figures below this paragraph and in the tables
 after "The defaults" were measured at 4000 mm per unit with the earlier
 defaults, and name their configuration in full.
