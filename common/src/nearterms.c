@@ -64,44 +64,74 @@ static int cmp_vkey(const void *x, const void *y)
     return (a->v > b->v) - (a->v < b->v);
 }
 
+/* The vertices sorted by (cell, index) in a grid of cells `cell` mm wide
+ * whose corner is the mesh's lowest point. */
+typedef struct vgrid {
+    vkey_entry *e; /* nv entries */
+    double lo[3], cell;
+} vgrid;
+
+/* 0 when out of memory. */
+static int vgrid_build(vgrid *g, const sss_mesh *m, double s, double cell)
+{
+    const uint32_t nv = m->nv;
+    g->cell = cell;
+    g->e = malloc((size_t)nv * sizeof *g->e + 1);
+    if (!g->e) return 0;
+    for (int k = 0; k < 3; k++) g->lo[k] = INFINITY;
+    for (uint32_t v = 0; v < nv; v++)
+        for (int k = 0; k < 3; k++) g->lo[k] = fmin(g->lo[k], (double)m->pos[3 * (size_t)v + k] * s);
+    for (uint32_t v = 0; v < nv; v++) {
+        int64_t c[3];
+        cell3(m, v, s, g->lo, cell, c);
+        g->e[v].key = vkey(c[0], c[1], c[2]);
+        g->e[v].v = v;
+    }
+    qsort(g->e, nv, sizeof *g->e, cmp_vkey);
+    return 1;
+}
+
+/* Every vertex within r ≤ g->cell mm of x_o (o itself included) into hits,
+ * in the grid's order, from the 27 cells around x_o; returns their count. */
+static uint32_t vgrid_within(const vgrid *g, const sss_mesh *m, double s, uint32_t o, double r, uint32_t *hits)
+{
+    const uint32_t nv = m->nv;
+    uint32_t n = 0;
+    int64_t c0[3];
+    cell3(m, o, s, g->lo, g->cell, c0);
+    for (int64_t dx = -1; dx <= 1; dx++)
+        for (int64_t dy = -1; dy <= 1; dy++)
+            for (int64_t dz = -1; dz <= 1; dz++) {
+                const int64_t cx = c0[0] + dx, cy = c0[1] + dy, cz = c0[2] + dz;
+                if (cx < 0 || cy < 0 || cz < 0 || cx > VGRID_MAX || cy > VGRID_MAX || cz > VGRID_MAX) continue;
+                const uint64_t key = vkey(cx, cy, cz);
+                uint32_t a = 0, b = nv; /* first cell entry with this key */
+                while (a < b) {
+                    const uint32_t mid = a + (b - a) / 2;
+                    if (g->e[mid].key < key) a = mid + 1;
+                    else b = mid;
+                }
+                for (; a < nv && g->e[a].key == key; a++)
+                    if (dist_mm(m, o, g->e[a].v, s) <= r) hits[n++] = g->e[a].v;
+            }
+    return n;
+}
+
 /* Σ_o |{i : ‖x_i − x_o‖ ≤ r}| over the vertices (each counts itself),
  * through the grid of sss_near_build_spec; stops counting past `stop`.
  * 0 when out of memory. */
 static uint64_t pairs_within(const sss_mesh *mesh, double s, double r, uint64_t stop)
 {
-    const uint32_t nv = mesh->nv;
-    vkey_entry *vk = malloc((size_t)nv * sizeof *vk + 1);
-    if (!vk) return 0;
-    double lo[3] = {INFINITY, INFINITY, INFINITY};
-    for (uint32_t v = 0; v < nv; v++)
-        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], (double)mesh->pos[3 * (size_t)v + k] * s);
-    for (uint32_t v = 0; v < nv; v++) {
-        int64_t c[3];
-        cell3(mesh, v, s, lo, r, c);
-        vk[v].key = vkey(c[0], c[1], c[2]);
-        vk[v].v = v;
+    vgrid g;
+    uint32_t *hits = malloc((size_t)mesh->nv * sizeof *hits + 1);
+    if (!hits || !vgrid_build(&g, mesh, s, r)) {
+        free(hits);
+        return 0;
     }
-    qsort(vk, nv, sizeof *vk, cmp_vkey);
     uint64_t total = 0;
-    for (uint32_t o = 0; o < nv && total <= stop; o++) {
-        int64_t c0[3];
-        cell3(mesh, o, s, lo, r, c0);
-        for (int64_t dx = -1; dx <= 1; dx++)
-            for (int64_t dy = -1; dy <= 1; dy++)
-                for (int64_t dz = -1; dz <= 1; dz++) {
-                    const int64_t cx = c0[0] + dx, cy = c0[1] + dy, cz = c0[2] + dz;
-                    if (cx < 0 || cy < 0 || cz < 0 || cx > VGRID_MAX || cy > VGRID_MAX || cz > VGRID_MAX) continue;
-                    const uint64_t key = vkey(cx, cy, cz);
-                    uint32_t a = 0, b = nv;
-                    while (a < b) {
-                        const uint32_t mid = a + (b - a) / 2;
-                        if (vk[mid].key < key) a = mid + 1;
-                        else b = mid;
-                    }
-                    for (; a < nv && vk[a].key == key; a++) total += dist_mm(mesh, o, vk[a].v, s) <= r;
-                }
-    }
-    free(vk);
+    for (uint32_t o = 0; o < mesh->nv && total <= stop; o++) total += vgrid_within(&g, mesh, s, o, r, hits);
+    free(g.e);
+    free(hits);
     return total;
 }
 
@@ -221,10 +251,8 @@ sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, do
     const double s = mm_per_unit;
     sss_result r = SSS_OK;
     sss_weights hat_own = {0};
-    uint64_t *vkeys = NULL;
-    uint32_t *vorder = NULL;
-    vkey_entry *vk = NULL;
-    double lo[3] = {0, 0, 0};
+    vgrid grid = {0};
+    uint32_t *hits = NULL;
     double *area = malloc((size_t)nv * sizeof *area + 1);
     uint32_t *astart = calloc((size_t)nv + 1, sizeof *astart), *adj = NULL;
     uint32_t *mark = NULL, *list = NULL, *order = NULL, *grp = NULL, *gend = NULL;
@@ -271,26 +299,10 @@ sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, do
         k = e;
     }
 
-    /* A radius: the vertices in a grid of cells as wide as the radius,
-     * sorted by (cell, index). */
+    /* A radius: the vertices in a grid of cells as wide as the radius. */
     if (radius > 0.0) {
-        vkeys = malloc((size_t)nv * sizeof *vkeys + 1);
-        vorder = malloc((size_t)nv * sizeof *vorder + 1);
-        vk = malloc((size_t)nv * sizeof *vk + 1);
-        if (!vkeys || !vorder || !vk) goto nomem;
-        for (int k = 0; k < 3; k++) lo[k] = INFINITY;
-        for (uint32_t v = 0; v < nv; v++)
-            for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], (double)mesh->pos[3 * (size_t)v + k] * s);
-        for (uint32_t v = 0; v < nv; v++) {
-            int64_t c[3];
-            cell3(mesh, v, s, lo, radius, c);
-            vk[v].key = vkey(c[0], c[1], c[2]);
-            vk[v].v = v;
-        }
-        qsort(vk, nv, sizeof *vk, cmp_vkey);
-        for (uint32_t a = 0; a < nv; a++) vkeys[a] = vk[a].key, vorder[a] = vk[a].v;
-        free(vk);
-        vk = NULL;
+        hits = malloc((size_t)nv * sizeof *hits + 1);
+        if (!hits || !vgrid_build(&grid, mesh, s, radius)) goto nomem;
     }
 
     /* rings by breadth-first walk per vertex (a vertex brings its copies),
@@ -307,27 +319,10 @@ sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, do
             mark[o] = tag;
             for (uint32_t g = grp[o]; g < gend[o]; g++)
                 if (mark[order[g]] != tag) mark[order[g]] = tag, list[m++] = order[g];
-            if (radius > 0.0) { /* every vertex within the radius: the grid's 27 cells around x_o */
-                int64_t c0[3];
-                cell3(mesh, o, s, lo, radius, c0);
-                for (int64_t dx = -1; dx <= 1; dx++)
-                    for (int64_t dy = -1; dy <= 1; dy++)
-                        for (int64_t dz = -1; dz <= 1; dz++) {
-                            const int64_t cx = c0[0] + dx, cy = c0[1] + dy, cz = c0[2] + dz;
-                            if (cx < 0 || cy < 0 || cz < 0 || cx > VGRID_MAX || cy > VGRID_MAX || cz > VGRID_MAX)
-                                continue;
-                            const uint64_t key = vkey(cx, cy, cz);
-                            uint32_t a = 0, b = nv; /* first cell entry with this key */
-                            while (a < b) {
-                                const uint32_t mid = a + (b - a) / 2;
-                                if (vkeys[mid] < key) a = mid + 1;
-                                else b = mid;
-                            }
-                            for (; a < nv && vkeys[a] == key; a++) {
-                                const uint32_t i = vorder[a];
-                                if (mark[i] != tag && dist_mm(mesh, o, i, s) <= radius) mark[i] = tag, list[m++] = i;
-                            }
-                        }
+            if (radius > 0.0) { /* every vertex within the radius */
+                const uint32_t nh = vgrid_within(&grid, mesh, s, o, radius, hits);
+                for (uint32_t a = 0; a < nh; a++)
+                    if (mark[hits[a]] != tag) mark[hits[a]] = tag, list[m++] = hits[a];
             }
             for (uint32_t k = 0; radius == 0.0 && k < rings; k++) { /* rings: breadth first */
                 const uint32_t end = m;
@@ -422,9 +417,8 @@ nomem:
     r = sss_fail(err, SSS_ERR_NOMEM, "near terms: out of memory for %u vertices", nv);
 done:
     sss_weights_free(&hat_own);
-    free(vkeys);
-    free(vorder);
-    free(vk);
+    free(grid.e);
+    free(hits);
     free(area);
     free(astart);
     free(adj);
