@@ -663,6 +663,12 @@ int32_t sss_dirset_lookup(const sss_dirset *s, const double d[3], uint32_t idx[3
     return bt;
 }
 
+void sss_dirset_round_f32(sss_dirset *s)
+{
+    if (!s || !s->dir) return;
+    for (size_t k = 0; k < 3 * (size_t)s->n; k++) s->dir[k] = (double)(float)s->dir[k];
+}
+
 void sss_dirset_free(sss_dirset *s)
 {
     if (!s) return;

@@ -300,6 +300,13 @@ static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, ss
             return sss_fail(err, CORRUPT, "%s: section %s without %s", name, sections[k].tag,
                             fxm ? "the effect that uses it" : "section EFCT");
     }
+    /* §5.10, §5.17: one storage form of the directions, for the effects
+     * that use a direction set (the needs above refused it for the others) */
+    const int ndir_sections = (where[SSS_SEC_DIRS] >= 0) + (where[SSS_SEC_DIRC] >= 0);
+    if (sss_sec_fx_uses_dirs(fxm) && ndir_sections == 0)
+        return sss_fail(err, CORRUPT, "%s: missing required section DIRS or DIRC (one is needed)", name);
+    if (ndir_sections > 1)
+        return sss_fail(err, CORRUPT, "%s: both sections DIRS and DIRC (exactly one is allowed)", name);
     /* §5.9 and §5.10: one storage form of the direction-set integrals, for
      * the direction-set effect; §5.14: the own term only in plain bakes. */
     const int need_q = sss_sec_fx_uses_q(fxm);
@@ -422,7 +429,7 @@ void sss_file_storage(const sss_bake_file *f, sss_storage *s)
     memset(s, 0, sizeof *s);
     if (!f) return;
     const uint64_t C = f->channels, nd = f->dirs.n, nv = f->mesh.nv;
-    s->dirs = f->dirs.n ? sss_sec_dirs_size(f) : 0;
+    s->dirs = sss_sec_directions_size(f);
     switch (sss_sec_fx_uses_q(f->fx.mask) ? f->quant : (sss_quant)-1) {
     default:
         break;

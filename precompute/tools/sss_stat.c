@@ -745,6 +745,12 @@ static int summary(const char *path, const sss_bake_file *f, int json)
     const size_t nparts = sizeof part / sizeof part[0];
     const double raw8 = (double)f->dirs.n * f->channels, rawf = 4.0 * raw8; /* bytes/vertex, uncompressed */
     const double sbpv = (double)st.total / nv; /* scattering data incl. directions, per vertex */
+    /* every byte of the file but the mesh: the scattering data above and
+     * the header, section table, material, parameters and small sections */
+    uint64_t geom = 0;
+    for (uint32_t s = 0; s < f->nsections; s++)
+        if (memcmp(f->sections[s].tag, "GEOM", 4) == 0) geom = f->sections[s].size;
+    const uint64_t apart = f->file_size - geom;
     if (json) {
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "file", path);
@@ -769,6 +775,8 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         cJSON_AddStringToObject(o, "weights", f->weights == SSS_WEIGHTS_HAT ? "hat" : "point");
         cJSON_AddNumberToObject(o, "file_bytes", (double)f->file_size);
         cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)f->file_size / nv);
+        cJSON_AddNumberToObject(o, "bytes_apart_geometry", (double)apart);
+        cJSON_AddNumberToObject(o, "bytes_apart_geometry_per_vertex", (double)apart / nv);
         cJSON *secs = cJSON_AddArrayToObject(o, "sections");
         for (uint32_t s = 0; s < f->nsections; s++) {
             cJSON *e = cJSON_CreateObject();
@@ -829,6 +837,7 @@ static int summary(const char *path, const sss_bake_file *f, int json)
             printf("  %-6s %14llu %12.2f %14llu\n", f->sections[s].tag, (unsigned long long)f->sections[s].size,
                    (double)f->sections[s].size / nv, (unsigned long long)f->sections[s].count);
         printf("  total  %14llu %12.2f\n", (unsigned long long)f->file_size, (double)f->file_size / nv);
+        printf("  all but GEOM %8llu %12.2f\n", (unsigned long long)apart, (double)apart / nv);
         if (f->quant == SSS_QUANT_REFS)
             printf("  compression: %u references (%.2f%%), %u triangles, %u-bit weights in [%g, %g], SH order %u (%s)\n",
                    f->ref.nref, 100.0 * f->ref.nref / nv, f->ref.nrt, f->ref.wbits, (double)f->ref.w_lo,

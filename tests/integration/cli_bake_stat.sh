@@ -22,7 +22,7 @@ expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_default.sss" --material skin
 contains "$TMP/out" '"quant":"refs"'
 contains "$TMP/out" '"near_capped":false'
 expect_ok "$SSS_STAT" "$TMP/blob_default.sss" --json
-for key in '"format_version":"1.5"' '"weights":"hat"' '"near_fraction":0.95' '"sh_quant":"lloyd4"' '"weight_bits":8' \
+for key in '"format_version":"1.6"' '"weights":"hat"' '"near_fraction":0.95' '"sh_quant":"lloyd4"' '"weight_bits":8' \
   '"refs_fraction":0.01' '"directions":200'; do
   contains "$TMP/out" "$key"
 done
@@ -41,7 +41,12 @@ expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_refs.sss" --material skin1 -
   --sh-order 2 --refs 0.05 --sh-quant lloyd4 --weight-bits 8 --ls-weights --own-term baked --weights point --json -q
 contains "$TMP/out" '"quant":"refs"'
 expect_ok "$SSS_STAT" "$TMP/blob_refs.sss" --json
-contains "$TMP/out" '"format_version":"1.4"'
+# the compact compression stores its directions in float32 (DIRC, format 1.6)
+contains "$TMP/out" '"format_version":"1.6"'
+contains "$TMP/out" '"tag":"DIRC","bytes":1184,'
+# every byte but the mesh: file_bytes 48695 less GEOM's 30776
+contains "$TMP/out" '"file_bytes":48695,'
+contains "$TMP/out" '"bytes_apart_geometry":17919,'
 for part in ref_vertex_indices ref_triangles vertex_triangle_indices weights ref_values sh_tables sh_codes directions; do
   contains "$TMP/out" "\"$part\":{\"bytes\":"
 done
@@ -120,6 +125,9 @@ for k in 'directions 200, storage refs' 'weights: point samples' '16-bit weights
   contains "$TMP/out" "$k"
 done
 grep -q 'near terms added at run time' "$TMP/out" && fail "--preset paper split near terms off"
+# and keeps its directions in float64 (DIRS), as 1.1 readers read them
+expect_ok "$SSS_STAT" "$TMP/hv.sss" --json
+contains "$TMP/out" '"tag":"DIRS","bytes":9560,'
 # the bundled sample bakes too
 expect_ok "$SSS_BAKE" "$SSS_SOURCE/data/meshes/blob.ply" -o "$TMP/sample.sss" --material marble --mm-per-unit 100 --dirs 25 -q
 echo "cli_bake_stat: ok"

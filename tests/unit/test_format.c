@@ -148,6 +148,13 @@ static tsec *t_find(tfile *t, const char *tag)
     return NULL;
 }
 
+static int t_has(const tfile *t, const char *tag)
+{
+    for (uint32_t i = 0; i < t->n; i++)
+        if (memcmp(t->s[i].tag, tag, 4) == 0) return 1;
+    return 0;
+}
+
 static void t_remove(tfile *t, const char *tag)
 {
     tsec *s = t_find(t, tag);
@@ -1021,6 +1028,64 @@ static void decodeRejectsBadDirections(void **state)
     free(b);
 }
 
+/* §5.17: a set whose every component is a float32 is written as DIRC, in
+ * 12 + 6 bytes per direction and triangle pair instead of 24 + 12, and
+ * reads back to the same doubles; the file is 1.6. A set that is not stays
+ * DIRS. Both sections, or neither, are refused, and a bad DIRC is named. */
+static void dircHoldsFloatDirectionsInHalfTheBytes(void **state)
+{
+    (void)state;
+    sss_bake_file a, b;
+    make_file(&a, 40, 3, SSS_QUANT_FLOAT);
+    size_t l64;
+    uint8_t *b64 = encode(&a, &l64);
+    tfile t;
+    t_split(b64, l64, &t);
+    assert_true(t_has(&t, "DIRS") && !t_has(&t, "DIRC"));
+    sss_dirset_round_f32(&a.dirs);
+    a.dirs_f32 = 1;
+    size_t len;
+    uint8_t *buf = encode(&a, &len);
+    assert_int_equal(buf[10] | buf[11] << 8, 6);
+    tfile u;
+    t_split(buf, len, &u);
+    assert_false(t_has(&u, "DIRS"));
+    const tsec *dc = t_find(&u, "DIRC");
+    assert_non_null(dc);
+    assert_int_equal(dc->size, 8 + 12 * 40 + 6 * 76);
+    assert_int_equal(l64 - len, 12 * 40 + 6 * 76);
+    expect_accept(buf, len, &b);
+    assert_same_file(&a, &b);
+    size_t len2;
+    uint8_t *buf2 = encode(&b, &len2);
+    assert_int_equal(len, len2);
+    assert_memory_equal(buf, buf2, len);
+    /* both, then neither */
+    const tsec *ds = t_find(&t, "DIRS");
+    t_append(&u, "DIRS", ds->flags, ds->data, ds->size);
+    u.s[u.n - 1].count = ds->count;
+    expect_reject_t(&u, SSS_ERR_CORRUPT, "both sections DIRS and DIRC");
+    t_remove(&u, "DIRS");
+    t_remove(&u, "DIRC");
+    expect_reject_t(&u, SSS_ERR_CORRUPT, "missing required section DIRS or DIRC");
+    t_free(&u);
+    /* a bad DIRC is refused by name: an index, a length, the counts */
+    const size_t dir = 8, tri = 8 + 12 * 40;
+    t_split(buf, len, &u);
+    uint8_t *d = t_find(&u, "DIRC")->data;
+    wr16(d + tri, 40);
+    expect_reject_t(&u, SSS_ERR_CORRUPT, "section DIRC: triangle 0: index 40 out of range");
+    t_free(&u);
+    reject_edit_f32(buf, len, "DIRC", dir, 0.5f, "section DIRC: direction 0 has length");
+    reject_edit_u32(buf, len, "DIRC", 4, 75, "section DIRC: 75 triangles for 40 directions");
+    t_free(&t);
+    free(b64);
+    free(buf);
+    free(buf2);
+    sss_file_free(&a);
+    sss_file_free(&b);
+}
+
 static void decodeRejectsBadQuantisedValues(void **state)
 {
     (void)state;
@@ -1740,6 +1805,7 @@ int main(void)
         cmocka_unit_test(decodeRejectsBadGeometry),
         cmocka_unit_test(decodeRejectsBadMaterial),
         cmocka_unit_test(decodeRejectsBadDirections),
+        cmocka_unit_test(dircHoldsFloatDirectionsInHalfTheBytes),
         cmocka_unit_test(decodeRejectsBadQuantisedValues),
         cmocka_unit_test(decodeRejectsNulInParams),
         cmocka_unit_test(nbhdRoundTripsAndMakesTheFile1_4),

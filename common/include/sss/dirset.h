@@ -61,6 +61,13 @@ int32_t sss_dirset_lookup(const sss_dirset *s, const double d[3], uint32_t idx[3
  * and thread-safe, O(n). */
 int sss_dirset_nearest4(const sss_dirset *s, const double d[3], uint32_t idx[4], double w[4]);
 
+/* Rounds every component to the nearest float32 (kept in double), so that
+ * the file stores the set exactly in half the bytes (section DIRC,
+ * docs/format.md §5.18). The directions move by under 1e-7 rad and stay
+ * unit within 1e-7; the triangulation is kept. A bake rounds before it
+ * computes its rows, so that the rows belong to the stored directions. */
+void sss_dirset_round_f32(sss_dirset *s);
+
 /* Frees owned arrays and zeroes the struct. NULL-safe. */
 void sss_dirset_free(sss_dirset *s);
 

@@ -2,7 +2,8 @@
  * adds the compressed forms of Hao–Varshney 2004 §4, minor 2 the effect
  * sections of scene bakes, docs/scenes.md, minor 3 the near terms added at
  * run time, minor 4 the neighbourhood cutoff ε as binary data, minor 5 the
- * hat-function weights and the near terms' radius in mm).
+ * hat-function weights and the near terms' radius in mm, minor 6 the
+ * directions in float32 with 16-bit indices).
  * Spec: docs/format.md. Little-endian, magic + version, a section table with
  * 64-bit offsets and sizes and a CRC-32 per section; written atomically.
  */
@@ -21,7 +22,7 @@ extern "C" {
 #endif
 
 #define SSS_FORMAT_MAJOR 1
-#define SSS_FORMAT_MINOR 5
+#define SSS_FORMAT_MINOR 6
 /* The minor version plain bakes record in PARM ("format"), kept at 1 so
  * that their bytes do not change with 1.2, which only scene bakes use. */
 #define SSS_FORMAT_MINOR_PLAIN 1
@@ -156,6 +157,9 @@ typedef struct sss_bake_file {
     double mm_per_unit;       /* millimetres per mesh unit */
     uint32_t channels;        /* 1 (grey) or 3 (RGB) */
     sss_dirset dirs;          /* directions ω_j and their triangulation */
+    int dirs_f32;             /* 1: stored as float32 with 16-bit indices (DIRC, docs/format.md
+                               * §5.18; every component must then be a float32, as
+                               * sss_dirset_round_f32 leaves it); 0: as float64 (DIRS) */
     sss_quant quant;
     /* Integrals q(x_v, ω_j) per channel c (Hao–Varshney 2004 §3.1, units 1/sr
      * per unit irradiance); layout direction-major: element (j, v, c) is at

@@ -105,6 +105,7 @@
     X(MATL, "MATL", SSS_SEC_REQUIRED | SSS_SEC_EVERY_FILE,                      0, matl)       \
     X(EFCT, "EFCT", SSS_SEC_REQUIRED | SSS_SEC_READ_FIRST | SSS_SEC_CHECK_LAST, 2, efct)       \
     X(DIRS, "DIRS", SSS_SEC_REQUIRED,                                           0, dirs)       \
+    X(DIRC, "DIRC", SSS_SEC_REQUIRED,                                           6, dirc)       \
     X(QFLT, "QFLT", SSS_SEC_REQUIRED,                                           0, qflt)       \
     X(QL8,  "QL8 ", SSS_SEC_REQUIRED,                                           0, ql8)        \
     X(REFS, "REFS", SSS_SEC_REQUIRED,                                           1, refs)       \
@@ -152,6 +153,10 @@ static inline int sss_sec_fx_uses_q(uint32_t m) { return !m || (m & SSS_FX_DIR_S
 /* 2n - 4 triangles (Euler, closed triangulated sphere); in 64 bits, as a hostile
  * n near 2^32 must not wrap onto a small stored ntri. */
 static inline uint64_t sss_sec_dirs_ntri(uint32_t n) { return n >= 4 ? 2u * (uint64_t)n - 4u : 0u; }
+
+/* The bytes of whichever of DIRS and DIRC the writer takes for f's set (0
+ * without directions). */
+uint64_t sss_sec_directions_size(const sss_bake_file *f);
 
 /* Number of q values, n * nv * channels (GEOM, MATL and DIRS known); 0 on overflow. */
 static inline int sss_sec_q_count(const sss_bake_file *f, uint64_t *nq)

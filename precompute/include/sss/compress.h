@@ -42,6 +42,10 @@ typedef struct sss_compress_opts {
     uint32_t wbits;      /* 8 or 16 bits per stored weight */
     int ls_weights;      /* 0: closest-point barycentrics (paper); 1: least squares */
     double illum_weight; /* 0: geometric references (paper); > 0: illumination-aware */
+    /* 1: the directions are stored in float32 (section DIRC, docs/format.md
+     * §5.18): sss_compress rounds them in its copy, and a bake that
+     * compresses rounds them before it computes the rows. 0: as given. */
+    int dirs_f32;
     /* Optional: references chosen beforehand by sss_compress_choose_refs for
      * this bake, fraction and illum_weight (then ignored), so that a sweep
      * over SH orders and codes decimates once. NULL: chosen here. */

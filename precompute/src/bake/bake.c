@@ -177,6 +177,9 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     const sss_mesh *mesh = &out->mesh;
     r = sss_dirset_fibonacci(&out->dirs, o.n_dirs, err);
     if (r != SSS_OK) goto fail;
+    /* a file that stores its directions in float32 (DIRC) gets rows baked
+     * at those directions, so the exact evaluator reproduces them */
+    if (o.compress && o.compress->dirs_f32) sss_dirset_round_f32(&out->dirs);
     out->material = *mat;
     out->mm_per_unit = o.mm_per_unit;
     out->channels = C;

@@ -42,13 +42,14 @@ void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint
     if (p == SSS_COMPRESS_COMPACT) {
         /* docs/compression.md "compact": 4-bit Lloyd SH codes, 8-bit
          * least-squares weights, illumination-aware references; 3 %
-         * references for one channel, 2 % for three (RGB shares triangles
-         * and weights but not rows) */
+         * references for one channel, 1 % for three (RGB shares triangles
+         * and weights but not rows); the directions in float32 */
         d.fraction = channels == 1 ? 0.03 : 0.01;
         d.sh_kind = SSS_SHQ_LLOYD4;
         d.wbits = 8;
         d.ls_weights = 1;
         d.illum_weight = 1e-3;
+        d.dirs_f32 = 1;
     }
     if (!(given & SSS_CO_ORDER)) o->order = d.order;
     if (!(given & SSS_CO_FRACTION)) o->fraction = d.fraction;
@@ -56,6 +57,7 @@ void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint
     if (!(given & SSS_CO_WBITS)) o->wbits = d.wbits;
     if (!(given & SSS_CO_LS_WEIGHTS)) o->ls_weights = d.ls_weights;
     if (!(given & SSS_CO_ILLUM)) o->illum_weight = d.illum_weight;
+    o->dirs_f32 = d.dirs_f32; /* the preset's storage, not a user's choice */
 }
 
 /* ---- copying what does not change ------------------------------------- */
@@ -365,6 +367,8 @@ sss_result sss_compress(const sss_bake_file *f, const sss_compress_opts *o, sss_
         sss_file_free(d);
         return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory copying the bake");
     }
+    if (o->dirs_f32) sss_dirset_round_f32(&d->dirs);
+    d->dirs_f32 = f->dirs_f32 || o->dirs_f32;
     const uint32_t nv = f->mesh.nv, C = f->channels, nd = f->dirs.n, ncoef = sss_sh_count(o->order);
     const int refmode = o->fraction > 0.0;
     d->quant = refmode ? SSS_QUANT_REFS : SSS_QUANT_SH;
