@@ -54,7 +54,8 @@ static void usage(FILE *f)
         "                       them back with a shadow test per vertex (docs/accuracy.md): every\n"
         "                       vertex within the radius that holds --near-fraction of the\n"
         "                       material's R_d total; baked: they stay in q (the paper)\n"
-        "  --near-fraction F    with --own-term runtime: that fraction, in [0.5, 0.999] (default 0.95)\n"
+        "  --near-fraction F    with --own-term runtime: that fraction, in [0.5, 0.999] (default 0.95;\n"
+        "                       0.97 for a one-channel material)\n"
         "  --near-radius MM     with --own-term runtime: the near terms within MM millimetres instead\n"
         "  --rings K            with --own-term runtime: K mesh rings instead, 0..8 (expert: a fine\n"
         "                       mesh's rings cover less of the scattering than a coarse one's)\n"
@@ -386,6 +387,9 @@ static int options(const bake_args *a, bake_setup *s)
         sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 2;
     }
+    /* a one-channel material holds more by default (sss/nearterms.h) */
+    if (opt->near_fraction > 0.0 && !a->near_fraction_given)
+        opt->near_fraction = sss_near_fraction_default(sss_material_channels(mat));
     if (a->compress) {
         sss_compress_opts *co = &s->co;
         co->order = a->sh_order;

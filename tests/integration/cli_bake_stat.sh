@@ -30,6 +30,16 @@ done
 # is the longest), the same whatever the mesh
 sed -n 's/.*"near_radius_mm":\([0-9.eE+-]*\).*/\1/p' "$TMP/out" | awk '{ exit !($1 > 8 && $1 < 25) }' ||
   fail "default near radius out of range: $(cat "$TMP/out")"
+# a one-channel material holds 97 % by default (sss/nearterms.h), and
+# --near-fraction still rules
+G=(--sigma-a 0.0041,0.0041,0.0041 --sigma-s 2.62,2.62,2.62 --mm-per-unit 20 --dirs 50 -q)
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_grey.sss" "${G[@]}"
+expect_ok "$SSS_STAT" "$TMP/blob_grey.sss" --json
+contains "$TMP/out" '"channels":1,'
+contains "$TMP/out" '"near_fraction":0.97'
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_grey.sss" "${G[@]}" --near-fraction 0.95
+expect_ok "$SSS_STAT" "$TMP/blob_grey.sss" --json
+contains "$TMP/out" '"near_fraction":0.95'
 # lloyd8 integrals take 1 byte instead of 4: the file must be much smaller
 f=$(stat -c %s "$TMP/blob_float.sss"); l=$(stat -c %s "$TMP/blob_lloyd8.sss")
 [ $((l * 3)) -lt "$f" ] || fail "lloyd8 file ($l B) should be < 1/3 of float ($f B)"

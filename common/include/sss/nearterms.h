@@ -68,8 +68,21 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
 /* The fraction of R_d,total the run-time near terms hold by default when
  * their radius comes from the material (docs/accuracy.md, "Near terms sized
  * by the material": the baked rest's image error measured about
- * proportional to the fraction left in the rows). */
+ * proportional to the fraction left in the rows), in the widest channel of
+ * an RGB file. Its other channels then hold more: 0.964–0.983 on average
+ * over the three for the Jensen presets (marble 0.971), and the image error
+ * averages the channels. A one-channel file has no such margin, so it
+ * holds SSS_NEAR_FRACTION_GREY, what the RGB marble holds on average
+ * (docs/accuracy.md, "The defaults": grey marble 1.05e-3 worst at 0.95,
+ * 5.9e-4 at 0.97). */
 #define SSS_NEAR_FRACTION_DEFAULT 0.95
+#define SSS_NEAR_FRACTION_GREY 0.97
+
+/* The default fraction for a file of `channels` channels. */
+static inline double sss_near_fraction_default(uint32_t channels)
+{
+    return channels == 1 ? SSS_NEAR_FRACTION_GREY : SSS_NEAR_FRACTION_DEFAULT;
+}
 
 /* The most near terms a vertex holds on average when their radius comes
  * from the material: on an object small against its scattering range (a
