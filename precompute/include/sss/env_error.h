@@ -27,7 +27,11 @@ extern "C" {
 #endif
 
 #define SSS_ENV_ERROR_VERTICES 64       /* receivers drawn (all of a smaller mesh) */
-#define SSS_ENV_ERROR_SOURCES 16384u    /* at most this many distinct sources traced per direction */
+/* at most this many evaluations of G in all: the sources traced per
+ * direction are limited to this over the reference's directions (16384 up
+ * to order 4, 4096 at order 8), what the bake of a 65536-vertex mesh costs
+ * at order 4, whatever the size of the mesh measured */
+#define SSS_ENV_ERROR_EVALS (1u << 27)
 #define SSS_ENV_ERROR_REF_FACTOR 4u     /* the reference's directions: this times the bake's M */
 #define SSS_ENV_ERROR_RANDOM_MAX 8u     /* random environments at most */
 
@@ -59,7 +63,7 @@ typedef struct sss_env_error {
 /* Measures f's ENVT (f->fx.mask must hold SSS_FX_ENV_SH) against e, built
  * from f. The receivers are SSS_ENV_ERROR_VERTICES vertices drawn without
  * replacement from `seed` (every vertex of a smaller mesh), as many of them
- * as keep the sources within SSS_ENV_ERROR_SOURCES (at least one); the
+ * as keep the sources within SSS_ENV_ERROR_EVALS / (4·M) (at least one); the
  * rotation and the random environments come from the same seed. The
  * reference traces visibility when the file's self-shadow bit is set
  * (what the bake did) and restores e's visibility afterwards. Deterministic

@@ -137,7 +137,7 @@ sss_result sss_env_error_measure(const sss_bake_file *f, sss_exact *e, uint32_t 
         goto done;
     }
     const uint32_t drawn = draw_receivers(nv, SSS_ENV_ERROR_VERTICES, &st, verts, perm);
-    r = sss_exact_subset_create(e, verts, drawn, SSS_ENV_ERROR_SOURCES, &sub, err);
+    r = sss_exact_subset_create(e, verts, drawn, SSS_ENV_ERROR_EVALS / Mr, &sub, err);
     if (r != SSS_OK) goto done;
     const uint32_t n = sss_exact_subset_vertices(sub);
     r = sss_dirset_fibonacci(&q, Mr, err);
