@@ -112,7 +112,7 @@ cat > "$TMP/env.json" <<'J'
 J
 mkdir -p "$TMP/o7"
 expect_ok "$SSS_BAKE" --scene "$TMP/env.json" -o "$TMP/o7" -q
-expect_ok env OMP_NUM_THREADS=2 "$SSS_STAT" "$TMP/o7/blob.sss" --error --views 4 --json
+OMP_NUM_THREADS=2 expect_ok "$SSS_STAT" "$TMP/o7/blob.sss" --error --views 4 --json
 cp "$TMP/out" "$TMP/env2.json"
 for k in '"vertex_error":null' '"not_measured":""' \
          '"environment":{"order":3,"bake_directions":2048,"reference_directions":8192,' '"vertices":64,' \
@@ -124,7 +124,7 @@ r1=$(jq .environment.random.rel_rms_max "$TMP/out")
 awk -v t="$t1" -v p="$p1" -v r="$r1" 'BEGIN { exit !(t > 0 && t < 1e-3 && p > 0 && p < 1e-3 && r > 0 && r < 1e-3) }' ||
   fail "environment vs the exact evaluator: transfer $t1, probe $p1, random $r1 (want each in (0, 1e-3))"
 # the same figures whatever the thread count
-expect_ok env OMP_NUM_THREADS=1 "$SSS_STAT" "$TMP/o7/blob.sss" --error --views 4 --json
+OMP_NUM_THREADS=1 expect_ok "$SSS_STAT" "$TMP/o7/blob.sss" --error --views 4 --json
 cmp -s "$TMP/out" "$TMP/env2.json" || fail "sss-stat --error on ENVT differs between 1 and 2 threads"
 expect_ok "$SSS_STAT" "$TMP/o7/blob.sss" --error --views 4
 contains "$TMP/out" "environment (ENVT), SH order 3: 64 of 162 vertices against the exact q projected over 8192 directions"
