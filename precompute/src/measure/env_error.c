@@ -33,10 +33,11 @@ static uint32_t draw_receivers(uint32_t nv, uint32_t n, uint64_t *st, uint32_t *
     }
     for (uint32_t v = 0; v < nv; v++) perm[v] = v;
     for (uint32_t k = 0; k < n; k++) {
-        const uint32_t j = k + (uint32_t)(sss_rng_unit(st) * (nv - k));
+        uint32_t j = k + (uint32_t)(sss_rng_unit(st) * (nv - k)); /* in [k, nv) */
+        if (j >= nv) j = nv - 1;
         const uint32_t t = perm[k];
-        perm[k] = perm[j < nv ? j : nv - 1];
-        perm[j < nv ? j : nv - 1] = t;
+        perm[k] = perm[j];
+        perm[j] = t;
         out[k] = perm[k];
     }
     return n;
@@ -128,9 +129,11 @@ sss_result sss_env_error_measure(const sss_bake_file *f, sss_exact *e, uint32_t 
     double *tref = calloc((size_t)SSS_ENV_ERROR_VERTICES * C * K, sizeof *tref);
     float *qk = malloc((size_t)ENV_BATCH * SSS_ENV_ERROR_VERTICES * C * sizeof *qk);
     double *dirs = malloc(3 * (size_t)ENV_BATCH * sizeof *dirs);
-    float *ta = malloc((size_t)SSS_ENV_ERROR_VERTICES * C * sizeof *ta), *tr = malloc((size_t)SSS_ENV_ERROR_VERTICES * C * sizeof *tr);
+    float *ta = malloc((size_t)SSS_ENV_ERROR_VERTICES * C * sizeof *ta);
+    float *tr = malloc((size_t)SSS_ENV_ERROR_VERTICES * C * sizeof *tr);
     float *all = malloc((size_t)nv * 3 * sizeof *all);
-    float *ra = malloc((size_t)SSS_ENV_ERROR_VERTICES * 3 * sizeof *ra), *rr = malloc((size_t)SSS_ENV_ERROR_VERTICES * 3 * sizeof *rr);
+    float *ra = malloc((size_t)SSS_ENV_ERROR_VERTICES * 3 * sizeof *ra);
+    float *rr = malloc((size_t)SSS_ENV_ERROR_VERTICES * 3 * sizeof *rr);
     if (!verts || (nv > SSS_ENV_ERROR_VERTICES && !perm) || !area_all || !area || !tref || !qk || !ta || !tr || !all ||
         !ra || !rr || !dirs) {
         r = sss_fail(err, SSS_ERR_NOMEM, "environment error: out of memory for %u vertices", nv);

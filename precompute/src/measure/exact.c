@@ -323,7 +323,8 @@ sss_result sss_exact_subset_create(const sss_exact *e, const uint32_t *verts, ui
     if (!s->src) {
         free(stamp);
         sss_exact_subset_destroy(s);
-        return sss_fail(err, SSS_ERR_NOMEM, "exact evaluator: out of memory for %llu sources", (unsigned long long)total);
+        return sss_fail(err, SSS_ERR_NOMEM, "exact evaluator: out of memory for %llu sources",
+                        (unsigned long long)total);
     }
     uint64_t m = 0;
     for (uint32_t i = 0; i < nv; i++)
