@@ -159,10 +159,17 @@ visibility rays):
   light (\`sss_point_exact\`) at up to 16 random positions between the first
   and the last shell (\`point_shells.{rel_rms_max, rel_rms_mean}\`: 0.24 with
   2 shells × 40 directions, 0.028 with 6 × 200 on the blob of
-  \`tests/integration/cli_scene.sh\`); the environment's SH transfer is
-  named in \`not_measured\`. A scene bake without a moving directional
+  \`tests/integration/cli_scene.sh\`); and the environment's SH transfer
+  (ENVT): T_i at up to 64 random vertices against the exact q projected
+  over 4·M randomly rotated Fibonacci directions (the bake's M =
+  max(2048, 128·K), so the reference is not the bake's quadrature), and the
+  radiance Σ_i T_i L_i under the file's probe and min(\`--views\`, 8) random
+  band-limited environments (\`environment.{transfer, probe,
+  random}\`: 3.1–3.8e-4 relative RMS on that blob at order 3;
+  docs/scenes.md "Accuracy"). \`not_measured\` stays in the output, empty:
+  every effect is measured. A scene bake without a moving directional
   light has no direction set: \`--error\` then reports these alone
-  (\`vertex_error\` null), and refuses a file that has none of them.
+  (\`vertex_error\` null).
 
 Conventions that move the numbers, so that they can be compared with care:
 

@@ -17,8 +17,11 @@ mkdir -p "$S/env"
 expect_ok "$SSS_BAKE" --scene "$S/env.json" -o "$S/env" -q
 expect_ok "$SSS_STAT" "$S/env/ball.sss"
 contains "$TMP/out" "ENVT"
-# its SH transfer has no exact counterpart in sss-stat --error yet: refused in one line
-expect_fail "has none of them" "$SSS_STAT" "$S/env/ball.sss" --error --no-image
+# an environment-only file is measured by sss-stat --error (its SH transfer
+# against the exact evaluator, cli_scene.sh), not refused; --query refuses it
+expect_ok "$SSS_STAT" "$S/env/ball.sss" --error --no-image --views 2
+contains "$TMP/out" "environment (ENVT), SH order 2: 64 of 162 vertices"
+expect_fail "has none of them" "$SSS_STAT" "$S/env/ball.sss" --query 0 --light 0,0,1
 one_line
 
 # ---- 3: coordinates beyond the range: one line, no abort -----------------------

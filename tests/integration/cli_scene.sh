@@ -97,6 +97,62 @@ done
 expect_ok "$SSS_STAT" "$TMP/o6/blob.sss" --error --views 4
 contains "$TMP/out" 'no direction set (scene bake)'
 expect_fail "has none of them" "$SSS_STAT" "$TMP/o6/blob.sss" --query 3 --light 0,0,1
+# the environment's SH transfer (ENVT, docs/scenes.md "Accuracy"): T_i at 64
+# random vertices against the exact q projected over 4 x the bake's 2048
+# Fibonacci directions, rotated, and the radiance sum T_i L_i under the
+# file's probe and random band-limited environments. An environment-only
+# file is measured, not refused. The bake's own quadrature error on this
+# blob reads 3.1-3.8e-4 (seeds 1-3; 3.2-3.6e-4 against 16 x the bake's
+# directions): below 1e-3. The same file with every T_i
+# scaled by 1.01 (its checksums redone) reads 0.01: the check can fail.
+"$SSS_MKEXR" "$TMP/sky.exr" 32 16 half RGB 0.5 || fail "sss-mkexr"
+cat > "$TMP/env.json" <<'J'
+{"objects": [{"name": "blob", "mesh": "blob.ply", "material": "skin1", "mm_per_unit": 10}],
+ "lights": [{"type": "environment", "probe": "sky.exr"}], "bake": {"sh_order": 3}}
+J
+mkdir -p "$TMP/o7"
+expect_ok "$SSS_BAKE" --scene "$TMP/env.json" -o "$TMP/o7" -q
+OMP_NUM_THREADS=2 expect_ok "$SSS_STAT" "$TMP/o7/blob.sss" --error --views 4 --json
+cp "$TMP/out" "$TMP/env2.json"
+for k in '"vertex_error":null' '"not_measured":""' \
+         '"environment":{"order":3,"bake_directions":2048,"reference_directions":8192,' '"vertices":64,' \
+         '"shadows":true' '"transfer":{"rms":' '"probe":{"rms":' '"random":{"environments":4,"rel_rms_max":'; do
+  contains "$TMP/out" "$k"
+done
+t1=$(jq .environment.transfer.rel_rms "$TMP/out"); p1=$(jq .environment.probe.rel_rms "$TMP/out")
+r1=$(jq .environment.random.rel_rms_max "$TMP/out")
+awk -v t="$t1" -v p="$p1" -v r="$r1" 'BEGIN { exit !(t > 0 && t < 1e-3 && p > 0 && p < 1e-3 && r > 0 && r < 1e-3) }' ||
+  fail "environment vs the exact evaluator: transfer $t1, probe $p1, random $r1 (want each in (0, 1e-3))"
+# the same figures whatever the thread count
+OMP_NUM_THREADS=1 expect_ok "$SSS_STAT" "$TMP/o7/blob.sss" --error --views 4 --json
+cmp -s "$TMP/out" "$TMP/env2.json" || fail "sss-stat --error on ENVT differs between 1 and 2 threads"
+expect_ok "$SSS_STAT" "$TMP/o7/blob.sss" --error --views 4
+contains "$TMP/out" "environment (ENVT), SH order 3: 64 of 162 vertices against the exact q projected over 8192 directions"
+contains "$TMP/out" "transfer T_i: RMS"
+contains "$TMP/out" "radiance under 4 random band-limited environments: rel. RMS max"
+if command -v python3 >/dev/null; then
+  python3 - "$TMP/o7/blob.sss" "$TMP/o7/scaled.sss" <<'P' || fail "cannot scale ENVT"
+import struct, sys, zlib
+b = bytearray(open(sys.argv[1], 'rb').read())
+n = struct.unpack_from('<I', b, 12)[0]
+for i in range(n):
+    e = 24 + 40 * i
+    if bytes(b[e:e + 4]) == b'ENVT':
+        off, size = struct.unpack_from('<QQ', b, e + 8)
+        order = struct.unpack_from('<I', b, off + 4)[0]
+        t0 = off + 8 + 12 * order * order
+        m = (off + size - t0) // 4
+        v = struct.unpack_from('<%df' % m, b, t0)
+        struct.pack_into('<%df' % m, b, t0, *[x * 1.01 for x in v])
+        struct.pack_into('<I', b, e + 32, zlib.crc32(bytes(b[off:off + size])))
+struct.pack_into('<I', b, 24 + 40 * n, zlib.crc32(bytes(b[:24 + 40 * n])))
+open(sys.argv[2], 'wb').write(b)
+P
+  expect_ok "$SSS_STAT" "$TMP/o7/scaled.sss" --error --views 4 --json
+  t2=$(jq .environment.transfer.rel_rms "$TMP/out"); p2=$(jq .environment.probe.rel_rms "$TMP/out")
+  awk -v t="$t2" -v p="$p2" 'BEGIN { exit !(t > 0.008 && t < 0.012 && p > 0.008 && p < 0.012) }' ||
+    fail "ENVT scaled by 1.01: transfer $t2, probe $p2 (want each about 0.01)"
+fi
 expect_fail "must be an existing directory" "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/nodir"
 expect_fail "needs --scene" "$SSS_BAKE" --plan
 echo "cli_scene: ok"

@@ -18,7 +18,7 @@ declare -A hstage=(
   [gather]=gather
   [refs]=compress [compress]=compress
   [bake]=bake [planner]=bake [bake_scene]=bake
-  [exact]=measure [reconstruct]=measure [vertex_error]=measure
+  [exact]=measure [reconstruct]=measure [vertex_error]=measure [env_error]=measure
   [reference]=reference
 )
 declare -A rank=([input]=0 [kernels]=1 [gather]=2 [compress]=3 [effects]=4 [bake]=4 [measure]=5 [reference]=5)

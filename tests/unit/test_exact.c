@@ -216,6 +216,84 @@ static void vertexEqualsAllAndThreadsAgree(void **state)
     free(b);
 }
 
+/* A subset of receivers (sss_exact_subset, the environment's reference)
+ * traces each shared neighbour once per light but must give the very floats
+ * eval_vertex writes, for any batch of lights and thread count; the source
+ * limit takes a prefix of the receivers, never none. */
+static void subsetEqualsEvalVertex(void **state)
+{
+    (void)state;
+    const uint32_t nv = g_file.mesh.nv, C = g_file.channels;
+    const uint32_t verts[5] = {5, 100, 5, nv - 1, 0};
+    sss_error err = {{0}};
+    sss_exact_subset *s;
+    assert_int_equal(sss_exact_subset_create(g_exact, verts, 5, 0, &s, &err), SSS_OK);
+    assert_int_equal(sss_exact_subset_vertices(s), 5);
+    assert_true(sss_exact_subset_sources(s) > 0 && sss_exact_subset_sources(s) <= nv);
+    /* 300 lights: more than one batch of the table; one zero, one sample,
+     * one not unit */
+    enum { NL = 300 };
+    double *l = malloc(3 * NL * sizeof *l);
+    uint64_t seed = 23;
+    for (uint32_t j = 0; j < NL; j++) sss_rng_direction(&seed, &l[3 * j]);
+    memcpy(&l[3 * 7], g_file.dirs.dir + 3 * 3, 3 * sizeof *l);
+    for (int k = 0; k < 3; k++) l[3 * 11 + k] = 0.0, l[3 * 12 + k] *= 4.0;
+    float *a = malloc((size_t)NL * 5 * C * sizeof *a), *b = malloc((size_t)NL * 5 * C * sizeof *b);
+    sss_exact_subset_eval(s, l, NL, a);
+    for (uint32_t j = 0; j < NL; j++)
+        for (uint32_t k = 0; k < 5; k++) {
+            float o[SSS_MAX_CHANNELS];
+            sss_exact_eval_vertex(g_exact, verts[k], &l[3 * j], o);
+            if (memcmp(o, &a[((size_t)j * 5 + k) * C], C * sizeof *o) != 0)
+                fail_msg("light %u receiver %u: subset %.9g, eval_vertex %.9g", j, k, a[((size_t)j * 5 + k) * C], o[0]);
+        }
+#ifdef _OPENMP
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(1);
+    sss_exact_subset_eval(s, l, NL, b);
+    omp_set_num_threads(saved);
+    assert_memory_equal(a, b, (size_t)NL * 5 * C * sizeof *a);
+#endif
+    /* one light at a time: the same values */
+    for (uint32_t j = 0; j < NL; j += 37) {
+        sss_exact_subset_eval(s, &l[3 * j], 1, b);
+        assert_memory_equal(&a[(size_t)j * 5 * C], b, 5 * C * sizeof *a);
+    }
+    const uint64_t all = sss_exact_subset_sources(s);
+    sss_exact_subset_destroy(s);
+    /* a limit of 1 source still takes the first receiver (all its row) */
+    assert_int_equal(sss_exact_subset_create(g_exact, verts, 5, 1, &s, &err), SSS_OK);
+    assert_int_equal(sss_exact_subset_vertices(s), 1);
+    const uint64_t first = sss_exact_subset_sources(s);
+    assert_true(first > 1 && first <= all);
+    sss_exact_subset_destroy(s);
+    /* exactly the first receiver's sources: the second, vertex 100, is
+     * left out when it adds any; vertex 5 again adds none */
+    assert_int_equal(sss_exact_subset_create(g_exact, verts, 2, 0, &s, &err), SSS_OK);
+    const uint64_t two = sss_exact_subset_sources(s);
+    sss_exact_subset_destroy(s);
+    assert_int_equal(sss_exact_subset_create(g_exact, verts, 5, first, &s, &err), SSS_OK);
+    print_message("subset: %llu sources of vertex 5, %llu with vertex 100, %llu with all five\n",
+                  (unsigned long long)first, (unsigned long long)two, (unsigned long long)all);
+    assert_int_equal(sss_exact_subset_vertices(s), two > first ? 1 : 2);
+    sss_exact_subset_destroy(s);
+    const uint32_t twice[2] = {5, 5};
+    assert_int_equal(sss_exact_subset_create(g_exact, twice, 2, first, &s, &err), SSS_OK);
+    assert_int_equal(sss_exact_subset_vertices(s), 2);
+    assert_int_equal(sss_exact_subset_sources(s), first);
+    sss_exact_subset_destroy(s);
+    /* bad receivers */
+    const uint32_t bad[2] = {0, nv};
+    assert_int_equal(sss_exact_subset_create(g_exact, bad, 2, 0, &s, &err), SSS_ERR_ARG);
+    assert_null(s);
+    assert_non_null(strstr(err.msg, "beyond the mesh"));
+    assert_int_equal(sss_exact_subset_create(g_exact, bad, 0, 0, &s, &err), SSS_ERR_ARG);
+    sss_exact_subset_destroy(NULL);
+    free(l);
+    free(a);
+    free(b);
+}
+
 /* Area-weighted RMS over vertices, channels and random directions of the
  * interpolated reconstruction (sss_decode_all) against the evaluator, relative
  * to the RMS of the exact values. */
@@ -436,6 +514,7 @@ int main(void)
         cmocka_unit_test(samplesMatchStoredFloats),
         cmocka_unit_test(hatWeightsSamplesMatchStoredFloats),
         cmocka_unit_test(vertexEqualsAllAndThreadsAgree),
+        cmocka_unit_test(subsetEqualsEvalVertex),
         cmocka_unit_test(interpolationErrorShrinksWithDirections),
         cmocka_unit_test(badLightGivesZeros),
         cmocka_unit_test(lloyd8FileGivesSameExactValues),

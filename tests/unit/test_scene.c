@@ -17,6 +17,7 @@
 #include "genmesh.h"
 #include "sss/bake_scene.h"
 #include "sss/effects.h"
+#include "sss/env_error.h"
 #include "sss/exact.h"
 #include "sss/import.h"
 #include "sss/probe.h"
@@ -421,6 +422,97 @@ static void environmentBakeMatchesBruteForceOverProbe(void **state)
 
 /* ---- 6. point light ------------------------------------------------------ */
 
+/* sss-stat --error's measure of ENVT (sss/env_error.h): the bake's
+ * transfer against the exact q projected over 4x its directions, rotated.
+ * Small on a concave, self-shadowed blob (RGB) and a convex sphere (grey),
+ * the same for any thread count, and a transfer scaled by 1.01 reads as a
+ * relative error of 0.01, so the check can fail. */
+static void measure_env(const sss_bake_file *f, uint64_t seed, sss_env_error *ee)
+{
+    sss_error err = {{0}};
+    sss_exact *ex;
+    if (sss_exact_create(f, &ex, &err) != SSS_OK) fail_msg("%s", err.msg);
+    if (sss_env_error_measure(f, ex, 4, seed, ee, &err) != SSS_OK) fail_msg("%s", err.msg);
+    sss_exact_destroy(ex);
+}
+
+static void environmentErrorAgainstExactCatchesAPerturbedTransfer(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_blob(&m, 1.0, 2, &err), SSS_OK); /* concave: self-shadowing on */
+    write_mesh("blob.ply", &m);
+    sss_mesh_free(&m);
+    make_sphere("sphere.ply", 1.0, 2);
+    sss_probe p = {32, 16, NULL};
+    p.rgb = malloc(3 * (size_t)p.w * p.h * sizeof(float));
+    for (uint32_t y = 0; y < p.h; y++)
+        for (uint32_t x = 0; x < p.w; x++) {
+            double d[3], dw;
+            sss_probe_pixel_dir(p.w, p.h, x, y, d, &dw);
+            for (int c = 0; c < 3; c++)
+                p.rgb[3 * ((size_t)y * p.w + x) + c] = (float)((1 + 0.8 * d[2] - 0.3 * d[1]) * (1.0 - 0.25 * c));
+        }
+    char path[400];
+    snprintf(path, sizeof path, "%s/envprobe.exr", tmpdir);
+    if (sss_probe_write(path, &p, &err) != SSS_OK) fail_msg("%s", err.msg);
+    free(p.rgb);
+
+    baked b = {0};
+    load(&b, "{\"objects\":[{\"mesh\":\"blob.ply\",\"material\":\"skin1\",\"mm_per_unit\":10}],"
+             "\"lights\":[{\"type\":\"environment\",\"probe\":\"envprobe.exr\"}],\"bake\":{\"sh_order\":3}}");
+    assert_true(b.plan.obj[0].self_shadow);
+    sss_bake_file f;
+    sss_bake_stats st;
+    bake(&b, 0, &f, &st);
+    unload(&b);
+    sss_env_error ee, e1;
+    measure_env(&f, 7, &ee);
+    print_message("environment vs exact (blob, order 3): transfer rel. RMS %.3g, probe %.3g, random max %.3g; "
+                  "%u vertices, %llu sources, %u / %u directions\n", ee.t_rel_rms[3], ee.probe_rel_rms[3],
+                  ee.random_rel_rms_max, ee.vertices, (unsigned long long)ee.sources, ee.bake_dirs, ee.ref_dirs);
+    assert_int_equal(ee.order, 3);
+    assert_int_equal(ee.bake_dirs, sss_env_sh_dirs(3));
+    assert_int_equal(ee.ref_dirs, SSS_ENV_ERROR_REF_FACTOR * ee.bake_dirs);
+    assert_int_equal(ee.vertices, SSS_ENV_ERROR_VERTICES);
+    assert_true(ee.shadows && ee.have_probe && ee.nrandom == 4);
+    /* the bake's quadrature (2048 directions) against one 4x denser: below
+     * 1e-3 relative (measured 3.5e-4; 3.1-3.8e-4 in cli_scene.sh) */
+    assert_true(ee.t_rel_rms[3] > 0 && ee.t_rel_rms[3] < 1e-3);
+    assert_true(ee.probe_rel_rms[3] < 1e-3 && ee.random_rel_rms_max < 1e-3);
+    assert_true(ee.random_rel_rms_mean <= ee.random_rel_rms_max);
+    /* deterministic whatever the thread count */
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(1);
+    measure_env(&f, 7, &e1);
+    omp_set_num_threads(saved);
+    assert_memory_equal(&ee, &e1, sizeof ee);
+    /* a perturbed transfer: every T_i of the file times 1.01 */
+    const size_t nt = (size_t)f.mesh.nv * f.channels * 9;
+    for (size_t k = 0; k < nt; k++) f.fx.env_t[k] *= 1.01f;
+    measure_env(&f, 7, &e1);
+    print_message("transfer x 1.01: rel. RMS %.3g, probe %.3g\n", e1.t_rel_rms[3], e1.probe_rel_rms[3]);
+    assert_true(e1.t_rel_rms[3] > 0.008 && e1.t_rel_rms[3] < 0.012);
+    assert_true(e1.probe_rel_rms[3] > 0.008 && e1.random_rel_rms_max > 0.008);
+    sss_file_free(&f);
+
+    /* a grey material on a convex sphere (no rays, as baked): channel 0 of T
+     * serves R, G and B */
+    load(&b, "{\"objects\":[{\"mesh\":\"sphere.ply\",\"material\":{\"sigma_a\":[0.05,0.05,0.05],"
+             "\"sigmap_s\":[1,1,1]},\"mm_per_unit\":5}],"
+             "\"lights\":[{\"type\":\"environment\",\"probe\":\"envprobe.exr\"}],\"bake\":{\"sh_order\":2}}");
+    bake(&b, 0, &f, &st);
+    unload(&b);
+    assert_int_equal(f.channels, 1);
+    measure_env(&f, 3, &ee);
+    print_message("environment vs exact (grey sphere, order 2): transfer rel. RMS %.3g, probe %.3g\n", ee.t_rel_rms[1],
+                  ee.probe_rel_rms[3]);
+    assert_false(ee.shadows);
+    assert_true(ee.t_rel_rms[1] > 0 && ee.t_rel_rms[1] < 1e-3 && ee.probe_rel_rms[3] < 1e-3);
+    sss_file_free(&f);
+}
+
 static void pointShellsMatchExactPointLightBetweenShells(void **state)
 {
     (void)state;
@@ -550,6 +642,7 @@ int main(void)
         cmocka_unit_test(secondObjectShadowsTheFirst),
         cmocka_unit_test(staticLightBakeReproducesExactEvaluator),
         cmocka_unit_test(environmentBakeMatchesBruteForceOverProbe),
+        cmocka_unit_test(environmentErrorAgainstExactCatchesAPerturbedTransfer),
         cmocka_unit_test(pointShellsMatchExactPointLightBetweenShells),
         cmocka_unit_test(effectFilesAreVersion12AndUnknownEffectsAreRefused),
     };

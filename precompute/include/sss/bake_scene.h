@@ -31,6 +31,12 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
  * and falloff of §3.3). out[v * channels + c]. */
 sss_result sss_point_exact(const sss_bake_file *f, int self_shadow, const double P[3], float *out, sss_error *err);
 
+/* M, the number of spherical-Fibonacci directions over which the
+ * environment-sh pass projects G onto SH of this order (docs/scenes.md):
+ * max(2048, 128 · order²). sss-stat --error takes its reference from a set
+ * denser than this (sss/env_error.h). */
+uint32_t sss_env_sh_dirs(uint32_t order);
+
 #ifdef __cplusplus
 }
 #endif

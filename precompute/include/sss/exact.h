@@ -61,6 +61,34 @@ void sss_exact_eval(const sss_exact *e, const double light[3], float *out);
  * rays). v out of range gives zeros. */
 void sss_exact_eval_vertex(const sss_exact *e, uint32_t v, const double light[3], float *out);
 
+/* q at a few receivers over many light directions (the environment's
+ * transfer, docs/scenes.md "Accuracy"): sss_exact_eval_vertex traces a
+ * neighbour shared by several receivers once per receiver, sss_exact_eval
+ * every vertex of the mesh. A subset traces G(x_i, ω) once per light for
+ * the union of its receivers' neighbourhoods (the "sources"), then sums
+ * each receiver's row as sss_exact_eval_vertex does, bit for bit. */
+typedef struct sss_exact_subset sss_exact_subset;
+
+/* The longest prefix of verts[0 … n−1] (at least one vertex) whose sources
+ * number at most max_sources (0: no limit), so that the cost of a
+ * measurement is bounded on big meshes whatever their neighbourhoods. e
+ * must outlive the subset. Errors: SSS_ERR_ARG (n 0, a vertex out of
+ * range), SSS_ERR_NOMEM. */
+sss_result sss_exact_subset_create(const sss_exact *e, const uint32_t *verts, uint32_t n, uint64_t max_sources,
+                                   sss_exact_subset **out, sss_error *err);
+/* Receivers taken (the prefix) and their sources. */
+uint32_t sss_exact_subset_vertices(const sss_exact_subset *s);
+uint64_t sss_exact_subset_sources(const sss_exact_subset *s);
+/* out[(l * n + k) * channels + c] = q at receiver k (n of them) for light
+ * l of lights[3l … 3l+2], as sss_exact_eval_vertex writes it. The lights
+ * are taken in batches, each one parallel region (a region per light costs
+ * more than the light on a busy machine). Deterministic whatever the thread
+ * count; not thread-safe against concurrent evaluations of the same subset
+ * (it owns the tables of G). */
+void sss_exact_subset_eval(sss_exact_subset *s, const double *lights, uint32_t nlights, float *out);
+/* NULL-safe. */
+void sss_exact_subset_destroy(sss_exact_subset *s);
+
 /* Vertex and channel counts of the evaluator's mesh and material. */
 uint32_t sss_exact_vertices(const sss_exact *e);
 uint32_t sss_exact_channels(const sss_exact *e);

@@ -18,10 +18,17 @@
 
 #include "effects/effect.h"
 #include "kernels/transfer.h"
+#include "sss/bake_scene.h" /* sss_env_sh_dirs */
 #include "sss/probe.h"
 #include "sss/effects.h"
 #include "sss/sh.h"
 #include "sss/vec3.h"
+
+uint32_t sss_env_sh_dirs(uint32_t order)
+{
+    const uint32_t K = order * order;
+    return K * 128 > 2048 ? K * 128 : 2048;
+}
 
 static int claim(const sss_scene *s, const sss_object_plan *p, const sss_scene_light *L, char *reason, size_t n)
 {
@@ -59,7 +66,7 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
      * equal-area directions (weight 4π/M each): enough samples that the
      * horizon kink of max(0, n·ω) and the shadow edges average out for the
      * low orders used here */
-    const uint32_t M = K * 128 > 2048 ? K * 128 : 2048;
+    const uint32_t M = sss_env_sh_dirs(order);
     sss_dirset q = {0};
     sss_result r = sss_dirset_fibonacci(&q, M, err);
     if (r != SSS_OK) return r;
@@ -114,7 +121,7 @@ static void provenance(const sss_pass_ctx *c, cJSON *params) { cJSON_AddNumberTo
 static void memory(const sss_pass_ctx *c, uint64_t *kept, uint64_t *transient)
 {
     const uint64_t nv = c->mesh->nv, K = (uint64_t)c->sh_order * c->sh_order;
-    const uint64_t M = K * 128 > 2048 ? K * 128 : 2048;
+    const uint64_t M = sss_env_sh_dirs(c->sh_order);
     *kept = nv * K * c->C * 4u;
     *transient = nv * K * 8u + M * K * 8u + M * 36u + nv * K * 4u + nv * K * c->C * 4u; /* gsh, Y, directions, g32, tmp */
 }

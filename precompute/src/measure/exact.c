@@ -249,3 +249,129 @@ void sss_exact_eval(const sss_exact *e, const double light[3], float *out)
     for (int64_t v = 0; v < (int64_t)nv; v++) row_sum(e, (uint32_t)v, d, g, &out[(size_t)v * C]);
     free(g);
 }
+
+/* G tables of the subset: at most this many floats (16 MiB), one row of nv
+ * per light, so that a batch of lights takes one parallel region (a region
+ * per light costs more than the light on a busy machine). */
+#define SUBSET_TABLE_FLOATS (1u << 22)
+#define SUBSET_BATCH_MAX 256u
+
+struct sss_exact_subset {
+    const sss_exact *e;
+    uint32_t n;        /* receivers */
+    uint32_t *verts;
+    uint64_t nsrc;     /* sources: the union of the receivers' rows (and hat corrections) */
+    uint32_t *src;     /* in increasing index order */
+    uint32_t batch;    /* lights per table */
+    float *g;          /* G at the sources, light b of the batch at g[b * nv + i] */
+    double *d;         /* the batch's unit lights */
+    int *ok;           /* 0: a zero or non-finite light */
+};
+
+sss_result sss_exact_subset_create(const sss_exact *e, const uint32_t *verts, uint32_t n, uint64_t max_sources,
+                                   sss_exact_subset **out, sss_error *err)
+{
+    *out = NULL;
+    if (!e || !verts || n == 0) return sss_fail(err, SSS_ERR_ARG, "exact evaluator: an empty set of receivers");
+    const uint32_t nv = e->mesh.nv;
+    for (uint32_t k = 0; k < n; k++)
+        if (verts[k] >= nv)
+            return sss_fail(err, SSS_ERR_ARG, "exact evaluator: receiver %u is vertex %u, beyond the mesh's %u", k,
+                            verts[k], nv);
+    sss_exact_subset *s = calloc(1, sizeof *s);
+    uint32_t *stamp = calloc(nv, sizeof *stamp); /* k + 1: first taken by receiver k; 0: not a source */
+    if (s) {
+        s->batch = SUBSET_TABLE_FLOATS / nv;
+        if (s->batch < 1) s->batch = 1;
+        if (s->batch > SUBSET_BATCH_MAX) s->batch = SUBSET_BATCH_MAX;
+        s->verts = malloc((size_t)n * sizeof *s->verts);
+        s->g = calloc((size_t)nv * s->batch, sizeof *s->g);
+        s->d = malloc(3 * (size_t)s->batch * sizeof *s->d);
+        s->ok = malloc((size_t)s->batch * sizeof *s->ok);
+    }
+    if (!s || !stamp || !s->verts || !s->g || !s->d || !s->ok) {
+        free(stamp);
+        sss_exact_subset_destroy(s);
+        return sss_fail(err, SSS_ERR_NOMEM, "exact evaluator: out of memory for %u receivers", n);
+    }
+    s->e = e;
+    const int hat = e->hat.nrows > 0;
+    uint64_t total = 0;
+    uint32_t k = 0;
+    for (; k < n; k++) {
+        const uint32_t v = verts[k];
+        uint64_t added = 0;
+        for (int part = 0; part < (hat ? 2 : 1); part++) {
+            const sss_weights *rw = part ? &e->hat : &e->nb;
+            for (uint64_t j = rw->start[v]; j < rw->start[v + 1]; j++)
+                if (!stamp[rw->idx[j]]) stamp[rw->idx[j]] = k + 1, added++;
+        }
+        if (k > 0 && max_sources && total + added > max_sources) { /* over the limit: not taken */
+            for (int part = 0; part < (hat ? 2 : 1); part++) {
+                const sss_weights *rw = part ? &e->hat : &e->nb;
+                for (uint64_t j = rw->start[v]; j < rw->start[v + 1]; j++)
+                    if (stamp[rw->idx[j]] == k + 1) stamp[rw->idx[j]] = 0;
+            }
+            break;
+        }
+        total += added;
+        s->verts[k] = v;
+    }
+    s->n = k;
+    s->nsrc = total;
+    s->src = malloc((size_t)(total ? total : 1) * sizeof *s->src);
+    if (!s->src) {
+        free(stamp);
+        sss_exact_subset_destroy(s);
+        return sss_fail(err, SSS_ERR_NOMEM, "exact evaluator: out of memory for %llu sources",
+                        (unsigned long long)total);
+    }
+    uint64_t m = 0;
+    for (uint32_t i = 0; i < nv; i++)
+        if (stamp[i]) s->src[m++] = i;
+    free(stamp);
+    *out = s;
+    return SSS_OK;
+}
+
+uint32_t sss_exact_subset_vertices(const sss_exact_subset *s) { return s->n; }
+uint64_t sss_exact_subset_sources(const sss_exact_subset *s) { return s->nsrc; }
+
+void sss_exact_subset_eval(sss_exact_subset *s, const double *lights, uint32_t nlights, float *out)
+{
+    const sss_exact *e = s->e;
+    const uint32_t C = e->channels, nv = e->mesh.nv, n = s->n;
+    for (uint32_t l0 = 0; l0 < nlights; l0 += s->batch) {
+        const uint32_t B = nlights - l0 < s->batch ? nlights - l0 : s->batch;
+        for (uint32_t b = 0; b < B; b++) s->ok[b] = unit_light(&lights[3 * ((size_t)l0 + b)], &s->d[3 * (size_t)b]);
+        /* G once per source and light (sss_exact_eval's table, restricted
+         * to the rows that are read), then each receiver's row in its own
+         * order: every value is computed by one thread, so the result does
+         * not depend on their number */
+#pragma omp parallel for schedule(dynamic, 16)
+        for (int64_t t = 0; t < (int64_t)s->nsrc * B; t++) {
+            const uint32_t b = (uint32_t)(t % B), i = s->src[t / B];
+            s->g[(size_t)b * nv + i] = s->ok[b] ? sss_transfer_one(&e->mesh, e->shadows ? e->vis : NULL, i,
+                                                                    &s->d[3 * (size_t)b], e->eta, NULL, NULL)
+                                                : 0.0f;
+        }
+#pragma omp parallel for schedule(dynamic, 16)
+        for (int64_t t = 0; t < (int64_t)n * B; t++) {
+            const uint32_t b = (uint32_t)(t / n), k = (uint32_t)(t % n);
+            float *o = &out[(((size_t)l0 + b) * n + k) * C];
+            if (s->ok[b]) row_sum(e, s->verts[k], &s->d[3 * (size_t)b], &s->g[(size_t)b * nv], o);
+            else memset(o, 0, C * sizeof *o);
+        }
+    }
+}
+
+void sss_exact_subset_destroy(sss_exact_subset *s)
+{
+    if (!s) return;
+    free(s->verts);
+    free(s->src);
+    free(s->g);
+    free(s->d);
+    free(s->ok);
+    free(s);
+}
