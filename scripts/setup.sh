@@ -11,7 +11,8 @@ PKGS=(build-essential cmake pkg-config git ca-certificates
       glslang-tools  # glslangValidator: every shader variant is validated at build time
       xvfb xauth xdotool clang libomp-dev
       libopenblas-dev openmpi-bin libopenmpi-dev  # sgemm reference benchmarks, mpirun -np K sss-bake (docs/benchmarks.md)
-      gnuplot-nox jq)  # gnuplot-nox, jq: tests/bench/accuracy_study.sh (plots, JSON fields)
+      gnuplot-nox jq  # gnuplot-nox, jq: tests/bench/accuracy_study.sh (plots, JSON fields)
+      python3)  # the integration tests' JSON checks and byte edits of .sss files
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -4,10 +4,11 @@
 # --mm-per-unit S` and nothing else, at its real size (the Stanford dragon
 # 20 cm: 1000 mm per unit; the bunny 10 cm: 10 mm per unit), then the
 # paper's §3.3 image error over VIEWS random views and VIEWS back-lit views
-# (the light within 30 degrees of opposite the camera), the scattering
-# bytes per vertex (every byte but the geometry: sss-stat's
-# scattering_bytes_per_vertex), the bake time and the frame time of both
-# viewer paths (llvmpipe here: the light moves every frame).
+# (the light within 30 degrees of opposite the camera), the bytes per
+# vertex (every byte of the file but the mesh, section GEOM: sss-stat's
+# bytes_apart_geometry_per_vertex; the header, material and parameters
+# count too), the bake time and the frame time of both viewer paths
+# (llvmpipe here: the light moves every frame).
 #
 #   data/fetch.sh                        # the Stanford meshes (once)
 #   tests/bench/default_targets.sh       # BUILD=build OUT=out/default_targets
@@ -45,7 +46,7 @@ for c in $CASES; do
   "$VIEW" "$f.sss" --offscreen --bench 5 --size "${SIZE}x$SIZE" > "$f.gpu.json"
   "$VIEW" "$f.sss" --offscreen --bench 5 --size "${SIZE}x$SIZE" --cpu > "$f.cpu.json"
   printf '%s\t%s\t%s\t%.2f\t%s\t%s\t%s\t%s\t%s\t%.2f\t%.1f\t%.1f\t%s\t%s\n' "$mesh" "$mat" "$mm" \
-    "$(num "$f.stat.json" scattering_bytes_per_vertex)" \
+    "$(num "$f.stat.json" bytes_apart_geometry_per_vertex)" \
     "$(img "$f.err.json" rms_max)" "$(img "$f.err.json" rms_mean)" "$(img "$f.back.json" rms_max)" \
     "$(img "$f.back.json" rms_mean)" "$(num "$f.err.json" rel_rms_all)" "$(num "$f.bake.json" near_radius_mm)" \
     "$(num "$f.bake.json" near_entries_per_vertex)" "$(echo "$t1 - $t0" | bc)" \

@@ -130,8 +130,7 @@ expect_ok "$SSS_STAT" "$TMP/o7/blob.sss" --error --views 4
 contains "$TMP/out" "environment (ENVT), SH order 3: 64 of 162 vertices against the exact q projected over 8192 directions"
 contains "$TMP/out" "transfer T_i: RMS"
 contains "$TMP/out" "radiance under 4 random band-limited environments: rel. RMS max"
-if command -v python3 >/dev/null; then
-  python3 - "$TMP/o7/blob.sss" "$TMP/o7/scaled.sss" <<'P' || fail "cannot scale ENVT"
+python3 - "$TMP/o7/blob.sss" "$TMP/o7/scaled.sss" <<'P' || fail "cannot scale ENVT"
 import struct, sys, zlib
 b = bytearray(open(sys.argv[1], 'rb').read())
 n = struct.unpack_from('<I', b, 12)[0]
@@ -148,11 +147,10 @@ for i in range(n):
 struct.pack_into('<I', b, 24 + 40 * n, zlib.crc32(bytes(b[:24 + 40 * n])))
 open(sys.argv[2], 'wb').write(b)
 P
-  expect_ok "$SSS_STAT" "$TMP/o7/scaled.sss" --error --views 4 --json
-  t2=$(jq .environment.transfer.rel_rms "$TMP/out"); p2=$(jq .environment.probe.rel_rms "$TMP/out")
-  awk -v t="$t2" -v p="$p2" 'BEGIN { exit !(t > 0.008 && t < 0.012 && p > 0.008 && p < 0.012) }' ||
-    fail "ENVT scaled by 1.01: transfer $t2, probe $p2 (want each about 0.01)"
-fi
+expect_ok "$SSS_STAT" "$TMP/o7/scaled.sss" --error --views 4 --json
+t2=$(jq .environment.transfer.rel_rms "$TMP/out"); p2=$(jq .environment.probe.rel_rms "$TMP/out")
+awk -v t="$t2" -v p="$p2" 'BEGIN { exit !(t > 0.008 && t < 0.012 && p > 0.008 && p < 0.012) }' ||
+  fail "ENVT scaled by 1.01: transfer $t2, probe $p2 (want each about 0.01)"
 expect_fail "must be an existing directory" "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/nodir"
 expect_fail "needs --scene" "$SSS_BAKE" --plan
 echo "cli_scene: ok"
