@@ -65,7 +65,8 @@ expect_fail "bad2.json: /bake/compress: expected \"compact\" or \"none\"" "$SSS_
 # ---- bytes: 1 and 2 threads alike; the plain default's size plus QDIR
 mkdir -p "$TMP/d1" "$TMP/d2" "$TMP/p" "$TMP/h" "$TMP/o"
 expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/d1" --threads 1 -q
-expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/d2" --threads 2 -q
+expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/d2" --threads 2 -q --json
+for pat in '"weights":"hat"' '"storage":"refs"' '"near_radius_mm":'; do contains "$TMP/out" "$pat"; done
 cmp -s "$TMP/d1/blob.sss" "$TMP/d2/blob.sss" || fail "the default scene bake differs between 1 and 2 threads"
 expect_ok "$SSS_BAKE" --scene "$TMP/paper.json" -o "$TMP/p" -q
 expect_ok "$SSS_BAKE" --scene "$TMP/hatfloat.json" -o "$TMP/h" -q
