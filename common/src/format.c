@@ -308,7 +308,7 @@ static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, ss
     if (ndir_sections > 1)
         return sss_fail(err, CORRUPT, "%s: both sections DIRS and DIRC (exactly one is allowed)", name);
     /* §5.9 and §5.10: one storage form of the direction-set integrals, for
-     * the direction-set effect; §5.14: the own term only in plain bakes. */
+     * the direction-set effect; §5.14: the own term only off those rows. */
     const int need_q = sss_sec_fx_uses_q(fxm);
     int nq_sections = (where[SSS_SEC_QFLT] >= 0) + (where[SSS_SEC_QL8] >= 0) + (where[SSS_SEC_SHC] >= 0);
     if (!need_q && nq_sections)
@@ -320,9 +320,9 @@ static sss_result decode_impl(const uint8_t *b, size_t len, const char *name, ss
                         name);
     if (where[SSS_SEC_REFS] >= 0 && where[SSS_SEC_SHC] < 0)
         return sss_fail(err, CORRUPT, "%s: section REFS without section SHC", name);
-    if (where[SSS_SEC_OWNT] >= 0 && (fxm || !need_q))
-        return sss_fail(err, CORRUPT, "%s: section OWNT in a scene bake (only plain bakes split off the own term)",
-                        name);
+    if (where[SSS_SEC_OWNT] >= 0 && !need_q)
+        return sss_fail(err, CORRUPT, "%s: section OWNT without effect direction-set (the near terms are split off "
+                        "the direction set's rows only)", name);
 
     /* Contents, in dependency order (table order: the q sections' sizes
      * follow from GEOM (nv), DIRS (n) and MATL (channels)); then the checks

@@ -158,6 +158,27 @@ static sss_result get_vec3(const ctx *c, const cJSON *obj, const char *jpath, co
     return SSS_OK;
 }
 
+/* One of the strings of `names` (NULL-terminated): *out = its index + 1
+ * (0 stays: the key is absent). */
+static sss_result get_choice(const ctx *c, const cJSON *obj, const char *jpath, const char *key,
+                             const char *const *names, uint32_t *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v) return SSS_OK;
+    char p[512], list[200] = "";
+    join(p, sizeof p, jpath, key);
+    size_t k = 0;
+    for (const char *const *n = names; *n; n++)
+        k += (size_t)snprintf(list + k, k < sizeof list ? sizeof list - k : 0, "%s\"%s\"", n == names ? "" : " or ", *n);
+    if (!cJSON_IsString(v)) return fail_at(c, p, "expected %s", list);
+    for (uint32_t i = 0; names[i]; i++)
+        if (!strcmp(v->valuestring, names[i])) {
+            *out = i + 1;
+            return SSS_OK;
+        }
+    return fail_at(c, p, "'%s' is not %s", v->valuestring, list);
+}
+
 /* A path relative to the scene file's directory (absolute ones as given). */
 static sss_result get_path(const ctx *c, const cJSON *obj, const char *jpath, const char *key, char *out)
 {
@@ -330,7 +351,8 @@ static sss_result parse_bake(const ctx *c, const cJSON *o, sss_scene_bake *out)
 {
     const char *jp = "/bake";
     if (!cJSON_IsObject(o)) return fail_at(c, jp, "expected an object");
-    static const char *const k[] = {"dirs", "eps", "sh_order", "shells", "near_factor", NULL};
+    static const char *const k[] = {"dirs", "eps", "sh_order", "shells", "near_factor", "weights", "compress",
+                                    "near_terms", NULL};
     sss_result r = only_keys(c, o, jp, k);
     if (r != SSS_OK) return r;
     if ((r = get_u32(c, o, jp, "dirs", 4, 100000, &out->dirs)) != SSS_OK) return r;
@@ -338,6 +360,12 @@ static sss_result parse_bake(const ctx *c, const cJSON *o, sss_scene_bake *out)
     if ((r = get_u32(c, o, jp, "sh_order", 1, 8, &out->sh_order)) != SSS_OK) return r;
     if ((r = get_u32(c, o, jp, "shells", 2, 64, &out->shells)) != SSS_OK) return r;
     if ((r = get_number(c, o, jp, "near_factor", 0, 0.0, 1e6, &out->near_factor)) != SSS_OK) return r;
+    /* in the order of the SSS_SCENE_* values (sss/scene.h) */
+    static const char *const weights[] = {"hat", "point", NULL}, *const compress[] = {"compact", "none", NULL},
+                             *const near[] = {"runtime", "baked", NULL};
+    if ((r = get_choice(c, o, jp, "weights", weights, &out->weights)) != SSS_OK) return r;
+    if ((r = get_choice(c, o, jp, "compress", compress, &out->compress)) != SSS_OK) return r;
+    if ((r = get_choice(c, o, jp, "near_terms", near, &out->near_terms)) != SSS_OK) return r;
     return SSS_OK;
 }
 

@@ -151,6 +151,10 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
             cJSON *fx = cJSON_AddArrayToObject(o, "effects");
             for (uint32_t b = 0; b < SSS_FX_COUNT; b++)
                 if (f.fx.mask >> b & 1u) cJSON_AddItemToArray(fx, cJSON_CreateString(sss_effect_name(b)));
+            /* what the planner's storage rule did (docs/scenes.md) */
+            cJSON_AddStringToObject(o, "weights", f.weights == SSS_WEIGHTS_HAT ? "hat" : "point");
+            if (f.fx.mask & SSS_FX_DIR_SET) cJSON_AddStringToObject(o, "storage", sss_quant_name(f.quant));
+            if (f.near_terms) cJSON_AddNumberToObject(o, "near_radius_mm", f.near_radius_mm);
             cJSON_AddNumberToObject(o, "rays", (double)st.rays);
             cJSON_AddNumberToObject(o, "bake_seconds", tb);
             cJSON_AddNumberToObject(o, "file_bytes", bytes);

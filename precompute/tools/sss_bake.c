@@ -74,8 +74,13 @@ static void usage(FILE *f)
         "                       through an octree of flux moments and the near ones as dense\n"
         "                       matrix-product blocks (default tree; docs/benchmarks.md)\n"
         "  --theta T            tree opening threshold in (0, 1): smaller is more accurate (default 0.4)\n"
-        "  --scene S.json       bake the effects a scene calls for: one DIR/NAME.sss per object\n"
+        "  --scene S.json       bake the effects a scene calls for: one DIR/NAME.sss per object, at\n"
+        "                       these defaults (hat weights in every pass; the direction set's near\n"
+        "                       terms at run time and its rows compact, unless static occluders\n"
+        "                       shadow the object); the scene's \"bake\" object sets weights,\n"
+        "                       compress and near_terms (docs/scenes.md)\n"
         "  --plan               with --scene: print the effect set and the reason for each decision\n"
+        "                       (weights, compression and near terms included)\n"
         "  --threads T          worker threads (default: all cores); output does not depend on it\n"
         "  --json               print one JSON object with statistics on stdout\n"
         "  -q, --quiet          no progress bar or summary on stderr\n"
@@ -295,9 +300,23 @@ static int parse(int argc, char **argv, bake_args *a)
     if (a->near_fraction_given && (a->rings_given || a->near_radius_given))
         return refuse("--near-fraction sizes the near terms by the material: not with --rings or --near-radius");
     if (a->scene && a->near_terms_given)
-        return refuse("--own-term applies to plain bakes, not to --scene (scene bakes keep the own term)");
+        return refuse("--own-term applies to plain bakes, not to --scene (a scene's \"bake\" object sets near_terms)");
     if (a->scene) {
         if (a->mesh) return refuse("--scene and a MESH argument exclude each other (the scene names the meshes)");
+        /* what the rows hold and how they are stored: the planner's per
+         * object (docs/scenes.md, "Rows, weights and near terms"), set in
+         * the scene, not quietly dropped here */
+        const struct { int given; const char *name; } storage[] = {
+            {a->weights_given, "--weights"}, {a->rings_given, "--rings"}, {a->near_radius_given, "--near-radius"},
+            {a->near_fraction_given, "--near-fraction"}, {a->have_quant, "--quant"}, {a->preset_given, "--compress"},
+            {a->order_given, "--sh-order"}, {a->refs_given, "--refs"}, {a->sh_quant_given, "--sh-quant"},
+            {a->wbits_given, "--weight-bits"}, {a->ls_given, "--ls-weights"}, {a->illum_given, "--illum-refs"}};
+        for (size_t k = 0; k < sizeof storage / sizeof storage[0]; k++)
+            if (storage[k].given) {
+                sss_cli_printf(stderr, "%s: %s applies to plain bakes, not to --scene (a scene's \"bake\" object sets "
+                               "weights, compress and near_terms: docs/scenes.md)\n", TOOL, storage[k].name);
+                return 2;
+            }
         return SSS_CLI_RUN; /* the scene names meshes and materials: the rest is the plain bake's */
     }
     if (compress_given && a->have_quant)

@@ -91,8 +91,13 @@ for x in "--rings 1" "--near-radius 2"; do
   expect_arg_error "$T: --near-fraction sizes the near terms by the material: not with --rings or --near-radius" \
     "$SSS_BAKE" "${B[@]}" --own-term runtime $x --near-fraction 0.9
 done
-expect_arg_error "$T: --own-term applies to plain bakes, not to --scene (scene bakes keep the own term)" \
+expect_arg_error "$T: --own-term applies to plain bakes, not to --scene (a scene's \"bake\" object sets near_terms)" \
   "$SSS_BAKE" --scene s.json --own-term runtime m.ply
+for x in "--weights point" "--quant float" "--compress paper" "--near-fraction 0.9" "--refs 0.1"; do
+  # shellcheck disable=SC2086
+  expect_arg_error "$T: ${x%% *} applies to plain bakes, not to --scene (a scene's \"bake\" object sets weights, compress and near_terms: docs/scenes.md)" \
+    "$SSS_BAKE" --scene s.json $x
+done
 expect_arg_error "$T: --scene and a MESH argument exclude each other (the scene names the meshes)" \
   "$SSS_BAKE" --scene s.json m.ply --quant lloyd8 --sh-order 0
 for c in "--compress paper" "--sh-order 3" "--refs 0.1" "--sh-quant lloyd4" "--weight-bits 8" "--ls-weights" "--illum-refs 1"; do

@@ -40,7 +40,7 @@ for n in blob ball; do
   cmp -s "$TMP/o1/$n.sss" "$TMP/o2/$n.sss" || fail "$n.sss differs between 1 and 2 threads"
 done
 expect_ok "$SSS_STAT" "$TMP/o1/ball.sss"
-contains "$TMP/out" 'format 1.4'
+contains "$TMP/out" 'format 1.5'
 contains "$TMP/out" 'EFCT'
 # a scene whose second object cannot be baked (probe missing) writes nothing half-done
 sed 's/"lights": \[/"lights": [{"type": "environment", "probe": "nope.exr"}, /' "$TMP/s.json" > "$TMP/bad3.json"

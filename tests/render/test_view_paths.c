@@ -91,7 +91,8 @@ static void c_near(const sss_bake_file *f, const double l[3], float *q)
     sss_weights nw;
     sss_bvh bvh;
     sss_error err = {{0}};
-    assert_int_equal(sss_near_build(&f->mesh, &f->material, f->mm_per_unit, f->channels, f->near_rings, &nw, &err), SSS_OK);
+    /* as the file says: rings or radius (NRAD, a scene's direction set), weight rule */
+    assert_int_equal(sss_near_build_file(f, &nw, &err), SSS_OK);
     assert_int_equal(sss_bvh_build(f->mesh.pos, f->mesh.nv, f->mesh.tri, f->mesh.nf, &bvh, &err), SSS_OK);
     const float delta = sss_mesh_ray_offset(&f->mesh), lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
     uint8_t *lit = malloc(f->mesh.nv);
@@ -180,7 +181,8 @@ static void c_scene(const sss_bake_file *f, const sss_scene *sc, int near, float
 
 /* ---- comparing pictures ---------------------------------------------------- */
 
-static double compare(const float *a, const float *b, const char *what)
+/* lit: the reference's least mean (the picture saw light) */
+static double compare_lit(const float *a, const float *b, const char *what, double lit)
 {
     double worst = 0, sum = 0;
     for (size_t i = 0; i < (size_t)W * H * 3; i++) {
@@ -188,9 +190,11 @@ static double compare(const float *a, const float *b, const char *what)
         sum += b[i];
     }
     print_message("%-58s max difference %.3g (reference mean %.4f)\n", what, worst, sum / (W * H * 3));
-    assert_true(sum > 1e-3 * W * H * 3); /* the picture saw light */
+    assert_true(sum > lit * W * H * 3); /* the picture saw light */
     return worst;
 }
+
+static double compare(const float *a, const float *b, const char *what) { return compare_lit(a, b, what, 1e-3); }
 
 static void view_params(sss_view_params *p, const double light[3], int near, sss_eval_path path)
 {
@@ -291,7 +295,9 @@ static void check_scene(const sss_bake_file *f, const char *json, const char *la
             char what[96];
             snprintf(what, sizeof what, "--scene %s, %s%s", label, path ? "CPU" : "GPU",
                      f->near_terms ? (near ? ", near terms on" : ", near terms off") : "");
-            assert_true(compare(rgb, ref, what) <= TOL);
+            /* without their near terms the rows of a scene's direction set
+             * hold what lies beyond 95 % of R_d,total: a dimmer picture */
+            assert_true(compare_lit(rgb, ref, what, near || !f->near_terms ? 1e-3 : 1e-4) <= TOL);
             free(rgb);
         }
         free(ref);
@@ -346,6 +352,13 @@ static void sceneViewMatchesCDecoderForEachEffect(void **state)
         snprintf(json, sizeof json, OBJ "\"lights\":[%s]," BAKE, lights[k][0]);
         sss_bake_file f;
         bake_scene(json, &f);
+        /* the plan's defaults: a direction set loses its near terms to run
+         * time and is compressed (docs/scenes.md, "Rows, weights and near
+         * terms"); every pass sums the hat weights */
+        const int set = strstr(lights[k][0], "moving\":true,\"colour") != NULL;
+        assert_int_equal(f.near_terms != 0, set);
+        assert_int_equal(f.quant == SSS_QUANT_REFS, set);
+        assert_int_equal(f.weights, SSS_WEIGHTS_HAT);
         check_scene(&f, json, lights[k][1]);
         sss_file_free(&f);
     }

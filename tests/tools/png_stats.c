@@ -10,6 +10,10 @@
  *   sss-pngstats A.png B.png
  *     prints the fraction of pixels that differ between two images of the
  *     same size (exit 1 if the sizes differ).
+ *   sss-pngstats --diff A.png B.png
+ *     prints "MAX MEAN FRACTION" over all 8-bit samples of two images of the
+ *     same size: the largest and the mean absolute difference in levels, and
+ *     the fraction of pixels that differ (as above).
  *   sss-pngstats --range IMG.png
  *     prints "MAX CLIPPED" over the object's pixels (those that differ from
  *     the background): the largest 8-bit sample, and the fraction of them
@@ -106,9 +110,36 @@ int main(int argc, char **argv)
         free(px);
         return 0;
     }
+    if (argc == 4 && strcmp(argv[1], "--diff") == 0) {
+        unsigned w, h, w2, h2;
+        uint8_t *a = load(argv[2], &w, &h);
+        if (!a) return 1;
+        uint8_t *b = load(argv[3], &w2, &h2);
+        if (!b || w2 != w || h2 != h) {
+            if (b) fprintf(stderr, "sss-pngstats: sizes differ: %ux%u vs %ux%u\n", w, h, w2, h2);
+            free(a); free(b);
+            return 1;
+        }
+        const size_t n = (size_t)w * h;
+        size_t d = 0;
+        int mx = 0;
+        double sum = 0.0;
+        for (size_t i = 0; i < n; i++) {
+            d += (size_t)differs(a + 3 * i, b + 3 * i);
+            for (int c = 0; c < 3; c++) {
+                const int e = abs((int)a[3 * i + c] - (int)b[3 * i + c]);
+                mx = e > mx ? e : mx;
+                sum += e;
+            }
+        }
+        printf("%d %.6f %.6f\n", mx, n ? sum / (3.0 * (double)n) : 0.0, n ? (double)d / (double)n : 0.0);
+        free(a); free(b);
+        return 0;
+    }
     if (argc != 2 && argc != 3) {
         fprintf(stderr, "usage: sss-pngstats IMG.png        -> WIDTH HEIGHT MEAN STDDEV NONBG\n"
                         "       sss-pngstats A.png B.png    -> fraction of pixels that differ\n"
+                        "       sss-pngstats --diff A.png B.png -> MAX MEAN FRACTION of the differences\n"
                         "       sss-pngstats --range IMG.png -> MAX CLIPPED over the object's pixels\n");
         return 2;
     }

@@ -190,7 +190,12 @@ static void bake(const baked *b, uint32_t obj, sss_bake_file *f, sss_bake_stats 
     if (sss_file_encode(f, &buf, &len, &err) != SSS_OK) fail_msg("%s", err.msg);
     sss_bake_file g;
     if (sss_file_decode(buf, len, "mem.sss", &g, &err) != SSS_OK) fail_msg("%s", err.msg);
-    assert_int_equal(g.version_minor, 4); /* 1.2 sections and ε (NBHD, 1.4) */
+    /* 1.2 sections and ε (NBHD, 1.4); the hat weights (QUAD, the default)
+     * 1.5; compact rows' float32 directions (DIRC) 1.6 */
+    assert_int_equal(g.version_minor, f->dirs_f32 ? 6 : f->weights == SSS_WEIGHTS_HAT ? 5 : 4);
+    assert_int_equal(g.dirs_f32, f->dirs_f32);
+    if (f->quant == SSS_QUANT_REFS || f->quant == SSS_QUANT_SH) assert_true(g.dirs_f32);
+    assert_int_equal(g.weights, f->weights);
     assert_true(g.eps == f->eps && g.eps > 0.0);
     assert_int_equal(g.fx.mask, f->fx.mask);
     sss_file_free(&g);
@@ -245,8 +250,9 @@ static void convexObjectAloneTracesNoRaysAndMatchesVisibilityOn(void **state)
     baked b = {0};
     load(&b, "{\"objects\":[{\"mesh\":\"sphere.ply\",\"material\":\"marble\",\"mm_per_unit\":5}],"
              "\"lights\":[{\"type\":\"directional\",\"direction\":[0.3,-0.2,1]},"
-             "{\"type\":\"directional\",\"direction\":[1,1,0.1],\"moving\":true}],\"bake\":{\"dirs\":40}}");
+             "{\"type\":\"directional\",\"direction\":[1,1,0.1],\"moving\":true}],\"bake\":{\"dirs\":40,\"compress\":\"none\"}}");
     assert_true(b.plan.obj[0].convex);
+    assert_true(b.plan.obj[0].near_runtime); /* the near terms' split traces no ray either */
     assert_false(b.plan.obj[0].self_shadow);
     sss_bake_file off, on;
     sss_bake_stats st_off, st_on;
@@ -262,6 +268,100 @@ static void convexObjectAloneTracesNoRaysAndMatchesVisibilityOn(void **state)
     sss_file_free(&off);
     sss_file_free(&on);
     unload(&b);
+}
+
+static const sss_decision *decision(const sss_object_plan *p, const char *effect)
+{
+    for (uint32_t d = 0; d < p->ndecisions; d++)
+        if (!strcmp(p->decisions[d].effect, effect)) return &p->decisions[d];
+    fail_msg("no decision '%s'", effect);
+    return NULL;
+}
+
+/* The storage rule (planner.c, docs/scenes.md "Rows, weights and near
+ * terms"): by default hat weights, the direction set's near terms at run
+ * time and its rows compact, each stated with its reason; an occluded
+ * object keeps its near terms and float rows. With its near terms baked
+ * and float rows, a scene's direction set is the plain bake's (direct
+ * gather, hat weights): the passes sum the same weights in the same order
+ * (bound 1e-5 of the peak; measured 0, bit for bit). */
+static void directionSetHasThePlainBakesWeightsAndThePlanSaysWhy(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_blob(&m, 1.0, 2, &err), SSS_OK);
+    write_mesh("blob.ply", &m);
+    baked b = {0};
+    const char *obj = "{\"objects\":[{\"mesh\":\"blob.ply\",\"material\":\"marble\",\"mm_per_unit\":10}],"
+                      "\"lights\":[{\"type\":\"directional\",\"direction\":[0.2,1,0.3],\"moving\":true},"
+                      "{\"type\":\"directional\",\"direction\":[1,0,1]}],\"bake\":{\"dirs\":40";
+    char js[1024];
+    snprintf(js, sizeof js, "%s}}", obj);
+    load(&b, js);
+    const sss_object_plan *p = &b.plan.obj[0];
+    assert_int_equal(p->weights, SSS_WEIGHTS_HAT);
+    assert_true(p->near_runtime);
+    assert_true(p->compress);
+    assert_string_equal(decision(p, "weights")->choice, "hat");
+    assert_non_null(strstr(decision(p, "weights")->reason, "physics.md sec. 9"));
+    assert_string_equal(decision(p, "near terms")->choice, "runtime");
+    assert_non_null(strstr(decision(p, "near terms")->reason, "the other effects keep theirs baked"));
+    assert_string_equal(decision(p, "compression")->choice, "compact");
+    sss_bake_file f;
+    sss_bake_stats st;
+    bake(&b, 0, &f, &st);
+    assert_int_equal(f.quant, SSS_QUANT_REFS);
+    assert_int_equal(f.near_terms, SSS_NEAR_TERMS_RUNTIME);
+    assert_true(f.near_radius_mm > 0.0);
+    assert_int_equal(f.fx.nexact, 1);
+    sss_file_free(&f);
+    unload(&b);
+
+    snprintf(js, sizeof js, "%s,\"compress\":\"none\",\"near_terms\":\"baked\"}}", obj);
+    load(&b, js);
+    assert_false(b.plan.obj[0].near_runtime);
+    assert_false(b.plan.obj[0].compress);
+    assert_non_null(strstr(decision(&b.plan.obj[0], "compression")->reason, "bake.compress is \"none\""));
+    bake(&b, 0, &f, &st);
+    assert_int_equal(f.quant, SSS_QUANT_FLOAT);
+    assert_int_equal(f.near_terms, 0);
+    sss_bake_options o;
+    memset(&o, 0, sizeof o);
+    o.n_dirs = 40;
+    o.mm_per_unit = 10;
+    o.weights = SSS_WEIGHTS_HAT;
+    o.gather = SSS_GATHER_DIRECT;
+    sss_bake_file plain;
+    sss_bake_stats pst;
+    assert_int_equal(sss_bake(&m, "blob", &b.sc.objects[0].material, &o, &plain, &pst, &err), SSS_OK);
+    assert_int_equal(plain.dirs.n, f.dirs.n);
+    assert_int_equal(plain.mesh.nv, f.mesh.nv);
+    const size_t n = (size_t)f.dirs.n * f.mesh.nv * f.channels;
+    double worst = 0.0, top = 0.0;
+    for (size_t k = 0; k < n; k++) {
+        worst = fmax(worst, fabs((double)f.q[k] - plain.q[k]));
+        top = fmax(top, plain.q[k]);
+    }
+    print_message("scene vs plain direction set (hat weights, every term baked): max |diff| %.3g of max q %.3g\n",
+                  worst, top);
+    assert_true(top > 0.0 && worst <= 1e-5 * top);
+    sss_file_free(&plain);
+    sss_file_free(&f);
+    unload(&b);
+
+    /* a static occluder: the rows hold its shadow, which run-time near
+     * terms (traced against the object alone) would lose */
+    snprintf(js, sizeof js, "{\"objects\":[{\"mesh\":\"blob.ply\",\"material\":\"marble\",\"mm_per_unit\":10},"
+             "{\"mesh\":\"blob.ply\",\"material\":\"marble\",\"transform\":{\"translate\":[0,0,3]}}],"
+             "\"lights\":[{\"type\":\"directional\",\"direction\":[0.2,0.3,1],\"moving\":true}]}");
+    load(&b, js);
+    assert_false(b.plan.obj[0].near_runtime);
+    assert_false(b.plan.obj[0].compress);
+    assert_non_null(strstr(decision(&b.plan.obj[0], "near terms")->reason, "static occluders"));
+    assert_non_null(strstr(decision(&b.plan.obj[0], "compression")->reason, "keep their near terms"));
+    unload(&b);
+    sss_mesh_free(&m);
 }
 
 static void secondObjectShadowsTheFirst(void **state)
@@ -563,8 +663,10 @@ static void effectFilesAreVersion12AndUnknownEffectsAreRefused(void **state)
     (void)state;
     make_sphere("sphere.ply", 1.0, 1);
     baked b = {0};
+    /* the paper's point weights: with the default hat weights QUAD makes
+     * the file 1.5 (test_scene's bake helper checks that) */
     load(&b, "{\"objects\":[{\"mesh\":\"sphere.ply\",\"material\":\"marble\"}],"
-             "\"lights\":[{\"type\":\"directional\",\"direction\":[0,0,1]}]}");
+             "\"lights\":[{\"type\":\"directional\",\"direction\":[0,0,1]}],\"bake\":{\"weights\":\"point\"}}");
     sss_bake_file f;
     sss_bake_stats st;
     bake(&b, 0, &f, &st);
@@ -639,6 +741,7 @@ int main(void)
         cmocka_unit_test(sceneRefusesDuplicateKeysNulAndDotNames),
         cmocka_unit_test(greyMaterialBakesOneChannel),
         cmocka_unit_test(convexObjectAloneTracesNoRaysAndMatchesVisibilityOn),
+        cmocka_unit_test(directionSetHasThePlainBakesWeightsAndThePlanSaysWhy),
         cmocka_unit_test(secondObjectShadowsTheFirst),
         cmocka_unit_test(staticLightBakeReproducesExactEvaluator),
         cmocka_unit_test(environmentBakeMatchesBruteForceOverProbe),

@@ -70,7 +70,16 @@ typedef struct sss_scene_bake {
     uint32_t sh_order;   /* environment transfer order (default 4) */
     uint32_t shells;     /* point-light distance shells (default 4) */
     double near_factor;  /* a point light is "near" below near_factor × object size (default 5) */
+    /* How every object is baked (docs/scenes.md, "Schema"; 0 = the plain
+     * bake's default, which the planner states with its reason): */
+    uint32_t weights;    /* SSS_SCENE_WEIGHTS_*: the hat-function weights (physics.md §9) or the paper's */
+    uint32_t compress;   /* SSS_SCENE_COMPRESS_*: the direction set's rows compact (compression.md) or float */
+    uint32_t near_terms; /* SSS_SCENE_NEAR_*: the direction set's near terms at run time where they pay, or baked */
 } sss_scene_bake;
+
+enum { SSS_SCENE_WEIGHTS_DEFAULT = 0, SSS_SCENE_WEIGHTS_HAT = 1, SSS_SCENE_WEIGHTS_POINT = 2 };
+enum { SSS_SCENE_COMPRESS_DEFAULT = 0, SSS_SCENE_COMPRESS_COMPACT = 1, SSS_SCENE_COMPRESS_NONE = 2 };
+enum { SSS_SCENE_NEAR_DEFAULT = 0, SSS_SCENE_NEAR_RUNTIME = 1, SSS_SCENE_NEAR_BAKED = 2 };
 
 typedef struct sss_scene {
     char path[SSS_SCENE_PATH_MAX];  /* the file as given (used in messages) */

@@ -1,6 +1,7 @@
 /* ownt.c: section OWNT (format 1.3), near terms added at run time
  * (docs/format.md §5.14, sss/nearterms.h): u32 mode (1: the q rows of any
- * storage form hold q minus the near terms), u32 rings (0 … 8). Its
+ * storage form hold q minus the near terms; in a scene bake the direction
+ * set's rows only), u32 rings (0 … 8). Its
  * presence changes what every q section means, so it is required-flagged:
  * an older reader refuses the file by naming it. */
 #include "sections.h"
@@ -19,10 +20,13 @@ uint64_t sss_sec_ownt_count(const sss_bake_file *f)
 
 sss_result sss_sec_ownt_check(const sss_bake_file *f, const char *name, sss_result code, sss_error *err)
 {
+    /* a scene bake splits them off its direction set's rows only (§5.14) */
     const uint32_t fxm = f->fx.mask;
-    if (f->near_terms != SSS_NEAR_TERMS_RUNTIME || fxm || f->near_rings > SSS_NEAR_RINGS_MAX)
+    const int no_dirset = fxm && !(fxm & SSS_FX_DIR_SET);
+    if (f->near_terms != SSS_NEAR_TERMS_RUNTIME || no_dirset || f->near_rings > SSS_NEAR_RINGS_MAX)
         return sss_fail(err, code, "%s: section OWNT: mode %u, %u rings%s", name, f->near_terms, f->near_rings,
-                        fxm ? " in a scene bake (plain bakes only)" : " is not a valid split");
+                        no_dirset ? " in a scene bake without the direction-set effect (the near terms are split off "
+                                    "the direction set's rows only)" : " is not a valid split");
     return SSS_OK;
 }
 
@@ -53,7 +57,7 @@ void sss_sec_ownt_free(sss_bake_file *f) { f->near_terms = f->near_rings = 0; }
 
 int sss_sec_ownt_wants(const sss_bake_file *f) { return f->near_terms != 0; }
 
-/* only in plain bakes with a direction set: a cross-section rule (format.c, §5.14) */
+/* only with the direction set's rows: a cross-section rule (format.c, §5.14) */
 sss_sec_need sss_sec_ownt_needs(const sss_bake_file *f)
 {
     (void)f;

@@ -53,6 +53,13 @@ typedef struct sss_object_plan {
     uint32_t pass_lights[SSS_PASS_KINDS]; /* per pass kind: how many lights use it (0: pass not run) */
     uint32_t exact_rows;          /* directional-exact: distinct directions among its lights (QDIR rows) */
     uint32_t *light_pass;         /* per scene light: its sss_pass_kind, or UINT32_MAX if it adds nothing; owned */
+    /* How the rows are computed and stored (the storage rule, planner.c):
+     * the weight rule of every pass (SSS_WEIGHTS_HAT or _POINT), the
+     * direction set's rows compressed (compact) or float, and its near
+     * terms at run time (sections OWNT, NRAD) or baked. */
+    uint32_t weights;
+    int compress;
+    int near_runtime;
     uint32_t ndecisions;
     sss_decision decisions[SSS_PLAN_MAX_DECISIONS];
 } sss_object_plan;

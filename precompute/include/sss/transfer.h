@@ -35,6 +35,10 @@ void sss_integrate(const sss_weights *nb, const float *G, uint32_t n, float *q);
  * neighbours, in double, and the result clamped at 0 (docs/physics.md §9). */
 void sss_integrate_hat(const sss_weights *nb, const sss_weights *hat, const float *G, uint32_t n, float *q);
 
+/* The same sums without the clamp, for G of either sign (the SH
+ * projections of the environment transfer, effects/env_sh.c). */
+void sss_integrate_hat_signed(const sss_weights *nb, const sss_weights *hat, const float *G, uint32_t n, float *q);
+
 #ifdef __cplusplus
 }
 #endif

@@ -332,7 +332,7 @@ quantise:
     }
     if (o.near_terms) {
         t = sss_now();
-        r = sss_near_terms_split(mesh, mat, &o, C, &out->dirs, o.weights == SSS_WEIGHTS_HAT ? &hat : NULL, out->q,
+        r = sss_near_terms_split(mesh, mat, &o, C, &out->dirs, o.weights == SSS_WEIGHTS_HAT ? &hat : NULL, 1, out->q,
                                  &st.rays, &st.near_entries, err);
         if (r != SSS_OK) goto fail;
         out->near_terms = SSS_NEAR_TERMS_RUNTIME;

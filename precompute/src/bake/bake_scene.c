@@ -9,6 +9,11 @@
  * Visibility is traced against what the plan names (the object itself
  * unless it is convex, and the static occluders), and not at all when that
  * is nothing: a convex object alone pays no ray.
+ * Every pass sums with the weight rule the plan chose (the hat-function
+ * corrections of docs/physics.md §9 by default, as plain bakes); the
+ * direction set's rows then lose their near terms when the plan moves them
+ * to run time (near_terms.c, docs/format.md §5.14, §5.17) and are
+ * compressed when it says so (sss_compress, docs/compression.md).
  */
 #include "sss/bake_scene.h"
 
@@ -23,7 +28,10 @@
 #include "effects/effect.h"
 #include "kernels/progress.h"
 #include "kernels/transfer.h"
+#include "sss/compress.h"
+#include "sss/hatweights.h"
 #include "sss/memory.h"
+#include "sss/nearterms.h"
 
 void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, float *G, uint64_t *rays_out)
 {
@@ -40,7 +48,7 @@ void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, fl
 }
 
 static char *params(const sss_scene *s, const sss_object_plan *p, const sss_pass_ctx *c, double eps,
-                    const double *radius)
+                    const double *radius, const sss_compress_opts *co)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o) return NULL;
@@ -54,6 +62,26 @@ static char *params(const sss_scene *s, const sss_object_plan *p, const sss_pass
     cJSON_AddNumberToObject(o, "eps", eps);
     cJSON_AddNumberToObject(o, "mm_per_unit", c->out->mm_per_unit);
     cJSON_AddItemToObject(o, "radius_mm", cJSON_CreateDoubleArray(radius, (int)c->C));
+    /* what the rows hold, in the plain bake's words (bake.c params_json) */
+    if (p->weights == SSS_WEIGHTS_HAT)
+        cJSON_AddStringToObject(o, "weights", "hat: (1/pi) integral of phi_i R_d over the one-ring of x_i");
+    if (c->out->near_terms) {
+        cJSON_AddStringToObject(o, "own_term", "runtime (direction set only): rows hold q minus the sum over the "
+                                "vertices within near_radius_mm of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)");
+        cJSON_AddNumberToObject(o, "near_radius_mm", c->out->near_radius_mm);
+        cJSON_AddNumberToObject(o, "near_fraction", SSS_NEAR_FRACTION_DEFAULT);
+        cJSON_AddNumberToObject(o, "near_fraction_held", c->st->near_fraction_held);
+        if (c->st->near_capped) cJSON_AddBoolToObject(o, "near_capped", 1);
+    }
+    if (co) {
+        cJSON *cj = cJSON_AddObjectToObject(o, "compression");
+        cJSON_AddNumberToObject(cj, "sh_order", co->order);
+        cJSON_AddNumberToObject(cj, "refs_fraction", co->fraction);
+        cJSON_AddStringToObject(cj, "sh_quant", sss_shq_name(co->sh_kind));
+        cJSON_AddNumberToObject(cj, "weight_bits", co->wbits);
+        cJSON_AddBoolToObject(cj, "ls_weights", co->ls_weights);
+        cJSON_AddNumberToObject(cj, "illum_refs", co->illum_weight);
+    }
     cJSON *fx = cJSON_AddArrayToObject(o, "effects");
     for (uint32_t b = 0; b < SSS_FX_COUNT; b++)
         if (p->effects >> b & 1u) cJSON_AddItemToArray(fx, cJSON_CreateString(sss_effect_name(b)));
@@ -130,11 +158,33 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     /* the radius rule of bake.c, so the exact evaluator (which recomputes
      * it from the file) finds the same neighbourhoods */
     st.search_radius_mm = sss_nbhd_radii(c.mesh, out->mm_per_unit, dip, c.C, eps, st.radius_mm);
-    sss_weights nb = {0};
+    sss_weights nb = {0}, hat = {0};
     sss_vis *vis = NULL;
     const sss_mesh **occ = NULL;
+    sss_compress_opts co;
     double t = sss_now();
-    r = sss_nbhd_build(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0, nb_max, opt->cancel, &nb, err);
+    /* the hat-function corrections (docs/physics.md §9), before the
+     * neighbourhoods as in bake.c: their entries come off what those get */
+    uint64_t hat_bytes = 0;
+    if (p->weights == SSS_WEIGHTS_HAT) {
+        r = sss_hat_corrections(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0, opt->cancel, &hat,
+                                err);
+        if (r != SSS_OK) goto done;
+        st.t_hat = sss_now() - t;
+        st.hat_entries = hat.start[hat.nrows];
+        hat_bytes = st.hat_entries * (4u + 4u * c.C);
+        if (avail && hat_bytes >= avail - need) {
+            r = sss_fail(err, SSS_ERR_NOMEM, "the bake needs more than %.2f GiB for %u vertices (the hat weights' %llu "
+                         "entries) (SSS_MEMORY_LIMIT_MB lowers the limit)", avail / 1073741824.0, world[obj].nv,
+                         (unsigned long long)st.hat_entries);
+            goto done;
+        }
+        c.hat = &hat;
+    }
+    out->weights = p->weights;
+    t = sss_now();
+    r = sss_nbhd_build(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0,
+                       avail ? (avail - need - hat_bytes) / 10 * 9 : nb_max, opt->cancel, &nb, err);
     if (r != SSS_OK) goto done;
     st.t_neighbourhoods = sss_now() - t;
     st.neighbours_total = nb.start[nb.nrows];
@@ -144,7 +194,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
         if (k > st.neighbours_max) st.neighbours_max = k;
     }
     if (avail) { /* what is left for the probes (env_sh.c reads them) */
-        const uint64_t nbb = st.neighbours_total * (4u + 4u * c.C);
+        const uint64_t nbb = st.neighbours_total * (4u + 4u * c.C) + hat_bytes;
         c.memory_left = avail - need > nbb ? avail - need - nbb : 1;
     }
     c.nb = &nb;
@@ -157,20 +207,84 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
         if (r != SSS_OK) goto done;
     }
     c.vis = vis;
+    /* compact rows store their directions in float32 (DIRC, docs/format.md
+     * §5.18): the passes bake at those directions, as bake.c does */
+    if (p->compress && p->pass_lights[SSS_PASS_DIR_SET] && !out->dirs.n) {
+        r = sss_dirset_fibonacci(&out->dirs, c.n_dirs, err);
+        if (r != SSS_OK) goto done;
+        sss_dirset_round_f32(&out->dirs);
+    }
     for (int k = 0; k < SSS_PASS_KINDS; k++) {
         if (!p->pass_lights[k]) continue;
         r = sss_effect_units[k]->bake(&c, err);
         if (r != SSS_OK) goto done;
     }
     st.t_integrals = sss_now() - t;
+    sss_vis_destroy(vis); /* built over out->mesh, which the compression below replaces */
+    vis = NULL;
+    c.vis = NULL;
     out->eps = eps;
-    out->params_json = params(scene, p, &c, eps, st.radius_mm);
+    /* The direction set's near terms to run time (the plan's storage rule):
+     * the plain bake's split (bake.c), the radius holding
+     * sss_near_fraction_default of R_d,total, within the neighbourhood and
+     * capped at SSS_NEAR_ENTRIES_MAX entries per vertex. Only the q rows
+     * lose them: QDIR, PSHL and ENVT keep every term. */
+    if (p->near_runtime && out->q) {
+        t = sss_now();
+        sss_bake_options no;
+        memset(&no, 0, sizeof no);
+        no.mm_per_unit = out->mm_per_unit;
+        no.eps = eps;
+        no.weights = p->weights;
+        no.cancel = opt->cancel;
+        no.near_terms = SSS_NEAR_TERMS_RUNTIME;
+        no.near_fraction = sss_near_fraction_default(c.C);
+        no.near_radius_mm = fmin(sss_near_radius_material(&ob->material, c.C, no.near_fraction), st.search_radius_mm);
+        const double capped = sss_near_radius_capped(c.mesh, out->mm_per_unit, no.near_radius_mm);
+        if (capped < no.near_radius_mm) {
+            no.near_radius_mm = capped;
+            st.near_capped = 1;
+        }
+        st.near_fraction_held = sss_near_fraction_held(&ob->material, c.C, no.near_radius_mm);
+        r = sss_near_terms_split(c.mesh, &ob->material, &no, c.C, &out->dirs, c.hat, p->self_shadow, out->q, &st.rays,
+                                 &st.near_entries, err);
+        if (r != SSS_OK) goto done;
+        out->near_terms = SSS_NEAR_TERMS_RUNTIME;
+        out->near_rings = 0;
+        out->near_radius_mm = no.near_radius_mm;
+        st.t_visibility += sss_now() - t;
+    }
+    /* The direction set's rows compressed with the plain bake's default
+     * (the compact preset for the object's channels, its SH order fitting
+     * the direction count: sss-bake's options()); the other effects' data
+     * move over unchanged. */
+    const sss_compress_opts *cop = NULL;
+    if (p->compress && out->q) {
+        if (sss_cancelled(opt->cancel)) { r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted before compression"); goto done; }
+        t = sss_now();
+        sss_compress_opts_default(&co);
+        sss_compress_preset_apply(&co, SSS_COMPRESS_COMPACT, c.C, 0);
+        while (co.order > 1 && co.order * co.order > out->dirs.n) co.order--;
+        sss_bake_file cf;
+        r = sss_compress(out, &co, &cf, err);
+        if (r != SSS_OK) goto done;
+        cf.fx = out->fx;
+        memset(&out->fx, 0, sizeof out->fx);
+        sss_file_free(out);
+        *out = cf;
+        c.mesh = &out->mesh;
+        cop = &co;
+        st.t_compress = sss_now() - t;
+    }
+    free(out->params_json); /* the compression's copy of none */
+    out->params_json = params(scene, p, &c, eps, st.radius_mm, cop);
     if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto done; }
     if (st_out) *st_out = st;
 done:
     sss_vis_destroy(vis);
     free(occ);
     sss_weights_free(&nb);
+    sss_weights_free(&hat);
     if (r != SSS_OK) sss_file_free(out);
     return r;
 }

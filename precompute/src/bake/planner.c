@@ -223,6 +223,68 @@ static void rule_lights(const plan_in *in, sss_object_plan *p)
         if (p->pass_lights[k]) p->effects |= sss_effect_units[k]->fx;
 }
 
+/* How the rows are computed and stored, per object: the plain bake's
+ * defaults (docs/accuracy.md, "The defaults") unless the scene's "bake"
+ * says otherwise (docs/scenes.md, "Schema").
+ *  - weights: the hat-function weights W_oi = (1/pi) integral of phi_i R_d
+ *    dA (docs/physics.md §9) for every pass, the paper's point samples
+ *    (Hao-Varshney 2004 §3.1) on request;
+ *  - the direction set's near terms at run time (sections OWNT, NRAD;
+ *    docs/format.md §5.14, §5.17), as plain bakes: only where the viewer
+ *    can add back what the bake took off, i.e. with no static occluder
+ *    (the viewer's near terms trace the object alone). The other effects
+ *    keep them baked (docs/scenes.md, "Rows, weights and near terms");
+ *  - the direction set's rows: the compact compression (reference points +
+ *    SH, §4; docs/compression.md) when they have lost their near terms, or
+ *    when "compress": "compact" asks; else floats. The other effects' rows
+ *    stay float: QDIR is one value per light, PSHL and ENVT have no
+ *    compressed form. */
+static void rule_storage(const plan_in *in, sss_object_plan *p)
+{
+    const sss_scene_bake *b = &in->scene->bake;
+    p->weights = b->weights == SSS_SCENE_WEIGHTS_POINT ? SSS_WEIGHTS_POINT : SSS_WEIGHTS_HAT;
+    if (p->weights == SSS_WEIGHTS_HAT)
+        decide(p, "weights", "hat", "R_d integrated over each vertex's hat function (docs/physics.md sec. 9) in "
+               "every pass: independent of the tessellation, the plain bake's default%s",
+               b->weights ? " (bake.weights)" : "");
+    else
+        decide(p, "weights", "point", "bake.weights asks for the paper's point weights, R_d at the vertex times its "
+               "area (Hao-Varshney 2004 sec. 3.1)");
+    const int dirset = p->pass_lights[SSS_PASS_DIR_SET] > 0;
+    p->near_runtime = dirset && b->near_terms != SSS_SCENE_NEAR_BAKED && p->noccluders == 0;
+    if (!dirset)
+        decide(p, "near terms", "baked", "no direction set: a static light's row is exact for its one direction, and "
+               "point shells and the SH transfer have no run-time near pass; every term stays in the rows");
+    else if (p->near_runtime)
+        decide(p, "near terms", "runtime", "direction set: the terms within the material's radius (95 %% of "
+               "R_d,total) are added at run time for the light's actual direction, without the direction set's "
+               "interpolation error, as in plain bakes; the other effects keep theirs baked");
+    else if (b->near_terms == SSS_SCENE_NEAR_BAKED)
+        decide(p, "near terms", "baked", "bake.near_terms is \"baked\": every term stays in the rows");
+    else
+        decide(p, "near terms", "baked", "static occluders shadow the object: the rows hold their shadows, which the "
+               "viewer's near terms (traced against this object alone) would lose");
+    /* compact by default only over rows without their near terms: it was
+     * chosen for those (docs/compression.md); rows that keep the terms'
+     * peak it codes at about 3x the direction set's own error (docs/scenes.md,
+     * "Rows, weights and near terms") */
+    p->compress = dirset && (b->compress == SSS_SCENE_COMPRESS_COMPACT ||
+                             (b->compress == SSS_SCENE_COMPRESS_DEFAULT && p->near_runtime));
+    if (!dirset)
+        decide(p, "compression", "none", "no direction set: the other effects' rows (one per static light, point "
+               "shells, SH transfer) are stored as floats");
+    else if (p->compress)
+        decide(p, "compression", "compact", "the direction set's rows are the bulk of the file: reference points + "
+               "SH-coded deltas (Hao-Varshney 2004 sec. 4), the plain bake's default (docs/compression.md)%s; the "
+               "other effects' rows stay float", b->compress ? " (bake.compress)" : "");
+    else if (b->compress == SSS_SCENE_COMPRESS_NONE)
+        decide(p, "compression", "none", "bake.compress is \"none\": the direction set's rows are stored as floats");
+    else
+        decide(p, "compression", "none", "the direction set's rows keep their near terms, whose peak the compact "
+               "compression (chosen for rows without them) codes at about 3x the rows' own error: stored as floats "
+               "(bake.compress \"compact\" asks for it anyway)");
+}
+
 void sss_plan_exact_direction(const sss_object_plan *p, const sss_scene_light *L, double d[3])
 {
     if (L->kind == SSS_LIGHT_DIRECTIONAL) {
@@ -327,7 +389,7 @@ static sss_result check_probes(const sss_scene *s, uint64_t memory_limit, sss_er
 }
 
 typedef void (*rule_fn)(const plan_in *, sss_object_plan *);
-static const rule_fn rules[] = {rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights};
+static const rule_fn rules[] = {rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights, rule_storage};
 
 sss_result sss_plan_scene(const sss_scene *scene, const sss_mesh *world, sss_plan *out, sss_error *err)
 {
@@ -458,6 +520,9 @@ char *sss_plan_json(const sss_scene *scene, const sss_plan *p)
         cJSON_AddNumberToObject(jo, "channels", o->channels);
         cJSON_AddBoolToObject(jo, "convex", o->convex);
         cJSON_AddBoolToObject(jo, "self_shadow", o->self_shadow);
+        cJSON_AddStringToObject(jo, "weights", o->weights == SSS_WEIGHTS_HAT ? "hat" : "point");
+        cJSON_AddStringToObject(jo, "compression", o->compress ? "compact" : "none");
+        cJSON_AddStringToObject(jo, "near_terms", o->near_runtime ? "runtime" : "baked");
         cJSON *occ = cJSON_AddArrayToObject(jo, "occluders");
         for (uint32_t k = 0; k < o->noccluders; k++)
             cJSON_AddItemToArray(occ, cJSON_CreateString(scene->objects[o->occluders[k]].name));

@@ -53,7 +53,7 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
         if (j < k) continue;
         memcpy(&fx->exact_dir[3 * (size_t)k], d, sizeof d);
         sss_pass_transfer(c, d, 1, G, &c->st->rays);
-        sss_integrate(c->nb, G, 1, &fx->exact_q[(size_t)k * nv * c->C]);
+        sss_integrate_hat(c->nb, c->hat, G, 1, &fx->exact_q[(size_t)k * nv * c->C]);
         k++;
     }
     fx->nexact = k;

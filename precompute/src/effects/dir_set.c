@@ -36,7 +36,7 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
         return sss_fail(err, SSS_ERR_NOMEM, "direction-set pass: out of memory for %u x %u values", nv, n);
     }
     sss_pass_transfer(c, o->dirs.dir, n, G, &c->st->rays);
-    sss_integrate(c->nb, G, n, o->q);
+    sss_integrate_hat(c->nb, c->hat, G, n, o->q);
     free(G);
     o->quant = SSS_QUANT_FLOAT;
     return SSS_OK;

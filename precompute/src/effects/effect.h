@@ -28,6 +28,7 @@ typedef struct sss_pass_ctx {
     const sss_object_plan *plan;
     const sss_mesh *mesh;      /* the object, world units, normals and areas */
     const sss_weights *nb;        /* N(x_o) for every vertex */
+    const sss_weights *hat;       /* the hat-function corrections of nb (docs/physics.md §9); NULL: point weights */
     const sss_vis *vis;        /* NULL: no visibility rays */
     double eta;
     uint32_t C;
@@ -87,10 +88,12 @@ void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, fl
  * visibility rule and weights (hat: the bake's hat-function corrections
  * when o->weights says so), so that a reader adding them back for a
  * sample restores q. In place; polls o->cancel. *entries (when not NULL):
- * the terms' count over all rows, what every reader builds. */
+ * the terms' count over all rows, what every reader builds. self_shadow
+ * 0: no rays, V = 1 wherever n_i·ω > 0 (a scene's convex object, the
+ * planner's self-shadow rule). */
 sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
-                                const sss_dirset *ds, const sss_weights *hat, float *q, uint64_t *rays,
-                                uint64_t *entries, sss_error *err);
+                                const sss_dirset *ds, const sss_weights *hat, int self_shadow, float *q,
+                                uint64_t *rays, uint64_t *entries, sss_error *err);
 
 /* The units (one file each). */
 extern const sss_effect_unit sss_effect_dir_exact;    /* dir_exact.c */

@@ -1,4 +1,5 @@
-/* near_terms.c: the near-terms effect of plain bakes, its bake side
+/* near_terms.c: the near-terms effect of plain bakes and of a scene's
+ * direction set (bake_scene.c, docs/scenes.md "Near terms"), its bake side
  * (`--own-term runtime [--rings K]`, section OWNT, docs/format.md §5.14):
  * the rows store q minus the terms of the vertex itself and its K mesh
  * rings, which every reader adds back for the actual light with every
@@ -19,8 +20,8 @@
  * back at ω_j restores q_j up to rounding (and the clamp at 0 below).
  * Independent elements: the result does not depend on the thread count. */
 sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
-                                const sss_dirset *ds, const sss_weights *hat, float *q, uint64_t *rays,
-                                uint64_t *entries, sss_error *err)
+                                const sss_dirset *ds, const sss_weights *hat, int self_shadow, float *q,
+                                uint64_t *rays, uint64_t *entries, sss_error *err)
 {
     const uint32_t nv = mesh->nv, D = ds->n;
     sss_weights nr;
@@ -33,11 +34,17 @@ sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, c
     uint8_t *lit = malloc((size_t)nv + 1);
     float *gv = malloc((size_t)nv * sizeof *gv + 1);
     if (!lit || !gv) r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the near terms of %u vertices", nv);
-    if (r == SSS_OK) r = sss_vis_create(mesh, &vis, err);
+    if (r == SSS_OK && self_shadow) r = sss_vis_create(mesh, &vis, err);
     uint64_t traced = 0;
     for (uint32_t j = 0; j < D && r == SSS_OK; j++) {
         const double *d = ds->dir + 3 * (size_t)j;
-        traced += sss_vis_lit_all(vis, mesh, d, lit);
+        if (self_shadow)
+            traced += sss_vis_lit_all(vis, mesh, d, lit);
+        else /* a convex object (the planner's self-shadow rule): V = 1 wherever n_i.w > 0 */
+            for (uint32_t v = 0; v < nv; v++) {
+                const float *n = mesh->nrm + 3 * (size_t)v;
+                lit[v] = n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0.0;
+            }
         sss_near_transfer(mesh->nrm, nv, (float)mat->eta, d, lit, gv);
         float *qj = q + (size_t)j * nv * C;
 #pragma omp parallel for schedule(static)

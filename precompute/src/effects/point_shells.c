@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "effects/effect.h"
+#include "sss/hatweights.h"
 
 /* A point light near the object (its direction and 1/r² falloff vary
  * across it), or one that moves and may come near. */
@@ -94,7 +95,7 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
         }
     c->st->rays += rays;
     /* layout ((s n + j) nv + v) C + c: shells × directions act as one axis */
-    sss_integrate(c->nb, G, SN, fx->shell_q);
+    sss_integrate_hat(c->nb, c->hat, G, SN, fx->shell_q);
     free(G);
     return SSS_OK;
 }
@@ -142,17 +143,22 @@ sss_result sss_point_exact(const sss_bake_file *f, int self_shadow, const double
     sss_vis *vis = NULL;
     float *G = malloc((size_t)m.nv * sizeof(float) + 1);
     r = G ? sss_nbhd_build(&m, f->mm_per_unit, dip, C, R, NULL, 0, 0, NULL, &nb, err) : sss_fail(err, SSS_ERR_NOMEM, "out of memory");
+    /* the file's weight rule (section QUAD): the bake's corrections */
+    sss_weights hat = {0};
+    if (r == SSS_OK && f->weights == SSS_WEIGHTS_HAT)
+        r = sss_hat_corrections(&m, f->mm_per_unit, dip, C, R, NULL, 0, NULL, &hat, err);
     if (r == SSS_OK && self_shadow) r = sss_vis_create(&m, &vis, err);
     if (r == SSS_OK) {
         for (uint32_t i = 0; i < m.nv; i++) {
             int t;
             G[i] = point_g(&m, vis, i, P, f->material.eta, 1.0, &t);
         }
-        sss_integrate(&nb, G, 1, out);
+        sss_integrate_hat(&nb, hat.nrows ? &hat : NULL, G, 1, out);
     }
     free(G);
     sss_vis_destroy(vis);
     sss_weights_free(&nb);
+    sss_weights_free(&hat);
     sss_mesh_free(&m);
     return r;
 }

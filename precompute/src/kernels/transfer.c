@@ -73,7 +73,8 @@ void sss_integrate(const sss_weights *nb, const float *G, uint32_t n, float *q)
     sss_integrate_hat(nb, NULL, G, n, q);
 }
 
-void sss_integrate_hat(const sss_weights *nb, const sss_weights *hat, const float *G, uint32_t n, float *q)
+static void integrate_rows(const sss_weights *nb, const sss_weights *hat, const float *G, uint32_t n, int clamp,
+                           float *q)
 {
     const uint32_t C = nb->channels;
 #pragma omp parallel
@@ -103,10 +104,20 @@ void sss_integrate_hat(const sss_weights *nb, const sss_weights *hat, const floa
             for (uint32_t j = 0; j < n; j++)
                 for (uint32_t c = 0; c < C; c++) {
                     const float x = (float)acc[(size_t)c * n + j];
-                    q[((size_t)j * nb->nrows + (size_t)r) * C + c] = hat && !(x > 0.0f) ? 0.0f : x;
+                    q[((size_t)j * nb->nrows + (size_t)r) * C + c] = clamp && !(x > 0.0f) ? 0.0f : x;
                 }
             sss_progress_tick(nb->start[r + 1] - nb->start[r]); /* a row costs its neighbours */
         }
         free(acc);
     }
+}
+
+void sss_integrate_hat(const sss_weights *nb, const sss_weights *hat, const float *G, uint32_t n, float *q)
+{
+    integrate_rows(nb, hat, G, n, hat != NULL, q);
+}
+
+void sss_integrate_hat_signed(const sss_weights *nb, const sss_weights *hat, const float *G, uint32_t n, float *q)
+{
+    integrate_rows(nb, hat, G, n, 0, q);
 }
