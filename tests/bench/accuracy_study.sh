@@ -37,6 +37,12 @@ DOC=docs/accuracy.md
 BAKE=$BUILD/precompute/sss-bake STAT=$BUILD/precompute/sss-stat VIEW=$BUILD/runtime/sss-view
 for t in jq gnuplot; do command -v $t >/dev/null || { echo "accuracy_study: '$t' not found (scripts/setup.sh installs it)" >&2; exit 1; }; done
 mkdir -p "$OUT/sss" "$OUT/json" "$DATA"
+# REPORT_ONLY draws from the measurements of a run under $OUT/json; without
+# them it would write empty results over the committed ones
+if [ "${REPORT_ONLY:-0}" = 1 ] && ! ls "$OUT"/json/*.err.json >/dev/null 2>&1; then
+  echo "accuracy_study: REPORT_ONLY=1 needs the measurements of a run in $OUT/json (none there)" >&2
+  exit 1
+fi
 T0=$(date +%s)
 log() { printf '[%s] accuracy_study: %s\n' "$(date -u +%H:%M:%S)" "$*" >&2; }
 
