@@ -85,6 +85,13 @@ enum {
  * choices stay, the preset fills the rest. */
 void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint32_t channels, uint32_t given);
 
+/* Adds the options' provenance to a bake's PARM object (docs/format.md
+ * §5.6): an object "compression" with the SH order, reference fraction,
+ * SH code kind, weight bits, least-squares weights and illumination
+ * weight. */
+struct cJSON;
+void sss_compress_opts_to_json(const sss_compress_opts *co, struct cJSON *params);
+
 /* Compresses the float bake src into *dst: a deep copy of src's mesh,
  * material, directions and parameters with quant SSS_QUANT_SH or
  * SSS_QUANT_REFS and the matching sh / ref parts, ready for sss_file_write.

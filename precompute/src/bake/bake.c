@@ -106,16 +106,7 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
     if (!pj) return NULL;
     if (o->import_offset) /* GEOM holds the recentred positions (docs/robustness.md B6) */
         cJSON_AddItemToObject(pj, "import_offset", cJSON_CreateDoubleArray(o->import_offset, 3));
-    if (o->compress) {
-        const sss_compress_opts *co = o->compress;
-        cJSON *c = cJSON_AddObjectToObject(pj, "compression");
-        cJSON_AddNumberToObject(c, "sh_order", co->order);
-        cJSON_AddNumberToObject(c, "refs_fraction", co->fraction);
-        cJSON_AddStringToObject(c, "sh_quant", sss_shq_name(co->sh_kind));
-        cJSON_AddNumberToObject(c, "weight_bits", co->wbits);
-        cJSON_AddBoolToObject(c, "ls_weights", co->ls_weights);
-        cJSON_AddNumberToObject(c, "illum_refs", co->illum_weight);
-    }
+    if (o->compress) sss_compress_opts_to_json(o->compress, pj);
     char *s = cJSON_PrintUnformatted(pj);
     cJSON_Delete(pj);
     return s; /* cJSON allocates with malloc: sss_file_free frees it */

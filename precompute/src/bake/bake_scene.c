@@ -69,19 +69,11 @@ static char *params(const sss_scene *s, const sss_object_plan *p, const sss_pass
         cJSON_AddStringToObject(o, "own_term", "runtime (direction set only): rows hold q minus the sum over the "
                                 "vertices within near_radius_mm of w F_t(eta,n_i.w) max(0,n_i.w) V(x_i,w)");
         cJSON_AddNumberToObject(o, "near_radius_mm", c->out->near_radius_mm);
-        cJSON_AddNumberToObject(o, "near_fraction", SSS_NEAR_FRACTION_DEFAULT);
+        cJSON_AddNumberToObject(o, "near_fraction", sss_near_fraction_default(c->C));
         cJSON_AddNumberToObject(o, "near_fraction_held", c->st->near_fraction_held);
         if (c->st->near_capped) cJSON_AddBoolToObject(o, "near_capped", 1);
     }
-    if (co) {
-        cJSON *cj = cJSON_AddObjectToObject(o, "compression");
-        cJSON_AddNumberToObject(cj, "sh_order", co->order);
-        cJSON_AddNumberToObject(cj, "refs_fraction", co->fraction);
-        cJSON_AddStringToObject(cj, "sh_quant", sss_shq_name(co->sh_kind));
-        cJSON_AddNumberToObject(cj, "weight_bits", co->wbits);
-        cJSON_AddBoolToObject(cj, "ls_weights", co->ls_weights);
-        cJSON_AddNumberToObject(cj, "illum_refs", co->illum_weight);
-    }
+    if (co) sss_compress_opts_to_json(co, o);
     cJSON *fx = cJSON_AddArrayToObject(o, "effects");
     for (uint32_t b = 0; b < SSS_FX_COUNT; b++)
         if (p->effects >> b & 1u) cJSON_AddItemToArray(fx, cJSON_CreateString(sss_effect_name(b)));

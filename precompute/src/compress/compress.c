@@ -11,6 +11,7 @@
  */
 #include "sss/compress.h"
 
+#include <cjson/cJSON.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -58,6 +59,17 @@ void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint
     if (!(given & SSS_CO_LS_WEIGHTS)) o->ls_weights = d.ls_weights;
     if (!(given & SSS_CO_ILLUM)) o->illum_weight = d.illum_weight;
     o->dirs_f32 = d.dirs_f32; /* the preset's storage, not a user's choice */
+}
+
+void sss_compress_opts_to_json(const sss_compress_opts *co, cJSON *params)
+{
+    cJSON *c = cJSON_AddObjectToObject(params, "compression");
+    cJSON_AddNumberToObject(c, "sh_order", co->order);
+    cJSON_AddNumberToObject(c, "refs_fraction", co->fraction);
+    cJSON_AddStringToObject(c, "sh_quant", sss_shq_name(co->sh_kind));
+    cJSON_AddNumberToObject(c, "weight_bits", co->wbits);
+    cJSON_AddBoolToObject(c, "ls_weights", co->ls_weights);
+    cJSON_AddNumberToObject(c, "illum_refs", co->illum_weight);
 }
 
 /* ---- copying what does not change ------------------------------------- */
