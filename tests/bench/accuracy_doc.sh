@@ -98,7 +98,7 @@ error-measurement part, which dominates.
 **At the defaults** (\`sss-bake MESH -o OUT --material M --mm-per-unit S\`,
 section "The defaults"): the 20 cm dragon gives image RMS 7.3–7.6×10⁻⁴
 (23K vertices, worst of 100 views; back-lit 5.3–5.7×10⁻⁴) and 5.5×10⁻⁴
-(100K, marble; skin1 4.9×10⁻⁴ over 30 views) at 24 bytes per vertex RGB,
+(100K, marble; skin1 5.5×10⁻⁴) at 24 bytes per vertex RGB,
 5.9×10⁻⁴ at 15.4 in grey; the 10 cm bunny 7.2×10⁻⁴ at 29.5 bytes per
 vertex (every byte but the mesh). The figures below this paragraph and in the tables
 after "The defaults" were measured at 4000 mm per unit with the earlier
