@@ -135,6 +135,16 @@ static uint64_t pairs_within(const sss_mesh *mesh, double s, double r, uint64_t 
     return total;
 }
 
+double sss_near_radius_bake(const sss_mesh *mesh, double mm_per_unit, const sss_material *m, uint32_t channels,
+                            double fraction, double search_mm, int *capped, double *held)
+{
+    const double r = fmin(sss_near_radius_material(m, channels, fraction), search_mm);
+    const double rc = sss_near_radius_capped(mesh, mm_per_unit, r);
+    *capped = rc < r;
+    *held = sss_near_fraction_held(m, channels, rc);
+    return rc;
+}
+
 double sss_near_radius_capped(const sss_mesh *mesh, double mm_per_unit, double radius_mm)
 {
     const uint32_t nv = mesh->nv;

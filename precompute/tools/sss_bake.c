@@ -421,11 +421,8 @@ static int options(const bake_args *a, bake_setup *s)
         const uint32_t given = (a->order_given ? SSS_CO_ORDER : 0) | (a->refs_given ? SSS_CO_FRACTION : 0) |
                                (a->sh_quant_given ? SSS_CO_SH_KIND : 0) | (a->wbits_given ? SSS_CO_WBITS : 0) |
                                (a->ls_given ? SSS_CO_LS_WEIGHTS : 0) | (a->illum_given ? SSS_CO_ILLUM : 0);
-        sss_compress_preset_apply(co, (sss_compress_preset)a->preset, sss_material_channels(mat), given);
-        /* a preset's SH order fits no more coefficients than there are
-         * direction samples (a few directions: the lower orders) */
-        const uint32_t n_dirs = a->dirs ? a->dirs : 200;
-        while (!a->order_given && co->order > 1 && co->order * co->order > n_dirs) co->order--;
+        sss_compress_preset_apply(co, (sss_compress_preset)a->preset, sss_material_channels(mat),
+                                  a->dirs ? a->dirs : 200, given);
         opt->quant = SSS_QUANT_FLOAT;
         opt->compress = co;
     }

@@ -110,6 +110,15 @@ double sss_near_fraction_held(const sss_material *m, uint32_t channels, double r
  * invalid material or a fraction outside (0, 1). */
 double sss_near_radius_material(const sss_material *m, uint32_t channels, double fraction);
 
+/* The radius a bake's near terms take from the material (docs/accuracy.md,
+ * "Near terms sized by the material"): sss_near_radius_material for
+ * `fraction`, no wider than the neighbourhood search_mm (beyond it the
+ * terms weigh 0), then sss_near_radius_capped. *capped says whether the
+ * cap shrank it, *held the fraction it holds (sss_near_fraction_held).
+ * Shared by plain and scene bakes. */
+double sss_near_radius_bake(const sss_mesh *mesh, double mm_per_unit, const sss_material *m, uint32_t channels,
+                            double fraction, double search_mm, int *capped, double *held);
+
 /* Which near terms, and with which weights. */
 typedef struct sss_near_spec {
     uint32_t rings;   /* mesh rings 0 … 8 (when radius_mm is 0) */

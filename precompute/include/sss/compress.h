@@ -81,9 +81,12 @@ enum {
 };
 
 /* Sets every field of o that `given` does not name to preset p's value for
- * a file of `channels` channels (sss_material_channels): the user's own
- * choices stay, the preset fills the rest. */
-void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint32_t channels, uint32_t given);
+ * a file of `channels` channels (sss_material_channels) and n_dirs
+ * directions: the user's own choices stay, the preset fills the rest. The
+ * preset's SH order fits no more coefficients than there are direction
+ * samples (order² ≤ n_dirs; a few directions get the lower orders). */
+void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint32_t channels, uint32_t n_dirs,
+                               uint32_t given);
 
 /* Adds the options' provenance to a bake's PARM object (docs/format.md
  * §5.6): an object "compression" with the SH order, reference fraction,

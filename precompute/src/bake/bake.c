@@ -179,19 +179,12 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     /* Neighbourhood radius per channel: the disk that holds 1−ε of the total
      * diffuse reflectance, clamped to the object's size (α′ → 1). */
     st.search_radius_mm = sss_nbhd_radii(mesh, o.mm_per_unit, dip, C, o.eps, st.radius_mm);
-    /* a radius from the material beyond the neighbourhood (α′ → 1, a
-     * fraction above 1 − ε) would only add terms of weight 0 */
-    if (o.near_fraction > 0.0 && o.near_radius_mm > st.search_radius_mm) o.near_radius_mm = st.search_radius_mm;
-    /* and one that would hold more than SSS_NEAR_ENTRIES_MAX vertices on
-     * average (an object small against its range) is shrunk to that */
-    if (o.near_fraction > 0.0) {
-        const double capped = sss_near_radius_capped(mesh, o.mm_per_unit, o.near_radius_mm);
-        if (capped < o.near_radius_mm) {
-            o.near_radius_mm = capped;
-            st.near_capped = 1;
-        }
-        st.near_fraction_held = sss_near_fraction_held(mat, C, o.near_radius_mm);
-    }
+    /* a radius from the material: within the neighbourhood, and shrunk to
+     * SSS_NEAR_ENTRIES_MAX entries per vertex on an object small against
+     * its range */
+    if (o.near_fraction > 0.0)
+        o.near_radius_mm = sss_near_radius_bake(mesh, o.mm_per_unit, mat, C, o.near_fraction, st.search_radius_mm,
+                                                &st.near_capped, &st.near_fraction_held);
     /* Resolution check (docs/robustness.md B3): the smoothest profile has
      * scale 1/σtr of the channel with the smallest σtr (a vanishing σa means
      * an unbounded range: the radius stands in for it). With point weights

@@ -231,13 +231,8 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
         no.cancel = opt->cancel;
         no.near_terms = SSS_NEAR_TERMS_RUNTIME;
         no.near_fraction = sss_near_fraction_default(c.C);
-        no.near_radius_mm = fmin(sss_near_radius_material(&ob->material, c.C, no.near_fraction), st.search_radius_mm);
-        const double capped = sss_near_radius_capped(c.mesh, out->mm_per_unit, no.near_radius_mm);
-        if (capped < no.near_radius_mm) {
-            no.near_radius_mm = capped;
-            st.near_capped = 1;
-        }
-        st.near_fraction_held = sss_near_fraction_held(&ob->material, c.C, no.near_radius_mm);
+        no.near_radius_mm = sss_near_radius_bake(c.mesh, out->mm_per_unit, &ob->material, c.C, no.near_fraction,
+                                                 st.search_radius_mm, &st.near_capped, &st.near_fraction_held);
         r = sss_near_terms_split(c.mesh, &ob->material, &no, c.C, &out->dirs, c.hat, p->self_shadow, out->q, &st.rays,
                                  &st.near_entries, err);
         if (r != SSS_OK) goto done;
@@ -255,8 +250,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
         if (sss_cancelled(opt->cancel)) { r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted before compression"); goto done; }
         t = sss_now();
         sss_compress_opts_default(&co);
-        sss_compress_preset_apply(&co, SSS_COMPRESS_COMPACT, c.C, 0);
-        while (co.order > 1 && co.order * co.order > out->dirs.n) co.order--;
+        sss_compress_preset_apply(&co, SSS_COMPRESS_COMPACT, c.C, out->dirs.n, 0);
         sss_bake_file cf;
         r = sss_compress(out, &co, &cf, err);
         if (r != SSS_OK) goto done;

@@ -36,7 +36,8 @@ void sss_compress_opts_default(sss_compress_opts *o)
     o->wbits = 16;
 }
 
-void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint32_t channels, uint32_t given)
+void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint32_t channels, uint32_t n_dirs,
+                               uint32_t given)
 {
     sss_compress_opts d;
     sss_compress_opts_default(&d);
@@ -52,7 +53,8 @@ void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint
         d.illum_weight = 1e-3;
         d.dirs_f32 = 1;
     }
-    if (!(given & SSS_CO_ORDER)) o->order = d.order;
+    if (!(given & SSS_CO_ORDER))
+        for (o->order = d.order; o->order > 1 && o->order * o->order > n_dirs;) o->order--;
     if (!(given & SSS_CO_FRACTION)) o->fraction = d.fraction;
     if (!(given & SSS_CO_SH_KIND)) o->sh_kind = d.sh_kind;
     if (!(given & SSS_CO_WBITS)) o->wbits = d.wbits;
