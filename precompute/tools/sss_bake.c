@@ -98,8 +98,8 @@ typedef struct bake_args {
     uint32_t dirs;
     int dirs_given;
     /* --preset paper: Hao–Varshney 2004's configuration, every other option
-     * that would change it refused (docs/accuracy.md, "The paper's
-     * configuration") */
+     * that would change it refused (docs/accuracy.md, "The
+     * defaults") */
     int bake_preset, bake_preset_given;
     int threads;
     int quant, have_quant; /* sss_quant */

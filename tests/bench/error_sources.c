@@ -1,5 +1,5 @@
 /* error_sources: where the direction-interpolation error of a float bake
- * comes from (docs/accuracy.md "Where the error comes from").
+ * comes from (docs/accuracy_4000.md "Where the error comes from").
  *
  *   error_sources FILE.sss [NDIRS [SEED]]
  *

@@ -1,5 +1,5 @@
 /* test_near_terms.c: the own term split off at bake time and added back by the
- * reader (sss/nearterms.h, format 1.3 section OWNT; docs/accuracy.md "Where
+ * reader (sss/nearterms.h, format 1.3 section OWNT; docs/accuracy_4000.md "Where
  * the error comes from"). On a torus, whose inner side is shadowed by the
  * opposite side (cast shadows, not only the terminator):
  *  - at every direction sample the reader's rows + near terms (the own

@@ -11,7 +11,7 @@
  * turns away from the light. Interpolating between direction samples
  * (§3.2) smears both over the sample spacing (~14° at 200 directions), and
  * on the dragon 97 % of the squared per-vertex error sits at those steps
- * (docs/accuracy.md, "Where the error comes from").
+ * (docs/accuracy_4000.md, "Where the error comes from").
  *
  * A file baked with `--own-term runtime` (section OWNT, docs/format.md
  * §5.14) therefore stores the rest, q − w̃_o g_o(ω_j) V(x_o, ω_j), and the

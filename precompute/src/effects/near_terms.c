@@ -3,7 +3,7 @@
  * (`--own-term runtime [--rings K]`, section OWNT, docs/format.md §5.14):
  * the rows store q minus the terms of the vertex itself and its K mesh
  * rings, which every reader adds back for the actual light with every
- * vertex's own visibility (sss/nearterms.h; docs/accuracy.md, "Where the
+ * vertex's own visibility (sss/nearterms.h; docs/accuracy_4000.md, "Where the
  * error comes from"). It has no planner rule: a plain bake asks for it.
  */
 #include <math.h>
