@@ -1,14 +1,8 @@
-# accuracy_report.sh: plots and docs/accuracy.md from
-# docs/data/accuracy/results.jsonl. Sourced by accuracy_study.sh (which sets
+# accuracy_report_4000.sh: plots and docs/accuracy_4000.md from
+# docs/data/accuracy_4000/results.jsonl (the 4000 mm/unit series). Sourced by accuracy_study.sh (which sets
 # DATA, DOC, OUT, FULL, VIEWS); not run on its own. gnuplot for the plots,
 # jq and awk for the tables.
-R="$DATA/results.jsonl"
-P="$OUT/plot"   # gnuplot inputs: scratch, not part of the docs
-mkdir -p "$P"
-q() { jq -r -s "$@" "$R"; }
-# median of the numbers on stdin
-median() { sort -g | awk '{a[NR]=$1} END { if (NR) print (NR % 2 ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])); }'; }
-fmt() { awk -v x="$1" 'BEGIN { if (x == "" || x == "null") print "—"; else printf("%.2e", x) }' | sed 's/e-0/e-/; s/e+0/e+/'; }
+. "$(dirname "${BASH_SOURCE[0]}")/accuracy_lib.sh"
 
 # ---- data files for gnuplot
 for m in bunny teapot d23 d100 d437 sphere; do
@@ -36,18 +30,6 @@ front() { sort -g -k"$1","$1" "$P/pareto_d23.dat" | awk -v c="$1" -v e="$2" -F'\
 front 1 4 > "$P/front_bytes.dat"; front 2 4 > "$P/front_bake.dat"; front 3 4 > "$P/front_frame.dat"
 front 1 6 > "$P/front_bytes_mean.dat"; front 2 6 > "$P/front_bake_mean.dat"; front 3 6 > "$P/front_frame_mean.dat"
 
-plot() { # name, gnuplot body (after the terminal and output lines)
-  for t in png svg; do
-    if [ $t = png ]; then term="pngcairo size 900,600 font 'Sans,11'"; else term="svg size 900,600 font 'Sans,11'"; fi
-    gnuplot 2>"$P/$1.log" <<GP || echo "accuracy_report: plot $1 ($t) failed (no data yet?): $(tail -1 "$P/$1.log")" >&2
-set terminal $term
-set output "$DATA/$1.$t"
-set grid
-set key top right
-$2
-GP
-  done
-}
 plot fig5_error_vs_directions "
 set logscale xy
 set title 'Image RMS (max over $VIEWS views, as Hao-Varshney 2004 Fig. 5) vs number of light directions'
@@ -124,19 +106,12 @@ pareto_plot pareto_error_frame_time 'Error vs per-frame evaluation time (CPU dec
   'CPU scatter ms per frame' 3 frame
 
 # ---- tables
-row() { awk -F'\t' -v OFS=' | ' "$@"; }
 table_dirs() {
   echo "| mesh | directions | interpolation | image RMS max | image RMS mean | per-vertex rel. RMS | bytes/vertex | bake s |"
   echo "|---|---|---|---|---|---|---|---|"
   q 'map(select(.study=="dirs")) | sort_by(.mesh, .directions, .interp) | .[] |
      [.mesh, .vertices, .directions, .interp, .quant, .image.rms_max, .image.rms_mean, .vertex_rel_rms, .bytes_per_vertex, .bake_s.total] | @tsv' |
   awk -F'\t' '{printf("| %s (%s v) | %d | %s | %.2e | %.2e | %.3f | %.0f (%s) | %.1f |\n", $1, $2, $3, $4, $6, $7, $8, $9, $5, $10)}'
-}
-table_generic() { # jq select expression
-  echo "| configuration | bytes/vertex | image RMS max | image RMS mean | per-vertex rel. RMS | bake s (compress s) | peak RSS MiB | CPU decode ms | GPU path ms |"
-  echo "|---|---|---|---|---|---|---|---|---|"
-  q "map(select($1)) | .[] | [.id, .bytes_per_vertex, .image.rms_max, .image.rms_mean, .vertex_rel_rms, .bake_s.total, (.bake_s.compress // 0), .peak_rss_mib, .cpu_scatter_ms, .gpu_scatter_ms] | @tsv" |
-  awk -F'\t' '{printf("| %s | %.2f | %.2e | %.2e | %.3f | %.1f (%.1f) | %.0f | %.2f | %.2f |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9, $10)}'
 }
 table_one() {
   echo "| model | vertices | triangles | refs | B/vertex paper preset | ratio vs 8-bit | B/vertex compact | fps CPU path (paper preset) | fps GPU path (llvmpipe) | paper: refs | paper: B/vertex | paper: ratio | paper: fps |"
@@ -150,27 +125,6 @@ table_one() {
   echo "| *paper:* Teapot | 150,510 | 292,168 | | | | | | | 5,176 | 20 | 10.0 | 8.6 |"
   echo "| *paper:* Dragon | 437,645 | 871,414 | | | | | | | 10,285 | 18 | 11.1 | 2.7 |"
 }
-# cheapest configuration of a mesh (triangle interpolation) whose image RMS
-# (max over views) is at most T, by storage and by bake time
-choose() { # mesh target key [criterion: rms_max (default) | rms_mean]
-  q --arg m "$1" --argjson t "$2" --arg k "$3" --arg c "${4:-rms_max}" 'map(select(.mesh==$m and .interp=="triangle" and .image[$c] <= $t)) |
-     (if $k=="bytes" then sort_by(.bytes_per_vertex) else sort_by(.bake_s.total) end) | .[0] //empty |
-     [.id, .bytes_per_vertex, .bake_s.total, .cpu_scatter_ms, .image[$c], .bake_args] | @tsv' |
-  awk -F'\t' '{printf("`%s`: %.1f B/vertex, bake %.1f s, CPU decode %.2f ms, RMS %.2e", $6, $2, $3, $4, $5)}'
-}
-best() { # mesh [criterion]: the lowest error measured
-  q --arg m "$1" --arg c "${2:-rms_max}" 'map(select(.mesh==$m and .interp=="triangle")) | sort_by(.image[$c]) | .[0] |
-     [.id, .image[$c], .bytes_per_vertex] | @tsv' | awk -F'\t' '{printf("none; lowest %.2e (%s, %.0f B/vertex)", $2, $1, $3)}'
-}
-table_choose() { # criterion
-  echo "| mesh | target | cheapest in bytes | cheapest in bake time |"
-  echo "|---|---|---|---|"
-  for m in d23 d100 bunny teapot sphere; do for t in 1e-2 3e-3 1e-3 3e-4; do
-    b=$(choose $m $t bytes "$1"); k=$(choose $m $t bake "$1")
-    echo "| $m | $t | ${b:-$(best $m "$1")} | ${k:-—} |"
-  done; done
-}
-get() { q --arg id "$1" --arg ip "${3:-triangle}" "map(select(.id==\$id and .interp==\$ip)) | .[0] | $2 // empty"; }
 
 # least-squares exponent b of err ∝ N^b over the directions sweep (column c of fig5 data)
 slope() { awk -v c="$2" '$c > 0 { x=log($1); y=log($c); n++; sx+=x; sy+=y; sxx+=x*x; sxy+=x*y }
@@ -208,9 +162,6 @@ table_sources() {
   awk -F'\t' '{printf("| %s (%s v) | %.4f | %.4f | %.1f %% (%.1f %%) | %.4f | %.4f | %.4f | %.5f | %.5f |\n", $1, $2, $3, $4, 100*$5, 100*$6, $7, $8, $9, $10, $11)}'
 }
 GL=$(q '.[0].gl_renderer // "unknown"')
-CPU=$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')
-NOW=$(date -u +%Y-%m-%d)
-REV=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 N_CFG=$(q 'length')
 
-. "$(dirname "${BASH_SOURCE[0]}")/accuracy_doc.sh" > "$DOC"
+. "$(dirname "${BASH_SOURCE[0]}")/accuracy_doc_4000.sh" > "$DOC"
