@@ -45,8 +45,9 @@ choose() { # mesh target key [criterion]
   q --arg m "$1" --argjson t "$2" --arg k "$3" --arg c "${4:-rms_max}" "$ERR"' map(select(.mesh==$m and .interp=="triangle" and err($c) <= $t)) |
      sort_by(if $k=="bytes" then .bytes_per_vertex elif $k=="frame" then .gpu_scatter_ms else .bake_s.total end) | .[0] //empty |
      [.id, .bytes_per_vertex, .bake_s.total, .cpu_scatter_ms, err($c), .bake_args, .gpu_scatter_ms] | @tsv' |
-  awk -F'\t' -v k="$3" '{ if (k == "frame") printf("`%s`: %.1f B/vertex, GPU path %.1f ms, CPU %.1f ms, RMS %.2e", ($6 == "" ? "(defaults)" : $6), $2, $7, $4, $5);
-    else printf("`%s`: %.1f B/vertex, bake %.1f s, CPU decode %.2f ms, RMS %.2e", ($6 == "" ? "(defaults)" : $6), $2, $3, $4, $5) }'
+  awk -F'\t' -v k="$3" '{ c = ($6 == "" ? "defaults" : "`" $6 "`");
+    if (k == "frame") printf("%s: %.1f B/vertex, GPU path %.1f ms, CPU %.1f ms, RMS %.2e", c, $2, $7, $4, $5);
+    else printf("%s: %.1f B/vertex, bake %.1f s, CPU decode %.2f ms, RMS %.2e", c, $2, $3, $4, $5) }'
 }
 best() { # mesh [criterion]: the lowest error measured
   q --arg m "$1" --arg c "${2:-rms_max}" "$ERR"' map(select(.mesh==$m and .interp=="triangle")) | sort_by(err($c)) | .[0] |

@@ -31,7 +31,9 @@ set xlabel 'light directions'
 set ylabel 'image RMS error'
 set xtics (50,100,200,400)
 set xrange [40:500]
-set key bottom left
+set yrange [1e-4:1e-2]
+set format y '%.0e'
+set key top right
 plot '$P/dirs_d23.dat' u 1:2 w lp lw 2 lc rgb 'blue' t 'dragon 23K (20 cm), random views', \
      '$P/dirs_d23.dat' u 1:4 w lp lw 2 dt 2 lc rgb 'blue' t 'dragon 23K, back-lit', \
      '$P/dirs_bunny.dat' u 1:2 w lp lw 2 lc rgb 'dark-orange' t 'bunny (10 cm), random', \
@@ -41,6 +43,7 @@ plot '$P/dirs_d23.dat' u 1:2 w lp lw 2 lc rgb 'blue' t 'dragon 23K (20 cm), rand
      1e-3 w l lc rgb 'dark-green' dt 4 t 'target: 1e-3'"
 plot real_near_fraction "
 set logscale y
+set format y '%.0e'
 set title 'The near terms sized by the fraction of R_d,total their radius holds: error and frame time'
 set xlabel 'fraction f of R_d,total within the near radius'
 set ylabel 'image RMS (worst of $VIEWS views)'
@@ -55,6 +58,7 @@ plot '$P/fraction_d23.dat' u 1:2 w lp lw 2 lc rgb 'blue' t 'dragon 23K, random',
      '$P/fraction_d23.dat' u 1:4 axes x1y2 w lp lw 1 pt 4 lc rgb 'gray40' t 'dragon 23K, GPU ms (right axis)'"
 plot real_pareto "
 set logscale xy
+set format y '%.0e'
 set multiplot layout 1,2 title 'Dragon 23K (20 cm): every configuration, worse of random and back-lit maxima'
 set xlabel 'bytes per vertex (every byte but the mesh)'
 set ylabel 'image RMS'

@@ -32,13 +32,15 @@
 # Environment: BUILD (default build), OUT (scratch, default out/accuracy or
 # out/accuracy_4000; finished bakes and measurements there are reused:
 # delete it to measure a new build afresh), SERIES, FULL, REPORT_ONLY,
-# VIEWS (image views, default 100). Needs jq and gnuplot (scripts/setup.sh).
+# VIEWS (image views, default 100), FRAME_REPS (rounds of frame times,
+# default 3). Needs jq and gnuplot (scripts/setup.sh).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 BUILD=${BUILD:-build}
 SERIES=${SERIES:-real}
 FULL=${FULL:-0}
 VIEWS=${VIEWS:-100}
+FRAME_REPS=${FRAME_REPS:-3}
 REPORT_ONLY=${REPORT_ONLY:-0}
 case $SERIES in
   real) OUT=${OUT:-out/accuracy} DATA=docs/data/accuracy DOC=docs/accuracy.md ;;
@@ -106,11 +108,24 @@ run() {
       "$STAT" "$f" "${E[@]}" --backlit > "$j.$ip.back.json"
     fi
   done
-  if [ ! -s "$j.gpu.json" ]; then
-    "$VIEW" "$f" --offscreen --bench 10 --size 512x512 --cpu > "$j.cpu.json"
-    "$VIEW" "$f" --offscreen --bench 10 --size 512x512 > "$j.gpu.json"
-  fi
 }
+# Frame times (sss-view --offscreen --bench 10 at 512², the CPU and the GPU
+# path): FRAME_REPS rounds over every file of the manifest, one file after
+# the other, so that a slow spell of the machine touches every
+# configuration alike; the page takes the median of the rounds' medians.
+frame_times() {
+  local r id rest f j
+  for r in $(seq 1 "$FRAME_REPS"); do
+    while IFS=$'\t' read -r id rest; do
+      f="$OUT/sss/$id.sss" j="$OUT/json/$id"
+      [ -f "$f" ] && [ ! -s "$j.gpu.$r.json" ] || continue
+      "$VIEW" "$f" --offscreen --bench 10 --size 512x512 --cpu > "$j.cpu.$r.json"
+      "$VIEW" "$f" --offscreen --bench 10 --size 512x512 > "$j.gpu.$r.json"
+    done < "$OUT/manifest.tsv"
+  done
+}
+# the median over the rounds of one key of the frame-time files given
+frame_median() { local k=$1; shift; jq -s --arg k "$k" 'map(.[$k]) | sort | .[(length - 1) / 2 | floor] // null' "$@"; }
 # The image exposure of a mesh: the automatic one of its first bake (the
 # real series: the defaults; the 4000 series: the 200-direction float
 # bake), then fixed for every configuration of that mesh (image RMS
@@ -253,11 +268,15 @@ collect() {
     for ip in $interps; do
       [ -s "$j.$ip.err.json" ] || continue
       local back=null; [ -s "$j.$ip.back.json" ] && back=$(jq -c '.image_error' "$j.$ip.back.json")
+      local cf=("$j".cpu.[0-9]*.json) gf=("$j".gpu.[0-9]*.json)
+      local c g
+      c=$(jq -n --argjson s "$(frame_median scatter_ms_median "${cf[@]}")" --argjson f "$(frame_median frame_ms_median "${cf[@]}")" '{scatter_ms_median: $s, frame_ms_median: $f, fps: (if $f then 1000 / $f else null end)}')
+      g=$(jq -n --argjson s "$(frame_median scatter_ms_median "${gf[@]}")" --argjson f "$(frame_median frame_ms_median "${gf[@]}")" \
+            --arg r "$(jq -r '.renderer' "${gf[0]}")" '{scatter_ms_median: $s, frame_ms_median: $f, fps: (if $f then 1000 / $f else null end), renderer: $r}')
       jq -c -n --arg id "$id" --arg mesh "$m" --arg study "$study" --arg interp "$ip" --arg args "$args" \
-        --argjson scale "${SCALE[$m]}" --argjson back "$back" \
-        --slurpfile b "$j.bake.json" --slurpfile s "$j.stat.json" --slurpfile e "$j.$ip.err.json" \
-        --slurpfile c "$j.cpu.json" --slurpfile g "$j.gpu.json" '
-        ($b[0]) as $b | ($s[0]) as $s | ($e[0]) as $e | ($c[0]) as $c | ($g[0]) as $g |
+        --argjson scale "${SCALE[$m]}" --argjson back "$back" --argjson c "$c" --argjson g "$g" \
+        --slurpfile b "$j.bake.json" --slurpfile s "$j.stat.json" --slurpfile e "$j.$ip.err.json" '
+        ($b[0]) as $b | ($s[0]) as $s | ($e[0]) as $e |
         { id: $id, mesh: $mesh, study: $study, interp: $interp, bake_args: $args, mm_per_unit: $scale,
           vertices: $s.vertices, triangles: $s.triangles, directions: $s.directions, quant: $s.quant,
           eps: ($s.params.eps // null), weights: ($s.params.weights // null),
@@ -295,6 +314,8 @@ else
   : > "$OUT/manifest.tsv.new"
   configs_$SERIES
   mv "$OUT/manifest.tsv.new" "$OUT/manifest.tsv"
+  log "frame times"
+  frame_times
   log "collecting"
   collect
   # the run, as measured (not when the page is drawn again, nor when every
