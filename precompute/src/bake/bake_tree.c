@@ -293,7 +293,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     memset(&gs, 0, sizeof gs);
     for (uint32_t c = 0; c < nch && r == SSS_OK; c++) {
         const uint32_t j0 = chunk_start(D, c, nch), Dc = chunk_start(D, c + 1, nch) - j0;
-        char lab[32];
+        char lab[48]; /* "visibility " and two 32-bit counts */
         /* Visibility of this rank's Morton range, straight into the tree's
          * rows; then every rank gets all rows (all are sources). */
         t = sss_now();
