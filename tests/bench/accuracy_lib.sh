@@ -25,6 +25,10 @@ GP
   done
 }
 
+# The Pareto front of $P/pareto_d23.dat (tab-separated, the id in column
+# 5): front COST-COLUMN ERROR-COLUMN prints cost, error and id of each
+# point that lowers the error as the cost grows.
+front() { sort -g -k"$1","$1" "$P/pareto_d23.dat" | awk -v c="$1" -v e="$2" -F'\t' 'BEGIN{b=1e30} $e < b { b=$e; print $c "\t" $e "\t" $5 }'; }
 row() { awk -F'\t' -v OFS=' | ' "$@"; }
 get() { q --arg id "$1" --arg ip "${3:-triangle}" "map(select(.id==\$id and .interp==\$ip)) | .[0] | $2 // empty"; }
 

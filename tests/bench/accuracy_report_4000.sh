@@ -25,8 +25,6 @@ done
 # Pareto fronts over every d23 configuration (triangle interpolation):
 # points, then the front (sorted by cost, keeping each point that lowers the error)
 q 'map(select(.mesh=="d23" and .interp=="triangle")) | .[] | [.bytes_per_vertex, .bake_s.total, .cpu_scatter_ms, .image.rms_max, .id, .image.rms_mean] | @tsv' > "$P/pareto_d23.dat"
-# front COST-COLUMN ERROR-COLUMN: cost, error, id of each point that lowers the error
-front() { sort -g -k"$1","$1" "$P/pareto_d23.dat" | awk -v c="$1" -v e="$2" -F'\t' 'BEGIN{b=1e30} $e < b { b=$e; print $c "\t" $e "\t" $5 }'; }
 front 1 4 > "$P/front_bytes.dat"; front 2 4 > "$P/front_bake.dat"; front 3 4 > "$P/front_frame.dat"
 front 1 6 > "$P/front_bytes_mean.dat"; front 2 6 > "$P/front_bake_mean.dat"; front 3 6 > "$P/front_frame_mean.dat"
 
