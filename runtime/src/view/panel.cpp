@@ -97,14 +97,19 @@ void bytes_text(const char *label, uint64_t b)
     else ImGui::Text("%-16s %.1f KiB", label, (double)b / 1024);
 }
 
-// Light: direction, irradiance E per channel as intensity × colour.
-void light_section(sss_view_params *p)
+// Light: direction, irradiance E per channel as intensity × colour. A
+// scene's lights keep the directions and places its file gives them.
+void light_section(sss_view_params *p, int scene)
 {
     float az, el;
     light_angles(p->light, &az, &el);
-    bool turned = ImGui::SliderFloat("azimuth", &az, -180.0f, 180.0f, "%.1f deg");
-    turned |= ImGui::SliderFloat("elevation", &el, -90.0f, 90.0f, "%.1f deg");
-    if (turned) light_from_angles(az, el, p->light);
+    if (scene) {
+        note("directions: the scene's own lights");
+    } else {
+        bool turned = ImGui::SliderFloat("azimuth", &az, -180.0f, 180.0f, "%.1f deg");
+        turned |= ImGui::SliderFloat("elevation", &el, -90.0f, 90.0f, "%.1f deg");
+        if (turned) light_from_angles(az, el, p->light);
+    }
     double e = std::fmax(p->light_rgb[0], std::fmax(p->light_rgb[1], p->light_rgb[2]));
     if (!(e > 0)) e = 1.0;
     float intensity = (float)e;
@@ -256,7 +261,7 @@ void file_section(const sss_panel_info *in)
     if (f->fx.mask) {
         char list[256] = "";
         size_t len = 0;
-        for (uint32_t k = 0; k < SSS_FX_COUNT; k++)
+        for (uint32_t k = 0; k < SSS_FX_COUNT && len + 1 < sizeof list; k++)
             if (f->fx.mask >> k & 1u)
                 len += (size_t)std::snprintf(list + len, len < sizeof list ? sizeof list - len : 0, "%s%s",
                                              len ? ", " : "", sss_effect_name(k));
@@ -329,7 +334,7 @@ void sss_panel_frame(sss_panel *pn, int show, sss_view_params *p, const sss_pane
                                    ImGuiWindowFlags_NoFocusOnAppearing;
     if (ImGui::Begin("sss-view  (G hides)", nullptr, flags)) {
         ImGui::PushItemWidth(-90.0f);  // labels right of the controls get 90 px
-        if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_section(p);
+        if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_section(p, in->scene);
         if (ImGui::CollapsingHeader("Image", ImGuiTreeNodeFlags_DefaultOpen)) image_section(p);
         if (ImGui::CollapsingHeader("Effects", ImGuiTreeNodeFlags_DefaultOpen)) effects_section(p, in);
         if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) material_section(p, in->f);
