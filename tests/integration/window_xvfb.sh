@@ -183,7 +183,7 @@ exit 0
 EOF
 
 export TMP SSS_VIEW SSS_VIEW_PRELOAD="${SSS_VIEW_PRELOAD:-}"
-timeout 240 xvfb-run -a -e "$TMP/xvfb.err" -s "-screen 0 1024x768x24 -nolisten tcp" bash "$TMP/driver.sh"
+timeout 360 xvfb-run -a -e "$TMP/xvfb.err" -s "-screen 0 1024x768x24 -nolisten tcp" bash "$TMP/driver.sh"
 rc=$?
 [ $rc -eq 0 ] || { cat "$TMP/xvfb.err" >&2; fail "window driver failed (status $rc$([ $rc -eq 124 ] && echo ", timed out"))"; }
 [ ! -s "$TMP/view.out" ] || fail "sss-view printed on stdout"
