@@ -14,6 +14,7 @@ expect_ok "$SSS_VIEW" --help
 contains "$TMP/out" "screenshot"
 contains "$TMP/out" "wireframe"
 contains "$TMP/out" "orbit"
+contains "$TMP/out" "toggle the panel"
 
 expect_ok "$SSS_GENMESH" blob 3 "$TMP/blob.ply"
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/b.sss" --material skin1 --mm-per-unit 20 --dirs 50 -q
@@ -120,6 +121,52 @@ shot s15 key bracketright
 differ s14 s15 "] should raise the exposure"
 shot s16 key bracketleft
 same s14 s16 "[ should undo ]"
+# The panel (G, runtime/src/view/panel.h): hidden at start, drawn over the
+# right of the picture only, and gone again without a trace. Its layout is
+# fixed (top right, 300 px wide, ImGui 1.86's default font and style), so
+# the controls sit at known window coordinates: in a 640x480 window the
+# scatter box at (348, 297), the exposure slider from x 340 to 520 at y 182
+# (docs/images/viewer_panel.png shows them). A click is taken in on the
+# frame after it arrives and applied on the one after that, so every click
+# is followed by one more screenshot before the panel is hidden.
+shot p0 key g
+differ s16 p0 "G should show the panel"
+d=$("$SSS_PNGSTATS" "$T/s16.png" "$T/p0.png") || fail "cannot compare s16/p0"
+awk -v d="$d" 'BEGIN { exit !(d > 0.15 && d < 0.46) }' ||
+  fail "the panel changed a fraction $d of the pixels; its 300x464 rectangle is 0.45 of them"
+shot p1 key g
+same s16 p1 "G twice should hide the panel and leave the picture as it was"
+# The scatter box switches scattering off as the 2 key does.
+shot k2 key 2
+shot k3 key 3
+same s16 k3 "3 should undo 2"
+shot p2a key g sleep 0.2 mousemove --window "$wid" 348 297 sleep 0.2 click 1
+shot p2b sleep 0.1
+shot p2 key g
+same k2 p2 "the panel's scatter box should leave reflection only, as the 2 key does"
+# The keys still work with the panel open and the pointer over it.
+shot p3a key g sleep 0.2 mousemove --window "$wid" 348 297 sleep 0.2 click 1
+shot p3b key w
+shot p3 key g
+differ s16 p3 "W should draw the wireframe with the panel open"
+shot p4 key w
+same s16 p4 "the scatter box twice and W twice should give the picture back"
+# The exposure slider: a click near its left end darkens the picture, near
+# its right end brightens it; a drag on it ends where a click there does
+# and turns no camera (the pointer is the panel's while it is over it).
+mean() { "$SSS_PNGSTATS" "$T/$1.png" | awk '{ print $3 }'; }
+shot p5a key g sleep 0.2 mousemove --window "$wid" 380 182 sleep 0.2 click 1
+shot p5b sleep 0.1
+shot p5 key g
+shot p6a key g sleep 0.2 mousemove --window "$wid" 500 182 sleep 0.2 click 1
+shot p6b sleep 0.1
+shot p6 key g
+awk -v lo="$(mean p5)" -v mid="$(mean s16)" -v hi="$(mean p6)" 'BEGIN { exit !(lo < mid && mid < hi) }' ||
+  fail "the exposure slider: mean levels $(mean p5) (left), $(mean s16) (before), $(mean p6) (right) should rise"
+shot p7a key g sleep 0.2 mousemove --window "$wid" 400 182 mousedown 1 mousemove --window "$wid" 450 200 mousemove --window "$wid" 500 182 mouseup 1
+shot p7b sleep 0.1
+shot p7 key g
+same p6 p7 "a drag on the exposure slider should end at the value a click there gives, camera unmoved"
 shot overlay1 key h
 # Resizing: the next frame uses the new framebuffer size (down to 1x1),
 # and unmapping/mapping the window (what minimising does) is survived.
@@ -136,7 +183,7 @@ exit 0
 EOF
 
 export TMP SSS_VIEW SSS_VIEW_PRELOAD="${SSS_VIEW_PRELOAD:-}"
-timeout 240 xvfb-run -a -e "$TMP/xvfb.err" -s "-screen 0 1024x768x24 -nolisten tcp" bash "$TMP/driver.sh"
+timeout 360 xvfb-run -a -e "$TMP/xvfb.err" -s "-screen 0 1024x768x24 -nolisten tcp" bash "$TMP/driver.sh"
 rc=$?
 [ $rc -eq 0 ] || { cat "$TMP/xvfb.err" >&2; fail "window driver failed (status $rc$([ $rc -eq 124 ] && echo ", timed out"))"; }
 [ ! -s "$TMP/view.out" ] || fail "sss-view printed on stdout"

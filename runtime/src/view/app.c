@@ -20,6 +20,7 @@
 
 #include "app.h"
 #include "font.h"
+#include "panel.h"
 #include "sss/cli.h"
 #include "sss/fileio.h"
 #include "sss/render.h"
@@ -44,6 +45,7 @@ const char *sss_app_controls_help =
     "  R                             reset camera and light (direction and intensity)\n"
     "  P                             save a screenshot PNG (--screenshot FILE, else sss-view-NNN.png)\n"
     "  H                             toggle the overlay\n"
+    "  G                             toggle the panel (light, exposure, effects, frame times, the file)\n"
     "  Esc, Q                        quit\n";
 
 typedef enum drag_mode { DRAG_NONE, DRAG_ORBIT, DRAG_PAN, DRAG_LIGHT } drag_mode;
@@ -52,6 +54,7 @@ typedef struct app {
     GLFWwindow *win;
     sss_renderer *r;
     sss_text *text;
+    sss_panel *panel;  /* NULL when ImGui could not start: keys and overlay only */
     const sss_bake_file *f;
     const sss_app_options *opt;
     const char *scene_desc; /* the GPU scene sum's line for the overlay, or NULL */
@@ -61,6 +64,7 @@ typedef struct app {
     int drag_button;
     double mx, my;     /* last cursor position, window coordinates */
     int overlay;
+    int show_panel;
     int want_shot;     /* 'P' seen: save after the next frame is drawn */
     double last_t;     /* start of the previous frame, seconds */
     double frame_ms, scatter_ms, draw_ms, near_ms; /* smoothed for a readable overlay */
@@ -133,6 +137,7 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     (void)mods;
     app *a = glfwGetWindowUserPointer(w);
     if (action == GLFW_RELEASE) return;
+    if (a->panel && sss_panel_wants_keyboard(a->panel)) return; /* a value being typed into the panel */
     const double step = 5.0 * SSS_PI / 180.0;
     const double world_up[3] = {0, 1, 0};
     double eye[3], right[3], up[3], fwd[3];
@@ -180,6 +185,7 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
         break;
     case GLFW_KEY_P: a->want_shot = 1; break;
     case GLFW_KEY_H: a->overlay = !a->overlay; break;
+    case GLFW_KEY_G: a->show_panel = !a->show_panel; break;
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
     default: break;
@@ -194,6 +200,7 @@ static void on_button(GLFWwindow *w, int button, int action, int mods)
         return;
     }
     if (a->drag != DRAG_NONE) return; /* a second button during a drag changes nothing */
+    if (a->panel && sss_panel_wants_mouse(a->panel, a->mx, a->my)) return; /* a click on the panel */
     /* The drag starts from a->mx/my as last set by on_cursor, not from
      * glfwGetCursorPos: on X11 that asks the server where the pointer is
      * now, which may already be past motion events still queued for us
@@ -232,6 +239,7 @@ static void on_scroll(GLFWwindow *w, double xoff, double yoff)
 {
     (void)xoff;
     app *a = glfwGetWindowUserPointer(w);
+    if (a->panel && sss_panel_wants_mouse(a->panel, a->mx, a->my)) return; /* scrolls the panel */
     a->p.distance = clampd(a->p.distance * pow(0.9, yoff), 1.2, 20.0);
 }
 
@@ -335,7 +343,7 @@ static void draw_overlay(app *a, int fw, int fh)
              "light (%.2f, %.2f, %.2f)\n"
              "%s%.100s%s"
              "%s%s\n"
-             "H: help/overlay  P: screenshot",
+             "H: help/overlay  G: panel  P: screenshot",
              base, fw, fh, a->frame_ms > 0 ? 1e3 / a->frame_ms : 0.0, a->frame_ms, a->scatter_ms,
              a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU", a->draw_ms, f->mesh.nv, f->channels, f->dirs.n,
              sss_renderer_bytes_per_vertex(a->r), a->storage,
@@ -452,6 +460,11 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
     glfwSetCursorPosCallback(win, on_cursor);
     glfwSetScrollCallback(win, on_scroll);
     glfwGetCursorPos(win, &a.mx, &a.my);
+    /* after the app's callbacks: ImGui's call them first, then its own */
+    a.panel = sss_panel_create(win, &err);
+    if (!a.panel) sss_cli_printf(stderr, "%s: no panel (G): %s\n", TOOL, err.msg);
+    sss_panel_info pinfo = {f, opt->file_path, a.storage, sss_renderer_bytes_per_vertex(a.r), NULL,
+                            opt->frame_q != NULL || opt->frame_gpu != NULL, a.initial.exposure, {0, 0, 0}, 0.0};
     float *scene_q = opt->frame_q ? malloc((size_t)f->mesh.nv * f->channels * sizeof(float) + 1) : NULL;
 
     while (!glfwWindowShouldClose(win)) {
@@ -465,17 +478,22 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
             continue;
         }
         double t = glfwGetTime();
-        if (a.last_t > 0) a.frame_ms = smooth(a.frame_ms, 1e3 * (t - a.last_t), a.frame_ms == 0);
+        pinfo.frame_ms = a.last_t > 0 ? 1e3 * (t - a.last_t) : 0.0;
+        if (a.last_t > 0) a.frame_ms = smooth(a.frame_ms, pinfo.frame_ms, a.frame_ms == 0);
         a.last_t = t;
         if (a.frames > 0) {
             /* The previous frame's timer queries: normally complete by the
              * time the next frame starts, so reading them here rarely waits,
              * where reading this frame's right after its draw always would. */
             sss_frame_times ft = sss_renderer_times(a.r);
+            pinfo.times = ft;
             a.scatter_ms = smooth(a.scatter_ms, ft.scatter_ms, a.frames == 1);
             a.draw_ms = smooth(a.draw_ms, ft.draw_ms, a.frames == 1);
             a.near_ms = smooth(a.near_ms, ft.near_ms, a.frames == 1);
         }
+        /* the panel's edits apply to this frame; it is drawn over it below */
+        pinfo.scene_desc = a.scene_desc;
+        if (a.panel) sss_panel_frame(a.panel, a.show_panel, &a.p, &pinfo);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         sss_view_params dp = a.p;
         if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, &a.p, a.r, t)) != NULL) {
@@ -490,6 +508,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
         }
         sss_renderer_draw(a.r, &dp, fw, fh);
         if (a.overlay) draw_overlay(&a, fw, fh);
+        if (a.panel) sss_panel_render(a.panel);
         if (a.want_shot) {
             a.want_shot = 0;
             save_screenshot(&a, fw, fh);
@@ -501,6 +520,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
 
     free(scene_q);
     if (opt->frame_gpu) opt->frame_gpu(opt->user, NULL, NULL, 0.0);
+    sss_panel_destroy(a.panel);
     sss_text_destroy(a.text);
     sss_renderer_destroy(a.r);
     glfwDestroyWindow(win);
