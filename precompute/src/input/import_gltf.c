@@ -38,11 +38,13 @@
 #define GLB_JSON 0x4E4F534Au  /* "JSON" */
 #define GLB_BIN 0x004E4942u   /* "BIN\0" */
 
-/* A file of N bytes may place at most INSTANCE_BASE + INSTANCE_PER_BYTE * N
- * vertices in the world: node instancing multiplies a mesh legitimately,
- * but a small hostile file must not make the import allocate gigabytes. */
-#define INSTANCE_BASE ((ull)1 << 24)
-#define INSTANCE_PER_BYTE 64ull
+/* A file of N bytes may place at most ELEMENTS_BASE + ELEMENTS_PER_BYTE * N
+ * vertices and triangles in the world, and hold as many in its primitives:
+ * node instancing multiplies a mesh legitimately, and so does a primitive
+ * reading an accessor another one reads, but a small hostile file must not
+ * make the import allocate gigabytes (a 1 MiB file: 20 million). */
+#define ELEMENTS_BASE ((ull)1 << 22)
+#define ELEMENTS_PER_BYTE 16ull
 
 /* Node hierarchies deeper than this are refused: Assimp walks them by
  * recursion, and a chain of nodes a hostile file lists by the thousand would
@@ -529,6 +531,7 @@ static sss_result canon_meshes(gltf *g, blob *b, cJSON *out, ull *vert, ull *tri
     cJSON *accs = cJSON_AddArrayToObject(out, "accessors");
     cJSON *meshes = cJSON_AddArrayToObject(out, "meshes");
     int ncanon = 0;
+    ull held = 0, cap = sat_add(ELEMENTS_BASE, sat_mul(ELEMENTS_PER_BYTE, g->s->size));
     for (int m = 0; m < g->nmesh; m++) {
         const cJSON *mo = g->meshes[m];
         const cJSON *ps = cJSON_IsObject(mo) ? cJSON_GetObjectItemCaseSensitive(mo, "primitives") : NULL;
@@ -548,6 +551,9 @@ static sss_result canon_meshes(gltf *g, blob *b, cJSON *out, ull *vert, ull *tri
                 ex->skipped++;
                 continue;
             }
+            held = sat_add(held, sat_add(pr.nv, pr.ni / 3));
+            if (held > cap)
+                return bad(g, "mesh %d primitive %d: the primitives hold more than %llu vertices and triangles, the most a file of %llu bytes may", m, p, cap, g->s->size);
             if (!cprims) {
                 cJSON *cm = cJSON_CreateObject();
                 cJSON_AddItemToArray(meshes, cm);
@@ -648,7 +654,7 @@ static sss_result canon_scene(gltf *g, cJSON *out, const ull *vert, const ull *t
         free(stack); free(seen);
         return sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory for %d nodes", g->s->name, g->nnode);
     }
-    ull cap = sat_add(INSTANCE_BASE, sat_mul(INSTANCE_PER_BYTE, g->s->size));
+    ull cap = sat_add(ELEMENTS_BASE, sat_mul(ELEMENTS_PER_BYTE, g->s->size));
     sss_result r = SSS_OK;
     const cJSON *c;
     cJSON_ArrayForEach(c, roots) {
@@ -675,8 +681,8 @@ static sss_result canon_scene(gltf *g, cJSON *out, const ull *vert, const ull *t
                 int m = (int)mi->valuedouble; /* checked by canon_nodes */
                 ex->nv = sat_add(ex->nv, vert[m]);
                 ex->nf = sat_add(ex->nf, tri[m]);
-                if (ex->nv > cap)
-                    r = bad(g, "node %d: the scene places more than %llu vertices, the most a file of %llu bytes may", n, cap, g->s->size);
+                if (sat_add(ex->nv, ex->nf) > cap)
+                    r = bad(g, "node %d: the scene places more than %llu vertices and triangles, the most a file of %llu bytes may", n, cap, g->s->size);
             }
             const cJSON *k;
             /* pushed in reverse, so children are visited in order (as Assimp's
