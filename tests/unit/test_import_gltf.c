@@ -228,6 +228,16 @@ static void gltfRefusesDamagedFilesNamingTheElement(void **state)
     const char *cyc = "{\"asset\":{\"version\":\"2.0\"},\"scenes\":[{\"nodes\":[0]}],"
                       "\"nodes\":[{\"children\":[1]},{\"children\":[2]},{\"children\":[1]}]}";
     refused(write_file("cycle.gltf", cyc, strlen(cyc)), "node 2: child 1 already has a parent");
+    const char *loop = "{\"asset\":{\"version\":\"2.0\"},\"scenes\":[{\"nodes\":[]}],"
+                       "\"nodes\":[{\"children\":[1]},{\"children\":[0]}]}";
+    refused(write_file("loop.gltf", loop, strlen(loop)), "node 0: the hierarchy has a cycle");
+    /* a chain of 300 nodes: deeper than Assimp's recursion is allowed */
+    char chain[8192];
+    size_t k = (size_t)snprintf(chain, sizeof chain, "{\"asset\":{\"version\":\"2.0\"},\"scenes\":[{\"nodes\":[0]}],\"nodes\":[");
+    for (int i = 0; i < 300; i++)
+        k += (size_t)snprintf(chain + k, sizeof chain - k, i < 299 ? "{\"children\":[%d]}," : "{}]}", i + 1);
+    assert_true(k < sizeof chain);
+    refused(write_file("chain.gltf", chain, k), "node 256: more than 256 levels deep");
     const char *v1 = "{\"asset\":{\"version\":\"1.0\"}}";
     refused(write_file("v1.gltf", v1, strlen(v1)), "asset: 'version'");
     refused(write_file("syntax.gltf", "{\"asset\":", 9), "JSON: syntax error");

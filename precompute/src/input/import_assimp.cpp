@@ -10,6 +10,8 @@
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 
+#include <cfloat>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -80,7 +82,10 @@ void walk(Walk &w, const aiNode *n, const Mat &parent)
             for (int k = 0; k < 3; k++) {
                 double t = 0.0;
                 for (int j = 0; j < 4; j++) t += world.m[k][j] * x[j];
-                s->pos[3 * (base + v) + (unsigned)k] = (float)t;
+                // beyond float's range is infinite (then refused by the
+                // repair's finite check), not an undefined conversion
+                s->pos[3 * (base + v) + (unsigned)k] =
+                    std::fabs(t) <= FLT_MAX ? (float)t : t > 0 ? HUGE_VALF : t < 0 ? -HUGE_VALF : NAN;
             }
             if (s->uv) {
                 const bool has = m->HasTextureCoords(0);

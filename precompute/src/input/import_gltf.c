@@ -46,9 +46,10 @@
 #define ELEMENTS_BASE ((ull)1 << 22)
 #define ELEMENTS_PER_BYTE 16ull
 
-/* Node hierarchies deeper than this are refused: Assimp walks them by
- * recursion, and a chain of nodes a hostile file lists by the thousand would
- * exhaust the stack. Scenes from modelling tools nest a few levels. */
+/* Node hierarchies deeper than this are refused: Assimp reads and walks
+ * them by recursion (so does import_assimp.cpp), and a chain of nodes a
+ * hostile file lists by the thousand would exhaust the stack. Scenes from
+ * modelling tools nest a few levels. */
 #define DEPTH_MAX 256
 
 enum { C_BYTE = 5120, C_UBYTE = 5121, C_SHORT = 5122, C_USHORT = 5123, C_UINT = 5125, C_FLOAT = 5126 };
@@ -202,7 +203,7 @@ static sss_result load_buffer(gltf *g, const cJSON *b, int i)
     if (strncmp(uri, "data:", 5) == 0) {
         const char *comma = strchr(uri, ',');
         const char *b64 = strstr(uri, ";base64,");
-        if (!comma || b64 + 7 != comma) return bad(g, "%s: data: URI is not base64", what);
+        if (!comma || !b64 || b64 + 7 != comma) return bad(g, "%s: data: URI is not base64", what);
         size_t n = strlen(comma + 1), at = 0;
         gb->own = malloc(n / 4 * 3 + 1);
         if (!gb->own) return sss_fail(g->err, SSS_ERR_NOMEM, "%s: %s: out of memory", g->s->name, what);
@@ -617,13 +618,33 @@ static sss_result canon_nodes(gltf *g, cJSON *out, const int *canon, int *parent
             cJSON_AddItemToArray(cc, cJSON_CreateNumber(k));
         }
     }
-    /* one parent each, but a loop of nodes (a parent of b, b of a) has no root */
-    for (int n = 0; n < g->nnode; n++) {
-        int k = n, steps = 0;
-        while (parent[k] >= 0 && steps <= g->nnode) { k = parent[k]; steps++; }
-        if (steps > g->nnode) return bad(g, "node %d: the hierarchy has a cycle through it", n);
+    /* One parent each, but a loop of nodes (a parent of b, b of a) has no
+     * root. Each node's depth is its parent's plus one, found once by
+     * walking up to a node already known (linear time on a long chain);
+     * depth[] reuses the walk's marks: 0 unknown, -1 on the current walk. */
+    int *depth = calloc((size_t)g->nnode + 1, sizeof *depth);
+    if (!depth) return sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory for %d nodes", g->s->name, g->nnode);
+    sss_result r = SSS_OK;
+    for (int n = 0; n < g->nnode && r == SSS_OK; n++) {
+        int k = n;
+        while (depth[k] == 0 && parent[k] >= 0) {
+            depth[k] = -1;
+            k = parent[k];
+        }
+        if (depth[k] == -1) {
+            r = bad(g, "node %d: the hierarchy has a cycle through it", k);
+            break;
+        }
+        int d = depth[k] > 0 ? depth[k] : 1; /* a root is at depth 1 */
+        depth[k] = d;
+        /* down again from n, numbering the nodes just walked */
+        int len = 0;
+        for (int j = n; j != k; j = parent[j]) len++;
+        for (int j = n, i = 0; j != k; j = parent[j], i++) depth[j] = d + len - i;
+        if (depth[n] > DEPTH_MAX) r = bad(g, "node %d: more than %d levels deep in the hierarchy", n, DEPTH_MAX);
     }
-    return SSS_OK;
+    free(depth);
+    return r;
 }
 
 /* The scene: its root nodes (parentless, each once) into the canonical
@@ -648,7 +669,7 @@ static sss_result canon_scene(gltf *g, cJSON *out, const ull *vert, const ull *t
     cJSON *cs = cJSON_CreateObject();
     cJSON_AddItemToArray(cJSON_AddArrayToObject(out, "scenes"), cs);
     cJSON *croots = cJSON_AddArrayToObject(cs, "nodes");
-    int *stack = malloc(((size_t)g->nnode + 1) * 2 * sizeof *stack); /* node, depth */
+    int *stack = malloc(((size_t)g->nnode + 1) * sizeof *stack);
     unsigned char *seen = calloc((size_t)g->nnode + 1, 1);
     if (!stack || !seen) {
         free(stack); free(seen);
@@ -664,17 +685,10 @@ static sss_result canon_scene(gltf *g, cJSON *out, const ull *vert, const ull *t
         if (parent[n0] >= 0 || seen[n0]) { r = bad(g, "%s: node %d is not a root (it has a parent or is listed twice)", what, n0); break; }
         cJSON_AddItemToArray(croots, cJSON_CreateNumber(n0));
         int top = 0;
-        stack[0] = n0;
-        stack[1] = 1;
-        top = 1;
+        stack[top++] = n0;
         while (top > 0 && r == SSS_OK) {
-            top--;
-            int n = stack[2 * top], depth = stack[2 * top + 1];
+            int n = stack[--top];
             seen[n] = 1;
-            if (depth > DEPTH_MAX) {
-                r = bad(g, "node %d: more than %d levels deep in the hierarchy", n, DEPTH_MAX);
-                break;
-            }
             const cJSON *o = g->nodes[n];
             const cJSON *mi = cJSON_GetObjectItemCaseSensitive(o, "mesh");
             if (mi) {
@@ -684,20 +698,9 @@ static sss_result canon_scene(gltf *g, cJSON *out, const ull *vert, const ull *t
                 if (sat_add(ex->nv, ex->nf) > cap)
                     r = bad(g, "node %d: the scene places more than %llu vertices and triangles, the most a file of %llu bytes may", n, cap, g->s->size);
             }
+            /* the order of the visit does not change the counts */
             const cJSON *k;
-            /* pushed in reverse, so children are visited in order (as Assimp's
-             * node tree lists them) */
-            int first = top;
-            cJSON_ArrayForEach(k, cJSON_GetObjectItemCaseSensitive(o, "children")) {
-                stack[2 * top] = (int)k->valuedouble;
-                stack[2 * top + 1] = depth + 1;
-                top++;
-            }
-            for (int i = first, j = top - 1; i < j; i++, j--) {
-                int t = stack[2 * i];
-                stack[2 * i] = stack[2 * j];
-                stack[2 * j] = t;
-            }
+            cJSON_ArrayForEach(k, cJSON_GetObjectItemCaseSensitive(o, "children")) stack[top++] = (int)k->valuedouble;
         }
         if (r != SSS_OK) break;
     }
