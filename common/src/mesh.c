@@ -29,6 +29,8 @@ void sss_mesh_free(sss_mesh *m)
     free(m->nrm);
     free(m->tri);
     free(m->area);
+    free(m->uv);
+    free(m->rgba);
     memset(m, 0, sizeof *m);
 }
 
@@ -115,6 +117,10 @@ sss_result sss_mesh_copy(const sss_mesh *src, sss_mesh *dst, sss_error *err)
     if (src->area && !(dst->area = malloc((size_t)src->nv * sizeof(double) + 1))) goto nomem;
     if (src->nrm) memcpy(dst->nrm, src->nrm, (size_t)src->nv * 3 * sizeof(float));
     if (src->area) memcpy(dst->area, src->area, (size_t)src->nv * sizeof(double));
+    if (src->uv && !(dst->uv = malloc((size_t)src->nv * 2 * sizeof(float) + 1))) goto nomem;
+    if (src->rgba && !(dst->rgba = malloc((size_t)src->nv * 4 * sizeof(float) + 1))) goto nomem;
+    if (src->uv) memcpy(dst->uv, src->uv, (size_t)src->nv * 2 * sizeof(float));
+    if (src->rgba) memcpy(dst->rgba, src->rgba, (size_t)src->nv * 4 * sizeof(float));
     return SSS_OK;
 nomem:
     sss_mesh_free(dst);

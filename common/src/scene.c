@@ -494,7 +494,7 @@ double sss_scene_object_mm_per_world_unit(const sss_scene_object *o) { return o-
 
 sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mesh, sss_mesh *out, sss_error *err)
 {
-    const sss_mesh geom = {mesh->nv, mesh->nf, mesh->pos, NULL, mesh->tri, NULL};
+    const sss_mesh geom = {.nv = mesh->nv, .nf = mesh->nf, .pos = mesh->pos, .tri = mesh->tri};
     sss_result r = sss_mesh_copy(&geom, out, err);
     if (r != SSS_OK) return r;
     /* R = Rz · Ry · Rx (x first), in double, rounded once per coordinate */

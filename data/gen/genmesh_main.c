@@ -1,11 +1,13 @@
-/* sss-genmesh: writes a procedural test mesh as binary PLY.
- * Usage: sss-genmesh KIND RES OUT.ply [SIZE] */
+/* sss-genmesh: writes a procedural test mesh as binary PLY, or as glTF 2.0
+ * when OUT ends in .gltf or .glb (gltf_write.h).
+ * Usage: sss-genmesh KIND RES OUT.ply|OUT.gltf|OUT.glb [SIZE [SCENE]] */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <stdlib.h>
 
 #include "genmesh.h"
+#include "gltf_write.h"
 #include "sss/cli.h"
 #include "sss/import.h"
 
@@ -13,9 +15,11 @@ static const char *TOOL = "sss-genmesh";
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: sss-genmesh sphere|blob|plane|cube|slab|torus|pair RES OUT.ply [SIZE]\n"
+    fprintf(f, "usage: sss-genmesh sphere|blob|plane|cube|slab|torus|pair RES OUT.ply|OUT.gltf|OUT.glb [SIZE [SCENE]]\n"
                "  RES: subdivisions (sphere, blob, pair) or segments per side (others); SIZE: radius or edge,\n"
-               "  default 1 (pair: a sphere of radius SIZE and one of 250 SIZE, far apart)\n");
+               "  default 1 (pair: a sphere of radius SIZE and one of 250 SIZE, far apart)\n"
+               "  SCENE (glTF only): one (default), two (two instances under transformed nodes),\n"
+               "  one+attributes or two+attributes (with TEXCOORD_0 and COLOR_0)\n");
 }
 
 /* The command line, as the positional rows fill it. */
@@ -23,6 +27,7 @@ typedef struct genmesh_args {
     const char *kind, *out;
     int res;
     double size;
+    int scene; /* SSS_GLTF_* flags */
 } genmesh_args;
 
 /* SSS_CLI_RUN, or 2 after the usage or a message. */
@@ -31,6 +36,10 @@ static int parse_args(int argc, char **argv, genmesh_args *a)
     a->kind = a->out = NULL;
     a->res = 0;
     a->size = 1.0;
+    a->scene = 0;
+    static const char *const scenes[] = {"one", "two", "one+attributes", "two+attributes", NULL};
+    static const int scene_flags[] = {0, SSS_GLTF_TWO_NODES, SSS_GLTF_ATTRIBUTES, SSS_GLTF_TWO_NODES | SSS_GLTF_ATTRIBUTES};
+    int npos = 0;
     /* Only positionals, read as strtol and strtod read them (SSS_CLI_LAX):
      * an empty RES is 0 and a SIZE may be infinite, as they always were. */
     const sss_cli_opt pos[] = {
@@ -40,11 +49,17 @@ static int parse_args(int argc, char **argv, genmesh_args *a)
         {.name = "OUT.ply", .kind = SSS_CLI_STRING, .dest = &a->out},
         {.name = "SIZE", .kind = SSS_CLI_DOUBLE, .dest = &a->size, .lo = 0, .hi = INFINITY,
          .flags = SSS_CLI_ABOVE_LO | SSS_CLI_LAX, .msg = "%s: %s '%s' must be a number > 0\n"},
+        {.name = "SCENE", .kind = SSS_CLI_CHOICE, .dest = &a->scene, .choices = scenes, .values = scene_flags},
     };
     /* no options: "-h" is a KIND and a wrong count prints the usage on stderr */
     const sss_cli cli = {.tool = TOOL, .pos = pos, .npos = SSS_CLI_COUNT(pos), .min_pos = 3, .usage = usage,
-                         .flags = SSS_CLI_NO_OPTIONS};
-    return sss_cli_parse(&cli, argc, argv);
+                         .flags = SSS_CLI_NO_OPTIONS, .npos_given = &npos};
+    int rc = sss_cli_parse(&cli, argc, argv);
+    if (rc == SSS_CLI_RUN && npos == 5 && !sss_gltf_path(a->out)) {
+        sss_cli_printf(stderr, "%s: SCENE is for glTF output only (OUT ending in .gltf or .glb)\n", TOOL);
+        return 2;
+    }
+    return rc;
 }
 
 int main(int argc, char **argv)
@@ -59,7 +74,8 @@ int main(int argc, char **argv)
      * makes no mesh the bake can take: refused by the range every stage
      * computes in (sss/mesh.h), not written */
     if (sss_gen_by_name(a.kind, (unsigned)a.res, a.size, &m, &err) != SSS_OK ||
-        sss_mesh_check_range(&m, 0.0, a.out, &err) != SSS_OK || sss_export_ply(a.out, &m, &err) != SSS_OK) {
+        sss_mesh_check_range(&m, 0.0, a.out, &err) != SSS_OK ||
+        (sss_gltf_path(a.out) ? sss_gltf_write(a.out, &m, (unsigned)a.scene, &err) : sss_export_ply(a.out, &m, &err)) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         sss_mesh_free(&m);
         return 1;

@@ -33,7 +33,7 @@ static void usage(FILE *f)
         "       sss-bake --scene SCENE.json (--plan [--json] | -o DIR)   (docs/scenes.md)\n"
         "Bakes per-vertex subsurface-scattering integrals q(x, w_j) for a set of light\n"
         "directions (Hao & Varshney 2004) into OUT.sss.\n\n"
-        "  MESH                 .ply (ascii/binary), .obj, .off or .stl\n"
+        "  MESH                 .ply (ascii/binary), .obj, .off, .stl, .gltf or .glb\n"
         "  -o, --out FILE       output .sss file (written atomically)\n"
         "  --material NAME      Jensen 2001 preset: apple chicken1 chicken2 cream ketchup\n"
         "                       marble potato skimmilk skin1 skin2 wholemilk (default marble)\n"
@@ -542,6 +542,12 @@ static void report_json(const bake_args *a, const bake_setup *s, const bake_resu
     }
     cJSON_AddStringToObject(o, "material", s->mat.name);
     cJSON_AddNumberToObject(o, "mm_per_unit", f->mm_per_unit);
+    /* what the input carries besides its shape (sss/mesh.h): kept in memory
+     * for the bake, not stored in the .sss */
+    cJSON *in = cJSON_AddObjectToObject(o, "input");
+    cJSON_AddBoolToObject(in, "texcoords", rep->texcoords);
+    cJSON_AddBoolToObject(in, "colours", rep->colours);
+    cJSON_AddNumberToObject(in, "primitives_skipped", (double)rep->primitives_skipped);
     cJSON *rp = cJSON_AddObjectToObject(o, "repairs");
     cJSON_AddNumberToObject(rp, "polygons_triangulated", (double)rep->polygons_triangulated);
     cJSON_AddNumberToObject(rp, "faces_too_small", (double)rep->faces_too_small);

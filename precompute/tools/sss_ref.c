@@ -38,7 +38,7 @@ static void usage(FILE *f)
         "Greenstein scattering, Fresnel reflection and refraction at the smooth boundary with\n"
         "the mesh's interpolated normals, next-event estimation through the boundary), with\n"
         "its standard error: the physics the dipole of sss-bake approximates.\n\n"
-        "  MESH                 .ply (ascii/binary), .obj, .off or .stl: a closed surface\n"
+        "  MESH                 .ply (ascii/binary), .obj, .off, .stl, .gltf or .glb: a closed surface\n"
         "  --material NAME      Jensen 2001 preset (default marble); its sigma'_s is taken with\n"
         "                       g = 0 unless --g is given\n"
         "  --sigma-a R,G,B      custom absorption, 1/mm (with --sigma-s)\n"

@@ -1,6 +1,7 @@
 /* fuzz_mesh.c: libFuzzer harness for the mesh importers (PLY ascii and
- * binary, OBJ, OFF, STL; docs/robustness.md). The first input byte picks the format
- * (extension), the rest is the file. sss_import_mesh must refuse it with a
+ * binary, OBJ, OFF, STL, glTF .gltf and .glb; docs/robustness.md). The first
+ * input byte's low three bits pick the format (extension), the rest is the
+ * file. sss_import_mesh must refuse it with a
  * message naming the file, or return a mesh whose indices are in range and
  * whose positions, normals and areas are finite. The importer reads paths
  * (OpenMesh does), so each input goes through a private temporary file. */
@@ -19,9 +20,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (size < 1) return 0;
-    static const char *const ext[] = {".ply", ".obj", ".off", ".stl"};
+    static const char *const ext[] = {".ply", ".obj", ".off", ".stl", ".gltf", ".glb", ".gltf", ".glb"};
     char path[64];
-    snprintf(path, sizeof path, "/tmp/sss-fuzz-%ld%s", (long)getpid(), ext[data[0] & 3]);
+    snprintf(path, sizeof path, "/tmp/sss-fuzz-%ld%s", (long)getpid(), ext[data[0] & 7]);
     FILE *fp = fopen(path, "wb");
     if (!fp) return 0;
     if (size > 1 && fwrite(data + 1, 1, size - 1, fp) != size - 1) {
@@ -44,6 +45,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (m.tri[i] >= m.nv) abort();
     for (size_t i = 0; i < 3 * (size_t)m.nv; i++)
         if (!isfinite(m.pos[i]) || (m.nrm && !isfinite(m.nrm[i]))) abort();
+    /* what a glTF carries besides positions comes with them, or not at all */
+    if ((m.uv != NULL) != (rep.texcoords != 0) || (m.rgba != NULL) != (rep.colours != 0)) abort();
     for (size_t i = 0; m.area && i < m.nv; i++)
         if (!isfinite(m.area[i]) || m.area[i] < 0) abort();
     sss_mesh_free(&m);

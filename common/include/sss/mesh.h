@@ -33,17 +33,24 @@ typedef struct sss_mesh {
     float *nrm;      /* 3*nv, unit area-weighted vertex normals, owned (may be NULL) */
     uint32_t *tri;   /* 3*nf vertex indices, counter-clockwise seen from outside, owned */
     double *area;    /* nv, ΔA(x_i) = 1/3 of the incident triangle areas, mesh units², owned (may be NULL) */
+    /* What an asset carries besides its shape (glTF's TEXCOORD_0 and
+     * COLOR_0, docs/robustness.md "glTF"), kept in memory for the bake and
+     * reported; no stage computes with them and the .sss file does not
+     * store them. Each is NULL when the input has none. */
+    float *uv;       /* 2*nv texture coordinates (u, v), v upward (OpenGL's origin at the bottom left), owned */
+    float *rgba;     /* 4*nv linear vertex colours in [0, 1], owned */
 } sss_mesh;
 
-/* Allocates pos and tri for nv vertices and nf triangles (nrm/area NULL).
+/* Allocates pos and tri for nv vertices and nf triangles (nrm, area, uv,
+ * rgba NULL).
  * Zero-initialises the arrays. Fails with SSS_ERR_NOMEM on overflow. */
 sss_result sss_mesh_alloc(sss_mesh *m, uint32_t nv, uint32_t nf, sss_error *err);
 
 /* Frees every owned array and zeroes the struct. NULL-safe. */
 void sss_mesh_free(sss_mesh *m);
 
-/* Deep copy of src into *dst: pos and tri, and nrm / area where src has
- * them (NULL otherwise). On failure (SSS_ERR_NOMEM) *dst is zeroed. */
+/* Deep copy of src into *dst: pos and tri, and nrm / area / uv / rgba
+ * where src has them (NULL otherwise). On failure (SSS_ERR_NOMEM) *dst is zeroed. */
 sss_result sss_mesh_copy(const sss_mesh *src, sss_mesh *dst, sss_error *err);
 
 /* Checks indices < nv and finite positions; then computes nrm (area-weighted

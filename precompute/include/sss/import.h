@@ -1,6 +1,7 @@
-/* sss/import.h: mesh import (PLY ascii/binary, OBJ, OFF, STL) through
- * OpenMesh, with validation and reported repairs. C interface over the C++17
- * adapter in precompute/src/input/import_openmesh.cpp.
+/* sss/import.h: mesh import (PLY ascii/binary, OBJ, OFF, STL through
+ * OpenMesh; glTF 2.0 .gltf/.glb through Assimp), with validation and
+ * reported repairs. C interface over the C++17 adapters in
+ * precompute/src/input/import_openmesh.cpp and import_assimp.cpp.
  *
  * Policy (docs/robustness.md will list it case by case):
  *  - rejected with an error naming file and element: unreadable or
@@ -57,14 +58,19 @@ typedef struct sss_import_report {
     uint64_t unknown_statements;
     char first_unknown[36];          /* the first one's keyword (at most 32 bytes, shown as sss_fail shows text) */
     uint64_t first_unknown_line;     /* and its line */
+    /* glTF (docs/robustness.md, "glTF"): */
+    uint64_t primitives_skipped;     /* warning: primitives of points or lines, which have no surface */
+    int texcoords;                   /* the mesh carries texture coordinates (sss_mesh.uv) */
+    int colours;                     /* the mesh carries vertex colours (sss_mesh.rgba) */
 } sss_import_report;
 
 /* Polygons with more vertices than this are fanned even when non-convex
  * (ear clipping is cubic in the polygon's size at worst). */
 #define SSS_IMPORT_EAR_MAX 4096
 
-/* Reads the mesh at path into *out (pos and tri set; nrm/area computed too).
- * The format is chosen from the extension (.ply .obj .off .stl, any case).
+/* Reads the mesh at path into *out (pos and tri set; nrm/area computed too;
+ * uv/rgba where a glTF file has them). The format is chosen from the
+ * extension (.ply .obj .off .stl .gltf .glb, any case).
  * *rep (may be NULL) receives the counts above. On failure *out is zeroed
  * and err says "FILE: ELEMENT: problem". */
 sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *rep, sss_error *err);
@@ -80,7 +86,7 @@ uint64_t sss_import_repairs(const sss_import_report *rep);
 void sss_import_print_repairs(const sss_import_report *rep, const char *prefix, void *stream);
 
 /* Writes one line per non-zero warning counter (polygons_unclipped,
- * orientation_conflicts): "PREFIX: warning: ...". Meant to be printed even
+ * orientation_conflicts, unknown_statements, primitives_skipped): "PREFIX: warning: ...". Meant to be printed even
  * when the repairs are not (sss-bake -q). */
 void sss_import_print_warnings(const sss_import_report *rep, const char *prefix, void *stream);
 

@@ -32,7 +32,7 @@
 
 static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
 {
-    const sss_mesh geom = {src->nv, src->nf, src->pos, NULL, src->tri, NULL}; /* normals recomputed below */
+    const sss_mesh geom = {.nv = src->nv, .nf = src->nf, .pos = src->pos, .tri = src->tri}; /* normals recomputed below */
     sss_result r = sss_mesh_copy(&geom, dst, err);
     if (r != SSS_OK) return r;
     r = sss_mesh_compute_normals_areas(dst, "mesh", err);

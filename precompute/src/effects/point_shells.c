@@ -132,7 +132,7 @@ sss_result sss_point_exact(const sss_bake_file *f, int self_shadow, const double
     for (uint32_t k = 0; k < C; k++)
         sss_dipole_init(&dip[k], f->material.sigma_a[k], f->material.sigmap_s[k], f->material.eta);
     sss_mesh m;
-    const sss_mesh geom = {f->mesh.nv, f->mesh.nf, f->mesh.pos, f->mesh.nrm, f->mesh.tri, NULL};
+    const sss_mesh geom = {.nv = f->mesh.nv, .nf = f->mesh.nf, .pos = f->mesh.pos, .nrm = f->mesh.nrm, .tri = f->mesh.tri};
     sss_result r = sss_mesh_copy(&geom, &m, err);
     if (r != SSS_OK) return r;
     m.area = malloc((size_t)m.nv * sizeof(double));

@@ -1,4 +1,4 @@
-/* import.c: mesh import (PLY, OBJ, OFF, STL) with validation and counted
+/* import.c: mesh import (PLY, OBJ, OFF, STL, glTF) with validation and counted
  * repairs; see sss/import.h for the policy.
  *
  * The work is split in three:
@@ -41,11 +41,15 @@
 static const struct {
     const char *ext;
     sss_result (*scan)(src *, expect *, sss_error *);
+    /* the reader of the scanner's canonical bytes (OpenMesh or Assimp) */
+    sss_om_status (*read)(const char *, size_t, sss_om_format, sss_om_soup *, char *, size_t);
 } formats[] = {
-    {"ply", sss_scan_ply},
-    {"obj", sss_scan_obj},
-    {"off", sss_scan_off},
-    {"stl", sss_scan_stl},
+    {"ply", sss_scan_ply, sss_om_read},
+    {"obj", sss_scan_obj, sss_om_read},
+    {"off", sss_scan_off, sss_om_read},
+    {"stl", sss_scan_stl, sss_om_read},
+    {"gltf", sss_scan_gltf, sss_ai_read},
+    {"glb", sss_scan_gltf, sss_ai_read},
 };
 enum { NFORMATS = sizeof formats / sizeof formats[0] };
 
@@ -64,7 +68,7 @@ static int format_of(const char *path, const char **ext)
     return -1;
 }
 
-/* ".ply, .obj, .off or .stl" from the table. */
+/* ".ply, .obj, .off, .stl, .gltf or .glb" from the table. */
 static void formats_list(char *buf, size_t n)
 {
     size_t k = 0;
@@ -84,7 +88,7 @@ sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *r
     const char *ext;
     int ff = format_of(path, &ext);
     if (ff < 0) {
-        char known[64];
+        char known[96];
         formats_list(known, sizeof known);
         if (!*ext) return sss_fail(err, SSS_ERR_FORMAT, "%s: no file extension (expected %s)", path, known);
         return sss_fail(err, SSS_ERR_FORMAT, "%s: unknown extension '%s' (expected %s)", path, ext, known);
@@ -101,13 +105,15 @@ sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *r
     memset(&soup, 0, sizeof soup);
     if (r == SSS_OK) {
         char msg[400];
-        sss_om_status st = sss_om_read(ex.om_data, ex.om_len, ex.fmt, &soup, msg, sizeof msg);
+        sss_om_status st = formats[ff].read(ex.om_data, ex.om_len, ex.fmt, &soup, msg, sizeof msg);
         if (st == SSS_OM_NO_MEMORY) r = sss_fail(err, SSS_ERR_NOMEM, "%s: %s", path, msg);
         else if (st != SSS_OM_OK) r = sss_fail(err, SSS_ERR_FORMAT, "%s: %s", path, msg);
     }
-    /* The memory copy of the file is not needed any more. */
+    /* The memory copy of the file (and a canonical one) is not needed any more. */
     free(s.mem);
     s.mem = NULL;
+    free(ex.own);
+    ex.own = NULL;
 
     if (r == SSS_OK) {
         /* The reader must deliver what the scan predicted. */
@@ -130,6 +136,7 @@ sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *r
     sss_om_soup_free(&soup);
     free(ex.drop);
     free(ex.dpos);
+    free(ex.own);
     sss_src_close(&s);
     if (r != SSS_OK) sss_mesh_free(out);
     return r;
@@ -195,4 +202,7 @@ void sss_import_print_warnings(const sss_import_report *rep, const char *prefix,
         fprintf(f, "%s%swarning: %llu edge%s between triangles of opposite orientation could not be made consistent "
                 "(a non-orientable surface such as a Moebius strip): normals there are unreliable\n", prefix, sep,
                 (ull)rep->orientation_conflicts, rep->orientation_conflicts == 1 ? "" : "s");
+    if (rep->primitives_skipped)
+        fprintf(f, "%s%swarning: %llu glTF primitive%s of points or lines skipped (no surface to bake)\n", prefix, sep,
+                (ull)rep->primitives_skipped, rep->primitives_skipped == 1 ? "" : "s");
 }

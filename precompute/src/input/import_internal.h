@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "input/import_assimp.h"
 #include "input/import_openmesh.h"
 #include "sss/import.h"
 
@@ -134,6 +135,12 @@ typedef struct expect {
     ull unknown;
     char first_unknown[36];
     ull first_unknown_line;
+    /* glTF (import_gltf.c): om_data is this malloc'd canonical GLB, freed
+     * with the rest; primitives of points or lines skipped; whether some
+     * triangle primitive has TEXCOORD_0 / COLOR_0 */
+    char *own;
+    ull skipped;
+    int texcoords, colours;
 } expect;
 
 sss_result sss_src_open(src *s, const char *path, sss_error *err);
@@ -174,6 +181,7 @@ sss_result sss_scan_ply(src *s, expect *ex, sss_error *err); /* import_ply.c */
 sss_result sss_scan_off(src *s, expect *ex, sss_error *err); /* import_off.c */
 sss_result sss_scan_obj(src *s, expect *ex, sss_error *err); /* import_obj.c */
 sss_result sss_scan_stl(src *s, expect *ex, sss_error *err); /* import_stl.c */
+sss_result sss_scan_gltf(src *s, expect *ex, sss_error *err); /* import_gltf.c, .gltf and .glb */
 
 /* ---- after the reader ------------------------------------------------ */
 

@@ -340,5 +340,7 @@ extern "C" void sss_om_soup_free(sss_om_soup *s)
     std::free(s->pos);
     std::free(s->idx);
     std::free(s->fsize);
+    std::free(s->uv);
+    std::free(s->rgba);
     std::memset(s, 0, sizeof *s);
 }

@@ -33,6 +33,11 @@ typedef struct sss_om_soup {
     uint64_t nidx;
     uint32_t *fsize;   /* nf */
     uint64_t nf;
+    /* glTF only (import_assimp.cpp): 2 * nv texture coordinates and
+     * 4 * nv colours, NULL when the file has none; the OpenMesh readers
+     * leave them NULL */
+    float *uv;
+    float *rgba;
 } sss_om_soup;
 
 /* Result of sss_om_read. */

@@ -349,6 +349,9 @@ sss_result sss_soup_to_mesh(const char *name, sss_om_soup *s, const expect *ex, 
     rep->unknown_statements = ex->unknown;
     memcpy(rep->first_unknown, ex->first_unknown, sizeof rep->first_unknown);
     rep->first_unknown_line = ex->first_unknown_line;
+    rep->primitives_skipped = ex->skipped;
+    rep->texcoords = s->uv != NULL;
+    rep->colours = s->rgba != NULL;
     if (nv > (ull)UINT32_MAX - 1)
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "%s: %llu vertices; at most 4294967294 are supported", name, nv);
     for (ull v = 0; v < nv; v++)
@@ -438,8 +441,20 @@ sss_result sss_soup_to_mesh(const char *name, sss_om_soup *s, const expect *ex, 
         free(scratch); free(remap); free(ptri); poly_scratch_free(&ps);
         return r;
     }
+    /* what an asset carries besides positions follows its vertex through
+     * the renumbering (sss/mesh.h) */
+    if (s->uv && !(out->uv = malloc(2 * (size_t)nv2 * sizeof(float) + 1))) r = SSS_ERR_NOMEM;
+    if (s->rgba && !(out->rgba = malloc(4 * (size_t)nv2 * sizeof(float) + 1))) r = SSS_ERR_NOMEM;
+    if (r != SSS_OK) {
+        free(scratch); free(remap); free(ptri); poly_scratch_free(&ps); sss_mesh_free(out);
+        return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for %u vertices", name, nv2);
+    }
     for (ull v = 0; v < nv; v++)
-        if (remap[v] != UINT32_MAX) memcpy(out->pos + 3 * (size_t)remap[v], s->pos + 3 * v, 3 * sizeof(float));
+        if (remap[v] != UINT32_MAX) {
+            memcpy(out->pos + 3 * (size_t)remap[v], s->pos + 3 * v, 3 * sizeof(float));
+            if (out->uv) memcpy(out->uv + 2 * (size_t)remap[v], s->uv + 2 * v, 2 * sizeof(float));
+            if (out->rgba) memcpy(out->rgba + 4 * (size_t)remap[v], s->rgba + 4 * v, 4 * sizeof(float));
+        }
 
     /* Pass 2: the same decisions, writing the triangles. */
     ps.budget = EAR_BUDGET;

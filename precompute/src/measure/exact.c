@@ -68,7 +68,7 @@ static sss_result read_eps(const char *json, double *eps, sss_error *err)
  * positions with the same sums in the same order (docs/format.md §5.1). */
 static sss_result copy_mesh(const sss_mesh *src, sss_mesh *dst, sss_error *err)
 {
-    const sss_mesh geom = {src->nv, src->nf, src->pos, src->nrm, src->tri, NULL}; /* ΔA recomputed */
+    const sss_mesh geom = {.nv = src->nv, .nf = src->nf, .pos = src->pos, .nrm = src->nrm, .tri = src->tri}; /* ΔA recomputed */
     sss_result r = sss_mesh_copy(&geom, dst, err);
     if (r != SSS_OK) return r;
     if (!(dst->area = malloc((size_t)src->nv * sizeof(double)))) {
