@@ -37,7 +37,7 @@
  * arguments give SSS_ERR_ARG; a file that is damaged or not a .sss gives
  * the reader's codes (SSS_ERR_FORMAT, SSS_ERR_CORRUPT, ...). No input
  * crashes the library or reads outside a buffer the caller described.
- * docs/api.md walks through a whole program; examples/decode_print.c is one.
+ * docs/api.md sums these rules up; examples/decode_print.c is a whole program.
  */
 #ifndef SSS_API_H
 #define SSS_API_H
