@@ -37,7 +37,8 @@ float sss_decode_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t
  * saves. */
 #define PAR_MIN 65536
 
-static void decode_compressed(const sss_bake_file *f, const double d[3], sss_interp interp, float *out);
+static void decode_compressed(const sss_bake_file *f, const double d[3], sss_interp interp, size_t first, size_t count,
+                              float *out);
 
 /* The paper's 4-nearest blend of lloyd8 rows of `row` codes each (rows j at
  * codes + j·row, channel i mod ch): out[i] = Σ_t w_t · levels_k[code_t[i]],
@@ -93,18 +94,23 @@ void sss_decode_all(const sss_bake_file *f, const double light[3], float *out)
     sss_decode_all_interp(f, light, SSS_INTERP_TRIANGLE, out);
 }
 
-void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_interp interp, float *out)
+/* Vertices [first, first + count) of sss_decode_all_interp into out[0 …
+ * count·channels − 1]: the whole mesh and any part of it run the same
+ * loops over the same values, so a range is the slice of the whole to the
+ * bit. NEAREST4 (the study's) is only asked for over the whole mesh. */
+static void decode_span(const sss_bake_file *f, const double light[3], sss_interp interp, size_t first, size_t count,
+                        float *out)
 {
-    const size_t ch = f->channels, nv = f->mesh.nv, row = nv * ch;
+    const size_t ch = f->channels, nv = f->mesh.nv, row = nv * ch, off = first * ch, nval = count * ch;
     double len = sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
     if (f->dirs.n == 0 || !(len > 0.0) || !isfinite(len)) {
         /* No samples, or no direction: nothing to interpolate. */
-        memset(out, 0, row * sizeof *out);
+        memset(out, 0, nval * sizeof *out);
         return;
     }
     const double d[3] = {light[0] / len, light[1] / len, light[2] / len};
     if (f->quant == SSS_QUANT_SH || f->quant == SSS_QUANT_REFS) {
-        decode_compressed(f, d, interp, out);
+        decode_compressed(f, d, interp, first, count, out);
         return;
     }
     if (interp == SSS_INTERP_NEAREST4) {
@@ -115,12 +121,12 @@ void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_in
     double w[3];
     sss_dirset_lookup(&f->dirs, d, idx, w);
     const double w0 = w[0], w1 = w[1], w2 = w[2];
-    const ptrdiff_t nrow = (ptrdiff_t)row;
+    const ptrdiff_t nrow = (ptrdiff_t)nval;
 
     if (f->quant == SSS_QUANT_LLOYD8) {
-        const uint8_t *a = f->qidx + (size_t)idx[0] * row;
-        const uint8_t *b = f->qidx + (size_t)idx[1] * row;
-        const uint8_t *c = f->qidx + (size_t)idx[2] * row;
+        const uint8_t *a = f->qidx + (size_t)idx[0] * row + off;
+        const uint8_t *b = f->qidx + (size_t)idx[1] * row + off;
+        const uint8_t *c = f->qidx + (size_t)idx[2] * row + off;
         /* Per frame, fold the weights into the level tables:
          * T_r[k][x] = w_r · level_k[x] (3 rows × ≤ 3 channels × 256 floats,
          * 9 KiB, stays in L1), so each value costs three table loads and
@@ -137,7 +143,7 @@ void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_in
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if (nrow >= PAR_MIN)
 #endif
-            for (ptrdiff_t v = 0; v < (ptrdiff_t)nv; v++) {
+            for (ptrdiff_t v = 0; v < (ptrdiff_t)count; v++) {
                 const size_t i = 3 * (size_t)v;
                 out[i] = T[0][0][a[i]] + T[1][0][b[i]] + T[2][0][c[i]];
                 out[i + 1] = T[0][1][a[i + 1]] + T[1][1][b[i + 1]] + T[2][1][c[i + 1]];
@@ -153,15 +159,15 @@ void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_in
 #pragma omp parallel for schedule(static) if (nrow >= PAR_MIN)
 #endif
             for (ptrdiff_t i = 0; i < nrow; i++) {
-                const size_t k = (size_t)i % ch;
+                const size_t k = (size_t)i % ch; /* off is a multiple of ch */
                 out[i] = T[0][k][a[i]] + T[1][k][b[i]] + T[2][k][c[i]];
             }
         }
         return;
     }
-    const float *a = f->q + (size_t)idx[0] * row;
-    const float *b = f->q + (size_t)idx[1] * row;
-    const float *c = f->q + (size_t)idx[2] * row;
+    const float *a = f->q + (size_t)idx[0] * row + off;
+    const float *b = f->q + (size_t)idx[1] * row + off;
+    const float *c = f->q + (size_t)idx[2] * row + off;
     /* float weights: four-wide SIMD without conversions; the GPU computes
      * the same float expression */
     const float fw0 = (float)w0, fw1 = (float)w1, fw2 = (float)w2;
@@ -169,6 +175,17 @@ void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_in
 #pragma omp parallel for simd schedule(static) if (nrow >= PAR_MIN)
 #endif
     for (ptrdiff_t i = 0; i < nrow; i++) out[i] = fw0 * a[i] + fw1 * b[i] + fw2 * c[i];
+}
+
+void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_interp interp, float *out)
+{
+    decode_span(f, light, interp, 0, f->mesh.nv, out);
+}
+
+void sss_decode_range(const sss_bake_file *f, const double light[3], uint32_t first, uint32_t count, float *out)
+{
+    if (first > f->mesh.nv || count > f->mesh.nv - first) return;
+    decode_span(f, light, SSS_INTERP_TRIANGLE, first, count, out);
 }
 
 /* ---- compressed forms (format 1.1, Hao–Varshney 2004 §4) -------------- *
@@ -277,28 +294,45 @@ static void coded_values(const sss_bake_file *f, const float *R, const float *T,
     }
 }
 
-static void decode_compressed(const sss_bake_file *f, const double d[3], sss_interp interp, float *out)
+/* The first of the n increasing values a[] that is ≥ x (n when none). */
+static size_t lower_bound_u32(const uint32_t *a, size_t n, size_t x)
 {
-    const size_t C = f->channels, nv = f->mesh.nv;
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (a[mid] < x) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* Vertices [first, first + count) into out[(v − first)·C + c]. */
+static void decode_compressed(const sss_bake_file *f, const double d[3], sss_interp interp, size_t first, size_t count,
+                              float *out)
+{
+    const size_t C = f->channels, end = first + count;
     float *R = NULL, *T = NULL;
     if (f->sh.ncoef && !(T = fold_sh(f, d))) goto oom;
     if (f->quant == SSS_QUANT_REFS) {
         const sss_refcode *r = &f->ref;
         if (!(R = malloc(((size_t)r->nref * C + 1) * sizeof *R))) goto oom;
         ref_values(f, d, interp, R);
-        for (size_t k = 0; k < r->nref; k++)
-            for (size_t c = 0; c < C; c++) out[(size_t)r->ref_vertex[k] * C + c] = R[k * C + c];
-        const ptrdiff_t ncod = (ptrdiff_t)f->sh.ncoded;
+        const size_t r1 = lower_bound_u32(r->ref_vertex, r->nref, end);
+        for (size_t k = lower_bound_u32(r->ref_vertex, r->nref, first); k < r1; k++)
+            for (size_t c = 0; c < C; c++) out[((size_t)r->ref_vertex[k] - first) * C + c] = R[k * C + c];
+        const ptrdiff_t k0 = (ptrdiff_t)lower_bound_u32(r->coded_vertex, f->sh.ncoded, first);
+        const ptrdiff_t k1 = (ptrdiff_t)lower_bound_u32(r->coded_vertex, f->sh.ncoded, end);
 #ifdef _OPENMP
-#pragma omp parallel for schedule(static) if (ncod * (ptrdiff_t)C >= PAR_MIN / 4)
+#pragma omp parallel for schedule(static) if ((k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
-        for (ptrdiff_t k = 0; k < ncod; k++) coded_values(f, R, T, (size_t)k, out + (size_t)r->coded_vertex[k] * C);
+        for (ptrdiff_t k = k0; k < k1; k++)
+            coded_values(f, R, T, (size_t)k, out + ((size_t)r->coded_vertex[k] - first) * C);
     } else {
-        const ptrdiff_t n = (ptrdiff_t)nv;
+        const ptrdiff_t n = (ptrdiff_t)count;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if (n * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
-        for (ptrdiff_t v = 0; v < n; v++) coded_values(f, NULL, T, (size_t)v, out + (size_t)v * C);
+        for (ptrdiff_t v = 0; v < n; v++) coded_values(f, NULL, T, first + (size_t)v, out + (size_t)v * C);
     }
     free(R);
     free(T);
@@ -308,7 +342,7 @@ oom:
      * light" rather than return garbage */
     free(R);
     free(T);
-    memset(out, 0, nv * C * sizeof *out);
+    memset(out, 0, count * C * sizeof *out);
 }
 
 /* Position of vertex v among the coded vertices, or SIZE_MAX for a
@@ -318,12 +352,7 @@ static size_t coded_index(const sss_bake_file *f, uint32_t v, size_t *ref)
     *ref = SIZE_MAX;
     if (f->quant != SSS_QUANT_REFS) return v;
     const sss_refcode *r = &f->ref;
-    size_t lo = 0, hi = r->nref;
-    while (lo < hi) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (r->ref_vertex[mid] < v) lo = mid + 1;
-        else hi = mid;
-    }
+    const size_t lo = lower_bound_u32(r->ref_vertex, r->nref, v);
     if (lo < r->nref && r->ref_vertex[lo] == v) {
         *ref = lo;
         return SIZE_MAX;

@@ -14,19 +14,25 @@ const float *sss_fx_exact(const sss_bake_file *f, uint32_t l)
 
 void sss_fx_env(const sss_bake_file *f, const float *L, float *out)
 {
-    const uint32_t nv = f->mesh.nv, C = f->channels, K = f->fx.env_order * f->fx.env_order;
+    sss_fx_env_range(f, L, 0, f->mesh.nv, out);
+}
+
+void sss_fx_env_range(const sss_bake_file *f, const float *L, uint32_t first, uint32_t count, float *out)
+{
+    const uint32_t C = f->channels, K = f->fx.env_order * f->fx.env_order;
+    if (first > f->mesh.nv || count > f->mesh.nv - first) return;
     if (!(f->fx.mask & SSS_FX_ENV_SH) || !K) {
-        memset(out, 0, (size_t)nv * 3 * sizeof *out);
+        memset(out, 0, (size_t)count * 3 * sizeof *out);
         return;
     }
     if (!L) L = f->fx.env_probe;
-    for (uint32_t v = 0; v < nv; v++)
+    for (uint32_t v = first; v < first + count; v++)
         for (uint32_t k = 0; k < 3; k++) {
             const float *T = &f->fx.env_t[((size_t)v * C + (C == 3 ? k : 0)) * K];
             double acc = 0.0;
             for (uint32_t i = 0; i < K; i++) acc += (double)T[i] * L[k * K + i];
             /* the SH truncation can ring below zero; radiance cannot */
-            out[(size_t)v * 3 + k] = acc > 0.0 ? (float)acc : 0.0f;
+            out[(size_t)(v - first) * 3 + k] = acc > 0.0 ? (float)acc : 0.0f;
         }
 }
 
@@ -65,19 +71,25 @@ int sss_fx_point_weights(const sss_bake_file *f, const double P[3], uint32_t row
 
 void sss_fx_point(const sss_bake_file *f, const double P[3], float *out)
 {
-    const size_t NVC = (size_t)f->mesh.nv * f->channels;
+    sss_fx_point_range(f, P, 0, f->mesh.nv, out);
+}
+
+void sss_fx_point_range(const sss_bake_file *f, const double P[3], uint32_t first, uint32_t count, float *out)
+{
+    if (first > f->mesh.nv || count > f->mesh.nv - first) return;
+    const size_t C = f->channels, NVC = (size_t)f->mesh.nv * C, e0 = (size_t)first * C, ne = (size_t)count * C;
     uint32_t row[6];
     double w[6], r2;
     if (!sss_fx_point_weights(f, P, row, w, &r2)) {
-        memset(out, 0, NVC * sizeof *out);
+        memset(out, 0, ne * sizeof *out);
         return;
     }
     const float *q = f->fx.shell_q;
     /* the GPU path (runtime/shaders/point_shells.comp.glsl) forms the same double sum in
      * the same order, so the two agree to the bit */
-    for (size_t e = 0; e < NVC; e++) {
+    for (size_t e = 0; e < ne; e++) {
         double acc = 0.0;
-        for (int k = 0; k < 6; k++) acc += w[k] * q[(size_t)row[k] * NVC + e];
+        for (int k = 0; k < 6; k++) acc += w[k] * q[(size_t)row[k] * NVC + e0 + e];
         out[e] = (float)(acc / r2);
     }
 }

@@ -1,6 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 /* The run-time near terms (format 1.3, section OWNT; sss/nearterms.h) in the
- * renderer (runtime/src/render/: renderer.c, effects/near.c, bvh.c, shadow.c), offscreen on EGL.
+ * renderer (runtime/src/render/: renderer.c, effects/near.c, shadow.c; common/src/bvh.c), offscreen on EGL.
  * Files baked with the own term split off (sss_bake with near_terms =
  * SSS_NEAR_TERMS_RUNTIME: what `sss-bake --own-term runtime [--rings K]`
  * writes) store q − Σ_{i in o's rings} w̃(o, i) g_i(ω_j) V(x_i, ω_j); the

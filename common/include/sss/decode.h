@@ -22,6 +22,14 @@ float sss_decode_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t
  * the result is clamped at 0. */
 void sss_decode_all(const sss_bake_file *f, const double light[3], float *out);
 
+/* sss_decode_all for vertices [first, first + count) only, into
+ * out[(v − first) · channels + c] (count · channels floats): the slice of
+ * what sss_decode_all writes, to the bit (the same loops over the same
+ * values). Nothing is written when the range does not lie within the
+ * mesh. Per call it costs the light's lookup (and for SH codes the folded
+ * tables, for references every reference's value) plus the range. */
+void sss_decode_range(const sss_bake_file *f, const double light[3], uint32_t first, uint32_t count, float *out);
+
 /* How q at a light direction is formed from the direction samples. */
 typedef enum sss_interp {
     SSS_INTERP_TRIANGLE = 0, /* barycentric in the spherical Delaunay triangle (the default; sss/dirset.h) */

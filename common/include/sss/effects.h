@@ -22,6 +22,10 @@ const float *sss_fx_exact(const sss_bake_file *f, uint32_t l);
  * k (channel c = k, or 0 for a grey file); L NULL uses the probe stored in
  * the file. */
 void sss_fx_env(const sss_bake_file *f, const float *L, float *out);
+/* The same for vertices [first, first + count) into out[(v − first) · 3 + k]
+ * (the slice of sss_fx_env to the bit); nothing written for a range
+ * outside the mesh. */
+void sss_fx_env_range(const sss_bake_file *f, const float *L, uint32_t first, uint32_t count, float *out);
 
 /* Near point light of unit intensity at P (world units): the shells of
  * section PSHL interpolated trilinearly — barycentric over the spherical
@@ -29,6 +33,10 @@ void sss_fx_env(const sss_bake_file *f, const float *L, float *out);
  * shells around |P − centre| (clamped to the first and last) — divided by
  * r². Zeros when P is the centre or not finite. */
 void sss_fx_point(const sss_bake_file *f, const double P[3], float *out);
+/* The same for vertices [first, first + count) into out[(v − first) ·
+ * channels + c] (the slice of sss_fx_point to the bit); nothing written
+ * for a range outside the mesh. */
+void sss_fx_point_range(const sss_bake_file *f, const double P[3], uint32_t first, uint32_t count, float *out);
 
 /* The per-light, vertex-independent part of sss_fx_point: the six shell
  * rows (row s·n + j of PSHL, each nv·channels values) and their weights

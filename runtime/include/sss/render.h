@@ -45,6 +45,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include "sss/bvh.h" /* the BVH the near terms trace (sss_bvh_build, sss_bvh_lit) */
 #include "sss/format.h"
 #include "sss/result.h"
 #include "sss/scene.h"
@@ -424,50 +425,6 @@ float sss_srgb_encode(float x);
  * SSS_ERR_UNSUPPORTED). The shaders are deleted either way; the program is
  * the caller's (glDeleteProgram). */
 unsigned sss_gl_program(const char *vs, const char *fs, sss_error *err);
-
-/* ---- the BVH the near terms trace, on the CPU ------------------------------
- * The near terms' rays (SSS_NEAR_RAYS) run on the GPU through a bounding
- * volume hierarchy of the mesh's triangles, built on the CPU. The same
- * hierarchy and the shader's occlusion query, operation for operation, are
- * here for checking the GPU against the bake's Embree rays (test_render_near_terms).
- * Need no context. */
-
-#define SSS_BVH_STACK 64 /* the shader's traversal stack; the build keeps the depth below it */
-
-/* An inner node's children are node[a] and node[a + 1], split axis b & 3;
- * a leaf holds the b >> 2 triangles from a. 32 bytes, as the shader reads
- * it (std430). */
-typedef struct sss_bvh_node {
-    float lo[3];
-    uint32_t a;  /* inner: first child; leaf: first triangle */
-    float hi[3];
-    uint32_t b;  /* (triangle count << 2) | split axis */
-} sss_bvh_node;
-
-typedef struct sss_bvh {
-    sss_bvh_node *node; /* nnode nodes, root at 0; owned */
-    uint32_t nnode;
-    float *tri;       /* 12 floats per triangle, leaf order (v0, e1, e2, Ng as Embree forms them); owned */
-    uint32_t *prim;   /* the mesh triangle of each, leaf order; owned */
-    uint32_t ntri;    /* triangles kept: those with finite vertices */
-    uint32_t depth;   /* root = 1; at most SSS_BVH_STACK */
-} sss_bvh;
-
-/* Builds the hierarchy over the nf triangles (tri: 3 indices each into the
- * nv float3 positions pos, mesh units). Deterministic: binned SAH on
- * centroids (16 bins), object median where the tree grows deep. O(n log n).
- * Triangles with a non-finite vertex are left out, as Embree leaves them
- * out. SSS_ERR_NOMEM on allocation failure, SSS_ERR_UNSUPPORTED when the
- * tree would be deeper than SSS_BVH_STACK. Free with sss_bvh_free
- * (NULL-safe). */
-sss_result sss_bvh_build(const float *pos, uint32_t nv, const uint32_t *tri, uint32_t nf, sss_bvh *out,
-                         sss_error *err);
-void sss_bvh_free(sss_bvh *b);
-
-/* The shader's occlusion query on the CPU, operation for operation (fused
- * where Embree fuses): 1 when the ray o + t d hits a triangle at t > tnear
- * (d in float as given, not normalised here; tnear in mesh units). */
-int sss_bvh_occluded(const sss_bvh *b, const float o[3], const float d[3], float tnear);
 
 #ifdef __cplusplus
 }

@@ -51,7 +51,7 @@ struct sss_scene_eval {
 /* The near terms of unit light `light` added to the row q (nv × channels):
  * every vertex's own visibility by the bake's ray (origin x + δn in float,
  * towards ω, blocked by a hit beyond δ) through the BVH the GPU traces,
- * with the arithmetic of its shader (sss_bvh_occluded, near_vis.comp.glsl),
+ * with the arithmetic of its shader (sss_bvh_lit, near_vis.comp.glsl),
  * then Σ_i w̃(o, i) g_i V_i per row in sss_near_sum's order: what the
  * renderer's near pass adds on the GPU (Hao–Varshney 2004 §3.1's terms of
  * the vertex and its rings, docs/viewer.md). */
@@ -62,18 +62,7 @@ static void cpu_add_near(void *ctx, const double light[3], float *q)
     const uint32_t nv = f->mesh.nv;
     double d[3] = {light[0], light[1], light[2]};
     if (!(sss_normalize3(d) > 0)) return;
-    const float df[3] = {(float)d[0], (float)d[1], (float)d[2]};
-    for (uint32_t v = 0; v < nv; v++) {
-        const float *x = &f->mesh.pos[3 * (size_t)v], *n = &f->mesh.nrm[3 * (size_t)v];
-        /* the bake's facing test in double (float n, double ω), left to right */
-        const double c = (double)n[0] * d[0] + (double)n[1] * d[1] + (double)n[2] * d[2];
-        uint8_t vis = 0;
-        if (c > 0.0) {
-            const float o[3] = {x[0] + e->delta * n[0], x[1] + e->delta * n[1], x[2] + e->delta * n[2]};
-            vis = e->bvh.ntri == 0 || !sss_bvh_occluded(&e->bvh, o, df, e->delta);
-        }
-        e->lit[v] = vis;
-    }
+    for (uint32_t v = 0; v < nv; v++) e->lit[v] = sss_bvh_lit(&e->bvh, &f->mesh, e->delta, v, d);
     sss_near_transfer(f->mesh.nrm, nv, (float)f->material.eta, d, e->lit, e->gv);
     sss_near_add(&e->near, e->gv, q);
 }

@@ -47,7 +47,7 @@
  * near_vis: per vertex, V(x_i, ω) into lit[] (binding 4) and g_i V_i into
  * gv[] (binding 2), g = F_t(η, c)·max(0, c) as sss_near_g computes
  * it; with "#define RAYS 1" and "#define SSS_BVH_STACK n" V is the bake's
- * ray traced through the BVH (bvh.h; bindings 5 nodes, 6 triangles),
+ * ray traced through the BVH (sss/bvh.h; bindings 5 nodes, 6 triangles),
  * otherwise the bake's ray against the vertex's own triangles and the
  * shadow map (Hao–Varshney 2004 §3.1's depth comparison). 64 invocations
  * per group. The transfer g is sss_near_g (common/src/nearterms.c) term

@@ -2,7 +2,7 @@
  * light, for every vertex's own visibility V(x_i, ω) in the run-time near
  * terms (the own term and its rings, sss/nearterms.h) when a view asks for it
  * (sss_view_params.near_visibility = SSS_NEAR_MAP). By default the renderer
- * traces the bake's rays instead (bvh.h), which agree with the bake on every
+ * traces the bake's rays instead (sss/bvh.h), which agree with the bake on every
  * vertex where the map misses a few per thousand near shadow outlines.
  *
  * Hao–Varshney 2004 §3.1 determines shadowing this way: "We first generate

@@ -10,7 +10,7 @@
  * first finds every vertex's own visibility V(x_i, ω) and its transfer
  * g_i V_i; the second adds each vertex's row Σ_i w̃(o, i) g_i V_i, in
  * sss_near_sum's order. V is, by default, the bake's own ray traced on the
- * GPU through a BVH of the mesh built here once (bvh.c): a vertex that gets
+ * GPU through a BVH of the mesh built here once (common/src/bvh.c): a vertex that gets
  * V wrong is off by about half of its q, so only the bake's rule itself
  * keeps the image error at the bake's. On request (near_visibility = 1) V
  * comes from a shadow map instead (shadow.c, the paper's own test, §3.1,
@@ -25,7 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bvh.h"
+#include "sss/bvh.h"
 #include "effects.h"
 #include "gl_util.h"
 #include "shaders.h"
@@ -35,7 +35,7 @@
 typedef struct sss_near_pass {
     sss_shadow *shadow; /* created on the first pass that asks for the map */
     GLuint prog_vis, prog_ray, prog_near; /* pass 1 (map or rays): V and g V per vertex; pass 2: the rows' sums into q */
-    GLuint bvh_node, bvh_tri; /* the mesh's BVH (bvh.h) for prog_ray */
+    GLuint bvh_node, bvh_tri; /* the mesh's BVH (sss/bvh.h) for prog_ray */
     uint32_t bvh_ntri;
     int vis_valid, vis_map, vis_size; /* what pass 1 last computed: map or rays, map size, */
     float vis_dir[3];                 /* and light: lit and gv hold it */

@@ -1,5 +1,5 @@
-/* bvh.c: the triangle hierarchy the viewer traces the bake's visibility
- * rays through (bvh.h).
+/* bvh.c: the triangle hierarchy the viewer and the runtime API (sss/api.h)
+ * trace the bake's visibility rays through (sss/bvh.h).
  *
  * Why the triangle test repeats Embree's arithmetic: the near terms need
  * V(x_o, ω) exactly as the bake decided it, and a vertex that gets the other
@@ -28,7 +28,7 @@
  * 32 + log2(n) and so the shader's fixed stack. Every choice depends only on
  * the input, so the tree is the same on every run.
  */
-#include "bvh.h"
+#include "sss/bvh.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -78,14 +78,17 @@ static int bin_of(float c, float cmin, double scale, int nb)
     return b < 0 ? 0 : b >= nb ? nb - 1 : b;
 }
 
-static int axis_g; /* qsort's comparison axis: set just before each sort (the build is single-threaded) */
-
-static int cmp_centroid(const void *x, const void *y)
+/* qsort's comparisons, one per axis: qsort passes no context, and a
+ * global axis would make two builds on two threads (two assets opened at
+ * once, sss/api.h) interfere. */
+static int cmp_centroid(const prim *a, const prim *b, int axis)
 {
-    const prim *a = x, *b = y;
-    if (a->c[axis_g] != b->c[axis_g]) return a->c[axis_g] < b->c[axis_g] ? -1 : 1;
+    if (a->c[axis] != b->c[axis]) return a->c[axis] < b->c[axis] ? -1 : 1;
     return a->t < b->t ? -1 : a->t > b->t; /* a total order: the same tree every run */
 }
+static int cmp_x(const void *x, const void *y) { return cmp_centroid(x, y, 0); }
+static int cmp_y(const void *x, const void *y) { return cmp_centroid(x, y, 1); }
+static int cmp_z(const void *x, const void *y) { return cmp_centroid(x, y, 2); }
 
 static void make_leaf(builder *B, uint32_t ni, uint32_t begin, uint32_t n)
 {
@@ -141,8 +144,7 @@ static void build(builder *B, uint32_t ni, uint32_t begin, uint32_t end, uint32_
             make_leaf(B, ni, begin, n);
             return;
         }
-        axis_g = axis;
-        qsort(p + begin, n, sizeof *p, cmp_centroid);
+        qsort(p + begin, n, sizeof *p, axis == 0 ? cmp_x : axis == 1 ? cmp_y : cmp_z);
     } else {
         /* binned SAH over the three axes, in one pass over the triangles;
          * as many bins as triangles below NBINS, since most nodes are small
@@ -295,7 +297,7 @@ sss_result sss_bvh_build(const float *pos, uint32_t nv, const uint32_t *tri, uin
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "bvh: depth %u above the traversal stack of %d", B.depth,
                         SSS_BVH_STACK);
     }
-    /* pad every box (bvh.h) */
+    /* pad every box (sss/bvh.h) */
     if (n > 0) {
         const sss_bvh_node *r = &B.node[0];
         double d2 = 0;
@@ -334,7 +336,7 @@ sss_result sss_bvh_build(const float *pos, uint32_t nv, const uint32_t *tri, uin
     return SSS_OK;
 }
 
-/* Embree's vector products with its fused operations (bvh.h). */
+/* Embree's vector products with its fused operations (sss/bvh.h). */
 static void cross_f(const float a[3], const float b[3], float c[3])
 {
     c[0] = fmaf(a[1], b[2], -(a[2] * b[1]));
@@ -389,4 +391,15 @@ int sss_bvh_occluded(const sss_bvh *b, const float o[3], const float d[3], float
         if (sp == 0) return 0;
         ni = stack[--sp];
     }
+}
+
+uint8_t sss_bvh_lit(const sss_bvh *b, const sss_mesh *mesh, float delta, uint32_t v, const double d[3])
+{
+    const float *x = &mesh->pos[3 * (size_t)v], *n = &mesh->nrm[3 * (size_t)v];
+    /* the bake's facing test in double (float n, double ω), left to right */
+    const double c = (double)n[0] * d[0] + (double)n[1] * d[1] + (double)n[2] * d[2];
+    if (!(c > 0.0)) return 0;
+    const float df[3] = {(float)d[0], (float)d[1], (float)d[2]};
+    const float o[3] = {x[0] + delta * n[0], x[1] + delta * n[1], x[2] + delta * n[2]};
+    return b->ntri == 0 || !sss_bvh_occluded(b, o, df, delta);
 }
