@@ -136,8 +136,9 @@ typedef struct sss_gpu_frame {
  * direction-set effect (fx.mask without SSS_FX_DIR_SET) gets a layout with
  * no pass and no buffer but q (its q comes from the effect evaluators,
  * sss/effects.h). Fails (one-line message, *layout zeroed) on an unknown
- * storage form or SH kind, counts that disagree with the vertex count, a
- * buffer above 2^32 − 1 entries, or no memory. */
+ * storage form or SH kind, an alignment that is not a power of two,
+ * coded counts that disagree with the vertex count, nv·C above 2^32 − 1
+ * (the shaders index with uint), or no memory. */
 sss_result sss_gpu_layout_create(const sss_bake_file *f, uint32_t row_alignment, sss_gpu_layout *layout,
                                  sss_error *err);
 void sss_gpu_layout_free(sss_gpu_layout *layout);
