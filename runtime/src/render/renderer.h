@@ -19,6 +19,7 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "sss/gpu.h"
 #include "sss/render.h"
 #include "sss/vec3.h"
 
@@ -31,24 +32,14 @@ typedef struct sss_gpu_mesh {
     GLuint qbuf;              /* per-vertex q, nv·C floats */
 } sss_gpu_mesh;
 
-/* scatter.c: the direction set's rows on the GPU (any storage form) and
- * the CPU path's scratch. */
+/* scatter.c: the direction set on the GPU, as libsss lays it out
+ * (sss/gpu.h), and the CPU path's scratch. */
 typedef struct sss_scatter {
-    GLuint rows;        /* all direction rows, padded (float, lloyd8, or the references' rows) */
-    GLsizeiptr row_bytes, row_stride;
-    uint32_t row_n;     /* entries per row / channels: nv, or nref for the reference form */
-    GLuint levels;      /* lloyd8 / reference rows: the three level tables times the weights, per frame */
-    float *fold_l;      /* CPU copy of those, 3·C·256 */
-    const float *lvl;   /* the file's level tables (f->levels or f->ref.levels), C·256 */
-    GLuint prog_cs;
-    /* compressed forms */
-    GLuint prog_coded;  /* second pass: coded vertices */
-    uint32_t ncoded, sh_levels;
-    GLuint sh_codes;    /* SH codes, each coded vertex's starting on a new word */
-    GLuint sh_tab;      /* SH tables times y_i(light), per frame */
-    float *fold_sh;     /* CPU copy of those, C·ncoef·levels */
-    GLuint ref_q;       /* reference values of the frame, nref·C */
-    GLuint ref_vertex, ref_tri, coded_rec, wtab;
+    sss_gpu_layout layout;           /* the buffers and programs (borrows the mesh's file) */
+    sss_gpu_frame frame;             /* this frame's rows, weights and folded tables */
+    GLuint buf[SSS_GPU_BUFFERS];     /* the layout's buffers by SSS_GPU_BUF_*; q is the mesh's qbuf */
+    GLuint levels, sh_tab;           /* the frame's folded tables (binding 4 of each pass) */
+    GLuint prog[SSS_GPU_PASSES];     /* by SSS_GPU_PASS_*; 0 where the file has no such pass */
     float *cpu_q;       /* CPU path scratch */
     double cpu_ms;      /* the CPU path's last evaluation and upload, wall clock */
 } sss_scatter;

@@ -12,7 +12,8 @@
 
 #include "render_glsl.h"
 
-/* scatter.comp.glsl (scatter.c). Compute: q = w0·row_a + w1·row_b + w2·row_c
+/* scatter.comp.glsl (scatter.c; embedded in libsss and taken from there,
+ * sss_gpu_glsl in sss/gpu.h). Compute: q = w0·row_a + w1·row_b + w2·row_c
  * for every vertex and channel (Hao–Varshney 2004 §3.2 interpolation,
  * barycentric in the spherical Delaunay triangle). Prefixed at compile time
  * with "#define LLOYD8 1" for 8-bit storage (rows hold packed bytes;
@@ -23,7 +24,8 @@
  * buffer (binding 5, read by the second pass) and to q at the reference's
  * vertex (binding 6 lists them). */
 
-/* scatter_coded.comp.glsl (scatter.c). Compute, compressed forms (§4.1,
+/* scatter_coded.comp.glsl (scatter.c; embedded in libsss, sss_gpu_glsl).
+ * Compute, compressed forms (§4.1,
  * §4.3): for every coded vertex and channel, the blend of its three
  * reference values (REFS) plus the SH sum Σ_i table[c, i, code] · y_i(light),
  * clamped at 0.
