@@ -4,7 +4,8 @@
 # alone, with find_package(sss) and with pkg-config, against libsss.so and
 # libsss.a. Each of the four decodes q for a light from files baked by the
 # installed tools and must print what sss-stat prints, bit for bit; the
-# shared ones must load the installed libsss.so.MAJOR.MINOR.
+# shared ones must load the installed libsss.so.MAJOR.MINOR. A second
+# program links libsss_bake and libsss_render the same four ways.
 . "$(dirname "$0")/../integration/lib.sh"
 : "${SSS_BUILD:?}" "${SSS_SOURCE:?}" "${SSS_CC:?}" "${SSS_LIBDIR:?}" "${SSS_VERSION:?}"
 HERE=$(cd "$(dirname "$0")" && pwd)
@@ -46,6 +47,8 @@ echo "installed: $n headers, SONAME lib*.so.$SOVER"
 # --own-term baked: q holds the near terms, so sss_decode_all gives what
 # sss-stat --query reconstructs (a runtime own term is added by the reader)
 expect_ok "$P/bin/sss-genmesh" blob 2 "$OUTSIDE/b.ply"
+MESH=$(sed -n 's/.*: \([0-9]*\) vertices, \([0-9]*\) triangles.*/vertices \1 triangles \2/p' "$TMP/err")
+[ -n "$MESH" ] || fail "sss-genmesh did not say the mesh's size"
 for quant in refs float; do
   form=; [ $quant = float ] && form="--quant float" # compressed (references + SH) is the default
   expect_ok "$P/bin/sss-bake" "$OUTSIDE/b.ply" -o "$OUTSIDE/$quant.sss" --material skin1 --mm-per-unit 20 \
@@ -68,18 +71,30 @@ if grep -rlF -e "$SSS_SOURCE/" -e "$SSS_BUILD/" "$C" >"$TMP/leak"; then
   cat "$TMP/leak" >&2; fail "the consumer's build names the source or build tree"
 fi
 BINS="$C/build/consumer-shared $C/build/consumer-static $C/consumer-shared $C/consumer-static"
+LAYERS="$C/build/layers-shared $C/build/layers-static $C/layers-shared $C/layers-static"
 
-for b in $BINS; do
-  needed=$(readelf -d "$b" | sed -n 's/.*(NEEDED).*\[\(libsss[^]]*\)\].*/\1/p')
+# shared: needs exactly the libraries it uses, by SONAME, and loads them
+# from the prefix; static: needs none of them
+for b in $BINS $LAYERS; do
+  needed=$(readelf -d "$b" | sed -n 's/.*(NEEDED).*\[\(libsss[^]]*\)\].*/\1/p' | sort | tr '\n' ' ')
   case "$b" in
-    *-shared)
-      [ "$needed" = "libsss.so.$SOVER" ] || fail "$b should need libsss.so.$SOVER, needs '$needed'"
-      got=$(ldd "$b" | sed -n "s/^[[:space:]]*libsss.so.$SOVER => \([^ ]*\) .*/\1/p")
-      [ -n "$got" ] && [ "$(realpath "$got")" = "$(realpath "$LIB/libsss.so.$SSS_VERSION")" ] ||
-        fail "$b loads libsss.so.$SOVER from '$got', not from $LIB";;
-    *) [ -z "$needed" ] || fail "$b links libsss statically but needs '$needed'";;
+    */consumer-shared) want="libsss.so.$SOVER ";;
+    */layers-shared) want="libsss.so.$SOVER libsss_bake.so.$SOVER libsss_render.so.$SOVER ";; # sss_mesh_free: libsss
+    *) want=;;
   esac
+  [ "$needed" = "$want" ] || fail "$b should need '$want', needs '$needed'"
+  for so in $needed; do
+    got=$(ldd "$b" | sed -n "s/^[[:space:]]*$so => \([^ ]*\) .*/\1/p")
+    [ -n "$got" ] && [ "$(realpath "$got")" = "$(realpath "$LIB/${so%.$SOVER}.$SSS_VERSION")" ] ||
+      fail "$b loads $so from '$got', not from $LIB"
+  done
 done
+# libsss_bake and libsss_render with everything they pull in, both ways
+for b in $LAYERS; do
+  expect_ok "$b" "$OUTSIDE/b.ply"
+  contains "$TMP/out" "^$MESH exposure "
+done
+echo "libsss_bake + libsss_render: $MESH from 4 programs"
 
 # ---- each decodes what the tools decode -------------------------------------
 # sss-stat prints the float q as a double through cJSON, whose shortest form
