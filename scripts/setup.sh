@@ -14,6 +14,7 @@ PKGS=(build-essential cmake pkg-config git ca-certificates
       xvfb xauth xdotool clang libomp-dev
       libopenblas-dev openmpi-bin libopenmpi-dev  # sgemm reference benchmarks, mpirun -np K sss-bake (docs/benchmarks.md)
       gnuplot-nox jq  # gnuplot-nox, jq: tests/bench/accuracy_study.sh (plots, JSON fields)
+      python3-numpy  # the Python package sss (common/python, docs/python.md) and its test
       python3)  # the integration tests' JSON checks and byte edits of .sss files
 missing=()
 for p in "${PKGS[@]}"; do

@@ -33,7 +33,7 @@ endforeach()
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/sssConfig.cmake.in
   ${PROJECT_BINARY_DIR}/package/sssConfig.cmake INSTALL_DESTINATION ${SSS_CMAKE_DIR})
 # 0.x: a minor release may break the ABI, so only the same major.minor is
-# compatible (the SONAME rule of cmake/sss_library.cmake)
+# compatible (the SONAME rule of common/cmake/sss_library.cmake)
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/package/sssConfigVersion.cmake
   VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/package/sssConfig.cmake ${PROJECT_BINARY_DIR}/package/sssConfigVersion.cmake
@@ -51,3 +51,8 @@ foreach(pc sss sss-bake sss-render)
   configure_file(${CMAKE_CURRENT_LIST_DIR}/${pc}.pc.in ${PROJECT_BINARY_DIR}/package/${pc}.pc @ONLY)
   install(FILES ${PROJECT_BINARY_DIR}/package/${pc}.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 endforeach()
+
+# the Python package (docs/python.md): beside the libraries, three folders
+# below the libsss.so it loads (LIBDIR/python3/dist-packages/sss)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/common/python/sss
+  DESTINATION ${CMAKE_INSTALL_LIBDIR}/python3/dist-packages FILES_MATCHING PATTERN "*.py")

@@ -131,4 +131,21 @@ for file in refs float; do
     echo "$file.sss light $light: $lit of 4 vertices lit, q equal to sss-stat's; checksum $(printf '%s' "$sums" | head -1) from all 4 consumers"
   done
 done
+
+# The Python package from the prefix alone (docs/python.md §2): it finds
+# the installed libsss.so, not the build's, and decodes what sss-stat says.
+if [ -n "${SSS_PYTHON3:-}" ] && [ -z "${SSS_CONSUMER_FLAGS:-}" ]; then
+  PYDIR=$LIB/python3/dist-packages
+  [ -f "$PYDIR/sss/__init__.py" ] || fail "the Python package is not installed in $PYDIR"
+  want=$(sed -n 's/.*"reconstructed":\[\([^]]*\)\].*/\1/p' <("$P/bin/sss-stat" "$OUTSIDE/float.sss" --query 1 --light 0.3,0.5,0.8 --json) | tr ',' ' ')
+  expect_ok env -u SSS_LIBRARY PYTHONPATH="$PYDIR" "$SSS_PYTHON3" -c "
+import os, sss
+lib = os.path.realpath(sss.library_path())
+assert lib.startswith(os.path.realpath('$LIB') + '/'), lib
+with sss.open('$OUTSIDE/float.sss') as a:
+    print(lib, *(repr(float(x)) for x in a.decode([0.3, 0.5, 0.8])[1]))"
+  got=$(cut -d' ' -f2- "$TMP/out")
+  same_floats "$got" "$want" || fail "installed Python package: q = $got, sss-stat says $want"
+  echo "python: $(cat "$TMP/out")"
+fi
 echo "ok"
