@@ -177,6 +177,73 @@ static void gpuSceneSumMatchesCpuAllEffects(void **state)
     sss_scene_free(&sc);
 }
 
+/* The panel's switches (sss_scene_eval_set_kinds): each light kind alone,
+ * on the CPU and on the GPU, gives a non-zero term; the terms add up to the
+ * sum of all kinds; none switched on gives q = 0 on both paths. */
+static void sceneKindsSwitchEachEffect(void **state)
+{
+    (void)state;
+    sss_scene sc;
+    sss_bake_file f;
+    sss_error err = {{0}};
+    bake_scene(OBJ("\"skin1\"") "\"lights\":["
+               "{\"type\":\"directional\",\"direction\":[0,0,1],\"intensity\":2},"
+               "{\"type\":\"directional\",\"direction\":[1,0,0.3],\"moving\":true,\"colour\":[1,0.5,0.2]},"
+               "{\"type\":\"point\",\"position\":[0,0.5,2],\"moving\":true,\"intensity\":3},"
+               "{\"type\":\"environment\",\"probe\":\"sky.exr\",\"intensity\":0.3,\"moving\":true}]," BAKE,
+               &sc, &f);
+    sss_scene_eval *ev;
+    if (sss_scene_eval_create(&f, &sc, &ev, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_int_equal(sss_scene_eval_kinds(ev), SSS_SCENE_KINDS_ALL);
+    assert_int_equal(sss_scene_eval_kinds_present(ev), 0xFu);
+    sss_renderer *r;
+    if (sss_renderer_create(&f, &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+    sss_fx_gpu *g;
+    if (sss_fx_gpu_create(&f, ev, r, &g, &err) != SSS_OK) fail_msg("%s", err.msg);
+    const size_t n = (size_t)f.mesh.nv * f.channels;
+    float *all = malloc(n * sizeof *all), *one = malloc(n * sizeof *one), *gq = malloc(n * sizeof *gq);
+    double *sum = calloc(n, sizeof *sum);
+    assert_true(all && one && gq && sum);
+    const double angle = 0.9;
+    sss_scene_eval_frame(ev, angle, all);
+    for (unsigned k = 0; k < 4; k++) {
+        sss_scene_eval_set_kinds(ev, 1u << k);
+        sss_scene_eval_frame(ev, angle, one);
+        sss_fx_gpu_frame(g, angle);
+        sss_renderer_read_q(r, gq);
+        double mx = 0, worst = 0;
+        for (size_t i = 0; i < n; i++) {
+            sum[i] += one[i];
+            mx = fmax(mx, one[i]);
+            worst = fmax(worst, fabs((double)gq[i] - one[i]) / fmax(fabs((double)one[i]), 1e-20));
+        }
+        print_message("light kind %u alone: max q %.3g, GPU vs CPU worst relative %.3g\n", k, mx, worst);
+        assert_true(mx > 0);
+        assert_true(worst <= 1e-5);
+    }
+    double worst = 0;
+    for (size_t i = 0; i < n; i++) worst = fmax(worst, fabs(sum[i] - all[i]) / fmax(fabs((double)all[i]), 1e-20));
+    print_message("the four kinds alone add up to all of them within %.3g (relative)\n", worst);
+    assert_true(worst <= 1e-5);
+    sss_scene_eval_set_kinds(ev, 0);
+    sss_scene_eval_frame(ev, angle, one);
+    sss_fx_gpu_frame(g, angle);
+    sss_renderer_read_q(r, gq);
+    for (size_t i = 0; i < n; i++) {
+        assert_true(one[i] == 0.0f);
+        assert_true(gq[i] == 0.0f);
+    }
+    free(all);
+    free(one);
+    free(gq);
+    free(sum);
+    sss_fx_gpu_destroy(g);
+    sss_renderer_destroy(r);
+    sss_scene_eval_destroy(ev);
+    sss_file_free(&f);
+    sss_scene_free(&sc);
+}
+
 /* Without the direction set every term is the C evaluator's double sum,
  * term for term: bit-identical on an IEEE GPU (the bound stays 1e-5). A
  * grey material: one channel, coloured lights by their mean colour, the
@@ -230,6 +297,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gpuSceneSumMatchesCpuAllEffects),
+        cmocka_unit_test(sceneKindsSwitchEachEffect),
         cmocka_unit_test(gpuSceneSumMatchesCpuGrey),
         cmocka_unit_test(fileWithoutEnvOrShellsBuildsNeitherProgram),
     };

@@ -308,6 +308,17 @@ typedef struct sss_scene_light_frame {
 uint32_t sss_scene_eval_count(const sss_scene_eval *e);
 void sss_scene_eval_light(const sss_scene_eval *e, uint32_t i, double angle, sss_scene_light_frame *out);
 
+/* Which light kinds the sums take (sss_scene_eval_frame, sss_fx_gpu_frame):
+ * bit k on takes the lights of sss_scene_light_frame kind k (0 directional-
+ * exact, 1 direction-set, 2 point-shells, 3 environment-sh); a kind off
+ * contributes nothing, as if the scene had none of it. Default
+ * SSS_SCENE_KINDS_ALL. The viewer's panel switches them (docs/viewer.md). */
+#define SSS_SCENE_KINDS_ALL 0xFu
+void sss_scene_eval_set_kinds(sss_scene_eval *e, unsigned mask);
+unsigned sss_scene_eval_kinds(const sss_scene_eval *e);
+/* The kinds the scene's lights have (bit k: at least one light of kind k). */
+unsigned sss_scene_eval_kinds_present(const sss_scene_eval *e);
+
 /* Which paths the file needs, e.g. "directional-exact + environment-sh"
  * (owned by e). */
 const char *sss_scene_eval_paths(const sss_scene_eval *e);

@@ -165,6 +165,7 @@ void sss_fx_gpu_frame(sss_fx_gpu *g, double angle)
     for (uint32_t i = 0; i < sss_scene_eval_count(g->ev); i++) {
         sss_scene_light_frame lf;
         sss_scene_eval_light(g->ev, i, angle, &lf);
+        if (!(sss_scene_eval_kinds(g->ev) >> lf.kind & 1)) continue; /* switched off (the panel) */
         /* the pass of the light's kind, if the file has its data
          * (sss_scene_eval_create has refused a light it has none for) */
         const sss_effect *e = sss_effect_for_light(lf.kind);

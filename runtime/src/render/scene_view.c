@@ -38,6 +38,7 @@ struct sss_scene_eval {
     float *tmp, *env;
     char paths[160];
     sss_view_params view;  /* the near-term settings (sss_scene_eval_set_view) */
+    unsigned kinds;        /* light kinds summed (sss_scene_eval_set_kinds) */
     /* a file with OWNT: its near-term rows, the BVH of the bake's rays, the
      * rays' offset, and per-vertex scratch (V, g V) */
     int has_near;
@@ -89,6 +90,7 @@ sss_result sss_scene_eval_create(const sss_bake_file *f, const sss_scene *sc, ss
     sss_scene_eval *e = calloc(1, sizeof *e);
     if (!e) return sss_fail(err, SSS_ERR_NOMEM, "out of memory");
     e->f = f;
+    e->kinds = SSS_SCENE_KINDS_ALL;
     e->l = calloc(sc->nlights + 1, sizeof *e->l);
     e->tmp = malloc((size_t)f->mesh.nv * 3 * sizeof(float));
     e->env = malloc((size_t)f->mesh.nv * 3 * sizeof(float));
@@ -236,6 +238,20 @@ void sss_pass_cpu_add_row(const sss_bake_file *f, const double w[3], const float
         for (uint32_t c = 0; c < C; c++) q[(size_t)v * C + c] += (float)(w[c] * src[(size_t)v * C + c]);
 }
 
+void sss_scene_eval_set_kinds(sss_scene_eval *e, unsigned mask) { e->kinds = mask & SSS_SCENE_KINDS_ALL; }
+unsigned sss_scene_eval_kinds(const sss_scene_eval *e) { return e->kinds; }
+
+unsigned sss_scene_eval_kinds_present(const sss_scene_eval *e)
+{
+    unsigned m = 0;
+    for (uint32_t i = 0; i < e->n; i++) {
+        sss_scene_light_frame lf;
+        sss_scene_eval_light(e, i, 0.0, &lf);
+        m |= 1u << lf.kind;
+    }
+    return m & SSS_SCENE_KINDS_ALL;
+}
+
 /* The CPU path and the reference of the GPU path (fx_gpu.c): lights in
  * order, each term rounded to float and added to q by the pass of its kind
  * (effects/: the cpu hook of the pass table). */
@@ -249,6 +265,7 @@ void sss_scene_eval_frame(sss_scene_eval *e, double angle, float *q)
     for (uint32_t i = 0; i < e->n; i++) {
         sss_scene_light_frame lf;
         sss_scene_eval_light(e, i, angle, &lf);
+        if (!(e->kinds >> lf.kind & 1)) continue;
         const sss_effect *fx = sss_effect_for_light(lf.kind);
         if (fx && fx->cpu) fx->cpu(f, &lf, &scratch, q);
     }

@@ -20,6 +20,9 @@ typedef struct sss_app_options {
      * objects. Both sums hold the near terms of an OWNT file as p asks, so
      * the frame is drawn without adding them again. */
     const char *(*frame_gpu)(void *user, const sss_view_params *p, sss_renderer *r, double t);
+    /* Optional: the scene sum behind frame_q / frame_gpu, whose light kinds
+     * the panel switches on and off (sss_scene_eval_set_kinds). */
+    sss_scene_eval *scene_eval;
 } sss_app_options;
 
 /* Opens a window, runs the event loop until closed (Esc / Q / window close),

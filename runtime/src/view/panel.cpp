@@ -173,6 +173,20 @@ void effects_section(sss_view_params *p, const sss_panel_info *in)
         ImGui::TextWrapped("scene lights: %s", in->scene_desc ? in->scene_desc : "summed on the CPU");
         note("each light from the effect the file baked for it");
     }
+    if (in->scene_eval) {
+        // one switch per light kind the scene has (sss_scene_eval_set_kinds):
+        // both sums, CPU and GPU, leave a kind that is off out
+        static const char *const kKinds[4] = {"static suns (exact)", "moving sun (directions)",
+                                              "point lights (shells)", "environment (SH)"};
+        const unsigned present = sss_scene_eval_kinds_present(in->scene_eval);
+        unsigned on = sss_scene_eval_kinds(in->scene_eval);
+        for (unsigned k = 0; k < 4; k++) {
+            if (!(present >> k & 1)) continue;
+            bool b = (on >> k & 1) != 0;
+            if (ImGui::Checkbox(kKinds[k], &b)) on = b ? on | 1u << k : on & ~(1u << k);
+        }
+        sss_scene_eval_set_kinds(in->scene_eval, on);
+    }
 }
 
 // The material is baked into q: only the exit term is the viewer's.

@@ -37,6 +37,7 @@ typedef struct sss_panel_info {
     double exposure0;          /* the exposure the viewer started with: the slider's centre */
     sss_frame_times times;     /* the previous frame's, as sss_renderer_times gives them */
     double frame_ms;           /* the previous frame's wall-clock time */
+    sss_scene_eval *scene_eval; /* the scene's sum (NULL without one): its light kinds are switched here */
 } sss_panel_info;
 
 /* Creates the ImGui context on win (whose GL context is current) and installs
