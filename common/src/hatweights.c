@@ -154,6 +154,19 @@ static inline double rdpoly_eval(const rdpoly *t, double x)
     return p;
 }
 
+/* The tables need reach no farther than twice the profile's 1e-3 cutoff
+ * radius, where they still hold to 4e-6 and beyond which rdpoly_eval takes
+ * sss_rd itself: a mesh with a triangle kilometres long (a stray vertex)
+ * would otherwise stretch the 44 octaves so far up that the first one
+ * began metres from x_o and every near value read as the profile there.
+ * Meshes whose candidate triangles lie inside that radius keep the tables
+ * they had. */
+static double rdpoly_reach2(const sss_dipole *d, double x)
+{
+    const double R = sss_rd_radius(d, 1e-3, 1e6);
+    return R > 0.0 ? fmin(x, 4.0 * R * R) : x;
+}
+
 double sss_hat_rdpoly_check(const sss_dipole *d, double xmax, double x)
 {
     rdpoly t;
@@ -170,11 +183,24 @@ static const double RULE_A1 = (6.0 - R15) / 21.0, RULE_B1 = (9.0 + 2.0 * R15) / 
 static const double RULE_A2 = (6.0 + R15) / 21.0, RULE_B2 = (9.0 - 2.0 * R15) / 21.0;
 static const double RULE_W0 = 9.0 / 40.0, RULE_W1 = (155.0 - R15) / 1200.0, RULE_W2 = (155.0 + R15) / 1200.0;
 
-#define HAT_MAX_DEPTH 30
+/* A piece is split into four similar ones (edge midpoints), which keeps its
+ * shape; a sliver — area below HAT_SLIVER times its diameter squared — is
+ * instead cut in two across its longest edge, so that the cuts go across
+ * its length and not also across its width: four-way splits of a needle
+ * 10^9 times longer than wide would need ~2^d pieces across the width at
+ * depth d near x_o, bisection a few per level (docs/robustness.md,
+ * "Degenerate triangles"). Depth counts area halvings (two per four-way
+ * split); HAT_MAX_HALVINGS is 2^-30 of the triangle's diameter for similar
+ * pieces. Triangles no thinner than HAT_SLIVER get exactly the four-way
+ * pieces, areas and diameters they always had (both are halved and
+ * quartered exactly in binary). */
+#define HAT_MAX_HALVINGS 60
+#define HAT_SLIVER 0.05
 
 typedef struct piece {
     double b[3][3]; /* barycentric coordinates (of the whole triangle) of the piece's corners */
-    int depth;
+    double h, a;    /* the piece's diameter (longest edge) and area */
+    int depth;      /* area halvings from the whole triangle */
 } piece;
 
 static void bary_pos(const double p[3][3], const double b[3], double x[3])
@@ -202,7 +228,7 @@ void sss_hat_triangle(const sss_dipole *dip, uint32_t C, const double p[3][3], c
         far2 = fmax(far2, sss_dot3(d, d));
     }
     rdpoly tab[SSS_MAX_CHANNELS];
-    for (uint32_t c = 0; c < C; c++) rdpoly_init(&tab[c], &dip[c], 2.0 * far2 + 1e-300);
+    for (uint32_t c = 0; c < C; c++) rdpoly_init(&tab[c], &dip[c], rdpoly_reach2(&dip[c], 2.0 * far2) + 1e-300);
     hat_triangle(tab, C, scales_of(dip, C), p, xo, out);
 }
 
@@ -219,15 +245,17 @@ static void hat_triangle(const rdpoly *tab, uint32_t C, hat_scales sc, const dou
     for (int k = 0; k < 3; k++) h = fmax(h, sqrt(sss_dot3(e[k], e[k])));
     /* Depth-first over the pieces, children in a fixed order: the sum is
      * taken in the same order on every run. The stack holds at most three
-     * siblings per level plus the piece being split. */
-    piece stack[3 * HAT_MAX_DEPTH + 4];
+     * siblings per four-way level (two halvings) and one per bisection,
+     * plus the piece being split. */
+    piece stack[3 * HAT_MAX_HALVINGS / 2 + 4];
     int top = 0;
     memset(&stack[0], 0, sizeof stack[0]);
     for (int k = 0; k < 3; k++) stack[0].b[k][k] = 1.0;
+    stack[0].h = h;
+    stack[0].a = area;
     top = 1;
     while (top > 0) {
         const piece pc = stack[--top];
-        const double scale = ldexp(1.0, -pc.depth); /* midpoint subdivision: similar pieces */
         double x[3][3], cen[3] = {0, 0, 0};
         for (int m = 0; m < 3; m++) {
             bary_pos(p, pc.b[m], x[m]);
@@ -236,12 +264,37 @@ static void hat_triangle(const rdpoly *tab, uint32_t C, hat_scales sc, const dou
         double rad = 0.0;
         for (int m = 0; m < 3; m++) rad = fmax(rad, dist3(x[m], cen));
         const double dlb = fmax(0.0, dist3(cen, xo) - rad);
+        const int sliver = pc.a < HAT_SLIVER * pc.h * pc.h;
         int split = 0;
-        for (uint32_t c = 0; c < C && !split && pc.depth < HAT_MAX_DEPTH; c++) {
+        for (uint32_t c = 0; c < C && !split && pc.depth + 2 - sliver <= HAT_MAX_HALVINGS; c++) {
             const double ldec = HAT_DECAY_LENGTHS * sc.lexp[c];
-            if (!(h * scale > SSS_HAT_KAPPA_LEAF * fmax(sc.z[c], fmin(dlb, ldec)))) continue;
-            split = dlb <= ldec ||
-                    rdpoly_eval(&tab[c], dlb * dlb) * area * scale * scale * sc.inv_total[c] >= HAT_PIECE_SHARE;
+            if (!(pc.h > SSS_HAT_KAPPA_LEAF * fmax(sc.z[c], fmin(dlb, ldec)))) continue;
+            split = dlb <= ldec || rdpoly_eval(&tab[c], dlb * dlb) * pc.a * sc.inv_total[c] >= HAT_PIECE_SHARE;
+        }
+        if (split && sliver) {
+            int m = 0; /* the corner opposite the longest edge */
+            double best = -1.0;
+            for (int k = 0; k < 3; k++) {
+                const double l = dist3(x[(k + 1) % 3], x[(k + 2) % 3]);
+                if (l > best) best = l, m = k;
+            }
+            const int i = (m + 1) % 3, j = (m + 2) % 3;
+            double mid[3];
+            for (int k = 0; k < 3; k++) mid[k] = 0.5 * (pc.b[i][k] + pc.b[j][k]);
+            piece ch[2];
+            for (int n = 0; n < 2; n++) {
+                memcpy(ch[n].b[0], pc.b[m], sizeof ch[n].b[0]);
+                memcpy(ch[n].b[1], n ? mid : pc.b[i], sizeof ch[n].b[1]);
+                memcpy(ch[n].b[2], n ? pc.b[j] : mid, sizeof ch[n].b[2]);
+                double y[3][3];
+                for (int k = 0; k < 3; k++) bary_pos(p, ch[n].b[k], y[k]);
+                ch[n].h = fmax(dist3(y[0], y[1]), fmax(dist3(y[1], y[2]), dist3(y[2], y[0])));
+                ch[n].a = 0.5 * pc.a;
+                ch[n].depth = pc.depth + 1;
+            }
+            stack[top++] = ch[1];
+            stack[top++] = ch[0];
+            continue;
         }
         if (split) {
             double mid[3][3]; /* mid[m]: the midpoint of the edge opposite corner m */
@@ -255,12 +308,14 @@ static void hat_triangle(const rdpoly *tab, uint32_t C, hat_scales sc, const dou
             }
             memcpy(ch[3].b, mid, sizeof mid); /* the middle piece */
             for (int m = 3; m >= 0; m--) {
-                ch[m].depth = pc.depth + 1;
+                ch[m].h = 0.5 * pc.h;
+                ch[m].a = 0.25 * pc.a;
+                ch[m].depth = pc.depth + 2;
                 stack[top++] = ch[m];
             }
             continue;
         }
-        const double ap = area * scale * scale; /* the piece's area (the tables hold R_d / π) */
+        const double ap = pc.a; /* the piece's area (the tables hold R_d / π) */
         static const int NPT = 7;
         for (int q = 0; q < NPT; q++) {
             double beta[3], w;
@@ -685,7 +740,7 @@ static sss_result corrections(const sss_mesh *mesh, double s, const sss_dipole *
     rdpoly tab[SSS_MAX_CHANNELS];
     for (uint32_t c = 0; c < C; c++) {
         const double reach = hmax * (1.0 / SSS_HAT_KAPPA + 1.0);
-        rdpoly_init(&tab[c], &dip[c], reach * reach + 1e-300);
+        rdpoly_init(&tab[c], &dip[c], rdpoly_reach2(&dip[c], reach * reach) + 1e-300);
     }
 #ifdef _OPENMP
     const int nth = omp_get_max_threads();

@@ -100,6 +100,34 @@ static void uniform_reference(const sss_dipole *d, uint32_t C, const double p[3]
             }
 }
 
+/* A needle 10^10 mm long and 2 mm wide with x_o at its wide end (a mesh
+ * with one vertex sent far away): the pieces near x_o must resolve the
+ * profile along the length without splitting the width 2^30 times over
+ * (docs/robustness.md, "Degenerate triangles"). Its integral is the
+ * strip's near x_o, by a midpoint rule in the plane 10 µm fine; the far
+ * corner's hat weight, ~ x/L, is below 1e-8 of it. Before slivers were
+ * bisected this call did not finish in hours. */
+static void needleTriangleIntegratesLikeItsStrip(void **state)
+{
+    (void)state;
+    sss_dipole d[3];
+    preset_dipoles("skin1", d);
+    const double L = 1e10, w = 2.0, X = 60.0, dx = 0.01;
+    const double p[3][3] = {{0, 0, 0}, {L, 0, 0}, {0, w, 0}}, xo[3] = {0.5, 0.7, 0};
+    double a[9];
+    sss_hat_triangle(d, 3, p, xo, a);
+    for (int c = 0; c < 3; c++) {
+        double ref = 0.0;
+        for (double x = 0.5 * dx; x < X; x += dx)
+            for (double y = 0.5 * dx; y < w * (1.0 - x / L); y += dx)
+                ref += sss_rd(&d[c], hypot(x - xo[0], y - xo[1])) / SSS_PI * dx * dx;
+        const double got = a[c] + a[3 + c] + a[6 + c];
+        print_message("needle, channel %d: %.6g against the strip's %.6g\n", c, got, ref);
+        assert_true(isfinite(got) && fabs(got / ref - 1.0) <= 1e-3);
+        assert_true(a[3 + c] >= 0.0 && a[3 + c] <= 1e-8 * ref);
+    }
+}
+
 /* The adaptive rule against a uniform subdivision 4^7 pieces deep: x_o at a
  * corner (the receiver's own triangles), just off a triangle's plane
  * (curved surfaces), and farther away; skin1 (z_r 0.67–1.3 mm) on
@@ -233,6 +261,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(profileTablesMatchTheFormula),
         cmocka_unit_test(triangleQuadratureMatchesFineSubdivision),
+        cmocka_unit_test(needleTriangleIntegratesLikeItsStrip),
         cmocka_unit_test(restrictedRowsEqualFullRows),
         cmocka_unit_test(triangleSoupIntegratesLikeWeldedSurface),
     };
