@@ -196,9 +196,8 @@ void sss_decode_vector_sample(const sss_bake_file *f, uint32_t j, uint32_t v, ui
 {
     out[0] = out[1] = out[2] = 0.0f;
     if (!f->qvec || j >= f->dirs.n || v >= f->mesh.nv || c >= f->channels) return;
-    const size_t plane = (size_t)f->dirs.n * f->mesh.nv * f->channels;
     const size_t i = ((size_t)j * f->mesh.nv + v) * f->channels + c;
-    for (int a = 0; a < 3; a++) out[a] = f->qvec[(size_t)a * plane + i];
+    for (int a = 0; a < 3; a++) out[a] = f->qvec[3 * i + (size_t)a];
 }
 
 void sss_decode_vector_range(const sss_bake_file *f, const double light[3], sss_interp interp, uint32_t first,
@@ -220,13 +219,12 @@ void sss_decode_vector_range(const sss_bake_file *f, const double light[3], sss_
     if (interp == SSS_INTERP_NEAREST4) sss_dirset_nearest4(&f->dirs, d, idx, w);
     else sss_dirset_lookup(&f->dirs, d, idx, w);
     const int nt = interp == SSS_INTERP_NEAREST4 ? 4 : 3;
-    const size_t ch = f->channels, row = (size_t)f->mesh.nv * ch, plane = (size_t)f->dirs.n * row;
-    const size_t off = (size_t)first * ch;
-    const float *r[3][4];
+    const size_t ch = f->channels, row = 3 * (size_t)f->mesh.nv * ch, off = 3 * (size_t)first * ch;
+    const float *r[4];
     float fw[4];
     for (int t = 0; t < nt; t++) {
         fw[t] = (float)w[t];
-        for (int a = 0; a < 3; a++) r[a][t] = f->qvec + (size_t)a * plane + (size_t)idx[t] * row + off;
+        r[t] = f->qvec + (size_t)idx[t] * row + off;
     }
     const float dx = (float)d[0], dy = (float)d[1], dz = (float)d[2];
     const ptrdiff_t nval = (ptrdiff_t)((size_t)count * ch);
@@ -235,11 +233,12 @@ void sss_decode_vector_range(const sss_bake_file *f, const double light[3], sss_
 #endif
     for (ptrdiff_t i = 0; i < nval; i++) {
         float Q[3];
-        for (int a = 0; a < 3; a++) {
-            /* q's float expression (decode_span, decode_nearest4) per component */
-            float x = fw[0] * r[a][0][i] + fw[1] * r[a][1][i] + fw[2] * r[a][2][i];
-            if (nt == 4) x = fw[0] * r[a][0][i] + fw[1] * r[a][1][i] + fw[2] * r[a][2][i] + fw[3] * r[a][3][i];
-            Q[a] = x;
+        for (size_t a = 0; a < 3; a++) {
+            /* q's float expression (decode_span, decode_nearest4) per
+             * component; the GPU's (scatter.comp.glsl, VECTOR) */
+            const size_t k = 3 * (size_t)i + a;
+            Q[a] = nt == 4 ? fw[0] * r[0][k] + fw[1] * r[1][k] + fw[2] * r[2][k] + fw[3] * r[3][k]
+                           : fw[0] * r[0][k] + fw[1] * r[1][k] + fw[2] * r[2][k];
         }
         /* q ≥ 0; Q̃·ω can fall below only between samples, or by rounding */
         const float q = Q[0] * dx + Q[1] * dy + Q[2] * dz;

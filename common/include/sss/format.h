@@ -172,9 +172,10 @@ typedef struct sss_bake_file {
     sss_refcode ref;          /* SSS_QUANT_REFS */
     /* (1.7) Section QVEC, or NULL: the vector integrals Q(x_v, ω_j) of
      * Hao–Varshney 2004 §3.1 (q_j = Q_j·ω_j), 3 * n * nv * channels values,
-     * component-major: element (a, j, v, c) at ((a * n + j) * nv + v) *
-     * channels + c, each plane laid out as q; plain bakes with q as float or
-     * lloyd8 only (docs/format.md §5.19). Owned. */
+     * direction-major as q with the three components of each value
+     * together: component a of (j, v, c) at ((j * nv + v) * channels + c) *
+     * 3 + a, so one direction's row is contiguous, as q's is; plain bakes
+     * with q as float or lloyd8 only (docs/format.md §5.19). Owned. */
     float *qvec;
     char *params_json;        /* bake parameters as JSON text (provenance), NUL-terminated, owned */
     sss_effects fx;           /* (1.2) effect set of a scene bake; mask 0 for a plain bake */

@@ -3,10 +3,10 @@
  * sample, vertex and channel the three components of
  *   Q = Σ_i F_t(η, n_i·ω_j) (R_d/π) μ_i V(x_i, ω_j) n_i ΔA(x_i),
  * which a reader interpolates between samples and dots with the actual
- * light direction (§3.2). Stored as three planes, component-major: plane a
- * is laid out as QFLT's rows (direction-major), so that plane a of one
- * direction is contiguous, as q's row is, and every q reader's row loop
- * serves each plane. Next to the q rows (QFLT or QL8) of a plain bake. */
+ * light direction (§3.2). Laid out as QFLT's rows (direction-major) with
+ * the three components of each value together, so that one direction's
+ * row is contiguous and a GPU binds three rows as it binds q's. Next to
+ * the q rows (QFLT or QL8) of a plain bake. */
 #include <stdlib.h>
 
 #include "sections.h"

@@ -250,7 +250,7 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
      * neighbourhood rows are counted before they are allocated. */
     uint64_t avail = sss_memory_available(o.memory_limit);
     uint64_t fixed = (uint64_t)mesh->nv * o.n_dirs * (4u + 4u * C + (o.quant == SSS_QUANT_LLOYD8 ? C : 0u) +
-                                                      (o.vector ? 4u + 12u * C : 0u)); /* Q and one source plane */
+                                                      (o.vector ? 4u + 16u * C : 0u)); /* Q, one source and one component plane */
     const size_t nq = (size_t)o.n_dirs * mesh->nv * C;
     double t;
     st.gather = o.gather = sss_bake_choose_gather(&o);

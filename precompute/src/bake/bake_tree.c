@@ -124,15 +124,24 @@ static int add_hat(const sss_weights *hat, const uint32_t *inv, const float *Gm,
     return !failed;
 }
 
+/* Component a of Q from one plane in q's layout, values [i0, i1) (the
+ * file keeps the three components of a value together, sss/format.h). */
+static void interleave(const float *P, size_t i0, size_t i1, int a, float *qvec)
+{
+#pragma omp parallel for schedule(static)
+    for (int64_t i = (int64_t)i0; i < (int64_t)i1; i++) qvec[3 * (size_t)i + (size_t)a] = P[i];
+}
+
 sss_result sss_bake_vector_direct(const sss_mesh *mesh, const sss_dirset *ds, const sss_weights *nb,
                                   const sss_weights *hat, const float *G, float **qvec, sss_error *err)
 {
     const uint32_t nv = mesh->nv, D = ds->n;
     const size_t nq = (size_t)D * nv * nb->channels;
-    float *H = malloc((size_t)nv * D * sizeof *H + 1);
+    float *H = malloc((size_t)nv * D * sizeof *H + 1), *P = malloc(nq * sizeof *P + 1);
     *qvec = malloc(3 * nq * sizeof **qvec + 1);
-    if (!H || !*qvec) {
+    if (!H || !P || !*qvec) {
         free(H);
+        free(P);
         free(*qvec);
         *qvec = NULL;
         return sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u vector integrals", nv, D);
@@ -140,10 +149,12 @@ sss_result sss_bake_vector_direct(const sss_mesh *mesh, const sss_dirset *ds, co
     sss_progress_begin("vector integrals", 3 * nb->start[nb->nrows]);
     for (int a = 0; a < 3; a++) {
         sss_transfer_axis(mesh, ds->dir, D, NULL, 0, nv, G, a, H);
-        sss_integrate_hat_signed(nb, hat, H, D, *qvec + a * nq);
+        sss_integrate_hat_signed(nb, hat, H, D, P);
+        interleave(P, 0, nq, a, *qvec);
     }
     sss_progress_end();
     free(H);
+    free(P);
     return SSS_OK;
 }
 
@@ -165,7 +176,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     sss_result r = SSS_OK;
     sss_gather_tree *tree = NULL;
     sss_vis *vis = NULL;
-    float *part = NULL, *full = NULL, *Gq = NULL; /* Gq: q's transfer rows while Q's are loaded */
+    float *part = NULL, *full = NULL, *Gq = NULL, *P = NULL; /* Gq: q's transfer rows while Q's are loaded; P: one component */
     uint32_t *verts = NULL, *rows = NULL, *bsplit = NULL, *inv = NULL;
     uint64_t *offs = NULL, *lens = NULL;
 
@@ -222,7 +233,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
      * (measured: the 437K dragon's peak RSS 2,153 MiB against 2,091 without
      * it). Chunks do not shrink those phases. */
     /* with Q (options.vector, never under MPI): q and Q's three planes */
-    const uint64_t qbytes = holds_q ? (uint64_t)nv * D * C * sizeof(float) * (o->vector ? 4u : 1u) : 0;
+    const uint64_t qbytes = holds_q ? (uint64_t)nv * D * C * sizeof(float) * (o->vector ? 5u : 1u) : 0;
     /* the bake's copy of the mesh and the caller's (sss-bake's import) */
     const uint64_t mesh_bytes = 2 * ((uint64_t)nv * 32 + (uint64_t)mesh->nf * 12);
     const uint64_t ws = sss_gather_workspace_rows_bytes(rows_max, D, C, &p, threads);
@@ -290,7 +301,8 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
         if (o->vector) {
             out->qvec = malloc(3 * (size_t)nv * D * C * sizeof(float) + 1);
             Gq = malloc((size_t)nv * wmax * sizeof(float) + 1);
-            if (!out->qvec || !Gq) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u x %u vector integrals", nv, D, C); goto done; }
+            P = malloc((size_t)nv * D * C * sizeof(float) + 1);
+            if (!out->qvec || !Gq || !P) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u x %u vector integrals", nv, D, C); goto done; }
         }
     }
     if (mpi) {
@@ -412,12 +424,12 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
             if (nch > 1) snprintf(lab, sizeof lab, "vector integrals %u/%u", c + 1, nch);
             sss_progress_begin(nch > 1 ? lab : "vector integrals", 3 * total);
             for (int a = 0; a < 3 && r == SSS_OK; a++) {
-                float *plane = out->qvec + (size_t)a * nv * D * C;
                 sss_transfer_axis(mesh, out->dirs.dir + 3 * (size_t)j0, Dc, order, 0, nv, Gq, a, Gm);
                 r = sss_gather_tree_moments(tree, mesh, err);
-                if (r == SSS_OK) r = sss_gather_run_chunk(tree, mesh, dip, C, R, b0, b1, j0, D, plane, 1, &g, err);
-                if (r == SSS_OK && inv && !add_hat(hat, inv, Gm, nv, C, j0, Dc, 0, plane))
+                if (r == SSS_OK) r = sss_gather_run_chunk(tree, mesh, dip, C, R, b0, b1, j0, D, P, 1, &g, err);
+                if (r == SSS_OK && inv && !add_hat(hat, inv, Gm, nv, C, j0, Dc, 0, P))
                     r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the hat-function corrections");
+                if (r == SSS_OK) interleave(P, (size_t)j0 * nv * C, (size_t)(j0 + Dc) * nv * C, a, out->qvec);
             }
             sss_progress_end();
             sss_gather_tree_set_signed(tree, 0);
@@ -458,6 +470,7 @@ done:
     free(part);
     free(full);
     free(Gq);
+    free(P);
     free(verts);
     free(inv);
     free(rows);

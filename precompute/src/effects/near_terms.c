@@ -68,12 +68,12 @@ static sss_result split(const sss_mesh *mesh, const sss_material *mat, const sss
                 const double c = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
                 hv[v] = gv[v] != 0.0f && c > 0.0 ? (float)((double)gv[v] / c * n[a]) : 0.0f;
             }
-            float *Qj = qvec + ((size_t)a * D + j) * nv * C;
+            float *Qj = qvec + 3 * (size_t)j * nv * C;
 #pragma omp parallel for schedule(static)
             for (int64_t v = 0; v < (int64_t)nv; v++) {
                 float s[3];
                 sss_near_sum(&nr, (uint32_t)v, hv, s);
-                for (uint32_t c = 0; c < C; c++) Qj[(size_t)v * C + c] -= s[c];
+                for (uint32_t c = 0; c < C; c++) Qj[3 * ((size_t)v * C + c) + (size_t)a] -= s[c];
             }
         }
         if (sss_cancelled(o->cancel))
