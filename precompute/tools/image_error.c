@@ -166,6 +166,7 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     g.quant = SSS_QUANT_FLOAT;
     g.dirs.n = 0;
     g.q = NULL;
+    g.qvec = NULL; /* Q too (section QVEC): both images' q is uploaded */
     /* with OWNT and the viewer's visibility the renderer adds the near terms
      * itself (its shadow map); otherwise q is supplied whole */
     const int map_vis = f->near_terms && o->near_mode != 1; /* the renderer adds the near terms */
