@@ -449,6 +449,13 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
             cJSON_AddNumberToObject(im, "rms_median", ie.rms_median);
             cJSON_AddNumberToObject(im, "rms_max_covered", ie.rms_max_covered);
             cJSON_AddNumberToObject(im, "coverage_mean", ie.coverage_mean);
+            if (ie.vector) { /* section QVEC: the file's q rows drawn too (docs/accuracy.md, "Vector integral Q") */
+                cJSON *sv = cJSON_AddObjectToObject(im, "scalar_q");
+                cJSON_AddNumberToObject(sv, "rms_max", ie.scalar_rms_max);
+                cJSON_AddNumberToObject(sv, "rms_mean", ie.scalar_rms_mean);
+                cJSON_AddNumberToObject(sv, "q_vs_Q_rms_max", ie.q_vs_Q_rms_max);
+                cJSON_AddNumberToObject(sv, "q_vs_Q_rms_mean", ie.q_vs_Q_rms_mean);
+            }
             cJSON_AddStringToObject(im, "lights", a->backlit ? "backlit: within 30 degrees of opposite the camera" : "random");
             /* files with OWNT: where the near terms' visibility came from */
             if (f->near_terms && a->near_mode == 1) cJSON_AddStringToObject(im, "near_visibility", "rays (CPU, Embree)");
@@ -542,6 +549,10 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
                    " (worst view %u; over its covered pixels %.4g; %s)\n", ie.views, a->backlit ? "back-lit " : "",
                    ie.width, ie.height, ie.exposure, ie.rms_max, ie.rms_mean, ie.rms_median, ie.worst,
                    ie.rms_max_covered, ie.gl_renderer);
+            if (ie.vector)
+                printf("  drawn from Q (section QVEC); its q rows: image RMS max %.4g, mean %.4g; q against Q: max "
+                       "%.4g, mean %.4g\n", ie.scalar_rms_max, ie.scalar_rms_mean, ie.q_vs_Q_rms_max,
+                       ie.q_vs_Q_rms_mean);
             if (a->images_dir)
                 printf("  worst view's images in %s: exact, approx, error (x %.4g) as .png and .exr\n", a->images_dir,
                        ie.error_map_gain);
