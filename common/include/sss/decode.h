@@ -60,7 +60,7 @@ void sss_decode_vertex(const sss_bake_file *f, uint32_t v, const double light[3]
 /* ---- the vector integral Q (format 1.7, section QVEC) --------------------
  * Hao–Varshney 2004 §3.2: Q is interpolated between the direction samples
  * and dotted with the actual light direction ω, q̃ = Q̃(ω)·ω; at a sample
- * Q_j·ω_j = q_j (docs/physics.md §11). The interpolation weights are q's
+ * Q_j·ω_j = q_j (docs/physics.md §10). The interpolation weights are q's
  * (the spherical triangle, or the four nearest samples), each component
  * formed as the float path forms q (float weights and products). */
 
