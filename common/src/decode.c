@@ -188,6 +188,64 @@ void sss_decode_range(const sss_bake_file *f, const double light[3], uint32_t fi
     decode_span(f, light, SSS_INTERP_TRIANGLE, first, count, out);
 }
 
+/* ---- the vector integral Q (format 1.7, Hao–Varshney 2004 §3.2) --------- */
+
+int sss_decode_has_vector(const sss_bake_file *f) { return f && f->qvec != NULL; }
+
+void sss_decode_vector_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t c, float out[3])
+{
+    out[0] = out[1] = out[2] = 0.0f;
+    if (!f->qvec || j >= f->dirs.n || v >= f->mesh.nv || c >= f->channels) return;
+    const size_t i = ((size_t)j * f->mesh.nv + v) * f->channels + c;
+    for (int a = 0; a < 3; a++) out[a] = f->qvec[3 * i + (size_t)a];
+}
+
+void sss_decode_vector_range(const sss_bake_file *f, const double light[3], sss_interp interp, uint32_t first,
+                             uint32_t count, float *out)
+{
+    if (first > f->mesh.nv || count > f->mesh.nv - first) return;
+    if (interp == SSS_INTERP_NEAREST4 && (first != 0 || count != f->mesh.nv)) return;
+    const double len = sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
+    if (!f->qvec || f->dirs.n == 0 || !(len > 0.0) || !isfinite(len)) {
+        decode_span(f, light, interp, first, count, out); /* q's rows, or zeros without a direction */
+        return;
+    }
+    const double d[3] = {light[0] / len, light[1] / len, light[2] / len};
+    /* the samples and weights q's float path takes: three of the spherical
+     * triangle, or the paper's four nearest (a zero fourth weight for the
+     * triangle) */
+    uint32_t idx[4] = {0, 0, 0, 0};
+    double w[4] = {0, 0, 0, 0};
+    if (interp == SSS_INTERP_NEAREST4) sss_dirset_nearest4(&f->dirs, d, idx, w);
+    else sss_dirset_lookup(&f->dirs, d, idx, w);
+    const int nt = interp == SSS_INTERP_NEAREST4 ? 4 : 3;
+    const size_t ch = f->channels, row = 3 * (size_t)f->mesh.nv * ch, off = 3 * (size_t)first * ch;
+    const float *r[4];
+    float fw[4];
+    for (int t = 0; t < nt; t++) {
+        fw[t] = (float)w[t];
+        r[t] = f->qvec + (size_t)idx[t] * row + off;
+    }
+    const float dx = (float)d[0], dy = (float)d[1], dz = (float)d[2];
+    const ptrdiff_t nval = (ptrdiff_t)((size_t)count * ch);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (nval >= PAR_MIN)
+#endif
+    for (ptrdiff_t i = 0; i < nval; i++) {
+        float Q[3];
+        for (size_t a = 0; a < 3; a++) {
+            /* q's float expression (decode_span, decode_nearest4) per
+             * component; the GPU's (scatter.comp.glsl, VECTOR) */
+            const size_t k = 3 * (size_t)i + a;
+            Q[a] = nt == 4 ? fw[0] * r[0][k] + fw[1] * r[1][k] + fw[2] * r[2][k] + fw[3] * r[3][k]
+                           : fw[0] * r[0][k] + fw[1] * r[1][k] + fw[2] * r[2][k];
+        }
+        /* q ≥ 0; Q̃·ω can fall below only between samples, or by rounding */
+        const float q = Q[0] * dx + Q[1] * dy + Q[2] * dz;
+        out[i] = q > 0.0f ? q : 0.0f;
+    }
+}
+
 /* ---- compressed forms (format 1.1, Hao–Varshney 2004 §4) -------------- *
  * SH part (§4.1): q̃ = Σ_i c_i y_i(ω). Per call the SH basis is evaluated
  * once and folded into the dequantisation tables, T_c,i[x] = table_c,i[x] ·

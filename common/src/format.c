@@ -415,13 +415,14 @@ double sss_file_integral_bytes_per_vertex(const sss_bake_file *f)
         return (double)s.scattering / f->mesh.nv;
     }
     const double values = (double)f->dirs.n * f->channels;
-    if (f->quant == SSS_QUANT_LLOYD8) return values + 256.0 * sizeof(float) * f->channels / f->mesh.nv;
+    const double qvec = f->qvec ? 3.0 * sizeof(float) * values : 0.0; /* section QVEC (§5.19) */
+    if (f->quant == SSS_QUANT_LLOYD8) return values + 256.0 * sizeof(float) * f->channels / f->mesh.nv + qvec;
     if (f->quant == SSS_QUANT_SH || f->quant == SSS_QUANT_REFS) {
         sss_storage s;
         sss_file_storage(f, &s);
         return (double)s.scattering / f->mesh.nv;
     }
-    return values * sizeof(float);
+    return values * sizeof(float) + qvec;
 }
 
 void sss_file_storage(const sss_bake_file *f, sss_storage *s)

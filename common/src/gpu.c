@@ -64,7 +64,8 @@ static void set_program(sss_gpu_program *p, const char *name, uint32_t count)
     p->groups = (uint32_t)(((uint64_t)count + SSS_GPU_GROUP_SIZE - 1) / SSS_GPU_GROUP_SIZE);
 }
 
-sss_result sss_gpu_layout_create(const sss_bake_file *f, uint32_t row_alignment, sss_gpu_layout *L, sss_error *err)
+static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, int vector, sss_gpu_layout *L,
+                                sss_error *err)
 {
     memset(L, 0, sizeof *L);
     const uint32_t nv = f->mesh.nv, C = f->channels;
@@ -114,16 +115,21 @@ sss_result sss_gpu_layout_create(const sss_bake_file *f, uint32_t row_alignment,
     if (!sh) {
         L->ndirs = f->dirs.n;
         L->row_n = refs ? f->ref.nref : nv;
-        const uint64_t row_bytes = (uint64_t)L->row_n * C * (l8 || refs ? 1 : 4);
+        /* Q's rows instead (format 1.7: never next to the compressed forms) */
+        L->vector = vector && f->qvec && !refs;
+        const uint64_t row_bytes = L->vector ? (uint64_t)nv * C * 12u : (uint64_t)L->row_n * C * (l8 || refs ? 1 : 4);
         const uint64_t stride = (row_bytes + align - 1) / align * align;
         L->row_range = (row_bytes + 3) / 4 * 4;
-        const void *src = refs ? (const void *)f->ref.idx : l8 ? (const void *)f->qidx : (const void *)f->q;
+        const void *src = L->vector ? (const void *)f->qvec
+                          : refs  ? (const void *)f->ref.idx
+                          : l8    ? (const void *)f->qidx
+                                  : (const void *)f->q;
         set_buffer(&L->buffer[SSS_GPU_BUF_ROWS], "rows", 0, 1u << SSS_GPU_PASS_ROWS, SSS_GPU_UPLOAD, src, L->ndirs,
                    row_bytes, stride);
         set_program(&L->pass[SSS_GPU_PASS_ROWS], "scatter", L->row_n * C);
         snprintf(L->pass[SSS_GPU_PASS_ROWS].defines, sizeof L->pass[0].defines, "%s",
-                 refs ? "#define LLOYD8 1\n#define REFS 1\n" : l8 ? "#define LLOYD8 1\n" : "");
-        if (l8 || refs) L->levels_bytes = (uint64_t)3 * C * 256 * sizeof(float);
+                 L->vector ? "#define VECTOR 1\n" : refs ? "#define LLOYD8 1\n#define REFS 1\n" : l8 ? "#define LLOYD8 1\n" : "");
+        if ((l8 || refs) && !L->vector) L->levels_bytes = (uint64_t)3 * C * 256 * sizeof(float);
     }
     if (sh || refs) {
         set_program(&L->pass[SSS_GPU_PASS_CODED], "scatter_coded", L->ncoded);
@@ -189,6 +195,17 @@ oom:
     return sss_fail(err, SSS_ERR_NOMEM, "gpu layout: out of memory");
 }
 
+sss_result sss_gpu_layout_create(const sss_bake_file *f, uint32_t row_alignment, sss_gpu_layout *L, sss_error *err)
+{
+    return layout_create(f, row_alignment, 1, L, err);
+}
+
+sss_result sss_gpu_layout_create_scalar(const sss_bake_file *f, uint32_t row_alignment, sss_gpu_layout *L,
+                                        sss_error *err)
+{
+    return layout_create(f, row_alignment, 0, L, err);
+}
+
 void sss_gpu_layout_free(sss_gpu_layout *L)
 {
     if (!L) return;
@@ -246,6 +263,7 @@ void sss_gpu_frame_eval(const sss_gpu_layout *L, const double light[3], sss_gpu_
         fr->row[k] = idx[k];
         fr->row_offset[k] = (uint64_t)idx[k] * L->buffer[SSS_GPU_BUF_ROWS].stride;
         fr->u_w[k] = (float)w[k];
+        fr->u_light[k] = (float)d[k]; /* as sss_decode_vector_range rounds it */
     }
     /* Light-dependent tables, folded in double and rounded once, term for
      * term what the C decoder forms (common/src/decode.c). */

@@ -166,6 +166,7 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     g.quant = SSS_QUANT_FLOAT;
     g.dirs.n = 0;
     g.q = NULL;
+    g.qvec = NULL; /* Q too (section QVEC): both images' q is uploaded */
     /* with OWNT and the viewer's visibility the renderer adds the near terms
      * itself (its shadow map); otherwise q is supplied whole */
     const int map_vis = f->near_terms && o->near_mode != 1; /* the renderer adds the near terms */
@@ -183,11 +184,18 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
     /* what a reader shows (sss/reconstruct.h): the rows, plus the own term of an
      * OWNT file with the vertex's own visibility by a ray */
     sss_reconstruct *rc = NULL;
-    if (!qx || !qa || !rms) {
+    /* a file with Q: its q rows drawn too (rs), the same file without QVEC */
+    sss_bake_file fs = *f;
+    fs.qvec = NULL;
+    sss_reconstruct *rs = NULL;
+    float *qs = f->qvec ? malloc(nv * C * sizeof *qs) : NULL;
+    out->vector = f->qvec != NULL;
+    if (!qx || !qa || !rms || (f->qvec && !qs)) {
         res = sss_fail(err, SSS_ERR_NOMEM, "image error: out of memory for %zu vertices", nv);
         goto done;
     }
     if ((res = sss_reconstruct_create(f, &rc, err)) != SSS_OK) goto done;
+    if (f->qvec && (res = sss_reconstruct_create(&fs, &rs, err)) != SSS_OK) goto done;
     out->exposure = o->exposure > 0.0 ? o->exposure : auto_exposure(e, nv * C, qx);
     out->views = views;
     out->width = W;
@@ -251,6 +259,30 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
                 ex = exh = ap = aph = NULL;
             }
         }
+        if (rs) { /* q's rows: against exact, and against Q's image */
+            if (map_vis) sss_reconstruct_eval_rows(rs, light, o->interp, qs);
+            else sss_reconstruct_eval(rs, light, o->interp, qs);
+            float *sp = NULL, *sph = NULL;
+            res = sss_renderer_render_q_image(ren, &p, qs, W, H, &sp, &sph, err);
+            if (res != SSS_OK) {
+                free(ex); free(exh); free(ap); free(aph);
+                goto done;
+            }
+            double se = 0.0, sq = 0.0;
+            for (size_t i = 0; i < 3 * npx; i++) {
+                const double a = (double)sp[i] - (double)ex[i], b = (double)sp[i] - (double)ap[i];
+                se += a * a;
+                sq += b * b;
+            }
+            se = sqrt(se / (3.0 * (double)npx));
+            sq = sqrt(sq / (3.0 * (double)npx));
+            out->scalar_rms_max = fmax(out->scalar_rms_max, se);
+            out->q_vs_Q_rms_max = fmax(out->q_vs_Q_rms_max, sq);
+            out->scalar_rms_mean += se / views;
+            out->q_vs_Q_rms_mean += sq / views;
+            free(sp);
+            free(sph);
+        }
         free(ex); free(exh); free(ap); free(aph);
     }
     {
@@ -289,8 +321,10 @@ done:
     for (int k = 0; k < 4; k++) free(worst[k]);
     free(qx);
     free(qa);
+    free(qs);
     free(rms);
     sss_reconstruct_destroy(rc);
+    sss_reconstruct_destroy(rs);
     sss_renderer_destroy(ren);
     sss_offscreen_destroy(ctx);
     out->seconds = sss_now() - t0;

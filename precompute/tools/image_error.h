@@ -52,6 +52,13 @@ typedef struct sss_image_error {
     uint32_t worst;         /* index of the worst view */
     double worst_light[3], worst_view[3];
     double error_map_gain;  /* error image = |approx − exact| × gain (the worst difference maps to 1) */
+    /* A file with the vector integrals Q (section QVEC): approx is drawn
+     * from Q, and each view is drawn from the same file's q rows too: their
+     * image RMS against exact, and between the two (Hao–Varshney 2004
+     * Fig. 4: q against Q); 0 without Q */
+    int vector;
+    double scalar_rms_max, scalar_rms_mean;
+    double q_vs_Q_rms_max, q_vs_Q_rms_mean;
     char gl_renderer[128];  /* GL_RENDERER of the context used */
     double seconds;         /* wall time of the measurement */
 } sss_image_error;

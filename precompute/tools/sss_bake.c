@@ -59,6 +59,8 @@ static void usage(FILE *f)
         "  --near-radius MM     with --own-term runtime: the near terms within MM millimetres instead\n"
         "  --rings K            with --own-term runtime: K mesh rings instead, 0..8 (expert: a fine\n"
         "                       mesh's rings cover less of the scattering than a coarse one's)\n"
+        "  --vector             also the vector integrals Q (Hao & Varshney 2004 sec. 3.1; section QVEC):\n"
+        "                       readers interpolate Q and dot it with the light (needs --quant)\n"
         "Compression (Hao & Varshney 2004 sec. 4; docs/compression.md), the default storage:\n"
         "  --compress P         preset: compact (default: 1 %% references for RGB, 3 %% grey, SH\n"
         "                       order 3 in 4-bit codes, 8-bit least-squares weights; docs/compression.md)\n"
@@ -122,6 +124,7 @@ typedef struct bake_args {
     int order_given, refs_given, sh_quant_given, wbits_given, ls_given, illum_given;
     int compress; /* any compression option: the compressed form, not --quant */
     int plan, json, quiet;
+    int vector; /* --vector: section QVEC */
 } bake_args;
 
 /* --weight-bits: an integer in [8, 16] (that message first), then 8 or 16
@@ -248,6 +251,7 @@ static int parse(int argc, char **argv, bake_args *a)
         {.name = "--threads", .kind = SSS_CLI_INT, .dest = &a->threads, .lo = 1, .hi = 1024},
         {.name = "--scene", .kind = SSS_CLI_STRING, .dest = &a->scene},
         {.name = "--plan", .kind = SSS_CLI_FLAG, .dest = &a->plan},
+        {.name = "--vector", .kind = SSS_CLI_FLAG, .dest = &a->vector},
         {.name = "--json", .kind = SSS_CLI_FLAG, .dest = &a->json},
         {.name = "--quiet", .alias = "-q", .kind = SSS_CLI_FLAG, .dest = &a->quiet},
     };
@@ -291,6 +295,9 @@ static int parse(int argc, char **argv, bake_args *a)
     a->compress = compress_given || !a->have_quant;
 
     if (a->plan && !a->scene) return refuse("--plan needs --scene S.json");
+    if (a->vector && a->scene) return refuse("--vector applies to plain bakes, not to --scene");
+    /* Q is stored as float next to rows per direction sample (docs/format.md §5.19) */
+    if (a->vector && a->compress) return refuse("--vector needs --quant float or lloyd8 (Q is not compressed)");
     if (a->rings_given && a->near_terms != SSS_NEAR_TERMS_RUNTIME) return refuse("--rings needs --own-term runtime");
     if (a->near_radius_given && a->near_terms != SSS_NEAR_TERMS_RUNTIME)
         return refuse("--near-radius needs --own-term runtime");
@@ -375,6 +382,7 @@ static int options(const bake_args *a, bake_setup *s)
         opt->near_fraction = a->near_fraction_given ? a->near_fraction : SSS_NEAR_FRACTION_DEFAULT;
     }
     opt->weights = (uint32_t)a->weights;
+    opt->vector = a->vector;
     opt->memory_limit = sss_cli_memory_limit();
     const char *log = getenv("SSS_PROGRESS_LOG");
     if (log && *log) opt->progress_log = log;
@@ -589,6 +597,7 @@ static void report_json(const bake_args *a, const bake_setup *s, const bake_resu
     cJSON_AddNumberToObject(tm, "compress", st->t_compress);
     cJSON_AddNumberToObject(tm, "write", r->t_write);
     if (f->weights == SSS_WEIGHTS_HAT) cJSON_AddNumberToObject(tm, "hat", st->t_hat);
+    if (f->qvec) cJSON_AddNumberToObject(tm, "vector", st->t_vector); /* within "integrals" */
     cJSON_AddNumberToObject(tm, "total", r->t_total);
     cJSON_AddNumberToObject(o, "peak_rss_mib", sss_cli_peak_rss_mib());
     /* the gather, its sgemm rate and the memory predicted before starting

@@ -37,7 +37,7 @@ static void usage(FILE *f)
                "       sss-stat FILE.sss --error [--views N] [--seed S] [--json] [--image-views N]\n"
                "                [--image-size N] [--exposure E] [--error-images DIR] [--no-image]\n"
                "                [--image-visibility viewer|rays|map[:N]] [--backlit]\n"
-               "                [--interp triangle|nearest4]\n"
+               "                [--interp triangle|nearest4] [--no-vector]\n"
                "       sss-stat FILE.sss --model-error --light X,Y,Z --view X,Y,Z [--query VERTEX | --vertices N]\n"
                "                [--paths N] [--seed S] [--exit jensen|normalised] [--json]\n"
                "Prints vertex count, channels, directions, storage, material, the bytes of every\n"
@@ -67,6 +67,8 @@ static void usage(FILE *f)
                "(PNG and EXR). Without OpenGL the image error is reported unavailable (one line) and\n"
                "the per-vertex error still printed; --no-image skips it. --interp nearest4 uses the\n"
                "paper's 4-nearest-direction interpolation instead of the stored triangle's (study only).\n"
+               "A file baked with --vector is measured as readers show it, from the vector integrals Q\n"
+               "(interpolated, dotted with the light: section QVEC); --no-vector measures its q rows.\n"
                "--backlit: every image view is back-lit, its light drawn within 30 degrees of the\n"
                "direction opposite the camera (translucency and the terminators facing the camera).\n"
                "Scene bakes: --error also measures every static directional light's exact values (QDIR),\n"
@@ -447,6 +449,13 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
             cJSON_AddNumberToObject(im, "rms_median", ie.rms_median);
             cJSON_AddNumberToObject(im, "rms_max_covered", ie.rms_max_covered);
             cJSON_AddNumberToObject(im, "coverage_mean", ie.coverage_mean);
+            if (ie.vector) { /* section QVEC: the file's q rows drawn too (docs/accuracy.md, "Vector integral Q") */
+                cJSON *sv = cJSON_AddObjectToObject(im, "scalar_q");
+                cJSON_AddNumberToObject(sv, "rms_max", ie.scalar_rms_max);
+                cJSON_AddNumberToObject(sv, "rms_mean", ie.scalar_rms_mean);
+                cJSON_AddNumberToObject(sv, "q_vs_Q_rms_max", ie.q_vs_Q_rms_max);
+                cJSON_AddNumberToObject(sv, "q_vs_Q_rms_mean", ie.q_vs_Q_rms_mean);
+            }
             cJSON_AddStringToObject(im, "lights", a->backlit ? "backlit: within 30 degrees of opposite the camera" : "random");
             /* files with OWNT: where the near terms' visibility came from */
             if (f->near_terms && a->near_mode == 1) cJSON_AddStringToObject(im, "near_visibility", "rays (CPU, Embree)");
@@ -540,6 +549,10 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
                    " (worst view %u; over its covered pixels %.4g; %s)\n", ie.views, a->backlit ? "back-lit " : "",
                    ie.width, ie.height, ie.exposure, ie.rms_max, ie.rms_mean, ie.rms_median, ie.worst,
                    ie.rms_max_covered, ie.gl_renderer);
+            if (ie.vector)
+                printf("  drawn from Q (section QVEC); its q rows: image RMS max %.4g, mean %.4g; q against Q: max "
+                       "%.4g, mean %.4g\n", ie.scalar_rms_max, ie.scalar_rms_mean, ie.q_vs_Q_rms_max,
+                       ie.q_vs_Q_rms_mean);
             if (a->images_dir)
                 printf("  worst view's images in %s: exact, approx, error (x %.4g) as .png and .exr\n", a->images_dir,
                        ie.error_map_gain);
@@ -925,6 +938,7 @@ typedef struct stat_args {
     int have_view, model_opt;
     uint32_t views, seed;
     int interp;    /* --interp: SSS_INTERP_TRIANGLE (the default) or SSS_INTERP_NEAREST4 */
+    int no_vector; /* --no-vector: measure q's rows of a file that holds Q too */
     int image_opt; /* given: --image-views, --image-size, --exposure, --error-images or --image-visibility */
     error_args ea; /* the image options; views, seed and interp join them for the run */
 } stat_args;
@@ -981,6 +995,7 @@ static int parse_args(int argc, char **argv, stat_args *a)
         {.name = "--backlit", .kind = SSS_CLI_FLAG, .dest = &a->ea.backlit, .given = &a->image_opt},
         {.name = "--interp", .kind = SSS_CLI_CHOICE, .dest = &a->interp, .choices = interps, .values = interp_values,
          .msg = "%s: %s '%s' must be triangle or nearest4\n"},
+        {.name = "--no-vector", .kind = SSS_CLI_FLAG, .dest = &a->no_vector},
         {.name = "--model-error", .kind = SSS_CLI_FLAG, .dest = &a->want_model},
         {.name = "--view", .kind = SSS_CLI_TRIPLE, .dest = a->ma.view, .flags = SSS_CLI_NONZERO, .given = &a->have_view},
         {.name = "--vertices", .kind = SSS_CLI_U32, .dest = &a->ma.vertices, .lo = 1, .hi = 1000000, .given = &a->model_opt},
@@ -1076,6 +1091,10 @@ int main(int argc, char **argv)
     if (sss_file_read(a.path, &f, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
+    }
+    if (a.no_vector) { /* readers take Q when the file holds it (sss/decode.h) */
+        free(f.qvec);
+        f.qvec = NULL;
     }
     if (!combinations_ok(&a)) rc = 2;
     else if ((a.qvertex || a.want_error || a.want_model) && !measurable(a.path, &f, a.want_error)) rc = 1;

@@ -18,6 +18,11 @@ layout(std430, binding = 5) writeonly buffer Refs { float refq[]; };
 layout(std430, binding = 6) readonly buffer RefVertex { uint ref_vertex[]; };
 #endif
 uniform vec3 u_w;       // barycentric weights of the three direction samples (float rows)
+#ifdef VECTOR
+// the vector integral Q (section QVEC): rows of three components per value,
+// interpolated and dotted with the light (Hao-Varshney 2004 sec. 3.2)
+uniform vec3 u_light;   // the unit light direction, as float
+#endif
 uniform uint u_count;   // row entries: (vertices or references) x channels
 uniform uint u_channels;
 void main() {
@@ -28,6 +33,14 @@ void main() {
     uint ch = i % u_channels, k = i >> 2u, t = 256u * u_channels, base = 256u * ch;
     precise float x = levels[base + byte_at(row_a[k], i)] + levels[t + base + byte_at(row_b[k], i)]
                     + levels[2u * t + base + byte_at(row_c[k], i)];
+#elif defined(VECTOR)
+    // the C decoder's order (sss_decode_vector_range): each component as q's
+    // float rows, then the dot product, clamped at 0
+    uint b = 3u * i;
+    precise float qx = u_w.x * row_a[b] + u_w.y * row_b[b] + u_w.z * row_c[b];
+    precise float qy = u_w.x * row_a[b + 1u] + u_w.y * row_b[b + 1u] + u_w.z * row_c[b + 1u];
+    precise float qz = u_w.x * row_a[b + 2u] + u_w.y * row_b[b + 2u] + u_w.z * row_c[b + 2u];
+    precise float x = max(qx * u_light.x + qy * u_light.y + qz * u_light.z, 0.0);
 #else
     float x = u_w.x * row_a[i] + u_w.y * row_b[i] + u_w.z * row_c[i];
 #endif

@@ -1,7 +1,8 @@
 /* fuzz_sss.c: libFuzzer harness for the .sss reader (docs/robustness.md). The input is
  * a whole file image. sss_file_decode must refuse it with a message or
  * accept it; an accepted file must then decode to finite, non-negative q at
- * a few light directions through sss_decode_all and sss_decode_vertex, and
+ * a few light directions through sss_decode_all and sss_decode_vertex (and
+ * sss_decode_vector_range for a file with Q), and
  * re-encode; the runtime API (sss/api.h) must open the same bytes and
  * decode a range of vertices as the slice of sss_decode_all. Files with
  * run-time near terms are left out of that step: opening builds their
@@ -65,6 +66,11 @@ static int check_one(const uint8_t *data, size_t size)
             sss_decode_vertex(&f, v, lights[t], one);
             for (uint32_t c = 0; c < f.channels; c++)
                 if (one[c] != out[(size_t)v * f.channels + c]) abort();
+            if (f.qvec) { /* section QVEC: Q dotted with the light, finite and >= 0 too */
+                sss_decode_vector_range(&f, lights[t], SSS_INTERP_TRIANGLE, 0, f.mesh.nv, out);
+                for (size_t i = 0; i < n; i++)
+                    if (!isfinite(out[i]) || out[i] < 0.0f) abort();
+            }
         }
         /* the API over the same bytes: a range of the last light's decode */
         sss_asset *a;

@@ -57,6 +57,27 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T);
  * storage form. v out of range, or a zero or non-finite light, gives 0. */
 void sss_decode_vertex(const sss_bake_file *f, uint32_t v, const double light[3], float *out);
 
+/* ---- the vector integral Q (format 1.7, section QVEC) --------------------
+ * Hao–Varshney 2004 §3.2: Q is interpolated between the direction samples
+ * and dotted with the actual light direction ω, q̃ = Q̃(ω)·ω; at a sample
+ * Q_j·ω_j = q_j (docs/physics.md §10). The interpolation weights are q's
+ * (the spherical triangle, or the four nearest samples), each component
+ * formed as the float path forms q (float weights and products). */
+
+/* Whether f holds Q. */
+int sss_decode_has_vector(const sss_bake_file *f);
+
+/* Stored Q_j of vertex v, channel c into out[0..2] (zeros without Q). */
+void sss_decode_vector_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t c, float out[3]);
+
+/* q̃(x_v, ω) = max(0, Q̃(x_v, ω)·ω) for vertices [first, first + count)
+ * into out[(v − first) · channels + c], ω the normalised light; like the
+ * rows of q, without the near terms and clamped at 0. Without Q (or with a
+ * range outside the mesh) it is sss_decode_range / sss_decode_all_interp's
+ * result for the same arguments (NEAREST4 over the whole mesh only). */
+void sss_decode_vector_range(const sss_bake_file *f, const double light[3], sss_interp interp, uint32_t first,
+                             uint32_t count, float *out);
+
 /* Area-weighted error statistics of an approximation a against a reference
  * r over one mesh, accumulated one light direction at a time (every error
  * figure of the toolkit is formed here). Index `channels` of the results is

@@ -22,7 +22,7 @@ extern "C" {
 #endif
 
 #define SSS_FORMAT_MAJOR 1
-#define SSS_FORMAT_MINOR 6
+#define SSS_FORMAT_MINOR 7
 /* The minor version plain bakes record in PARM ("format"), kept at 1 so
  * that their bytes do not change with 1.2, which only scene bakes use. */
 #define SSS_FORMAT_MINOR_PLAIN 1
@@ -170,6 +170,13 @@ typedef struct sss_bake_file {
     uint8_t *qidx;            /* SSS_QUANT_LLOYD8: n * nv * channels indices, owned */
     sss_shcode sh;            /* SSS_QUANT_SH and SSS_QUANT_REFS */
     sss_refcode ref;          /* SSS_QUANT_REFS */
+    /* (1.7) Section QVEC, or NULL: the vector integrals Q(x_v, ω_j) of
+     * Hao–Varshney 2004 §3.1 (q_j = Q_j·ω_j), 3 * n * nv * channels values,
+     * direction-major as q with the three components of each value
+     * together: component a of (j, v, c) at ((j * nv + v) * channels + c) *
+     * 3 + a, so one direction's row is contiguous, as q's is; plain bakes
+     * with q as float or lloyd8 only (docs/format.md §5.19). Owned. */
+    float *qvec;
     char *params_json;        /* bake parameters as JSON text (provenance), NUL-terminated, owned */
     sss_effects fx;           /* (1.2) effect set of a scene bake; mask 0 for a plain bake */
     uint32_t near_terms;        /* (1.3) 0, or SSS_NEAR_TERMS_RUNTIME: section OWNT, the q rows (any storage

@@ -102,6 +102,11 @@ typedef struct sss_gpu_layout {
     uint32_t row_n;           /* entries per row / C: nv, or nref for the reference form */
     uint32_t ncoded;          /* coded vertices (SH: nv; reference form: nv − nref) */
     uint32_t sh_levels;       /* SH dequantisation levels: 256, 16, or 0 without an SH part */
+    /* 1: the rows are the vector integrals Q (section QVEC, format 1.7):
+     * 3·nv·C float32 per direction, interpolated per component and dotted
+     * with the light (uniform u_light), sss_decode_vector_range's floats;
+     * the layout of a file with Q, unless made by sss_gpu_layout_create_scalar */
+    int vector;
     sss_gpu_program pass[SSS_GPU_PASSES];
     sss_gpu_buffer buffer[SSS_GPU_BUFFERS];
     /* Per-frame block sizes (sss_gpu_frame), 0 when absent. */
@@ -118,6 +123,7 @@ typedef struct sss_gpu_frame {
     float u_w[3];             /* uniform vec3 u_w: barycentric weights (float rows); 0 for no light */
     uint32_t u_count[SSS_GPU_PASSES]; /* uniform uint u_count of each pass (= pass[p].count) */
     uint32_t u_channels;      /* uniform uint u_channels (rows pass) */
+    float u_light[3];         /* uniform vec3 u_light (rows pass of a vector layout): the unit light, as float */
     /* binding 4 of the rows pass: levels[(t·C + c)·256 + x] = w_t · level_c[x] (lloyd8 and the
      * references' rows; NULL otherwise) */
     float *levels;
@@ -141,6 +147,9 @@ typedef struct sss_gpu_frame {
  * (the shaders index with uint), or no memory. */
 sss_result sss_gpu_layout_create(const sss_bake_file *f, uint32_t row_alignment, sss_gpu_layout *layout,
                                  sss_error *err);
+/* The same, with q's rows even when f holds Q (to compare q against Q). */
+sss_result sss_gpu_layout_create_scalar(const sss_bake_file *f, uint32_t row_alignment, sss_gpu_layout *layout,
+                                        sss_error *err);
 void sss_gpu_layout_free(sss_gpu_layout *layout);
 
 /* Writes buffer b's GPU image, b->bytes bytes, into dst (padding zeroed). */

@@ -110,6 +110,7 @@
     X(QL8,  "QL8 ", SSS_SEC_REQUIRED,                                           0, ql8)        \
     X(REFS, "REFS", SSS_SEC_REQUIRED,                                           1, refs)       \
     X(SHC,  "SHC ", SSS_SEC_REQUIRED,                                           1, shc)        \
+    X(QVEC, "QVEC", SSS_SEC_REQUIRED,                                           7, qvec)       \
     X(QDIR, "QDIR", SSS_SEC_REQUIRED | SSS_SEC_CHECK_LAST,                      2, qdir)       \
     X(ENVT, "ENVT", SSS_SEC_REQUIRED | SSS_SEC_CHECK_LAST,                      2, envt)       \
     X(PSHL, "PSHL", SSS_SEC_REQUIRED | SSS_SEC_CHECK_LAST,                      2, pshl)       \

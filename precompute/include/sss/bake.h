@@ -77,6 +77,11 @@ typedef struct sss_bake_options {
     /* With progress: also append every redraw of the bar to this file
      * (kernels/progress.h has the line format); NULL: no log. */
     const char *progress_log;
+    /* Non-zero: also the vector integrals Q(x_o, ω_j) of Hao–Varshney 2004
+     * §3.1 (section QVEC, docs/format.md §5.19), three sums per direction
+     * and channel through the same gather, weights, visibility and near
+     * terms as q (sss-bake --vector). Not with compression, nor under MPI. */
+    int vector;
     int verbose;         /* non-zero: the gather's own figures on stderr */
     const sss_cancel_flag *cancel; /* polled by every phase (sss/result.h); NULL: never */
 } sss_bake_options;
@@ -163,6 +168,8 @@ typedef struct sss_bake_stats {
     /* SSS_WEIGHTS_HAT: the corrections' time and entries (receiver, source) */
     double t_hat;
     uint64_t hat_entries;
+    /* options.vector: the time of Q's three gathers (within t_integrals) */
+    double t_vector;
 } sss_bake_stats;
 
 /* The whole bake: writes out (mesh copy, material, dirs, q or levels+qidx

@@ -67,6 +67,10 @@ typedef struct sss_gather_params {
                           * "dense blocks": blocks of 47 receivers on average instead of 19, the rows of Ψ
                           * copied and packed once for more receivers, 20 % more rows per block) */
     const sss_cancel_flag *cancel; /* polled per receiver block by sss_gather_run (sss/result.h); NULL: never */
+    /* Non-zero: the sources take either sign (the components of the vector
+     * integral Q, Hao–Varshney 2004 §3.1) and the sums are written as they
+     * are; 0: q, a sum of non-negative terms, clamped at 0 */
+    int signed_sources;
 } sss_gather_params;
 
 /* What the gather measured. */
@@ -110,6 +114,9 @@ const uint32_t *sss_gather_tree_order(const sss_gather_tree *t);
  * fill before sss_gather_tree_moments; owned by the tree, reused when the
  * next chunk is no wider. NULL when out of memory. */
 float *sss_gather_tree_rows(sss_gather_tree *t, uint32_t n_dirs);
+/* Switches params.signed_sources of a built tree: the bake gathers q and
+ * then Q's components through one hierarchy (bake_tree.c). */
+void sss_gather_tree_set_signed(sss_gather_tree *t, int signed_sources);
 /* Every node's flux moments from the rows loaded. */
 sss_result sss_gather_tree_moments(sss_gather_tree *t, const sss_mesh *mesh, sss_error *err);
 void sss_gather_tree_destroy(sss_gather_tree *t);

@@ -1,6 +1,7 @@
 /* sss/reconstruct.h: a file's reconstruction of q for any light direction, as a
  * reader shows it — the interpolated rows (sss_decode_all_interp, Hao–
- * Varshney 2004 §3.2) plus, for a file whose rows hold q minus the own
+ * Varshney 2004 §3.2; for a file with the vector integrals Q, section
+ * QVEC, Q interpolated and dotted with the light, sss_decode_vector_range) plus, for a file whose rows hold q minus the own
  * term (section OWNT, sss/nearterms.h), that term added back with the
  * vertex's own visibility traced by a ray under the bake's rule. The
  * measuring tools (vertex_error.h, sss-stat --query, the image error) use this

@@ -97,6 +97,12 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
             snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"weights\":\"hat: (1/pi) integral of phi_i R_d over the "
                      "one-ring of x_i\"}");
     }
+    if (o->vector) { /* format 1.7 (docs/format.md §5.19) */
+        const size_t L = strlen(buf);
+        if (L > 0 && L + 120 < sizeof buf)
+            snprintf(buf + L - 1, sizeof buf - (L - 1), ",\"vector\":\"Q = sum F_t(eta,n_i.w) (1/pi) R_d(r) mu_i n_i V "
+                     "dA; q = Q.w\"}");
+    }
     if (!o->import_offset && !o->compress) {
         char *s = malloc(strlen(buf) + 1);
         if (s) strcpy(s, buf);
@@ -144,6 +150,9 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     if (o.weights != SSS_WEIGHTS_POINT && o.weights != SSS_WEIGHTS_HAT)
         return sss_fail(err, SSS_ERR_ARG, "weight rule %u: 0 (point) or 1 (hat)", o.weights);
     if (o.n_dirs > 100000) return sss_fail(err, SSS_ERR_ARG, "--dirs %u out of range [1, 100000]", o.n_dirs);
+    if (o.vector && (o.compress || o.nranks > 1)) /* Q is stored as float beside q's rows (docs/format.md §5.19) */
+        return sss_fail(err, SSS_ERR_ARG, "the vector integrals Q are stored as float next to float or lloyd8 rows: "
+                        "not with compression%s", o.nranks > 1 ? " nor under MPI" : "");
     if (o.compress && o.quant != SSS_QUANT_FLOAT)
         return sss_fail(err, SSS_ERR_ARG, "compression takes the float integrals: quant must be float");
 #ifdef _OPENMP
@@ -240,7 +249,8 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
      * transfer table G and the integrals are sized by the input; the
      * neighbourhood rows are counted before they are allocated. */
     uint64_t avail = sss_memory_available(o.memory_limit);
-    uint64_t fixed = (uint64_t)mesh->nv * o.n_dirs * (4u + 4u * C + (o.quant == SSS_QUANT_LLOYD8 ? C : 0u));
+    uint64_t fixed = (uint64_t)mesh->nv * o.n_dirs * (4u + 4u * C + (o.quant == SSS_QUANT_LLOYD8 ? C : 0u) +
+                                                      (o.vector ? 4u + 16u * C : 0u)); /* Q, one source and one component plane */
     const size_t nq = (size_t)o.n_dirs * mesh->nv * C;
     double t;
     st.gather = o.gather = sss_bake_choose_gather(&o);
@@ -301,6 +311,12 @@ sss_result sss_bake(const sss_mesh *mesh_in, const char *mesh_name, const sss_ma
     sss_progress_begin("integrals", nb.start[nb.nrows]); /* ticks neighbours: the work of a row */
     sss_integrate_hat(&nb, hat_here ? &hat : NULL, G, o.n_dirs, out->q);
     sss_progress_end();
+    if (o.vector) { /* Q: three signed sums of the same rows (Hao–Varshney 2004 §3.1) */
+        const double tv = sss_now();
+        r = sss_bake_vector_direct(mesh, &out->dirs, &nb, hat_here ? &hat : NULL, G, &out->qvec, err);
+        if (r != SSS_OK) goto fail;
+        st.t_vector = sss_now() - tv;
+    }
     st.t_integrals = sss_now() - t;
     free(G);
     G = NULL;
@@ -316,8 +332,8 @@ quantise:
     }
     if (o.near_terms) {
         t = sss_now();
-        r = sss_near_terms_split(mesh, mat, &o, C, &out->dirs, o.weights == SSS_WEIGHTS_HAT ? &hat : NULL, 1, out->q,
-                                 &st.rays, &st.near_entries, err);
+        r = sss_near_terms_split_vector(mesh, mat, &o, C, &out->dirs, o.weights == SSS_WEIGHTS_HAT ? &hat : NULL,
+                                        out->q, out->qvec, &st.rays, &st.near_entries, err);
         if (r != SSS_OK) goto fail;
         out->near_terms = SSS_NEAR_TERMS_RUNTIME;
         out->near_rings = o.near_radius_mm > 0.0 ? 0 : o.near_rings;

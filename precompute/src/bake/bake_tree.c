@@ -86,12 +86,13 @@ static uint32_t chunk_start(uint32_t D, uint32_t c, uint32_t n) { return (uint32
 
 /* q += Σ_i C(v, i) G[i, j] for the chunk's directions [j0, j0 + Dc), Gm
  * the tree's Morton-ordered rows (row inv[i] is vertex i), each element in
- * double from the gather's float and clamped at 0 (sss_integrate_hat's
- * rule): the hat-function corrections of docs/physics.md §9 on top of the
- * point weights the gather used. Elements are independent: the bytes do
- * not depend on the thread count. */
+ * double from the gather's float and, with clamp, clamped at 0
+ * (sss_integrate_hat's rule; not for Q's signed components): the
+ * hat-function corrections of docs/physics.md §9 on top of the point
+ * weights the gather used. Elements are independent: the bytes do not
+ * depend on the thread count. */
 static int add_hat(const sss_weights *hat, const uint32_t *inv, const float *Gm, uint32_t nv, uint32_t C,
-                   uint32_t j0, uint32_t Dc, float *q)
+                   uint32_t j0, uint32_t Dc, int clamp, float *q)
 {
     int failed = 0;
 #pragma omp parallel
@@ -115,12 +116,46 @@ static int add_hat(const sss_weights *hat, const uint32_t *inv, const float *Gm,
             for (uint32_t j = 0; j < Dc; j++)
                 for (uint32_t c = 0; c < C; c++) {
                     const float x = (float)acc[(size_t)c * Dc + j];
-                    q[((size_t)(j0 + j) * nv + v) * C + c] = x > 0.0f ? x : 0.0f;
+                    q[((size_t)(j0 + j) * nv + v) * C + c] = x > 0.0f || !clamp ? x : 0.0f;
                 }
         }
         free(acc);
     }
     return !failed;
+}
+
+/* Component a of Q from one plane in q's layout, values [i0, i1) (the
+ * file keeps the three components of a value together, sss/format.h). */
+static void interleave(const float *P, size_t i0, size_t i1, int a, float *qvec)
+{
+#pragma omp parallel for schedule(static)
+    for (int64_t i = (int64_t)i0; i < (int64_t)i1; i++) qvec[3 * (size_t)i + (size_t)a] = P[i];
+}
+
+sss_result sss_bake_vector_direct(const sss_mesh *mesh, const sss_dirset *ds, const sss_weights *nb,
+                                  const sss_weights *hat, const float *G, float **qvec, sss_error *err)
+{
+    const uint32_t nv = mesh->nv, D = ds->n;
+    const size_t nq = (size_t)D * nv * nb->channels;
+    float *H = malloc((size_t)nv * D * sizeof *H + 1), *P = malloc(nq * sizeof *P + 1);
+    *qvec = malloc(3 * nq * sizeof **qvec + 1);
+    if (!H || !P || !*qvec) {
+        free(H);
+        free(P);
+        free(*qvec);
+        *qvec = NULL;
+        return sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u vector integrals", nv, D);
+    }
+    sss_progress_begin("vector integrals", 3 * nb->start[nb->nrows]);
+    for (int a = 0; a < 3; a++) {
+        sss_transfer_axis(mesh, ds->dir, D, NULL, 0, nv, G, a, H);
+        sss_integrate_hat_signed(nb, hat, H, D, P);
+        interleave(P, 0, nq, a, *qvec);
+    }
+    sss_progress_end();
+    free(H);
+    free(P);
+    return SSS_OK;
 }
 
 sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
@@ -141,7 +176,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
     sss_result r = SSS_OK;
     sss_gather_tree *tree = NULL;
     sss_vis *vis = NULL;
-    float *part = NULL, *full = NULL;
+    float *part = NULL, *full = NULL, *Gq = NULL, *P = NULL; /* Gq: q's transfer rows while Q's are loaded; P: one component */
     uint32_t *verts = NULL, *rows = NULL, *bsplit = NULL, *inv = NULL;
     uint64_t *offs = NULL, *lens = NULL;
 
@@ -197,7 +232,8 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
      * to checksum it; the threads' freed work space stays with malloc
      * (measured: the 437K dragon's peak RSS 2,153 MiB against 2,091 without
      * it). Chunks do not shrink those phases. */
-    const uint64_t qbytes = holds_q ? (uint64_t)nv * D * C * sizeof(float) : 0;
+    /* with Q (options.vector, never under MPI): q and Q's three planes */
+    const uint64_t qbytes = holds_q ? (uint64_t)nv * D * C * sizeof(float) * (o->vector ? 5u : 1u) : 0;
     /* the bake's copy of the mesh and the caller's (sss-bake's import) */
     const uint64_t mesh_bytes = 2 * ((uint64_t)nv * 32 + (uint64_t)mesh->nf * 12);
     const uint64_t ws = sss_gather_workspace_rows_bytes(rows_max, D, C, &p, threads);
@@ -205,7 +241,8 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
                            sss_gather_tree_size(tree, 0) + (uint64_t)nb * sizeof *rows + ws +
                            (mpi && holds_q ? (uint64_t)nv * sizeof *verts : 0);
     const uint64_t per_dir = sss_gather_tree_size(tree, 1) - sss_gather_tree_size(tree, 0) +
-                             (mpi ? (uint64_t)mine * C * sizeof(float) + (holds_q ? (uint64_t)nv * C * sizeof(float) : 0) : 0);
+                             (mpi ? (uint64_t)mine * C * sizeof(float) + (holds_q ? (uint64_t)nv * C * sizeof(float) : 0) : 0) +
+                             (o->vector ? (uint64_t)nv * sizeof(float) : 0);
     const uint64_t train = (uint64_t)nv * D < (4u << 20) ? (uint64_t)nv * D : (4u << 20); /* lloyd.c MAX_TRAIN */
     const uint64_t after = !holds_q ? 0
                            : PROCESS_BYTES + mesh_bytes + qbytes + ws +
@@ -261,6 +298,12 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
         out->q = malloc((size_t)nv * D * C * sizeof(float) + 1);
         if (!out->q) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u x %u integrals", nv, D, C); goto done; }
         huge_pages(out->q, (size_t)nv * D * C * sizeof(float));
+        if (o->vector) {
+            out->qvec = malloc(3 * (size_t)nv * D * C * sizeof(float) + 1);
+            Gq = malloc((size_t)nv * wmax * sizeof(float) + 1);
+            P = malloc((size_t)nv * D * C * sizeof(float) + 1);
+            if (!out->qvec || !Gq || !P) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u x %u x %u vector integrals", nv, D, C); goto done; }
+        }
     }
     if (mpi) {
         part = malloc((size_t)mine * wmax * C * sizeof(float) + 1);
@@ -370,9 +413,28 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
                 }
             }
         }
-        if (inv && !add_hat(hat, inv, Gm, nv, C, j0, Dc, out->q)) {
+        if (inv && !add_hat(hat, inv, Gm, nv, C, j0, Dc, 1, out->q)) {
             r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the hat-function corrections");
             break;
+        }
+        if (Gq) { /* Q (Hao–Varshney 2004 §3.1): the same hierarchy and lists, H_a's rows and moments */
+            const double tv = sss_now();
+            memcpy(Gq, Gm, (size_t)nv * Dc * sizeof(float));
+            sss_gather_tree_set_signed(tree, 1);
+            if (nch > 1) snprintf(lab, sizeof lab, "vector integrals %u/%u", c + 1, nch);
+            sss_progress_begin(nch > 1 ? lab : "vector integrals", 3 * total);
+            for (int a = 0; a < 3 && r == SSS_OK; a++) {
+                sss_transfer_axis(mesh, out->dirs.dir + 3 * (size_t)j0, Dc, order, 0, nv, Gq, a, Gm);
+                r = sss_gather_tree_moments(tree, mesh, err);
+                if (r == SSS_OK) r = sss_gather_run_chunk(tree, mesh, dip, C, R, b0, b1, j0, D, P, 1, &g, err);
+                if (r == SSS_OK && inv && !add_hat(hat, inv, Gm, nv, C, j0, Dc, 0, P))
+                    r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the hat-function corrections");
+                if (r == SSS_OK) interleave(P, (size_t)j0 * nv * C, (size_t)(j0 + Dc) * nv * C, a, out->qvec);
+            }
+            sss_progress_end();
+            sss_gather_tree_set_signed(tree, 0);
+            st->t_vector += sss_now() - tv;
+            if (r != SSS_OK) break;
         }
         st->t_integrals += sss_now() - t;
         if (sss_cancelled(o->cancel)) r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during integrals");
@@ -407,6 +469,8 @@ done:
     sss_gather_tree_destroy(tree);
     free(part);
     free(full);
+    free(Gq);
+    free(P);
     free(verts);
     free(inv);
     free(rows);

@@ -26,4 +26,12 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
                          const sss_dipole *dip, uint32_t C, uint64_t avail, const sss_weights *hat,
                          sss_bake_file *out, sss_bake_stats *st, sss_error *err);
 
+/* The vector integrals Q of the direct sum (options.vector; section QVEC,
+ * sss/format.h layout) from the neighbourhood rows nb, the hat-function
+ * corrections (NULL: none) and the transfer table G (nv x n) of q: plane a
+ * sums sss_transfer_axis's source term H_a with sss_integrate_hat_signed.
+ * Allocates *qvec. */
+sss_result sss_bake_vector_direct(const sss_mesh *mesh, const sss_dirset *ds, const sss_weights *nb,
+                                  const sss_weights *hat, const float *G, float **qvec, sss_error *err);
+
 #endif

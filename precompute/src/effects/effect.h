@@ -94,6 +94,11 @@ void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, fl
 sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
                                 const sss_dirset *ds, const sss_weights *hat, int self_shadow, float *q,
                                 uint64_t *rays, uint64_t *entries, sss_error *err);
+/* The same, splitting them off the vector integrals qvec too (section
+ * QVEC, sss/format.h layout; NULL: none), every vertex's own shadow test. */
+sss_result sss_near_terms_split_vector(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
+                                       uint32_t C, const sss_dirset *ds, const sss_weights *hat, float *q, float *qvec,
+                                       uint64_t *rays, uint64_t *entries, sss_error *err);
 
 /* The units (one file each). */
 extern const sss_effect_unit sss_effect_dir_exact;    /* dir_exact.c */

@@ -19,9 +19,9 @@
  * the readers' float sum (sss_near_sum), so that a reader adding the terms
  * back at ω_j restores q_j up to rounding (and the clamp at 0 below).
  * Independent elements: the result does not depend on the thread count. */
-sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
-                                const sss_dirset *ds, const sss_weights *hat, int self_shadow, float *q,
-                                uint64_t *rays, uint64_t *entries, sss_error *err)
+static sss_result split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
+                        const sss_dirset *ds, const sss_weights *hat, int self_shadow, float *q, float *qvec,
+                        uint64_t *rays, uint64_t *entries, sss_error *err)
 {
     const uint32_t nv = mesh->nv, D = ds->n;
     sss_weights nr;
@@ -33,7 +33,8 @@ sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, c
     sss_vis *vis = NULL;
     uint8_t *lit = malloc((size_t)nv + 1);
     float *gv = malloc((size_t)nv * sizeof *gv + 1);
-    if (!lit || !gv) r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the near terms of %u vertices", nv);
+    float *hv = qvec ? malloc((size_t)nv * sizeof *hv + 1) : NULL;
+    if (!lit || !gv || (qvec && !hv)) r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the near terms of %u vertices", nv);
     if (r == SSS_OK && self_shadow) r = sss_vis_create(mesh, &vis, err);
     uint64_t traced = 0;
     for (uint32_t j = 0; j < D && r == SSS_OK; j++) {
@@ -57,6 +58,24 @@ sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, c
              * below */
             for (uint32_t c = 0; c < C; c++) qj[(size_t)v * C + c] = fmaxf(qj[(size_t)v * C + c] - s[c], 0.0f);
         }
+        /* Q's rows (section QVEC): the same terms with G's cosine replaced
+         * by the normal's component a (Hao–Varshney 2004 §3.1), so that a
+         * reader's Q·ω_j plus the near terms it adds at ω_j gives back
+         * q_j; components take either sign, so no clamp */
+        for (int a = 0; a < 3 && qvec; a++) {
+            for (uint32_t v = 0; v < nv; v++) {
+                const float *n = mesh->nrm + 3 * (size_t)v;
+                const double c = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+                hv[v] = gv[v] != 0.0f && c > 0.0 ? (float)((double)gv[v] / c * n[a]) : 0.0f;
+            }
+            float *Qj = qvec + 3 * (size_t)j * nv * C;
+#pragma omp parallel for schedule(static)
+            for (int64_t v = 0; v < (int64_t)nv; v++) {
+                float s[3];
+                sss_near_sum(&nr, (uint32_t)v, hv, s);
+                for (uint32_t c = 0; c < C; c++) Qj[3 * ((size_t)v * C + c) + (size_t)a] -= s[c];
+            }
+        }
         if (sss_cancelled(o->cancel))
             r = sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted while splitting the near terms");
     }
@@ -64,6 +83,21 @@ sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, c
     sss_vis_destroy(vis);
     free(lit);
     free(gv);
+    free(hv);
     sss_weights_free(&nr);
     return r;
+}
+
+sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
+                                const sss_dirset *ds, const sss_weights *hat, int self_shadow, float *q,
+                                uint64_t *rays, uint64_t *entries, sss_error *err)
+{
+    return split(mesh, mat, o, C, ds, hat, self_shadow, q, NULL, rays, entries, err);
+}
+
+sss_result sss_near_terms_split_vector(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
+                                       uint32_t C, const sss_dirset *ds, const sss_weights *hat, float *q, float *qvec,
+                                       uint64_t *rays, uint64_t *entries, sss_error *err)
+{
+    return split(mesh, mat, o, C, ds, hat, 1, q, qvec, rays, entries, err);
 }

@@ -391,7 +391,8 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
             double t3 = sss_thread_cpu();
             /* q is a sum of non-negative terms; the far field's Taylor
              * terms and float cancellation can leave tiny negative values
-             * where it is ~0 (fully shadowed): clamp, as the file requires.
+             * where it is ~0 (fully shadowed): clamp, as the file requires
+             * (not Q's components, which take either sign).
              * The channels of one (vertex, direction) share a cache line
              * of q: write them together, a direction at a time (q is
              * vertex-major within a direction, so a receiver's directions
@@ -405,7 +406,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
                     float *o = full ? out + ((size_t)(j0 + j) * nv + v) * C : out + ((base + kr) * D + j) * C;
                     for (uint32_t c = 0; c < C; c++) {
                         const float x = qr[c * cs + j];
-                        o[c] = x > 0.0f ? x : 0.0f;
+                        o[c] = x > 0.0f || t->p.signed_sources ? x : 0.0f;
                     }
                 }
             }

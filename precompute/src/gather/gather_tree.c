@@ -364,6 +364,8 @@ nomem:
 
 const uint32_t *sss_gather_tree_order(const sss_gather_tree *t) { return t->perm; }
 
+void sss_gather_tree_set_signed(sss_gather_tree *t, int signed_sources) { t->p.signed_sources = signed_sources; }
+
 float *sss_gather_tree_rows(sss_gather_tree *t, uint32_t n_dirs)
 {
     if (n_dirs == 0) return NULL;

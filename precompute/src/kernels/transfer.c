@@ -68,6 +68,23 @@ sss_result sss_transfer_compute(const sss_mesh *mesh, const sss_vis *vis, const 
     return sss_transfer_rows(mesh, vis, dirs, n, eta, 0, mesh->nv, cancel, G, rays_out, occ_out, err);
 }
 
+void sss_transfer_axis(const sss_mesh *mesh, const double *dirs, uint32_t n, const uint32_t *order, uint32_t m0,
+                       uint32_t m1, const float *G, int a, float *H)
+{
+#pragma omp parallel for schedule(static)
+    for (int64_t m = m0; m < (int64_t)m1; m++) {
+        const uint32_t i = order ? order[m] : (uint32_t)m;
+        const float *nv = &mesh->nrm[3 * (size_t)i];
+        for (uint32_t j = 0; j < n; j++) {
+            const double *d = &dirs[3 * (size_t)j];
+            const double c = nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2];
+            const float g = G[(size_t)m * n + j];
+            /* G ≠ 0 only where n_i·ω_j > 0 (μ_i = 1, sss_transfer_one) */
+            H[(size_t)m * n + j] = g != 0.0f && c > 0.0 ? (float)((double)g / c * nv[a]) : 0.0f;
+        }
+    }
+}
+
 void sss_integrate(const sss_weights *nb, const float *G, uint32_t n, float *q)
 {
     sss_integrate_hat(nb, NULL, G, n, q);

@@ -30,4 +30,14 @@ sss_result sss_transfer_rows_ordered(const sss_mesh *mesh, const sss_vis *vis, c
                                      const sss_cancel_flag *cancel, float *G, uint64_t *rays_out, uint64_t *occ_out,
                                      sss_error *err);
 
+/* The source term of component a of the vector integral Q (Hao–Varshney
+ * 2004 §3.1): H_a(x_i, ω_j) = F_t(η, n_i·ω_j) μ_i V(x_i, ω_j) n_i[a], i.e.
+ * G without its cosine, times the normal's component, so that
+ * Σ_a H_a ω_j[a] = G and Q_j·ω_j = q_j. Formed from a table of G (rows m
+ * for vertex order[m], NULL: vertex m; n directions dirs) as G / (n_i·ω_j)
+ * · n_i[a], the cosine recomputed as sss_transfer_one computes it, so the
+ * shadow test and the Fresnel factor are the ones q used. Signed. */
+void sss_transfer_axis(const sss_mesh *mesh, const double *dirs, uint32_t n, const uint32_t *order, uint32_t m0,
+                       uint32_t m1, const float *G, int a, float *H);
+
 #endif

@@ -65,14 +65,22 @@ void sss_reconstruct_near_lit(const sss_reconstruct *r, const double light[3], u
     sss_vis_lit_all(r->vis, &r->f->mesh, d, lit);
 }
 
+/* The rows for the light: Q's (section QVEC, dotted with the light,
+ * Hao–Varshney 2004 §3.2) when the file holds them, else q's. */
+static void rows(const sss_bake_file *f, const double light[3], sss_interp interp, float *out)
+{
+    if (sss_decode_has_vector(f)) sss_decode_vector_range(f, light, interp, 0, f->mesh.nv, out);
+    else sss_decode_all_interp(f, light, interp, out);
+}
+
 void sss_reconstruct_eval_rows(const sss_reconstruct *r, const double light[3], sss_interp interp, float *out)
 {
-    sss_decode_all_interp(r->f, light, interp, out);
+    rows(r->f, light, interp, out);
 }
 
 void sss_reconstruct_eval(const sss_reconstruct *r, const double light[3], sss_interp interp, float *out)
 {
-    sss_decode_all_interp(r->f, light, interp, out);
+    rows(r->f, light, interp, out);
     double d[3];
     if (!r->near_on || !unit(light, d)) return;
     const uint32_t nv = r->f->mesh.nv;
@@ -96,7 +104,9 @@ void sss_reconstruct_eval(const sss_reconstruct *r, const double light[3], sss_i
 
 void sss_reconstruct_eval_vertex(const sss_reconstruct *r, uint32_t v, const double light[3], float *out)
 {
-    sss_decode_vertex(r->f, v, light, out);
+    if (sss_decode_has_vector(r->f) && v < r->f->mesh.nv)
+        sss_decode_vector_range(r->f, light, SSS_INTERP_TRIANGLE, v, 1, out);
+    else sss_decode_vertex(r->f, v, light, out);
     double d[3];
     if (!r->near_on || v >= r->f->mesh.nv || !unit(light, d)) return;
     /* the transfer of this row's vertices only; the same float sum as

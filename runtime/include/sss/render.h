@@ -164,6 +164,12 @@ typedef struct sss_frame_times {
  * not compile, a buffer above GL_MAX_SHADER_STORAGE_BLOCK_SIZE), or a buffer
  * cannot be allocated (SSS_ERR_NOMEM); *out is then NULL. */
 sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err);
+/* A file with the vector integrals Q (section QVEC, format 1.7) is drawn
+ * from Q, interpolated and dotted with the light (Hao–Varshney 2004 §3.2),
+ * on both paths; this one draws q's rows of the same file instead, to set
+ * q against Q. sss_renderer_vector says which r draws (1: Q). */
+sss_result sss_renderer_create_scalar(const sss_bake_file *f, sss_renderer **out, sss_error *err);
+int sss_renderer_vector(const sss_renderer *r);
 /* Deletes every GL object of r and frees it. NULL-safe. */
 void sss_renderer_destroy(sss_renderer *r);
 

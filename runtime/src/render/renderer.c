@@ -63,7 +63,7 @@ static void *near_state(const sss_renderer *r)
     return NULL;
 }
 
-sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err)
+static sss_result renderer_create(const sss_bake_file *f, int vector, sss_renderer **out, sss_error *err)
 {
     *out = NULL;
     if (epoxy_gl_version() < 43)
@@ -78,7 +78,7 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
     m->C = f->channels;
     m->radius = sss_view_bounds(&f->mesh, m->centre);
 
-    sss_result res = sss_scatter_create(&r->scatter, m, err);
+    sss_result res = vector ? sss_scatter_create(&r->scatter, m, err) : sss_scatter_create_scalar(&r->scatter, m, err);
     if (res == SSS_OK) res = sss_draw_create(&r->draw, err);
     if (res == SSS_OK) {
         mesh_upload(m);
@@ -97,6 +97,18 @@ sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_e
     *out = r;
     return SSS_OK;
 }
+
+sss_result sss_renderer_create(const sss_bake_file *f, sss_renderer **out, sss_error *err)
+{
+    return renderer_create(f, 1, out, err);
+}
+
+sss_result sss_renderer_create_scalar(const sss_bake_file *f, sss_renderer **out, sss_error *err)
+{
+    return renderer_create(f, 0, out, err);
+}
+
+int sss_renderer_vector(const sss_renderer *r) { return r->scatter.layout.vector; }
 
 void sss_renderer_destroy(sss_renderer *r)
 {
@@ -219,7 +231,8 @@ void sss_storage_describe(const sss_bake_file *f, char *buf, size_t n)
         else
             snprintf(buf, n, "%s %.1f%%, %u-bit weights", q, pct, f->ref.wbits);
     } else {
-        snprintf(buf, n, "%s", q);
+        /* the vector integrals Q are what is drawn (section QVEC) */
+        snprintf(buf, n, "%s%s", q, f->qvec ? " + vector Q (drawn)" : "");
     }
 }
 

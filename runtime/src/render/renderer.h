@@ -47,6 +47,8 @@ typedef struct sss_scatter {
 /* Checks that m->f's storage form can be drawn and builds its programs and
  * buffers; on failure s holds what was made (sss_scatter_destroy frees it). */
 sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *err);
+/* The same with q's rows even when the file holds Q (sss_renderer_create_scalar). */
+sss_result sss_scatter_create_scalar(sss_scatter *s, const sss_gpu_mesh *m, sss_error *err);
 void sss_scatter_destroy(sss_scatter *s);
 /* q for the unit light l into m->qbuf: on the GPU, the compute passes
  * under the GL_TIME_ELAPSED query `query`; on the CPU, sss_decode_all and an

@@ -10,7 +10,8 @@
  * file is that layout's GL consumer: it makes the buffers and programs,
  * uploads the frame's tables and dispatches the passes.
  *
- * The CPU path (SSS_EVAL_CPU) decodes with sss_decode_all and uploads.
+ * The CPU path (SSS_EVAL_CPU) decodes with sss_decode_all (or, for a
+ * file with the vector integrals Q, sss_decode_vector_range) and uploads.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,13 +25,16 @@
 
 static double now_ms(void) { return 1e3 * sss_now(); }
 
-sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *err)
+/* vector 0: q's rows even when the file holds Q (sss_gpu_layout_create_scalar) */
+static sss_result scatter_create(sss_scatter *s, const sss_gpu_mesh *m, int vector, sss_error *err)
 {
     s->cpu_q = malloc((size_t)m->nv * m->C * sizeof(float));
     if (!s->cpu_q) return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory");
     GLint align = 16;
     glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
-    sss_result res = sss_gpu_layout_create(m->f, align > 0 ? (uint32_t)align : 4u, &s->layout, err);
+    const uint32_t al = align > 0 ? (uint32_t)align : 4u;
+    sss_result res = vector ? sss_gpu_layout_create(m->f, al, &s->layout, err)
+                            : sss_gpu_layout_create_scalar(m->f, al, &s->layout, err);
     if (res == SSS_OK) res = sss_gpu_frame_init(&s->layout, &s->frame, err);
     if (res != SSS_OK) return res;
     const sss_gpu_layout *L = &s->layout;
@@ -70,6 +74,16 @@ sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *
     return SSS_OK;
 }
 
+sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *err)
+{
+    return scatter_create(s, m, 1, err);
+}
+
+sss_result sss_scatter_create_scalar(sss_scatter *s, const sss_gpu_mesh *m, sss_error *err)
+{
+    return scatter_create(s, m, 0, err);
+}
+
 void sss_scatter_destroy(sss_scatter *s)
 {
     glDeleteBuffers(SSS_GPU_BUFFERS, s->buf);
@@ -85,7 +99,9 @@ void sss_scatter_destroy(sss_scatter *s)
 void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3])
 {
     double t0 = now_ms();
-    sss_decode_all(m->f, l, s->cpu_q);
+    /* the layout's choice of q or Q (Hao–Varshney 2004 §3.2), on both paths */
+    if (s->layout.vector) sss_decode_vector_range(m->f, l, SSS_INTERP_TRIANGLE, 0, m->nv, s->cpu_q);
+    else sss_decode_all(m->f, l, s->cpu_q);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, m->qbuf);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)m->nv * m->C * sizeof(float), s->cpu_q);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
@@ -128,6 +144,7 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], G
         if (p == SSS_GPU_PASS_ROWS) {
             if (fr->levels) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s->levels);
             glUniform3f(glGetUniformLocation(prog, "u_w"), fr->u_w[0], fr->u_w[1], fr->u_w[2]);
+            if (L->vector) glUniform3f(glGetUniformLocation(prog, "u_light"), fr->u_light[0], fr->u_light[1], fr->u_light[2]);
             glUniform1ui(glGetUniformLocation(prog, "u_channels"), fr->u_channels);
         } else if (fr->sh) {
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s->sh_tab);

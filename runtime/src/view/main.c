@@ -39,6 +39,8 @@ static void usage(FILE *f)
         "                       F_t / c(eta) so that the radiance integrates to the dipole's exitance\n"
         "                       (docs/physics.md section 4; closer to the path-traced reference in marble)\n"
         "  --cpu                evaluate on the CPU (C decoder; with --scene, the CPU sum of the lights)\n"
+        "  --no-vector          files baked with --vector: draw q's rows, not the vector integrals Q\n"
+        "                       interpolated and dotted with the light (for comparison)\n"
         "  --no-scatter, --no-specular   drop one of the two terms\n"
         "  --no-own-term        files baked with --own-term runtime: draw the stored rows alone, without\n"
         "                       the near terms the viewer adds back (for comparison)\n"
@@ -73,6 +75,7 @@ typedef struct view_args {
     double intensity;  /* --intensity: every channel of p.light_rgb */
     int exposure_given; /* --exposure given; else 1 / the file material's flat-slab q */
     int tonemap, cpu;  /* --tonemap, --cpu */
+    int no_vector;     /* --no-vector: q's rows of a file with Q */
     sss_view_params p;
     const char *input[2]; /* the files read (FILE.sss, --scene): no output may be one of them */
     sss_inputs inputs;
@@ -112,6 +115,7 @@ static int parse(int argc, char **argv, view_args *a)
          .values = tonemap_values},
         {.name = "--exit", .kind = SSS_CLI_CHOICE, .dest = &a->p.exit_normalised, .choices = exits},
         {.name = "--cpu", .kind = SSS_CLI_FLAG, .dest = &a->cpu},
+        {.name = "--no-vector", .kind = SSS_CLI_FLAG, .dest = &a->no_vector},
         {.name = "--no-scatter", .kind = SSS_CLI_FLAG, .dest = &a->p.scatter, .values = off},
         {.name = "--no-specular", .kind = SSS_CLI_FLAG, .dest = &a->p.specular, .values = off},
         {.name = "--no-own-term", .kind = SSS_CLI_FLAG, .dest = &a->p.near_terms, .values = off},
@@ -458,6 +462,10 @@ int main(int argc, char **argv)
     if (sss_file_read(a.path, &f, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
+    }
+    if (a.no_vector) { /* the renderer draws Q whenever the file holds it (sss/render.h) */
+        free(f.qvec);
+        f.qvec = NULL;
     }
     /* a first render neither black nor clipped: the radiance of a flat
      * surface of the material lit head-on, E q F_t(η, n_o·ω_o) with q its
