@@ -38,24 +38,30 @@ static uint64_t rng = 12345;
  * light into its tables as the C decoder does, so on llvmpipe the two agree
  * to the bit; a GPU that rounded y_i(ω) to float first would not pass here
  * (a blend cancelled by its delta magnifies a last-bit difference). */
-static void check_gpu_vs_c(const sss_bake_file *f, const char *label)
+static void check_gpu_vs_c_interp(const sss_bake_file *f, const char *label, sss_interp interp)
 {
     sss_renderer *r;
     sss_error err = {{0}};
     assert_int_equal(sss_renderer_create(f, &r, &err), SSS_OK);
     size_t n = (size_t)f->mesh.nv * f->channels;
-    float *g = malloc(n * sizeof *g), *c = malloc(n * sizeof *c);
+    float *g = malloc(n * sizeof *g), *c = malloc(n * sizeof *c), *tri = malloc(n * sizeof *tri);
     sss_view_params p;
     sss_view_params_default(&p);
+    p.interp = (int)interp;
     double worst = 0, cmax = 0;
-    size_t nzero = 0, nval = 0;
+    size_t nzero = 0, nval = 0, nother = 0;
     for (int t = 0; t < 40; t++) {
         if ((uint32_t)t < f->dirs.n && t < 5) memcpy(p.light, &f->dirs.dir[3 * t], sizeof p.light); /* exactly on samples too */
         else if (t == 5 || t == 6) p.light[0] = 0, p.light[1] = 0, p.light[2] = t == 5 ? 1 : -1;
         else test_random_dir(&rng, p.light);
         sss_renderer_evaluate(r, &p);
         sss_renderer_read_q(r, g);
-        sss_decode_all(f, p.light, c);
+        sss_decode_all_interp(f, p.light, interp, c);
+        /* the other interpolation gives other values between the samples:
+         * the switch reaches the evaluation */
+        sss_decode_all_interp(f, p.light, interp == SSS_INTERP_NEAREST4 ? SSS_INTERP_TRIANGLE : SSS_INTERP_NEAREST4,
+                              tri);
+        for (size_t i = 0; i < n; i++) nother += fabsf(tri[i] - g[i]) > 1e-6f * fabsf(tri[i]);
         for (size_t i = 0; i < n; i++) {
             double den = fabs(c[i]) > 1e-30 ? fabs(c[i]) : 1e-30;
             double rel = fabs((double)g[i] - c[i]) / den;
@@ -66,13 +72,26 @@ static void check_gpu_vs_c(const sss_bake_file *f, const char *label)
             nval++;
         }
     }
-    print_message("GPU vs C decoder: %u vertices x %u channels, %s: worst relative difference %.3g (max q %.3g, %.1f%% zero)\n",
-                  f->mesh.nv, f->channels, label, worst, cmax, 100.0 * (double)nzero / (double)nval);
+    print_message("GPU vs C decoder, %s: %u vertices x %u channels, %s: worst relative difference %.3g (max q %.3g, "
+                  "%.1f%% zero, %.1f%% differ from the other interpolation)\n",
+                  interp == SSS_INTERP_NEAREST4 ? "4-nearest" : "triangle", f->mesh.nv, f->channels, label, worst,
+                  cmax, 100.0 * (double)nzero / (double)nval, 100.0 * (double)nother / (double)nval);
     assert_true(worst <= 1e-4);
     assert_true(cmax > 0); /* the comparison saw light */
+    if (f->quant == SSS_QUANT_SH) assert_int_equal(nother, 0); /* no direction samples: nothing to choose */
+    else assert_true(nother > nval / 10);
     free(g);
     free(c);
+    free(tri);
     sss_renderer_destroy(r);
+}
+
+/* Both interpolations (sss_view_params.interp): the triangle's, and the
+ * paper's 4 nearest samples (Hao–Varshney 2004 §3.2, Fig. 3). */
+static void check_gpu_vs_c(const sss_bake_file *f, const char *label)
+{
+    check_gpu_vs_c_interp(f, label, SSS_INTERP_TRIANGLE);
+    check_gpu_vs_c_interp(f, label, SSS_INTERP_NEAREST4);
 }
 
 static void gpuEvaluationMatchesCDecoderPerVertex(void **state)
