@@ -16,6 +16,7 @@
 
 #include "panel.h"
 extern "C" {
+#include "sss/decode.h"
 #include "sss/dipole.h"
 #include "sss/format.h"
 #include "sss/vec3.h"
@@ -151,6 +152,20 @@ void effects_section(sss_view_params *p, const sss_panel_info *in)
     if (ImGui::Checkbox("scatter", &s)) p->scatter = s;
     ImGui::SameLine(120);
     if (ImGui::Checkbox("specular", &r)) p->specular = r;
+    // the surface terms' shadow and their diffuse share (docs/viewer.md,
+    // "Direct surface light"), below the boxes above so that they keep
+    // their place (tests/integration/window_xvfb.sh clicks them)
+    bool sh = p->surface_shadow != 0;
+    if (ImGui::Checkbox("surface shadow", &sh)) p->surface_shadow = sh;
+    float rho = (float)p->diffuse;
+    if (ImGui::SliderFloat("diffuse", &rho, 0.0f, 1.0f, "%.2f")) p->diffuse = rho < 0 ? 0 : rho > 1 ? 1 : rho;
+    // q between the direction samples (Hao-Varshney 2004 3.2, Fig. 3)
+    int ip = p->interp;
+    ImGui::TextUnformatted("q from");
+    ImGui::SameLine(96);
+    if (ImGui::RadioButton("triangle", &ip, SSS_INTERP_TRIANGLE)) p->interp = SSS_INTERP_TRIANGLE;
+    ImGui::SameLine();
+    if (ImGui::RadioButton("4 nearest", &ip, SSS_INTERP_NEAREST4)) p->interp = SSS_INTERP_NEAREST4;
     if (f->near_terms) {
         bool o = p->near_terms != 0;
         if (ImGui::Checkbox("near terms", &o)) p->near_terms = o;
