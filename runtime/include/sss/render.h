@@ -121,7 +121,8 @@ typedef struct sss_view_params {
     float background[3];  /* clear colour, linear */
     int near_terms;         /* files with OWNT: add the near terms to q (default on; 0 leaves q as evaluated
                            * or uploaded, for tools that draw a full q computed elsewhere); ignored otherwise */
-    int shadow_size;      /* files with OWNT and near_visibility SSS_NEAR_MAP: shadow map texels per side,
+    int shadow_size;      /* the shadow map of the surface terms (surface_shadow) and, for files with OWNT
+                           * and near_visibility SSS_NEAR_MAP, of the near terms: texels per side,
                            * 256 … 8192 (0: SSS_SHADOW_SIZE); finer agrees with the bake's rays at more
                            * vertices and costs more per light change (docs/viewer.md) */
     int near_visibility;  /* files with OWNT: SSS_NEAR_RAYS (default) or SSS_NEAR_MAP (docs/viewer.md) */
