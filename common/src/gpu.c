@@ -129,7 +129,8 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
         set_program(&L->pass[SSS_GPU_PASS_ROWS], "scatter", L->row_n * C);
         snprintf(L->pass[SSS_GPU_PASS_ROWS].defines, sizeof L->pass[0].defines, "%s",
                  L->vector ? "#define VECTOR 1\n" : refs ? "#define LLOYD8 1\n#define REFS 1\n" : l8 ? "#define LLOYD8 1\n" : "");
-        if ((l8 || refs) && !L->vector) L->levels_bytes = (uint64_t)3 * C * 256 * sizeof(float);
+        /* four tables: the 4-nearest blend's (§3.2, Fig. 3); a triangle frame leaves the fourth 0 */
+        if ((l8 || refs) && !L->vector) L->levels_bytes = (uint64_t)4 * C * 256 * sizeof(float);
     }
     if (sh || refs) {
         set_program(&L->pass[SSS_GPU_PASS_CODED], "scatter_coded", L->ncoded);
@@ -247,10 +248,16 @@ void sss_gpu_frame_free(sss_gpu_frame *fr)
 
 void sss_gpu_frame_eval(const sss_gpu_layout *L, const double light[3], sss_gpu_frame *fr)
 {
+    sss_gpu_frame_eval_interp(L, light, SSS_INTERP_TRIANGLE, fr);
+}
+
+void sss_gpu_frame_eval_interp(const sss_gpu_layout *L, const double light[3], sss_interp interp,
+                               sss_gpu_frame *fr)
+{
     const sss_bake_file *f = L->f;
     const uint32_t C = L->channels;
-    uint32_t idx[3] = {0, 0, 0};
-    double w[3] = {0.0, 0.0, 0.0};
+    uint32_t idx[4] = {0, 0, 0, 0};
+    double w[4] = {0.0, 0.0, 0.0, 0.0};
     for (int p = 0; p < SSS_GPU_PASSES; p++) fr->u_count[p] = L->pass[p].count;
     fr->u_channels = C;
     /* the light as sss_decode_all takes it: normalised once here; a zero
@@ -258,21 +265,26 @@ void sss_gpu_frame_eval(const sss_gpu_layout *L, const double light[3], sss_gpu_
     const double len = sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
     const int lit = f->dirs.n > 0 && len > 0.0 && isfinite(len);
     const double d[3] = {lit ? light[0] / len : 0.0, lit ? light[1] / len : 0.0, lit ? light[2] / len : 0.0};
-    if (lit && L->ndirs) sss_dirset_lookup(&f->dirs, d, idx, w);
-    for (int k = 0; k < 3; k++) {
+    const int n4 = interp == SSS_INTERP_NEAREST4;
+    fr->nrows = n4 ? 4 : 3;
+    if (lit && L->ndirs) {
+        if (n4) sss_dirset_nearest4(&f->dirs, d, idx, w);
+        else sss_dirset_lookup(&f->dirs, d, idx, w);
+    }
+    for (int k = 0; k < 4; k++) {
         fr->row[k] = idx[k];
         fr->row_offset[k] = (uint64_t)idx[k] * L->buffer[SSS_GPU_BUF_ROWS].stride;
         fr->u_w[k] = (float)w[k];
-        fr->u_light[k] = (float)d[k]; /* as sss_decode_vector_range rounds it */
     }
+    for (int k = 0; k < 3; k++) fr->u_light[k] = (float)d[k]; /* as sss_decode_vector_range rounds it */
     /* Light-dependent tables, folded in double and rounded once, term for
      * term what the C decoder forms (common/src/decode.c). */
     if (fr->levels) {
         /* T_t[c][x] = w_t · level_c[x]: the §3.2 interpolation of 8-bit rows
-         * becomes three table loads per value */
+         * becomes three (4-nearest: four) table loads per value */
         const float *lvl = L->quant == SSS_QUANT_REFS ? f->ref.levels : f->levels;
         const size_t n = (size_t)C * 256;
-        for (size_t t = 0; t < 3; t++)
+        for (size_t t = 0; t < 4; t++)
             for (size_t x = 0; x < n; x++) fr->levels[t * n + x] = (float)(w[t] * lvl[x]);
     }
     if (fr->sh) {

@@ -121,11 +121,6 @@ layout(std430, binding = 5) readonly buffer Tri { uint tri[]; };
 layout(std430, binding = 6) readonly buffer Fan { uint fan[]; };
 // sin of the largest angle between n_v and its triangles' normals: above it no hit
 layout(std430, binding = 3) readonly buffer FanSin { float fan_sin[]; };
-uniform sampler2D u_depth;  // the shadow map (window depth, nearer the light = smaller)
-uniform mat4 u_shadow;      // world -> (s, t, z) in [0, 1]^3
-uniform int u_size;         // texels per side
-uniform float u_offset;     // normal offset, world units
-uniform float u_bias_c, u_bias_s, u_tan_max; // depth bias: (k_c + k_s min(tan, tan_max)) / size
 // Does the bake's ray (from x + delta n towards d, beyond t = delta) hit one of
 // the triangles around x? (Moller-Trumbore.) They lie within a fraction of a
 // texel of the vertex, where the map cannot tell them from its own surface.
@@ -155,17 +150,8 @@ void main() {
     uint vis = 0u;
     if (c > 0.0 && (c > fan_sin[v] || !fan_blocks(v, vtx(v), n, u_light))) {
         // Hao-Varshney 2004 3.1: transform the vertex into light space and
-        // compare its depth with the depth image; lifted along n and biased
-        // so that the answer is the bake's ray's (shadow.c)
-        vec3 p = vtx(v) + u_offset * n;
-        vec3 s = (u_shadow * vec4(p, 1.0)).xyz;
-        ivec2 ix = ivec2(floor(s.xy * float(u_size)));
-        vis = 1u;
-        if (all(greaterThanEqual(ix, ivec2(0))) && all(lessThan(ix, ivec2(u_size)))) {
-            float tn = min(sqrt(max(1.0 - c * c, 0.0)) / c, u_tan_max);
-            float bias = (u_bias_c + u_bias_s * tn) / float(u_size);
-            vis = s.z - bias <= texelFetch(u_depth, ix, 0).r ? 1u : 0u;
-        }
+        // compare its depth with the depth image (shadow_map.glsl)
+        vis = shadow_map_lit(vtx(v), n, c) ? 1u : 0u;
     }
     lit[v] = vis;
     gv[v] = vis != 0u ? near_g(u_eta, n, u_light) : 0.0;

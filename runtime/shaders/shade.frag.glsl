@@ -9,6 +9,8 @@ uniform float u_exposure;
 uniform float u_exit_scale; // 1, or 1/c(η) for the normalised exit (docs/physics.md §4)
 uniform int u_scatter;
 uniform int u_specular;
+uniform float u_diffuse;  // rho_d: the Fresnel-reflected share reflected diffusely (docs/viewer.md)
+uniform int u_surface_shadow; // 1: the surface terms are tested against the shadow map (shadow_map.glsl)
 uniform int u_tonemap;    // 0 clamp, 1 Reinhard, -1 none (HDR readback)
 uniform int u_srgb;       // encode for an 8-bit display framebuffer
 uniform int u_flat;       // wireframe: constant colour
@@ -34,13 +36,23 @@ void main() {
     // Subsurface term: L = E q F_t(eta, n.w_o) (Hao–Varshney 2004 §3.1),
     // divided by c(η) for the normalised exit
     if (u_scatter != 0) L += u_light_rgb * v_q * ((1.0 - fresnel_r(u_eta, nv)) * u_exit_scale);
-    // Surface reflection: Fresnel-weighted normalised Blinn-Phong lobe.
-    if (u_specular != 0) {
-        vec3 h = normalize(u_light + v);
-        float nl = max(dot(n, u_light), 0.0);
-        const float s = 80.0;
-        float d = (s + 8.0) / (8.0 * PI) * pow(max(dot(n, h), 0.0), s);
-        L += u_light_rgb * (fresnel_r(u_eta, dot(v, h)) * d * nl);
+    // Direct surface light (Hao-Varshney 2004 3.2, "direct on-surface
+    // reflected light (including shadow)"): of the irradiance E n.w_i the
+    // boundary reflects F_r; the rest entered and is q's. A share rho_d of
+    // the reflected light leaves in a Lambert lobe, the rest in a
+    // Fresnel-weighted normalised Blinn-Phong lobe, so nothing is counted
+    // twice (docs/viewer.md, "Direct surface light"). Both are 0 where the
+    // shadow map says the light is blocked.
+    float nl = max(dot(n, u_light), 0.0);
+    if ((u_specular != 0 || u_diffuse > 0.0) && nl > 0.0
+        && (u_surface_shadow == 0 || shadow_map_lit(v_pos, n, nl))) {
+        if (u_specular != 0) {
+            vec3 h = normalize(u_light + v);
+            const float s = 80.0;
+            float d = (s + 8.0) / (8.0 * PI) * pow(max(dot(n, h), 0.0), s);
+            L += u_light_rgb * ((1.0 - u_diffuse) * fresnel_r(u_eta, dot(v, h)) * d * nl);
+        }
+        if (u_diffuse > 0.0) L += u_light_rgb * (u_diffuse * fresnel_r(u_eta, nl) * nl / PI);
     }
     vec3 x = u_exposure * L;
     if (u_tonemap == 0) x = clamp(x, 0.0, 1.0);

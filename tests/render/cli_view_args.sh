@@ -17,7 +17,7 @@ expect_msg() {
 F=$TMP/none.sss
 # a value missing at the end of the line
 for o in --out --screenshot --size --light --view --exposure --intensity --tonemap --exit --scene --near-visibility \
-         --shadow-size --bench; do
+         --shadow-size --bench --diffuse --interp; do
   expect_msg "sss-view: $o needs a value" "$F" "$o"
 done
 # a value is the next argument, whatever it looks like
@@ -52,6 +52,11 @@ expect_msg "sss-view: --tonemap: 'Clamp' must be clamp or reinhard" "$F" --tonem
 expect_msg "sss-view: --tonemap: '' must be clamp or reinhard" "$F" --tonemap ''
 expect_msg "sss-view: --exit: 'normalized' must be jensen or normalised" "$F" --exit normalized
 expect_msg "sss-view: --near-visibility: 'maps' must be rays or map" "$F" --near-visibility maps
+expect_msg "sss-view: --interp: 'nearest' must be triangle or nearest4" "$F" --interp nearest
+# --diffuse: a share of the reflected light, in [0, 1]
+for v in -0.1 1.01 nan x ''; do
+  expect_msg "sss-view: --diffuse: '$v' must be a number in [0, 1]" "$F" --diffuse "$v"
+done
 # --shadow-size: an integer 256 ... 8192; --bench: an integer in [1, 100000]
 for v in 255 8193 -512 512x 1e3 ''; do
   expect_msg "sss-view: --shadow-size: '$v' must be an integer 256 ... 8192" "$F" --shadow-size "$v"

@@ -94,3 +94,22 @@ done
 expect_ok view "$TMP/e_skin1.sss" --offscreen --out "$TMP/e1.png" --size 128x96 --exposure 1
 read -r mx1 _ < <("$SSS_PNGSTATS" --range "$TMP/e1.png") || fail "cannot read e1.png"
 [ "$mx1" -lt 160 ] || fail "skin1 at --exposure 1: brightest sample $mx1, expected the dimmer picture (< 160)"
+# the surface terms (docs/viewer.md, "Direct surface light"): --diffuse adds a Lambert share of the
+# reflected light, --no-surface-shadow lifts their shadow, --interp nearest4 the paper's blend of q;
+# each changes the picture of the blob (which shadows itself), and --bench says which was drawn
+expect_ok view "$TMP/b.sss" --offscreen --out "$TMP/s0.png" --size 160x120 --light 1,0.2,0.3
+for o in "--diffuse 0.5" "--interp nearest4" "--interp nearest4 --cpu"; do
+  # shellcheck disable=SC2086
+  expect_ok view "$TMP/b.sss" --offscreen --out "$TMP/s1.png" --size 160x120 --light 1,0.2,0.3 $o
+  cmp -s "$TMP/s0.png" "$TMP/s1.png" && fail "$o did not change the picture"
+done
+# the shadow shows in the broad Lambert lobe (the specular one need not reach a shadow)
+expect_ok view "$TMP/b.sss" --offscreen --out "$TMP/s3.png" --size 160x120 --light 1,0.2,0.3 --diffuse 1 --no-scatter
+expect_ok view "$TMP/b.sss" --offscreen --out "$TMP/s4.png" --size 160x120 --light 1,0.2,0.3 --diffuse 1 --no-scatter \
+  --no-surface-shadow
+cmp -s "$TMP/s3.png" "$TMP/s4.png" && fail "--no-surface-shadow did not change the picture"
+expect_ok view "$TMP/b.sss" --offscreen --out "$TMP/s2.png" --size 160x120 --light 1,0.2,0.3 --interp nearest4
+d=$("$SSS_PNGSTATS" "$TMP/s1.png" "$TMP/s2.png") || fail "cannot compare s1.png and s2.png"
+awk -v d="$d" 'BEGIN { exit !(d < 0.001) }' || fail "4-nearest: GPU and CPU paths differ on $d of the pixels"
+expect_ok view "$TMP/b.sss" --offscreen --bench 2 --size 64x64 --interp nearest4 --diffuse 0.25 --no-surface-shadow
+contains "$TMP/out" '"interp":"nearest4","surface_shadow":false,"diffuse":0.25'

@@ -38,24 +38,30 @@ static uint64_t rng = 12345;
  * light into its tables as the C decoder does, so on llvmpipe the two agree
  * to the bit; a GPU that rounded y_i(ω) to float first would not pass here
  * (a blend cancelled by its delta magnifies a last-bit difference). */
-static void check_gpu_vs_c(const sss_bake_file *f, const char *label)
+static void check_gpu_vs_c_interp(const sss_bake_file *f, const char *label, sss_interp interp)
 {
     sss_renderer *r;
     sss_error err = {{0}};
     assert_int_equal(sss_renderer_create(f, &r, &err), SSS_OK);
     size_t n = (size_t)f->mesh.nv * f->channels;
-    float *g = malloc(n * sizeof *g), *c = malloc(n * sizeof *c);
+    float *g = malloc(n * sizeof *g), *c = malloc(n * sizeof *c), *tri = malloc(n * sizeof *tri);
     sss_view_params p;
     sss_view_params_default(&p);
+    p.interp = (int)interp;
     double worst = 0, cmax = 0;
-    size_t nzero = 0, nval = 0;
+    size_t nzero = 0, nval = 0, nother = 0;
     for (int t = 0; t < 40; t++) {
         if ((uint32_t)t < f->dirs.n && t < 5) memcpy(p.light, &f->dirs.dir[3 * t], sizeof p.light); /* exactly on samples too */
         else if (t == 5 || t == 6) p.light[0] = 0, p.light[1] = 0, p.light[2] = t == 5 ? 1 : -1;
         else test_random_dir(&rng, p.light);
         sss_renderer_evaluate(r, &p);
         sss_renderer_read_q(r, g);
-        sss_decode_all(f, p.light, c);
+        sss_decode_all_interp(f, p.light, interp, c);
+        /* the other interpolation gives other values between the samples:
+         * the switch reaches the evaluation */
+        sss_decode_all_interp(f, p.light, interp == SSS_INTERP_NEAREST4 ? SSS_INTERP_TRIANGLE : SSS_INTERP_NEAREST4,
+                              tri);
+        for (size_t i = 0; i < n; i++) nother += fabsf(tri[i] - g[i]) > 1e-6f * fabsf(tri[i]);
         for (size_t i = 0; i < n; i++) {
             double den = fabs(c[i]) > 1e-30 ? fabs(c[i]) : 1e-30;
             double rel = fabs((double)g[i] - c[i]) / den;
@@ -66,13 +72,26 @@ static void check_gpu_vs_c(const sss_bake_file *f, const char *label)
             nval++;
         }
     }
-    print_message("GPU vs C decoder: %u vertices x %u channels, %s: worst relative difference %.3g (max q %.3g, %.1f%% zero)\n",
-                  f->mesh.nv, f->channels, label, worst, cmax, 100.0 * (double)nzero / (double)nval);
+    print_message("GPU vs C decoder, %s: %u vertices x %u channels, %s: worst relative difference %.3g (max q %.3g, "
+                  "%.1f%% zero, %.1f%% differ from the other interpolation)\n",
+                  interp == SSS_INTERP_NEAREST4 ? "4-nearest" : "triangle", f->mesh.nv, f->channels, label, worst,
+                  cmax, 100.0 * (double)nzero / (double)nval, 100.0 * (double)nother / (double)nval);
     assert_true(worst <= 1e-4);
     assert_true(cmax > 0); /* the comparison saw light */
+    if (f->quant == SSS_QUANT_SH) assert_int_equal(nother, 0); /* no direction samples: nothing to choose */
+    else assert_true(nother > nval / 10);
     free(g);
     free(c);
+    free(tri);
     sss_renderer_destroy(r);
+}
+
+/* Both interpolations (sss_view_params.interp): the triangle's, and the
+ * paper's 4 nearest samples (Hao–Varshney 2004 §3.2, Fig. 3). */
+static void check_gpu_vs_c(const sss_bake_file *f, const char *label)
+{
+    check_gpu_vs_c_interp(f, label, SSS_INTERP_TRIANGLE);
+    check_gpu_vs_c_interp(f, label, SSS_INTERP_NEAREST4);
 }
 
 static void gpuEvaluationMatchesCDecoderPerVertex(void **state)
@@ -240,6 +259,116 @@ static void normalisedExitDividesSubsurfaceTermByC(void **state)
     sss_mesh_free(&m);
 }
 
+/* The HDR image of the surface terms alone (no scatter) of r's mesh. */
+static float *surface_image(sss_renderer *r, const double light[3], const double view[3], int specular,
+                            double diffuse, int shadow, int W, int H)
+{
+    sss_view_params p;
+    sss_view_params_default(&p);
+    memcpy(p.light, light, sizeof p.light);
+    memcpy(p.view, view, sizeof p.view);
+    p.scatter = 0;
+    p.specular = specular;
+    p.diffuse = diffuse;
+    p.surface_shadow = shadow;
+    float *rgb, *hdr;
+    sss_error err = {{0}};
+    assert_int_equal(sss_renderer_render_image(r, &p, W, H, &rgb, &hdr, &err), SSS_OK);
+    free(rgb);
+    return hdr;
+}
+
+/* Direct surface light with shadows (Hao–Varshney 2004 §3.2; docs/viewer.md,
+ * "Direct surface light"). A torus lit from just above its plane: the near
+ * side of the tube blocks the light from the far side's inner wall, seen
+ * through the hole. With the shadow, every pixel of the surface terms is
+ * either the unshadowed value, unchanged, or 0 (no direct term at all), and
+ * a good part of the inner wall is 0; the same for the specular lobe. On a
+ * sphere nothing occludes: the shadowed image is the unshadowed one but for
+ * a few pixels on the terminator, where the map's test is least sure
+ * (shadow.c: the band within a texel of a shadow's outline at grazing
+ * light); the Fresnel-weighted Lambert term is not small there, since F_r
+ * grows towards grazing. */
+static void surfaceTermsAreZeroWhereShadowedAndUnchangedElsewhere(void **state)
+{
+    (void)state;
+    sss_error err = {{0}};
+    const int W = 192, H = 144;
+    const size_t n = (size_t)W * H * 3;
+    for (int shape = 0; shape < 2; shape++) {
+        sss_mesh m;
+        if (shape == 0) assert_int_equal(sss_gen_torus(&m, 1.0, 0.4, 96, 48, &err), SSS_OK);
+        else assert_int_equal(sss_gen_sphere(&m, 1.0, 4, &err), SSS_OK);
+        sss_bake_file f;
+        bake_preset(&m, "marble", 0, 30.0, 20, SSS_QUANT_FLOAT, -1, &f);
+        sss_renderer *r;
+        assert_int_equal(sss_renderer_create(&f, &r, &err), SSS_OK);
+        const double light[3] = {1, 0, 0.25}, view[3] = {0.7, 0.2, 1};
+        for (int lobe = 0; lobe < 2; lobe++) { /* Lambert alone, then specular alone */
+            float *off = surface_image(r, light, view, lobe, lobe ? 0.0 : 1.0, 0, W, H);
+            float *on = surface_image(r, light, view, lobe, lobe ? 0.0 : 1.0, 1, W, H);
+            size_t lit = 0, zeroed = 0, other = 0, changed = 0;
+            double max = 0;
+            for (size_t i = 0; i < n; i++) if (off[i] > max) max = off[i];
+            for (size_t i = 0; i < n; i++) {
+                if (!(off[i] > 1e-3 * max)) continue;
+                lit++;
+                if (on[i] == off[i]) continue;
+                changed++;
+                if (on[i] == 0.0f) zeroed++;
+                else other++;
+            }
+            print_message("%s, %s: %zu lit values, %zu zeroed by the shadow, %zu otherwise changed\n",
+                          shape ? "sphere" : "torus", lobe ? "specular" : "Lambert", lit, zeroed, other);
+            assert_true(lit > 1000);
+            assert_int_equal(other, 0); /* the shadow takes the whole term or nothing */
+            if (shape == 0 && lobe == 0) assert_true(zeroed > lit / 50); /* the inner wall */
+            if (shape == 1) {
+                assert_true(changed <= lit / 500); /* nothing occludes a sphere */
+            }
+            free(off);
+            free(on);
+        }
+        sss_renderer_destroy(r);
+        sss_file_free(&f);
+        sss_mesh_free(&m);
+    }
+}
+
+/* The energy split of the surface terms (docs/viewer.md): rho_d moves a
+ * share of the Fresnel-reflected light from the specular lobe into the
+ * Lambert one, so the picture with rho_d = 0 is the specular lobe's alone,
+ * and with any rho_d it is the blend (1 − rho_d)·specular + rho_d·Lambert of
+ * the two pure pictures. */
+static void diffuseAlbedoSplitsTheReflectedLight(void **state)
+{
+    (void)state;
+    sss_error err = {{0}};
+    sss_mesh m;
+    assert_int_equal(sss_gen_sphere(&m, 1.0, 3, &err), SSS_OK);
+    sss_bake_file f;
+    bake_preset(&m, "marble", 0, 30.0, 20, SSS_QUANT_FLOAT, -1, &f);
+    sss_renderer *r;
+    assert_int_equal(sss_renderer_create(&f, &r, &err), SSS_OK);
+    const int W = 96, H = 72;
+    const double light[3] = {0.3, 0.5, 1}, view[3] = {0, 0, 1};
+    float *spec = surface_image(r, light, view, 1, 0.0, 1, W, H);
+    float *lamb = surface_image(r, light, view, 0, 1.0, 1, W, H);
+    float *mix = surface_image(r, light, view, 1, 0.25, 1, W, H);
+    double sl = 0;
+    for (size_t i = 0; i < (size_t)W * H * 3; i++) {
+        sl += lamb[i];
+        assert_true(fabs(mix[i] - (0.75 * spec[i] + 0.25 * lamb[i])) <= 1e-5 * (1.0 + spec[i] + lamb[i]));
+    }
+    assert_true(sl > 10.0); /* the Lambert lobe drew something */
+    free(spec);
+    free(lamb);
+    free(mix);
+    sss_renderer_destroy(r);
+    sss_file_free(&f);
+    sss_mesh_free(&m);
+}
+
 static void offscreenSphereMatchesCDecoderImage(void **state)
 {
     (void)state;
@@ -293,6 +422,8 @@ int main(void)
         cmocka_unit_test(gpuEvaluationMatchesCDecoderPerVertex),
         cmocka_unit_test(gpuEvaluationMatchesCDecoderCompressed),
         cmocka_unit_test(normalisedExitDividesSubsurfaceTermByC),
+        cmocka_unit_test(surfaceTermsAreZeroWhereShadowedAndUnchangedElsewhere),
+        cmocka_unit_test(diffuseAlbedoSplitsTheReflectedLight),
         cmocka_unit_test(offscreenSphereMatchesCDecoderImage),
         cmocka_unit_test(offscreenCompressedSphereMatchesCDecoderImage),
         cmocka_unit_test(offscreenBunnyMatchesCDecoderImage),

@@ -73,13 +73,15 @@ static void gpuVectorMatchesCDecoderAndCpuPath(void **state)
         sss_view_params p;
         sss_view_params_default(&p);
         double worst = 0.0, cmax = 0.0;
-        for (int t = 0; t < 30; t++) {
-            if (t < 4) memcpy(p.light, &f.dirs.dir[3 * t], sizeof p.light); /* on samples too */
+        for (int t = 0; t < 60; t++) {
+            /* the triangle's interpolation, then the paper's 4-nearest */
+            p.interp = t < 30 ? SSS_INTERP_TRIANGLE : SSS_INTERP_NEAREST4;
+            if (t % 30 < 4) memcpy(p.light, &f.dirs.dir[3 * (t % 30)], sizeof p.light); /* on samples too */
             else test_random_dir(&rng, p.light);
             p.path = SSS_EVAL_GPU;
             sss_renderer_evaluate(r, &p);
             sss_renderer_read_q(r, g);
-            sss_decode_vector_range(&f, p.light, SSS_INTERP_TRIANGLE, 0, f.mesh.nv, c);
+            sss_decode_vector_range(&f, p.light, (sss_interp)p.interp, 0, f.mesh.nv, c);
             worst = fmax(worst, worst_rel(g, c, n, &cmax));
             p.path = SSS_EVAL_CPU;
             sss_renderer_evaluate(r, &p);

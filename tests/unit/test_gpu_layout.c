@@ -80,15 +80,19 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
     if (p0->name) {
         const int l8 = strstr(p0->defines, "LLOYD8") != NULL, refs = strstr(p0->defines, "REFS") != NULL;
         const uint8_t *ra = rows + fr->row_offset[0], *rb = rows + fr->row_offset[1], *rc = rows + fr->row_offset[2];
+        /* the NEAREST4 variant's fourth row (SSS_GPU_ROW4_BINDING) */
+        const uint8_t *rd = fr->nrows == 4 ? rows + fr->row_offset[3] : NULL;
         for (uint32_t i = 0; i < fr->u_count[0]; i++) {
             float x;
             if (l8) {
                 const uint32_t ch = i % fr->u_channels, t = 256u * fr->u_channels, base = 256u * ch;
                 x = fr->levels[base + byte_at(ra, i)] + fr->levels[t + base + byte_at(rb, i)];
                 x += fr->levels[2u * t + base + byte_at(rc, i)];
+                if (rd) x += fr->levels[3u * t + base + byte_at(rd, i)];
             } else {
                 const float *a = (const float *)ra, *b = (const float *)rb, *c = (const float *)rc;
-                x = fr->u_w[0] * a[i] + fr->u_w[1] * b[i] + fr->u_w[2] * c[i];
+                if (rd) x = fr->u_w[0] * a[i] + fr->u_w[1] * b[i] + fr->u_w[2] * c[i] + fr->u_w[3] * ((const float *)rd)[i];
+                else x = fr->u_w[0] * a[i] + fr->u_w[1] * b[i] + fr->u_w[2] * c[i];
             }
             if (refs) {
                 refq[i] = x;
@@ -135,7 +139,9 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
     free(rows), free(ref_vertex);
 }
 
-/* Every light of a fixed set, and no light: the replay equals sss_decode_all. */
+/* Every light of a fixed set, and no light, with either interpolation: the
+ * replay equals sss_decode_all_interp (the 4-nearest frames with the rows
+ * pass's NEAREST4 variant). */
 static void check_form(const sss_bake_file *f, const char *what)
 {
     sss_gpu_layout L;
@@ -148,13 +154,19 @@ static void check_form(const sss_bake_file *f, const char *what)
     float *refq = malloc(((size_t)f->ref.nref * f->channels + 1) * sizeof *refq);
     assert_true(gpu && cpu && refq);
     const double lights[][3] = {{0, 0, 1}, {0.3, 0.5, 0.8}, {-1, 0.2, 0.1}, {0, -2, 0}, {0.7, -0.1, -0.7}, {0, 0, 0}};
-    for (size_t i = 0; i < sizeof lights / sizeof lights[0]; i++) {
-        memset(gpu, 0xff, n * sizeof *gpu); /* NaN: a value the passes did not write shows */
-        sss_gpu_frame_eval(&L, lights[i], &fr);
-        replay(&L, &fr, gpu, refq);
-        sss_decode_all(f, lights[i], cpu);
-        if (memcmp(gpu, cpu, n * sizeof *gpu) != 0) fail_msg("%s, light %zu: the layout's q differs from sss_decode_all", what, i);
-    }
+    for (int n4 = 0; n4 < 2; n4++)
+        for (size_t i = 0; i < sizeof lights / sizeof lights[0]; i++) {
+            const sss_interp in = n4 ? SSS_INTERP_NEAREST4 : SSS_INTERP_TRIANGLE;
+            memset(gpu, 0xff, n * sizeof *gpu); /* NaN: a value the passes did not write shows */
+            if (n4) sss_gpu_frame_eval_interp(&L, lights[i], in, &fr);
+            else sss_gpu_frame_eval(&L, lights[i], &fr);
+            assert_int_equal(fr.nrows, n4 ? 4u : 3u);
+            replay(&L, &fr, gpu, refq);
+            sss_decode_all_interp(f, lights[i], in, cpu);
+            if (memcmp(gpu, cpu, n * sizeof *gpu) != 0)
+                fail_msg("%s, %s, light %zu: the layout's q differs from sss_decode_all_interp", what,
+                         n4 ? "4-nearest" : "triangle", i);
+        }
     free(gpu), free(cpu), free(refq);
     sss_gpu_frame_free(&fr);
     sss_gpu_layout_free(&L);

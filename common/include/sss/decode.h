@@ -41,8 +41,9 @@ typedef enum sss_interp {
  * to the bit. With SSS_INTERP_NEAREST4 the rows of float and lloyd8 files
  * and the reference rows of SSS_QUANT_REFS files are blended over the four
  * nearest samples instead (the SH part, which has no direction samples, is
- * unchanged). Only the CPU decoder has the NEAREST4 form; the file format
- * and the viewer stay barycentric. */
+ * unchanged). The file format stays barycentric; the GPU layout has the
+ * NEAREST4 form too (sss_gpu_frame_eval_interp), and the viewer draws
+ * either (sss_view_params.interp). */
 void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_interp interp, float *out);
 
 /* The SH tables of f's compressed form (f->sh) folded with the basis at

@@ -28,6 +28,7 @@
 
 #include <stdint.h>
 
+#include "sss/decode.h" /* sss_interp */
 #include "sss/format.h"
 #include "sss/result.h"
 
@@ -38,6 +39,12 @@ extern "C" {
 /* The GLSL version line every program starts with; the #define lines of
  * sss_gpu_program.defines follow it, then the source. */
 #define SSS_GPU_GLSL_VERSION "#version 430 core\n"
+/* The line to add after sss_gpu_program.defines of the rows pass to get its
+ * 4-nearest variant (frames of sss_gpu_frame_eval_interp with
+ * SSS_INTERP_NEAREST4): four direction rows, the fourth bound at
+ * SSS_GPU_ROW4_BINDING, and a vec4 u_w (docs/gpu_layout.md). */
+#define SSS_GPU_NEAREST4_DEFINE "#define NEAREST4 1\n"
+#define SSS_GPU_ROW4_BINDING 7u
 /* Invocations per work group (local_size_x of both shaders). */
 #define SSS_GPU_GROUP_SIZE 256u
 
@@ -110,22 +117,26 @@ typedef struct sss_gpu_layout {
     sss_gpu_program pass[SSS_GPU_PASSES];
     sss_gpu_buffer buffer[SSS_GPU_BUFFERS];
     /* Per-frame block sizes (sss_gpu_frame), 0 when absent. */
-    uint64_t levels_bytes;    /* 3·C·256 float32 (lloyd8, reference form) */
+    uint64_t levels_bytes;    /* 4·C·256 float32 (lloyd8, reference form): a table per blended row */
     uint64_t sh_bytes;        /* C·ncoef·sh_levels float32 (SH, reference form with an SH part) */
     void *owned_[3];          /* what the layout built; private */
 } sss_gpu_layout;
 
 /* One light's constants: what the engine uploads and sets per frame. */
 typedef struct sss_gpu_frame {
-    uint32_t row[3];          /* the direction rows of the light's triangle (sss_dirset_lookup) */
-    uint64_t row_offset[3];   /* byte offsets of those rows in SSS_GPU_BUF_ROWS (row[k] · stride): bind
-                                 [row_offset[k], row_offset[k] + row_range) at binding k, rows pass */
-    float u_w[3];             /* uniform vec3 u_w: barycentric weights (float rows); 0 for no light */
+    uint32_t row[4];          /* the direction rows of the light's triangle (sss_dirset_lookup); with
+                                 SSS_INTERP_NEAREST4 its four nearest samples (sss_dirset_nearest4) */
+    uint64_t row_offset[4];   /* byte offsets of those rows in SSS_GPU_BUF_ROWS (row[k] · stride): bind
+                                 [row_offset[k], row_offset[k] + row_range) at binding k, rows pass (the
+                                 fourth, 4-nearest frames only, at SSS_GPU_ROW4_BINDING) */
+    float u_w[4];             /* uniform vec3 u_w: barycentric weights (float rows), u_w[3] = 0; 4-nearest
+                                 frames: uniform vec4 u_w; all 0 for no light */
+    uint32_t nrows;           /* direction rows the frame blends: 3, or 4 (SSS_INTERP_NEAREST4) */
     uint32_t u_count[SSS_GPU_PASSES]; /* uniform uint u_count of each pass (= pass[p].count) */
     uint32_t u_channels;      /* uniform uint u_channels (rows pass) */
     float u_light[3];         /* uniform vec3 u_light (rows pass of a vector layout): the unit light, as float */
-    /* binding 4 of the rows pass: levels[(t·C + c)·256 + x] = w_t · level_c[x] (lloyd8 and the
-     * references' rows; NULL otherwise) */
+    /* binding 4 of the rows pass: levels[(t·C + c)·256 + x] = w_t · level_c[x], t < 4 (the fourth
+     * table 0 in triangle frames) (lloyd8 and the references' rows; NULL otherwise) */
     float *levels;
     uint64_t levels_bytes;
     /* binding 4 of the coded pass: sh[(c·ncoef + i)·L + x] = table_c,i[x] · y_i(ω)
@@ -161,6 +172,12 @@ sss_result sss_gpu_frame_init(const sss_gpu_layout *layout, sss_gpu_frame *frame
  * length; normalised here as sss_decode_all does; a zero or non-finite one
  * gives zero weights and tables, so q = 0). */
 void sss_gpu_frame_eval(const sss_gpu_layout *layout, const double light[3], sss_gpu_frame *frame);
+/* sss_gpu_frame_eval with a choice of direction interpolation: the frame
+ * then gives sss_decode_all_interp's floats for the same light and interp
+ * (SSS_INTERP_NEAREST4: the rows pass compiled with
+ * SSS_GPU_NEAREST4_DEFINE; the SH pass is the same for both). */
+void sss_gpu_frame_eval_interp(const sss_gpu_layout *layout, const double light[3], sss_interp interp,
+                               sss_gpu_frame *frame);
 void sss_gpu_frame_free(sss_gpu_frame *frame);
 
 /* The embedded GLSL of the evaluation (runtime/shaders/NAME.comp.glsl,

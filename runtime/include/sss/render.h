@@ -121,19 +121,28 @@ typedef struct sss_view_params {
     float background[3];  /* clear colour, linear */
     int near_terms;         /* files with OWNT: add the near terms to q (default on; 0 leaves q as evaluated
                            * or uploaded, for tools that draw a full q computed elsewhere); ignored otherwise */
-    int shadow_size;      /* files with OWNT and near_visibility SSS_NEAR_MAP: shadow map texels per side,
+    int shadow_size;      /* the shadow map of the surface terms (surface_shadow) and, for files with OWNT
+                           * and near_visibility SSS_NEAR_MAP, of the near terms: texels per side,
                            * 256 … 8192 (0: SSS_SHADOW_SIZE); finer agrees with the bake's rays at more
                            * vertices and costs more per light change (docs/viewer.md) */
     int near_visibility;  /* files with OWNT: SSS_NEAR_RAYS (default) or SSS_NEAR_MAP (docs/viewer.md) */
     int exit_normalised;  /* 1: the subsurface exit term F_t(η, n·ω_o) divided by c(η) = sss_exit_norm(η),
                            * so that the radiance integrates to the dipole's exitance (docs/physics.md §4);
                            * 0 (default): Jensen's F_t, as the paper */
+    int interp;           /* how q at the light is formed from the direction samples, both paths:
+                           * SSS_INTERP_TRIANGLE (0, default) or SSS_INTERP_NEAREST4, the paper's four
+                           * nearest samples (Hao–Varshney 2004 §3.2, Fig. 3; sss/decode.h, docs/viewer.md) */
+    int surface_shadow;   /* 1 (default): the surface terms (specular, diffuse) are 0 where the shadow map
+                           * says the light is blocked (docs/viewer.md, "Direct surface light") */
+    double diffuse;       /* ρ_d in [0, 1]: the share of the Fresnel-reflected light the surface reflects
+                           * diffusely (Lambert) instead of in the specular lobe (default 0: all specular) */
 } sss_view_params;
 
 /* Fills the defaults: light and view (0, 0, 1), light_rgb (1, 1, 1),
  * distance 3.6, fov 35°, exposure 1, scatter and specular on, clamp tone
  * map, GPU path, near_terms on, SSS_NEAR_RAYS, black background, no pan,
- * no wireframe, shadow_size 0. Needs no context. */
+ * no wireframe, shadow_size 0, triangle interpolation, surface_shadow on,
+ * diffuse 0. Needs no context. */
 void sss_view_params_default(sss_view_params *p);
 
 /* The frame sss_view_params is measured in: the centre of m's bounding box

@@ -1,7 +1,9 @@
 /* draw.c: the view of a frame (renderer.h): view parameters and camera,
  * the shading draw
- *     L = E · q · F_t(η, n·ω_o)  +  Fresnel-weighted specular
- * per colour channel (Hao–Varshney 2004 §3.1's outgoing radiance), exposure
+ *     L = E · q · F_t(η, n·ω_o)  +  V · (specular + diffuse surface terms)
+ * per colour channel (Hao–Varshney 2004 §3.1's outgoing radiance; §3.2's
+ * direct on-surface light including shadow, V from the shadow map of
+ * shadow.c tested per fragment: docs/viewer.md, "Direct surface light"), exposure
  * and tone mapping, the float framebuffer, and whole offscreen images.
  */
 #include <math.h>
@@ -11,6 +13,7 @@
 #include "gl_util.h"
 #include "renderer.h"
 #include "shaders.h"
+#include "shadow.h"
 #include "sss/dipole.h"
 #include "sss/vec3.h"
 
@@ -29,6 +32,7 @@ void sss_view_params_default(sss_view_params *p)
     p->path = SSS_EVAL_GPU;
     p->near_terms = 1;
     p->near_visibility = SSS_NEAR_RAYS;
+    p->surface_shadow = 1;
 }
 
 float sss_tonemap_apply(sss_tonemap t, float x)
@@ -57,7 +61,8 @@ double sss_view_bounds(const sss_mesh *m, double centre[3])
 sss_result sss_draw_create(sss_draw *d, sss_error *err)
 {
     GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vert, err);
-    GLuint fs = vs ? sss_gl_compile(GL_FRAGMENT_SHADER, "", sss_glsl_shade_frag, err) : 0;
+    const char *parts[3] = {"", sss_glsl_shadow_map, sss_glsl_shade_frag};
+    GLuint fs = vs ? sss_gl_compile_parts(GL_FRAGMENT_SHADER, parts, 3, err) : 0;
     d->prog_shade = fs ? sss_gl_link(vs, fs, err) : 0;
     if (!d->prog_shade) {
         if (vs && !fs) glDeleteShader(vs);
@@ -69,6 +74,7 @@ sss_result sss_draw_create(sss_draw *d, sss_error *err)
 void sss_draw_destroy(sss_draw *d)
 {
     if (d->prog_shade) glDeleteProgram(d->prog_shade);
+    sss_shadow_destroy(d->shadow);
     if (d->fbo) {
         glDeleteFramebuffers(1, &d->fbo);
         glDeleteRenderbuffers(1, &d->fbo_color);
@@ -147,6 +153,15 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     camera_mvp(m, p, width, height, eye, mvp);
     double l[3] = {p->light[0], p->light[1], p->light[2]};
     sss_normalize3(l);
+    const float lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
+    const double rho_d = p->diffuse > 0 ? (p->diffuse < 1 ? p->diffuse : 1.0) : 0.0;
+    /* the surface terms' shadow: the map for this light, rendered (outside
+     * the draw's timer: llvmpipe's timer spans no framebuffer switch) only
+     * when the light direction or the size changes */
+    const int shadowed = p->surface_shadow && (p->specular || rho_d > 0) &&
+                         lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2] > 0.5f &&
+                         sss_shadow_ensure(&d->shadow, m->vao, m->nf, m->centre, m->radius, p->shadow_size);
+    if (shadowed) sss_shadow_update(d->shadow, lf, 0);
 
     glViewport(0, 0, width, height);
     glClearColor(p->background[0], p->background[1], p->background[2], 1.0f);
@@ -168,6 +183,9 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     glUniform1f(glGetUniformLocation(pr, "u_exposure"), (float)(p->exposure > 0 ? p->exposure : 1.0));
     glUniform1i(glGetUniformLocation(pr, "u_scatter"), p->scatter);
     glUniform1i(glGetUniformLocation(pr, "u_specular"), p->specular);
+    glUniform1f(glGetUniformLocation(pr, "u_diffuse"), (float)rho_d);
+    glUniform1i(glGetUniformLocation(pr, "u_surface_shadow"), shadowed);
+    if (shadowed) sss_shadow_bind(d->shadow, pr, 0);
     GLint fb = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fb);
     int offscreen = fb != 0 && (GLuint)fb == d->fbo;
@@ -187,6 +205,7 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
         glDisable(GL_POLYGON_OFFSET_LINE);
     }
     glBindVertexArray(0);
+    if (shadowed) glBindTexture(GL_TEXTURE_2D, 0);
     glEndQuery(GL_TIME_ELAPSED);
 }
 

@@ -146,9 +146,9 @@ void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
     r->near_pending = 0;
     r->have_times &= ~4; /* near_ms: only when this frame runs the passes */
     if (p->path == SSS_EVAL_CPU) {
-        sss_scatter_cpu(&r->scatter, &r->mesh, l);
+        sss_scatter_cpu(&r->scatter, &r->mesh, l, p->interp);
     } else {
-        sss_scatter_gpu(&r->scatter, &r->mesh, l, r->queries[0]);
+        sss_scatter_gpu(&r->scatter, &r->mesh, l, p->interp, r->queries[0]);
         r->have_times |= 1;
     }
     q_passes(r, l, p);

@@ -40,6 +40,7 @@ typedef struct sss_scatter {
     GLuint buf[SSS_GPU_BUFFERS];     /* the layout's buffers by SSS_GPU_BUF_*; q is the mesh's qbuf */
     GLuint levels, sh_tab;           /* the frame's folded tables (binding 4 of each pass) */
     GLuint prog[SSS_GPU_PASSES];     /* by SSS_GPU_PASS_*; 0 where the file has no such pass */
+    GLuint prog_n4;                  /* the rows pass's 4-nearest variant (SSS_GPU_NEAREST4_DEFINE) */
     float *cpu_q;       /* CPU path scratch */
     double cpu_ms;      /* the CPU path's last evaluation and upload, wall clock */
 } sss_scatter;
@@ -50,15 +51,17 @@ sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *
 /* The same with q's rows even when the file holds Q (sss_renderer_create_scalar). */
 sss_result sss_scatter_create_scalar(sss_scatter *s, const sss_gpu_mesh *m, sss_error *err);
 void sss_scatter_destroy(sss_scatter *s);
-/* q for the unit light l into m->qbuf: on the GPU, the compute passes
- * under the GL_TIME_ELAPSED query `query`; on the CPU, sss_decode_all and an
- * upload, timed into s->cpu_ms. */
-void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], GLuint query);
-void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3]);
+/* q for the unit light l into m->qbuf, interpolated as interp says
+ * (sss_interp): on the GPU, the compute passes under the GL_TIME_ELAPSED
+ * query `query`; on the CPU, sss_decode_all_interp and an upload, timed
+ * into s->cpu_ms. */
+void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], int interp, GLuint query);
+void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], int interp);
 
 /* draw.c: the shading program and the float framebuffer. */
 typedef struct sss_draw {
     GLuint prog_shade;
+    struct sss_shadow *shadow; /* the surface terms' shadow map, made on the first frame that asks for it */
     GLuint fbo, fbo_color, fbo_depth;
     int fbo_w, fbo_h;
 } sss_draw;

@@ -10,8 +10,12 @@
  * file is that layout's GL consumer: it makes the buffers and programs,
  * uploads the frame's tables and dispatches the passes.
  *
- * The CPU path (SSS_EVAL_CPU) decodes with sss_decode_all (or, for a
- * file with the vector integrals Q, sss_decode_vector_range) and uploads.
+ * The CPU path (SSS_EVAL_CPU) decodes with sss_decode_all_interp (or, for
+ * a file with the vector integrals Q, sss_decode_vector_range) and
+ * uploads. Both paths offer the paper's 4-nearest blend beside the
+ * triangle's (sss_view_params.interp; Hao–Varshney 2004 §3.2, Fig. 3): on
+ * the GPU the rows pass's NEAREST4 variant, compiled with the other
+ * programs, reads a fourth row (docs/gpu_layout.md).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -47,6 +51,11 @@ static sss_result scatter_create(sss_scatter *s, const sss_gpu_mesh *m, int vect
         if (!L->pass[p].name) continue;
         GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, L->pass[p].defines, L->pass[p].source, err);
         if (!cs || !(s->prog[p] = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
+        if (p != SSS_GPU_PASS_ROWS) continue;
+        char pre[sizeof L->pass[p].defines + sizeof SSS_GPU_NEAREST4_DEFINE];
+        snprintf(pre, sizeof pre, "%s%s", L->pass[p].defines, SSS_GPU_NEAREST4_DEFINE);
+        cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, L->pass[p].source, err);
+        if (!cs || !(s->prog_n4 = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
     }
 
     /* Buffers bound whole must fit one storage block; so must a row range. */
@@ -91,29 +100,32 @@ void sss_scatter_destroy(sss_scatter *s)
     glDeleteBuffers(1, &s->sh_tab);
     for (int p = 0; p < SSS_GPU_PASSES; p++)
         if (s->prog[p]) glDeleteProgram(s->prog[p]);
+    if (s->prog_n4) glDeleteProgram(s->prog_n4);
     free(s->cpu_q);
     sss_gpu_frame_free(&s->frame);
     sss_gpu_layout_free(&s->layout);
 }
 
-void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3])
+void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], int interp)
 {
     double t0 = now_ms();
+    const sss_interp how = interp == SSS_INTERP_NEAREST4 ? SSS_INTERP_NEAREST4 : SSS_INTERP_TRIANGLE;
     /* the layout's choice of q or Q (Hao–Varshney 2004 §3.2), on both paths */
-    if (s->layout.vector) sss_decode_vector_range(m->f, l, SSS_INTERP_TRIANGLE, 0, m->nv, s->cpu_q);
-    else sss_decode_all(m->f, l, s->cpu_q);
+    if (s->layout.vector) sss_decode_vector_range(m->f, l, how, 0, m->nv, s->cpu_q);
+    else sss_decode_all_interp(m->f, l, how, s->cpu_q);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, m->qbuf);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)m->nv * m->C * sizeof(float), s->cpu_q);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     s->cpu_ms = now_ms() - t0;
 }
 
-void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], GLuint query)
+void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], int interp, GLuint query)
 {
     const sss_gpu_layout *L = &s->layout;
     sss_gpu_frame *fr = &s->frame;
+    const int n4 = interp == SSS_INTERP_NEAREST4;
     /* the light's rows, weights and folded tables (sss/gpu.h) */
-    sss_gpu_frame_eval(L, l, fr);
+    sss_gpu_frame_eval_interp(L, l, n4 ? SSS_INTERP_NEAREST4 : SSS_INTERP_TRIANGLE, fr);
     if (fr->levels) {
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, s->levels);
         glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)fr->levels_bytes, fr->levels);
@@ -125,7 +137,7 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], G
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     glBeginQuery(GL_TIME_ELAPSED, query);
     for (int p = 0; p < SSS_GPU_PASSES; p++) {
-        const GLuint prog = s->prog[p];
+        const GLuint prog = p == SSS_GPU_PASS_ROWS && n4 ? s->prog_n4 : s->prog[p];
         if (!prog || fr->u_count[p] == 0) continue;
         /* the coded pass reads the reference values the rows pass has just written */
         if (p == SSS_GPU_PASS_CODED && s->prog[SSS_GPU_PASS_ROWS]) glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -134,16 +146,17 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], G
             const sss_gpu_buffer *b = &L->buffer[k];
             if (!(b->passes >> p & 1)) continue;
             if (k == SSS_GPU_BUF_ROWS) {
-                for (int t = 0; t < 3; t++)
-                    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, b->binding + (GLuint)t, s->buf[k],
-                                      (GLintptr)fr->row_offset[t], (GLsizeiptr)L->row_range);
+                for (int t = 0; t < (int)fr->nrows; t++)
+                    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, t < 3 ? b->binding + (GLuint)t : SSS_GPU_ROW4_BINDING,
+                                      s->buf[k], (GLintptr)fr->row_offset[t], (GLsizeiptr)L->row_range);
             } else {
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b->binding, k == SSS_GPU_BUF_Q ? m->qbuf : s->buf[k]);
             }
         }
         if (p == SSS_GPU_PASS_ROWS) {
             if (fr->levels) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s->levels);
-            glUniform3f(glGetUniformLocation(prog, "u_w"), fr->u_w[0], fr->u_w[1], fr->u_w[2]);
+            if (n4) glUniform4f(glGetUniformLocation(prog, "u_w"), fr->u_w[0], fr->u_w[1], fr->u_w[2], fr->u_w[3]);
+            else glUniform3f(glGetUniformLocation(prog, "u_w"), fr->u_w[0], fr->u_w[1], fr->u_w[2]);
             if (L->vector) glUniform3f(glGetUniformLocation(prog, "u_light"), fr->u_light[0], fr->u_light[1], fr->u_light[2]);
             glUniform1ui(glGetUniformLocation(prog, "u_channels"), fr->u_channels);
         } else if (fr->sh) {

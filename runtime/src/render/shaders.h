@@ -38,8 +38,13 @@
  * large relative change in the result. */
 
 /* shade.vert.glsl + shade.frag.glsl (draw.c). Vertex + fragment: shading
- * L = E·q·F_t(η, n·ω_o) + specular, exposure, tone mapping, optional sRGB
- * encoding. */
+ * L = E·q·F_t(η, n·ω_o) + the surface terms (specular, diffuse; shadowed by
+ * the map), exposure, tone mapping, optional sRGB encoding. The fragment
+ * shader is composed after shadow_map.glsl. */
+
+/* shadow_map.glsl: the shadow map's test, shadow_map_lit, and its uniforms
+ * (set by sss_shadow_bind); a piece put before shade.frag.glsl and
+ * near_vis.comp.glsl. */
 
 /* shadow.vert.glsl + shadow.frag.glsl (shadow.c). Depth-only program of the
  * shadow map: positions through one matrix, no colour. */

@@ -218,6 +218,33 @@ int sss_shadow_update(sss_shadow *s, const float l[3], GLuint query)
 }
 
 GLuint sss_shadow_texture(const sss_shadow *s) { return s->tex; }
+
+void sss_shadow_bind(const sss_shadow *s, GLuint pr, int unit)
+{
+    glActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+    glBindTexture(GL_TEXTURE_2D, s->tex);
+    glUniform1i(glGetUniformLocation(pr, "u_depth"), unit);
+    glUniformMatrix4fv(glGetUniformLocation(pr, "u_shadow"), 1, GL_FALSE, s->lookup);
+    glUniform1i(glGetUniformLocation(pr, "u_size"), s->size);
+    glUniform1f(glGetUniformLocation(pr, "u_offset"), (float)(SSS_SHADOW_NORMAL_OFFSET * sss_shadow_texel(s)));
+    glUniform1f(glGetUniformLocation(pr, "u_bias_c"), (float)SSS_SHADOW_BIAS_CONST);
+    glUniform1f(glGetUniformLocation(pr, "u_bias_s"), (float)SSS_SHADOW_BIAS_SLOPE);
+    glUniform1f(glGetUniformLocation(pr, "u_tan_max"), (float)SSS_SHADOW_TAN_MAX);
+}
+
+int sss_shadow_ensure(sss_shadow **s, GLuint vao, uint32_t nf, const double centre[3], double radius, int size)
+{
+    size = size > 0 ? (size < 256 ? 256 : size > 8192 ? 8192 : size) : SSS_SHADOW_SIZE;
+    if (!*s || size != (*s)->size) {
+        sss_shadow *ns = NULL;
+        sss_error e = {{0}};
+        if (sss_shadow_create(vao, nf, centre, radius, size, &ns, &e) == SSS_OK) {
+            sss_shadow_destroy(*s);
+            *s = ns;
+        }
+    }
+    return *s != NULL;
+}
 const float *sss_shadow_matrix(const sss_shadow *s) { return s->lookup; }
 int sss_shadow_size(const sss_shadow *s) { return s->size; }
 double sss_shadow_texel(const sss_shadow *s) { return 2.0 * s->radius / s->size; }

@@ -43,6 +43,11 @@
 
 typedef struct sss_shadow sss_shadow;
 
+/* The map of `size` texels per side (clamped to 256 … 8192; 0: SSS_SHADOW_SIZE)
+ * in *s, created or replaced when its size differs; 0 when none can be had
+ * (an old map is kept when a new size fails). */
+int sss_shadow_ensure(sss_shadow **s, GLuint vao, uint32_t nf, const double centre[3], double radius, int size);
+
 /* Creates the depth texture (size × size, GL_DEPTH_COMPONENT32F), its FBO
  * and the depth-only program. vao draws the mesh (attribute 0: float3
  * positions; GL_TRIANGLES of nf triangles from its element buffer). */
@@ -65,6 +70,11 @@ void sss_shadow_invalidate(sss_shadow *s);
  * (column-major, for glUniformMatrix4fv), the size, and the texel's world
  * size t. */
 GLuint sss_shadow_texture(const sss_shadow *s);
+/* Binds the map to texture unit `unit` and sets the uniforms of
+ * shadow_map.glsl in program prog (current): the map, its matrix and size,
+ * the normal offset and the depth bias above. The caller unbinds the
+ * texture when done. */
+void sss_shadow_bind(const sss_shadow *s, GLuint prog, int unit);
 const float *sss_shadow_matrix(const sss_shadow *s);
 int sss_shadow_size(const sss_shadow *s);
 double sss_shadow_texel(const sss_shadow *s);

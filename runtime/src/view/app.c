@@ -21,6 +21,7 @@
 #include "app.h"
 #include "font.h"
 #include "panel.h"
+#include "sss/decode.h" /* sss_interp */
 #include "sss/cli.h"
 #include "sss/fileio.h"
 #include "sss/render.h"
@@ -41,6 +42,9 @@ const char *sss_app_controls_help =
     "  W                             toggle wireframe\n"
     "  O                             toggle the near terms of a file baked with --own-term runtime\n"
     "  V                             their visibility: the bake's rays / a shadow map\n"
+    "  S                             toggle the shadow of the surface terms (specular, diffuse)\n"
+    "  D                             diffuse share of the reflected light: 0 / 0.25 / 0.5 / 1\n"
+    "  N                             interpolation of q: triangle / the paper's 4 nearest samples\n"
     "  T                             toggle tone map clamp / Reinhard\n"
     "  R                             reset camera and light (direction and intensity)\n"
     "  P                             save a screenshot PNG (--screenshot FILE, else sss-view-NNN.png)\n"
@@ -173,6 +177,13 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     case GLFW_KEY_W: a->p.wireframe = !a->p.wireframe; break;
     case GLFW_KEY_O: a->p.near_terms = !a->p.near_terms; break;
     case GLFW_KEY_V: a->p.near_visibility = a->p.near_visibility == SSS_NEAR_MAP ? SSS_NEAR_RAYS : SSS_NEAR_MAP; break;
+    case GLFW_KEY_S: a->p.surface_shadow = !a->p.surface_shadow; break;
+    case GLFW_KEY_D: /* the next of 0, 0.25, 0.5, 1 above the current share */
+        a->p.diffuse = a->p.diffuse >= 1.0 ? 0.0 : a->p.diffuse >= 0.5 ? 1.0 : a->p.diffuse >= 0.25 ? 0.5 : 0.25;
+        break;
+    case GLFW_KEY_N:
+        a->p.interp = a->p.interp == SSS_INTERP_NEAREST4 ? SSS_INTERP_TRIANGLE : SSS_INTERP_NEAREST4;
+        break;
     case GLFW_KEY_T:
         a->p.tonemap = a->p.tonemap == SSS_TONEMAP_CLAMP ? SSS_TONEMAP_REINHARD : SSS_TONEMAP_CLAMP;
         break;
@@ -330,6 +341,12 @@ static void draw_overlay(app *a, int fw, int fh)
                  f->near_rings == 1 ? "" : "s", vis, a->p.near_terms ? "on" : "off (O)");
     if (f->near_terms && a->p.near_terms)
         snprintf(own + strlen(own) - 1, sizeof own - (strlen(own) - 1), ", %.2f ms\n", a->near_ms);
+    /* the surface terms' shadow and diffuse share, and the interpolation,
+     * when they differ from the defaults */
+    char surf[96];
+    snprintf(surf, sizeof surf, "%s%s%s", a->p.surface_shadow ? "" : "  unshadowed (S)",
+             a->p.interp == SSS_INTERP_NEAREST4 ? "  4-nearest (N)" : "", a->p.diffuse > 0 ? "  diffuse " : "");
+    if (a->p.diffuse > 0) snprintf(surf + strlen(surf), sizeof surf - strlen(surf), "%.2g (D)", a->p.diffuse);
     char buf[1536];
     snprintf(buf, sizeof buf,
              "%.60s  %dx%d\n"
@@ -342,7 +359,7 @@ static void draw_overlay(app *a, int fw, int fh)
              "exposure %.3g  intensity %.3g  tonemap %s\n"
              "light (%.2f, %.2f, %.2f)\n"
              "%s%.100s%s"
-             "%s%s\n"
+             "%s%s%s\n"
              "H: help/overlay  G: panel  P: screenshot",
              base, fw, fh, a->frame_ms > 0 ? 1e3 / a->frame_ms : 0.0, a->frame_ms, a->scatter_ms,
              a->p.path == SSS_EVAL_CPU ? "CPU" : "GPU", a->draw_ms, f->mesh.nv, f->channels, f->dirs.n,
@@ -350,7 +367,7 @@ static void draw_overlay(app *a, int fw, int fh)
              f->material.name, f->material.eta, own, a->p.exposure, a->p.light_rgb[0],
              a->p.tonemap == SSS_TONEMAP_REINHARD ? "reinhard" : "clamp", l[0], l[1], l[2],
              a->scene_desc ? "scene: " : "", a->scene_desc ? a->scene_desc : "", a->scene_desc ? "\n" : "", terms,
-             a->p.wireframe ? "  wireframe" : "");
+             a->p.wireframe ? "  wireframe" : "", surf);
     int lines = 1;
     for (const char *c = buf; *c; c++) lines += *c == '\n';
     float pad = 6.0f * s, x = 8.0f * s, y = 8.0f * s;

@@ -9,6 +9,7 @@
 #include "app.h"
 #include "sss/cli.h"
 #include "sss/clock.h"
+#include "sss/decode.h"
 #include "sss/fileio.h"
 #include "sss/format.h"
 #include "sss/render.h"
@@ -22,7 +23,7 @@ static void usage(FILE *f)
         "       sss-view FILE.sss --offscreen --out IMG.png|IMG.exr [--size WxH] [--light X,Y,Z] [--view X,Y,Z] [--exposure E]\n"
         "Shows a baked translucent mesh: every frame reconstructs each vertex's scattering q for the\n"
         "light direction (GPU compute shader by default, or the CPU decoder) and shades\n"
-        "L = E q F_t(eta, n.w_o) + Fresnel-weighted specular. Any storage form: float, lloyd8, and the\n"
+        "L = E q F_t(eta, n.w_o) + the surface terms, shadowed. Any storage form: float, lloyd8, and the\n"
         "compressed sh and refs (SH codes; reference rows + SH-coded deltas), decoded per frame.\n\n"
         "options:\n"
         "  --offscreen          render one image without a window (EGL surfaceless) and exit\n"
@@ -42,12 +43,19 @@ static void usage(FILE *f)
         "  --no-vector          files baked with --vector: draw q's rows, not the vector integrals Q\n"
         "                       interpolated and dotted with the light (for comparison)\n"
         "  --no-scatter, --no-specular   drop one of the two terms\n"
+        "  --diffuse RHO        share in [0, 1] of the Fresnel-reflected light the surface reflects\n"
+        "                       diffusely (Lambert) instead of in the specular lobe (default 0)\n"
+        "  --no-surface-shadow  do not shadow the surface terms (by default the shadow map of\n"
+        "                       --shadow-size zeroes them where the light is blocked: docs/viewer.md)\n"
+        "  --interp triangle|nearest4  q between the direction samples: inside their triangle\n"
+        "                       (default), or the paper's 4 nearest samples (both paths)\n"
         "  --no-own-term        files baked with --own-term runtime: draw the stored rows alone, without\n"
         "                       the near terms the viewer adds back (for comparison)\n"
         "  --near-visibility rays|map   where those near terms' visibility comes from: the bake's own ray,\n"
         "                       traced on the GPU (default), or a shadow map (cheaper on a software GL,\n"
         "                       wrong near shadow outlines: docs/viewer.md)\n"
-        "  --shadow-size N      that shadow map's texels per side, 256 ... 8192 (default 2048; finer agrees\n"
+        "  --shadow-size N      the shadow map's texels per side (near terms, surface terms), 256 ... 8192\n"
+        "                       (default 2048; finer agrees\n"
         "                       with the bake's rays at more vertices)\n"
         "  --wireframe          draw edges over the surface\n"
         "  --screenshot FILE    where the P key saves a PNG (window mode)\n"
@@ -94,6 +102,8 @@ static int parse(int argc, char **argv, view_args *a)
     static const int tonemap_values[] = {SSS_TONEMAP_CLAMP, SSS_TONEMAP_REINHARD};
     static const char *const visibilities[] = {"rays", "map", NULL};
     static const int visibility_values[] = {SSS_NEAR_RAYS, SSS_NEAR_MAP};
+    static const char *const interps[] = {"triangle", "nearest4", NULL};
+    static const int interp_values[] = {SSS_INTERP_TRIANGLE, SSS_INTERP_NEAREST4};
     static const char *const exits[] = {"jensen", "normalised", NULL};
     static const int off[] = {0};
     /* sss-view's own wordings where they differ from the library's defaults */
@@ -118,6 +128,10 @@ static int parse(int argc, char **argv, view_args *a)
         {.name = "--no-vector", .kind = SSS_CLI_FLAG, .dest = &a->no_vector},
         {.name = "--no-scatter", .kind = SSS_CLI_FLAG, .dest = &a->p.scatter, .values = off},
         {.name = "--no-specular", .kind = SSS_CLI_FLAG, .dest = &a->p.specular, .values = off},
+        {.name = "--diffuse", .kind = SSS_CLI_DOUBLE, .dest = &a->p.diffuse, .lo = 0, .hi = 1},
+        {.name = "--no-surface-shadow", .kind = SSS_CLI_FLAG, .dest = &a->p.surface_shadow, .values = off},
+        {.name = "--interp", .kind = SSS_CLI_CHOICE, .dest = &a->p.interp, .choices = interps,
+         .values = interp_values},
         {.name = "--no-own-term", .kind = SSS_CLI_FLAG, .dest = &a->p.near_terms, .values = off},
         {.name = "--near-visibility", .kind = SSS_CLI_CHOICE, .dest = &a->p.near_visibility,
          .choices = visibilities, .values = visibility_values},
@@ -210,11 +224,14 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
     printf("{\"vertices\":%u,\"channels\":%u,\"quant\":\"%s\",\"storage\":\"%s\",\"path\":\"%s\",\"renderer\":\"%s\",\"frames\":%d,"
            "\"width\":%d,\"height\":%d,\"own_term\":\"%s\",\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,"
            "\"frame_ms_median\":%.4f,\"scatter_vertices_per_s\":%.6g,\"fps\":%.3f,\"gpu_timer_scatter_ms_last\":%.4f,"
-           "\"gpu_timer_draw_ms_last\":%.4f,\"gpu_timer_own_ms_last\":%.4f,\"bytes_per_vertex\":%.3f}\n",
+           "\"gpu_timer_draw_ms_last\":%.4f,\"gpu_timer_own_ms_last\":%.4f,\"bytes_per_vertex\":%.3f,"
+           "\"interp\":\"%s\",\"surface_shadow\":%s,\"diffuse\":%.4g}\n",
            f->mesh.nv, f->channels, sss_quant_name(f->quant), storage,
            p->path == SSS_EVAL_CPU ? "cpu" : "gpu", sss_gl_renderer_name(), n, w, h, own, median(scatter, n),
            median(draw, n), median(frame, n), f->mesh.nv / (1e-3 * median(scatter, n)), 1e3 / median(frame, n),
-           gt.scatter_ms, gt.draw_ms, gt.near_ms, sss_renderer_bytes_per_vertex(r));
+           gt.scatter_ms, gt.draw_ms, gt.near_ms, sss_renderer_bytes_per_vertex(r),
+           p->interp == SSS_INTERP_NEAREST4 ? "nearest4" : "triangle",
+           p->surface_shadow && (p->specular || p->diffuse > 0) ? "true" : "false", p->diffuse);
     free(scatter);
     free(draw);
     free(frame);

@@ -16,6 +16,7 @@
 
 #include "panel.h"
 extern "C" {
+#include "sss/decode.h"
 #include "sss/dipole.h"
 #include "sss/format.h"
 #include "sss/vec3.h"
@@ -187,6 +188,20 @@ void effects_section(sss_view_params *p, const sss_panel_info *in)
         }
         sss_scene_eval_set_kinds(in->scene_eval, on);
     }
+    // the surface terms' shadow and their diffuse share (docs/viewer.md,
+    // "Direct surface light"), last, so that the boxes above keep their
+    // place (tests/integration/window_xvfb.sh and view_scene.sh click them)
+    bool sh = p->surface_shadow != 0;
+    if (ImGui::Checkbox("surface shadow", &sh)) p->surface_shadow = sh;
+    float rho = (float)p->diffuse;
+    if (ImGui::SliderFloat("diffuse", &rho, 0.0f, 1.0f, "%.2f")) p->diffuse = rho < 0 ? 0 : rho > 1 ? 1 : rho;
+    // q between the direction samples (Hao-Varshney 2004 3.2, Fig. 3)
+    int ip = p->interp;
+    ImGui::TextUnformatted("q from");
+    ImGui::SameLine(96);
+    if (ImGui::RadioButton("triangle", &ip, SSS_INTERP_TRIANGLE)) p->interp = SSS_INTERP_TRIANGLE;
+    ImGui::SameLine();
+    if (ImGui::RadioButton("4 nearest", &ip, SSS_INTERP_NEAREST4)) p->interp = SSS_INTERP_NEAREST4;
 }
 
 // The material is baked into q: only the exit term is the viewer's.

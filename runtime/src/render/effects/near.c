@@ -177,7 +177,8 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     r->delta = sss_mesh_ray_offset(&f->mesh);
     char pre[48];
     snprintf(pre, sizeof pre, "#define CHANNELS %u\n", C);
-    GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, "", sss_glsl_near_vis_comp, err);
+    const char *vis_parts[3] = {"", sss_glsl_shadow_map, sss_glsl_near_vis_comp};
+    GLuint cs = sss_gl_compile_parts(GL_COMPUTE_SHADER, vis_parts, 3, err);
     if (!cs || !(r->prog_vis = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
     cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_near_sum_comp, err);
     if (!cs || !(r->prog_near = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
@@ -196,7 +197,8 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         r->bvh_ntri = bvh.ntri;
         snprintf(pre, sizeof pre, "#define RAYS 1\n#define SSS_BVH_STACK %d\n", SSS_BVH_STACK);
-        cs = sss_gl_compile(GL_COMPUTE_SHADER, pre, sss_glsl_near_vis_comp, err);
+        vis_parts[0] = pre;
+        cs = sss_gl_compile_parts(GL_COMPUTE_SHADER, vis_parts, 3, err);
         if (!cs || !(r->prog_ray = sss_gl_link(cs, 0, err))) {
             sss_bvh_free(&bvh);
             return SSS_ERR_UNSUPPORTED;
@@ -250,16 +252,7 @@ sss_result sss_pass_near_create(const sss_effect_ctx *c, void **state, sss_error
  * when a new size fails). */
 static int near_map(sss_near_pass *r, const sss_gpu_mesh *m, int size)
 {
-    size = size > 0 ? (size < 256 ? 256 : size > 8192 ? 8192 : size) : SSS_SHADOW_SIZE;
-    if (!r->shadow || size != sss_shadow_size(r->shadow)) {
-        sss_shadow *ns = NULL;
-        sss_error e = {{0}};
-        if (sss_shadow_create(m->vao, m->nf, m->centre, m->radius, size, &ns, &e) == SSS_OK) {
-            sss_shadow_destroy(r->shadow);
-            r->shadow = ns;
-        }
-    }
-    return r->shadow != NULL;
+    return sss_shadow_ensure(&r->shadow, m->vao, m->nf, m->centre, m->radius, size);
 }
 
 /* Adds the near terms for unit light l to q (binding 3) and records every
@@ -298,16 +291,7 @@ GLuint sss_pass_near_frame(void *state, const sss_effect_frame *fr)
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m->ebo);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, r->fan);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->fan_sin);
-            glActiveTexture(GL_TEXTURE0);
-            glBindTexture(GL_TEXTURE_2D, sss_shadow_texture(r->shadow));
-            glUniform1i(glGetUniformLocation(pr, "u_depth"), 0);
-            glUniformMatrix4fv(glGetUniformLocation(pr, "u_shadow"), 1, GL_FALSE, sss_shadow_matrix(r->shadow));
-            glUniform1i(glGetUniformLocation(pr, "u_size"), sss_shadow_size(r->shadow));
-            glUniform1f(glGetUniformLocation(pr, "u_offset"),
-                        (float)(SSS_SHADOW_NORMAL_OFFSET * sss_shadow_texel(r->shadow)));
-            glUniform1f(glGetUniformLocation(pr, "u_bias_c"), (float)SSS_SHADOW_BIAS_CONST);
-            glUniform1f(glGetUniformLocation(pr, "u_bias_s"), (float)SSS_SHADOW_BIAS_SLOPE);
-            glUniform1f(glGetUniformLocation(pr, "u_tan_max"), (float)SSS_SHADOW_TAN_MAX);
+            sss_shadow_bind(r->shadow, pr, 0);
         } else {
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r->bvh_node);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, r->bvh_tri);
