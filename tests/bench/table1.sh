@@ -28,7 +28,8 @@
 # paper's 200 bytes per vertex are one byte per direction), 200 directions
 # as the paper. Views: 1024x1024 (the paper's "about 1024 pixels in each
 # dimension"), FRAMES frames each (default 5), medians. Needs data/fetch.sh
-# and python3. Writes OUT_DIR/table1.jsonl and prints the table.
+# and python3. Writes OUT_DIR/table1.jsonl and prints the table;
+# REPORT_ONLY=1 prints the table of an earlier run's OUT_DIR/table1.jsonl.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 BUILD=${1:-build}
@@ -41,7 +42,7 @@ BAKE=$BUILD/precompute/sss-bake
 VIEW=$BUILD/runtime/sss-view
 GEN=$BUILD/data/sss-genmesh
 J=$OUT/table1.jsonl
-: > "$J"
+[ "${REPORT_ONLY:-0}" = 1 ] && MODELS="" || : > "$J"
 for f in data/stanford/teapot.ply data/stanford/dragon_437645.ply; do
   [ -f "$f" ] || { echo "table1: $f missing: run data/fetch.sh" >&2; exit 1; }
 done
@@ -114,8 +115,8 @@ def get(m, st, run=None):
     for r in rows:
         if r['model'] == m and r['storage'] == st and (r.get('run') == run if run else r.get('bake')): return r
     return None
-print("| model | vertices (paper) | triangles (paper) | ref pts (paper) | B/vertex lloyd8 | B/vertex paper preset (paper) | B/vertex compact | ratio paper preset (paper) | ratio compact | bake s lloyd8 / paper / compact | fps GPU llvmpipe: scatter / without (paper: CPU) | fps --cpu: scatter | frame ms GPU / CPU, lloyd8 |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+print("| model | vertices (paper) | triangles (paper) | ref pts (paper) | B/vertex lloyd8 | B/vertex paper preset (paper) | B/vertex compact | ratio paper preset (paper) | ratio compact | bake s lloyd8 / paper / compact | fps GPU path: with / without scattering (paper) | fps --cpu | scatter ms GPU / CPU | lloyd8: fps GPU / CPU, scatter ms GPU / CPU |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for m in ['horse', 'teapot', 'dragon', 'buddha']:
     l8, pp, cc = get(m, 'lloyd8'), get(m, 'paper'), get(m, 'compact')
     if not (l8 and pp): continue
@@ -127,5 +128,6 @@ for m in ['horse', 'teapot', 'dragon', 'buddha']:
           f"{l8['integral_bpv']:.1f} | {pp['integral_bpv']:.1f} ({P[4]}) | {'%.1f' % cc['integral_bpv'] if cc else '—'} | {ratio(pp):.1f} ({P[5]}) | "
           f"{'%.1f' % ratio(cc) if cc else '—'} | {l8['wall_s']:.1f} / {pp['wall_s']:.1f} / {'%.1f' % cc['wall_s'] if cc else '—'} | "
           f"{g['fps']:.2f} / {1e3 / n['draw_ms_median']:.2f} ({P[6]} / {P[7]}) | {c['fps']:.2f} | "
-          f"{gl['frame_ms_median']:.0f} / {cl['frame_ms_median']:.0f} |")
+          f"{g['scatter_ms_median']:.1f} / {c['scatter_ms_median']:.1f} | {gl['fps']:.2f} / {cl['fps']:.2f}, "
+          f"{gl['scatter_ms_median']:.1f} / {cl['scatter_ms_median']:.1f} |")
 PY
