@@ -66,6 +66,7 @@ static const char *default_msg(sss_cli_kind kind)
     case SSS_CLI_INT: return "%s: %s: '%s' must be an integer in [%d, %d]\n";
     case SSS_CLI_TRIPLE: return "%s: %s: '%s' must be three numbers X,Y,Z\n";
     case SSS_CLI_SIZE: return "%s: %s: '%s' must be WxH with each in [%d, %d]\n";
+    case SSS_CLI_POINT: return "%s: %s: '%s' must be X,Y,Z or X,Y,Z,I with I > 0\n";
     default: return "%s: %s: '%s' is not a valid value\n";
     }
 }
@@ -144,19 +145,33 @@ static int read_integer(const char *s, unsigned flags, double lo, double hi, lon
     return 1;
 }
 
-/* "X,Y,Z": each number strict, exactly one comma between them. */
-static int read_triple(const char *s, double out[3])
+/* "X,Y,Z": each number strict, exactly one comma between them. With
+ * maxn 4 a fourth number may follow a third comma. Returns how many
+ * numbers were read (3 or 4), 0 on a bad text. */
+static int read_numbers(const char *s, int maxn, double out[4])
 {
-    double t[3];
+    double t[4];
     const char *p = s;
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < maxn; k++) {
         char *end;
         errno = 0;
         t[k] = strtod(p, &end);
-        if (end == p || errno || !isfinite(t[k]) || (k < 2 ? *end != ',' : *end != 0)) return 0;
+        if (end == p || errno || !isfinite(t[k])) return 0;
+        if (*end == 0 && k >= 2) {
+            memcpy(out, t, (size_t)(k + 1) * sizeof *t);
+            return k + 1;
+        }
+        if (*end != ',') return 0;
         p = end + 1;
     }
-    memcpy(out, t, sizeof t);
+    return 0;
+}
+
+static int read_triple(const char *s, double out[3])
+{
+    double t[4];
+    if (read_numbers(s, 3, t) != 3) return 0;
+    memcpy(out, t, 3 * sizeof *t);
     return 1;
 }
 
@@ -215,6 +230,13 @@ int sss_cli_value(const sss_cli *cli, const sss_cli_opt *o, const char *opt, con
         memcpy(o->dest, t, sizeof t);
         break;
     }
+    case SSS_CLI_POINT: {
+        double t[4] = {0, 0, 0, 0};
+        const int n = read_numbers(text, 4, t);
+        if (n == 0 || (n == 4 && !(t[3] > 0))) return bad(cli, o, o->msg, opt, text);
+        memcpy(o->dest, t, sizeof t);
+        break;
+    }
     case SSS_CLI_SIZE:
         if (!read_size(text, o->lo, o->hi, (int *)o->dest)) return bad(cli, o, o->msg, opt, text);
         break;
@@ -256,6 +278,7 @@ static size_t elem_size(sss_cli_kind kind)
     case SSS_CLI_CHOICE: return sizeof(int);
     case SSS_CLI_TRIPLE: return 3 * sizeof(double);
     case SSS_CLI_SIZE: return 2 * sizeof(int);
+    case SSS_CLI_POINT: return 4 * sizeof(double);
     case SSS_CLI_CUSTOM: return 0;
     }
     return 0;
@@ -269,6 +292,21 @@ static int read_positional(const sss_cli *cli, int k, const char *text)
     sss_cli_opt r = *p;
     if ((size_t)k > last && r.dest) r.dest = (char *)r.dest + ((size_t)k - last) * elem_size(r.kind);
     return sss_cli_value(cli, &r, r.name, text);
+}
+
+/* One more value of a repeated option (SSS_CLI_REPEAT) into the next
+ * element of its array, or its refusal beyond the row's max. */
+static int read_repeated(const sss_cli *cli, const sss_cli_opt *o, const char *opt, const char *text)
+{
+    if (!o->count || *o->count >= o->max) {
+        sss_cli_printf(err_of(cli), "%s: %s: '%s': at most %d may be given\n", cli->tool, opt, text, o->max);
+        return 0;
+    }
+    sss_cli_opt r = *o;
+    r.dest = (char *)o->dest + (size_t)*o->count * elem_size(o->kind);
+    if (!sss_cli_value(cli, &r, opt, text)) return 0;
+    (*o->count)++;
+    return 1;
 }
 
 /* Prints a count message, or the usage text on err when there is none. */
@@ -287,6 +325,8 @@ int sss_cli_parse(const sss_cli *cli, int argc, char *const argv[])
     int max_pos = cli->max_pos ? cli->max_pos : (int)cli->npos;
     if (!repeats && max_pos > (int)cli->npos) max_pos = (int)cli->npos; /* more needs a row that repeats */
     int npos = 0;
+    for (size_t k = 0; k < cli->nopts; k++)
+        if ((cli->opts[k].flags & SSS_CLI_REPEAT) && cli->opts[k].count) *cli->opts[k].count = 0;
     /* the walk: options as they come, positionals counted */
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -306,7 +346,10 @@ int sss_cli_parse(const sss_cli *cli, int argc, char *const argv[])
                     sss_cli_printf(err_of(cli), fmt, cli->tool, a);
                     return 2;
                 }
-                if (!sss_cli_value(cli, o, a, argv[++i])) return 2;
+                if (!((o->flags & SSS_CLI_REPEAT) ? read_repeated(cli, o, a, argv[i + 1])
+                                                  : sss_cli_value(cli, o, a, argv[i + 1])))
+                    return 2;
+                i++;
                 continue;
             }
             if (a[0] == '-' && a[1]) {

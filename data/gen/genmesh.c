@@ -58,15 +58,21 @@ static sss_result b_finish(builder *b, sss_mesh *m, const char *name, sss_error 
 /* Edge-midpoint cache for icosphere subdivision: key (min, max) → vertex. */
 typedef struct { uint64_t *key; uint32_t *val; size_t cap; } edge_map;
 
+/* The slot of edge (i, j), either way round: where its key is, or the
+ * empty slot (key UINT64_MAX) where it goes. */
+static size_t em_slot(const edge_map *em, uint32_t i, uint32_t j)
+{
+    const uint64_t a = i < j ? i : j, c = i < j ? j : i, key = (a << 32) | c;
+    size_t h = (size_t)((key * 0x9E3779B97F4A7C15ull) >> 20) & (em->cap - 1);
+    while (em->key[h] != UINT64_MAX && em->key[h] != key) h = (h + 1) & (em->cap - 1);
+    return h;
+}
+
 static uint32_t midpoint(builder *b, edge_map *em, uint32_t i, uint32_t j, double radius)
 {
-    uint64_t a = i < j ? i : j, c = i < j ? j : i;
-    uint64_t key = (a << 32) | c;
-    size_t h = (size_t)((key * 0x9E3779B97F4A7C15ull) >> 20) & (em->cap - 1);
-    while (em->key[h] != UINT64_MAX) {
-        if (em->key[h] == key) return em->val[h];
-        h = (h + 1) & (em->cap - 1);
-    }
+    const uint64_t key = ((uint64_t)(i < j ? i : j) << 32) | (i < j ? j : i);
+    const size_t h = em_slot(em, i, j);
+    if (em->key[h] == key) return em->val[h];
     double p[3];
     for (int k = 0; k < 3; k++) p[k] = 0.5 * ((double)b->pos[3 * (size_t)i + k] + b->pos[3 * (size_t)j + k]);
     double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
@@ -238,6 +244,84 @@ static sss_result gen_pair(sss_mesh *m, double r, unsigned subdiv, sss_error *er
     sss_mesh_free(&small);
     if (res != SSS_OK) sss_mesh_free(m);
     return res;
+}
+
+/* Vertex k of n − 1 on edge (i, j), counted from i (k in 1 .. n − 1): the
+ * edge's points are made once, from its lower index to its higher, when
+ * the edge is first met, so both triangles on it share them. */
+static uint32_t edge_point(builder *b, edge_map *em, uint32_t i, uint32_t j, unsigned k, unsigned n)
+{
+    const uint64_t key = ((uint64_t)(i < j ? i : j) << 32) | (i < j ? j : i);
+    const size_t h = em_slot(em, i, j);
+    if (em->key[h] != key) {
+        const uint32_t lo = i < j ? i : j, hi = i < j ? j : i;
+        em->key[h] = key;
+        em->val[h] = b->nv;
+        for (unsigned s = 1; s < n; s++) {
+            double p[3];
+            for (int c = 0; c < 3; c++) {
+                const double x0 = b->pos[3 * (size_t)lo + c], x1 = b->pos[3 * (size_t)hi + c];
+                p[c] = x0 + (x1 - x0) * s / n;
+            }
+            b_vertex(b, p[0], p[1], p[2]);
+        }
+    }
+    return em->val[h] + (i < j ? k - 1 : n - k - 1);
+}
+
+sss_result sss_gen_subdivide(const sss_mesh *in, unsigned n, sss_mesh *m, sss_error *err)
+{
+    memset(m, 0, sizeof *m);
+    const uint64_t nf = (uint64_t)in->nf * n * n, nv_max = in->nv + 3ull * in->nf * n * n;
+    if (n < 1 || n > 1000 || nf > 200000000u || nv_max > UINT32_MAX)
+        return sss_fail(err, SSS_ERR_ARG, "subdivide: %u segments per edge of %u triangles out of range", n, in->nf);
+    builder b = {0};
+    for (uint32_t v = 0; v < in->nv; v++)
+        b_vertex(&b, in->pos[3 * (size_t)v], in->pos[3 * (size_t)v + 1], in->pos[3 * (size_t)v + 2]);
+    edge_map em;
+    em.cap = 1;
+    while (em.cap < (size_t)in->nf * 4) em.cap <<= 1;
+    em.key = malloc(em.cap * sizeof *em.key);
+    em.val = malloc(em.cap * sizeof *em.val);
+    uint32_t *grid = malloc((size_t)(n + 1) * (n + 1) * sizeof *grid);
+    if (!em.key || !em.val || !grid) b.failed = 1;
+    else memset(em.key, 0xff, em.cap * sizeof *em.key);
+    for (uint32_t f = 0; f < in->nf && !b.failed; f++) {
+        const uint32_t A = in->tri[3 * (size_t)f], B = in->tri[3 * (size_t)f + 1], C = in->tri[3 * (size_t)f + 2];
+        /* grid point (i, j) = A + (B − A) i/n + (C − A) j/n, i + j <= n */
+#define G(i, j) grid[(size_t)(i) * (n + 1) + (j)]
+        for (unsigned i = 0; i <= n; i++)
+            for (unsigned j = 0; i + j <= n; j++) {
+                uint32_t v;
+                if (i == 0 && j == 0) v = A;
+                else if (i == n) v = B;
+                else if (j == n) v = C;
+                else if (j == 0) v = edge_point(&b, &em, A, B, i, n);
+                else if (i == 0) v = edge_point(&b, &em, A, C, j, n);
+                else if (i + j == n) v = edge_point(&b, &em, B, C, j, n);
+                else {
+                    double p[3];
+                    for (int c = 0; c < 3; c++) {
+                        const double a = in->pos[3 * (size_t)A + c], bb = in->pos[3 * (size_t)B + c],
+                                     cc = in->pos[3 * (size_t)C + c];
+                        p[c] = a + (bb - a) * i / n + (cc - a) * j / n;
+                    }
+                    v = b_vertex(&b, p[0], p[1], p[2]);
+                }
+                G(i, j) = v;
+            }
+        /* the winding of (A, B, C) in every small triangle */
+        for (unsigned i = 0; i < n; i++)
+            for (unsigned j = 0; i + j < n; j++) {
+                b_tri(&b, G(i, j), G(i + 1, j), G(i, j + 1));
+                if (i + j + 1 < n) b_tri(&b, G(i + 1, j), G(i + 1, j + 1), G(i, j + 1));
+            }
+#undef G
+    }
+    free(grid);
+    free(em.key);
+    free(em.val);
+    return b_finish(&b, m, "subdivide", err);
 }
 
 sss_result sss_gen_by_name(const char *kind, unsigned res, double size, sss_mesh *m, sss_error *err)

@@ -33,6 +33,14 @@ sss_result sss_gen_blob(sss_mesh *m, double radius, unsigned subdiv, sss_error *
 /* Appends b's vertices and triangles to a (indices shifted). */
 sss_result sss_mesh_append(sss_mesh *a, const sss_mesh *b, sss_error *err);
 
+/* Every triangle of `in` cut into n² (each edge into n equal segments,
+ * the points in the triangle's plane): the midpoint subdivision for n = 2,
+ * for any n, so that a mesh of T triangles, E edges and V vertices gets
+ * T n² triangles and V + E (n − 1) + T (n − 1)(n − 2)/2 vertices. The
+ * surface stays as it was (no smoothing); for meshes of a given size
+ * (tests/bench/table1.sh). */
+sss_result sss_gen_subdivide(const sss_mesh *in, unsigned n, sss_mesh *m, sss_error *err);
+
 /* Generates by name: "sphere", "plane", "cube", "box", "slab", "torus",
  * "blob" with a resolution knob `res` (subdivisions or segments). */
 sss_result sss_gen_by_name(const char *kind, unsigned res, double size, sss_mesh *m, sss_error *err);

@@ -1,6 +1,7 @@
 /* sss-genmesh: writes a procedural test mesh as binary PLY, or as glTF 2.0
  * when OUT ends in .gltf or .glb (gltf_write.h).
- * Usage: sss-genmesh KIND RES OUT.ply|OUT.gltf|OUT.glb [SIZE [SCENE]] */
+ * Usage: sss-genmesh KIND RES OUT.ply|OUT.gltf|OUT.glb [SIZE [SCENE]]
+ *        sss-genmesh subdivide N IN OUT.ply (sss_gen_subdivide) */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -9,6 +10,7 @@
 #include "genmesh.h"
 #include "gltf_write.h"
 #include "sss/cli.h"
+#include "sss/fileio.h"
 #include "sss/import.h"
 
 static const char *TOOL = "sss-genmesh";
@@ -19,7 +21,10 @@ static void usage(FILE *f)
                "  RES: subdivisions (sphere, blob, pair) or segments per side (others); SIZE: radius or edge,\n"
                "  default 1 (pair: a sphere of radius SIZE and one of 250 SIZE, far apart)\n"
                "  SCENE (glTF only): one (default), two (two instances under transformed nodes),\n"
-               "  one+attributes or two+attributes (with TEXCOORD_0 and COLOR_0)\n");
+               "  one+attributes or two+attributes (with TEXCOORD_0 and COLOR_0)\n"
+               "       sss-genmesh subdivide N IN OUT.ply|OUT.gltf|OUT.glb\n"
+               "  every triangle of the mesh IN (any format sss-bake reads) cut into N x N, each edge into N\n"
+               "  equal segments: the midpoint subdivision for N = 2, the shape unchanged\n");
 }
 
 /* The command line, as the positional rows fill it. */
@@ -62,8 +67,49 @@ static int parse_args(int argc, char **argv, genmesh_args *a)
     return rc;
 }
 
+/* sss-genmesh subdivide N IN OUT: IN imported and repaired as sss-bake
+ * imports it, then subdivided. */
+static int subdivide_main(int argc, char **argv)
+{
+    int n = 0;
+    const char *in = NULL, *out = NULL, *kind = NULL;
+    const sss_cli_opt pos[] = {
+        {.name = "KIND", .kind = SSS_CLI_STRING, .dest = &kind},
+        {.name = "N", .kind = SSS_CLI_INT, .dest = &n, .lo = 1, .hi = 1000},
+        {.name = "IN", .kind = SSS_CLI_STRING, .dest = &in},
+        {.name = "OUT.ply", .kind = SSS_CLI_STRING, .dest = &out},
+    };
+    const sss_cli cli = {.tool = TOOL, .pos = pos, .npos = SSS_CLI_COUNT(pos), .min_pos = 4, .usage = usage,
+                         .flags = SSS_CLI_NO_OPTIONS};
+    int rc = sss_cli_parse(&cli, argc, argv);
+    if (rc != SSS_CLI_RUN) return rc;
+    sss_error err = {{0}};
+    const char *inputs[1] = {in};
+    const sss_inputs ins = {inputs, 1};
+    sss_mesh src, m;
+    sss_import_report rep;
+    memset(&m, 0, sizeof m);
+    if (sss_output_check(out, &ins, NULL, &err) != SSS_OK || sss_import_mesh(in, &src, &rep, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    sss_result r = sss_gen_subdivide(&src, (unsigned)n, &m, &err);
+    sss_mesh_free(&src);
+    if (r == SSS_OK) r = sss_mesh_check_range(&m, 0.0, out, &err);
+    if (r == SSS_OK) r = sss_gltf_path(out) ? sss_gltf_write(out, &m, 0, &err) : sss_export_ply(out, &m, &err);
+    if (r != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_mesh_free(&m);
+        return 1;
+    }
+    sss_cli_printf(stderr, "%s: %s: %u vertices, %u triangles (%s cut %d x %d)\n", TOOL, out, m.nv, m.nf, in, n, n);
+    sss_mesh_free(&m);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && !strcmp(argv[1], "subdivide")) return subdivide_main(argc, argv);
     genmesh_args a;
     int rc = parse_args(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;

@@ -19,6 +19,18 @@
 #include "sss/import.h"
 #include "sss/planner.h"
 
+/* An object's failure, one line: a scene's names the object by its JSON
+ * path; a plain bake's (--point-light, one object) the mesh alone, as the
+ * plain bake's messages do. */
+static void object_error(const char *tool, const sss_scene *sc, int plain, uint32_t i, const char *key, const char *msg)
+{
+    if (plain) sss_cli_printf(stderr, "%s: %s\n", tool, msg);
+    else sss_cli_printf(stderr, "%s: %s: /objects/%u%s: %s\n", tool, sc->path, i, key, msg);
+}
+
+static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path, const char *outdir,
+                      const char *outfile, int plan_only, int json, int quiet, const sss_bake_options *opt);
+
 int scene_main(const char *tool, const char *scene_path, const char *outdir, int plan_only, int json, int quiet,
                const sss_bake_options *opt)
 {
@@ -28,7 +40,59 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
         sss_cli_printf(stderr, "%s: %s\n", tool, err.msg);
         return 2;
     }
-    if (!plan_only) {
+    return bake_scene(tool, &sc, scene_path, outdir, NULL, plan_only, json, quiet, opt);
+}
+
+int points_main(const char *tool, const char *mesh, const char *out, const sss_material *mat, double mm_per_unit,
+                const double (*points)[4], int npoints, int json, int quiet, const sss_bake_options *opt)
+{
+    sss_scene sc;
+    memset(&sc, 0, sizeof sc);
+    if (strlen(mesh) >= sizeof sc.path) {
+        sss_cli_printf(stderr, "%s: MESH: path longer than %d bytes\n", tool, SSS_SCENE_PATH_MAX - 1);
+        return 2;
+    }
+    snprintf(sc.path, sizeof sc.path, "%s", mesh);
+    sc.objects = calloc(1, sizeof *sc.objects);
+    sc.lights = calloc((size_t)npoints + 1, sizeof *sc.lights);
+    if (!sc.objects || !sc.lights) {
+        sss_scene_free(&sc);
+        sss_cli_printf(stderr, "%s: out of memory\n", tool);
+        return 1;
+    }
+    sc.nobjects = 1;
+    sss_scene_object *o = &sc.objects[0];
+    snprintf(o->name, sizeof o->name, "object0");
+    snprintf(o->mesh, sizeof o->mesh, "%s", mesh);
+    o->material = *mat;
+    o->mm_per_unit = mm_per_unit > 0 ? mm_per_unit : 1.0;
+    o->scale = 1.0;
+    /* what a plain bake holds, the direction set for --light (a moving
+     * directional light: docs/scenes.md, the planner's light rule), and
+     * each point light marked moving, so that the planner gives it the
+     * point-shells effect (§3.3) wherever it stands and the viewer may
+     * move it (docs/viewer.md) */
+    sc.nlights = (uint32_t)npoints + 1;
+    sc.lights[0] = (sss_scene_light){.kind = SSS_LIGHT_DIRECTIONAL, .moving = 1, .direction = {0, 0, 1},
+                                     .intensity = 1, .colour = {1, 1, 1}};
+    for (int k = 0; k < npoints; k++)
+        sc.lights[k + 1] = (sss_scene_light){.kind = SSS_LIGHT_POINT, .moving = 1,
+                                             .position = {points[k][0], points[k][1], points[k][2]},
+                                             .intensity = points[k][3] > 0 ? points[k][3] : 1, .colour = {1, 1, 1}};
+    sc.bake.dirs = opt->n_dirs;
+    return bake_scene(tool, &sc, NULL, NULL, out, 0, json, quiet, opt);
+}
+
+/* The bake of a loaded scene (freed here): every object into DIR/NAME.sss
+ * (outdir), or the one object into outfile (points_main); scene_path, when
+ * there is one, is an input no output may be. */
+static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path, const char *outdir,
+                      const char *outfile, int plan_only, int json, int quiet, const sss_bake_options *opt)
+{
+    sss_error err = {{0}};
+    sss_scene sc = *sc_in;
+    const int plain = outfile != NULL;
+    if (!plan_only && !plain) {
         struct stat sb;
         if (!outdir) {
             sss_cli_printf(stderr, "%s: --scene needs -o DIR (one NAME.sss per object) or --plan\n", tool);
@@ -53,16 +117,18 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
     uint32_t npending = 0;
     sss_inputs ins = {inputs, 0};
     if (!world || !inputs || !pending || !outpath) { sss_cli_printf(stderr, "%s: out of memory\n", tool); rc = 1; goto done; }
-    inputs[ins.n++] = scene_path;
+    if (scene_path) inputs[ins.n++] = scene_path;
     for (uint32_t i = 0; i < sc.nobjects; i++) inputs[ins.n++] = sc.objects[i].mesh;
     for (uint32_t l = 0; l < sc.nlights; l++)
         if (sc.lights[l].kind == SSS_LIGHT_ENVIRONMENT) inputs[ins.n++] = sc.lights[l].probe;
     /* every output checked before anything is baked (the writer checks
      * each again) */
     for (uint32_t i = 0; !plan_only && i < sc.nobjects; i++) {
-        const int n = snprintf(outpath[i], sizeof outpath[i], "%s/%s.sss", outdir, sc.objects[i].name);
+        const int n = plain ? snprintf(outpath[i], sizeof outpath[i], "%s", outfile)
+                            : snprintf(outpath[i], sizeof outpath[i], "%s/%s.sss", outdir, sc.objects[i].name);
         if (n < 0 || (size_t)n >= sizeof outpath[i]) {
-            sss_cli_printf(stderr, "%s: %s: -o directory name too long\n", tool, outdir);
+            sss_cli_printf(stderr, "%s: %s: -o %s too long\n", tool, plain ? outfile : outdir, plain ? "file name" :
+                           "directory name");
             rc = 2;
             goto done;
         }
@@ -76,7 +142,7 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
         sss_mesh m;
         sss_import_report rep;
         if (sss_import_mesh(sc.objects[i].mesh, &m, &rep, &err) != SSS_OK) {
-            sss_cli_printf(stderr, "%s: %s: /objects/%u/mesh: %s\n", tool, sc.path, i, err.msg);
+            object_error(tool, &sc, plain, i, "/mesh", err.msg);
             rc = 1;
             goto done;
         }
@@ -88,7 +154,7 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
         sss_result r = sss_scene_object_world(&sc.objects[i], &m, &world[i], &err);
         sss_mesh_free(&m);
         if (r != SSS_OK) {
-            sss_cli_printf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc.path, i, err.msg);
+            object_error(tool, &sc, plain, i, "", err.msg);
             rc = 1;
             goto done;
         }
@@ -117,7 +183,7 @@ int scene_main(const char *tool, const char *scene_path, const char *outdir, int
         sss_bake_stats st;
         double t0 = sss_now();
         if (sss_bake_object(&sc, &plan, world, i, opt, &f, &st, &err) != SSS_OK) {
-            sss_cli_printf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc.path, i, err.msg);
+            object_error(tool, &sc, plain, i, "", err.msg);
             rc = 1;
             goto done;
         }

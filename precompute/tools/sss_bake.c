@@ -26,6 +26,12 @@
 
 static const char *TOOL = "sss-bake";
 
+/* The most --point-light one command line takes, as sss-view's: the
+ * shells serve every point light at once (§3.3: the light's distance and
+ * direction are the shells' coordinates, not baked per light), so more
+ * bake nothing more; a scene file takes more. */
+#define BAKE_POINTS_MAX 16
+
 static void usage(FILE *f)
 {
     fprintf(f,
@@ -83,6 +89,11 @@ static void usage(FILE *f)
         "                       compress and near_terms (docs/scenes.md)\n"
         "  --plan               with --scene: print the effect set and the reason for each decision\n"
         "                       (weights, compression and near terms included)\n"
+        "  --point-light X,Y,Z[,I]   also bake distance shells (Hao & Varshney 2004 sec. 3.3) for point\n"
+        "                       lights near the object, e.g. at X,Y,Z (mesh units), up to 16: the file\n"
+        "                       serves sss-view --point-light anywhere as well as --light; baked and\n"
+        "                       stored as a scene's object (docs/scenes.md), so not with --quant,\n"
+        "                       --compress, --weights and the like\n"
         "  --threads T          worker threads (default: all cores); output does not depend on it\n"
         "  --json               print one JSON object with statistics on stdout\n"
         "  -q, --quiet          no progress bar or summary on stderr\n"
@@ -125,6 +136,8 @@ typedef struct bake_args {
     int compress; /* any compression option: the compressed form, not --quant */
     int plan, json, quiet;
     int vector; /* --vector: section QVEC */
+    double points[BAKE_POINTS_MAX][4]; /* --point-light X,Y,Z[,I] */
+    int npoints;
 } bake_args;
 
 /* --weight-bits: an integer in [8, 16] (that message first), then 8 or 16
@@ -252,6 +265,8 @@ static int parse(int argc, char **argv, bake_args *a)
         {.name = "--scene", .kind = SSS_CLI_STRING, .dest = &a->scene},
         {.name = "--plan", .kind = SSS_CLI_FLAG, .dest = &a->plan},
         {.name = "--vector", .kind = SSS_CLI_FLAG, .dest = &a->vector},
+        {.name = "--point-light", .kind = SSS_CLI_POINT, .dest = a->points, .flags = SSS_CLI_REPEAT,
+         .count = &a->npoints, .max = BAKE_POINTS_MAX},
         {.name = "--json", .kind = SSS_CLI_FLAG, .dest = &a->json},
         {.name = "--quiet", .alias = "-q", .kind = SSS_CLI_FLAG, .dest = &a->quiet},
     };
@@ -281,6 +296,7 @@ static int parse(int argc, char **argv, bake_args *a)
                 return 2;
             }
         if (a->scene) return refuse("--preset applies to plain bakes, not to --scene");
+        if (a->npoints) return refuse("--preset paper bakes no point lights: not with --point-light");
         a->dirs = 200;
         a->weights = SSS_WEIGHTS_POINT;
         a->weights_given = 1;
@@ -296,6 +312,8 @@ static int parse(int argc, char **argv, bake_args *a)
 
     if (a->plan && !a->scene) return refuse("--plan needs --scene S.json");
     if (a->vector && a->scene) return refuse("--vector applies to plain bakes, not to --scene");
+    if (a->vector && a->npoints)
+        return refuse("--vector applies to plain bakes, not to --point-light (a scene's object has no Q)");
     /* Q is stored as float next to rows per direction sample (docs/format.md §5.19) */
     if (a->vector && a->compress) return refuse("--vector needs --quant float or lloyd8 (Q is not compressed)");
     if (a->rings_given && a->near_terms != SSS_NEAR_TERMS_RUNTIME) return refuse("--rings needs --own-term runtime");
@@ -308,8 +326,9 @@ static int parse(int argc, char **argv, bake_args *a)
         return refuse("--near-fraction sizes the near terms by the material: not with --rings or --near-radius");
     if (a->scene && a->near_terms_given)
         return refuse("--own-term applies to plain bakes, not to --scene (a scene's \"bake\" object sets near_terms)");
-    if (a->scene) {
-        if (a->mesh) return refuse("--scene and a MESH argument exclude each other (the scene names the meshes)");
+    if (a->scene && a->npoints) return refuse("--point-light and --scene exclude each other (the scene names its lights)");
+    if (a->scene || a->npoints) {
+        if (a->scene && a->mesh) return refuse("--scene and a MESH argument exclude each other (the scene names the meshes)");
         /* what the rows hold and how they are stored: the planner's per
          * object (docs/scenes.md, "Rows, weights and near terms"), set in
          * the scene, not quietly dropped here */
@@ -319,12 +338,18 @@ static int parse(int argc, char **argv, bake_args *a)
             {a->order_given, "--sh-order"}, {a->refs_given, "--refs"}, {a->sh_quant_given, "--sh-quant"},
             {a->wbits_given, "--weight-bits"}, {a->ls_given, "--ls-weights"}, {a->illum_given, "--illum-refs"}};
         for (size_t k = 0; k < sizeof storage / sizeof storage[0]; k++)
-            if (storage[k].given) {
+            if (storage[k].given && a->scene) {
                 sss_cli_printf(stderr, "%s: %s applies to plain bakes, not to --scene (a scene's \"bake\" object sets "
                                "weights, compress and near_terms: docs/scenes.md)\n", TOOL, storage[k].name);
                 return 2;
+            } else if (storage[k].given) {
+                sss_cli_printf(stderr, "%s: %s: not with --point-light (the file is baked and stored as a scene's "
+                               "object: docs/scenes.md)\n", TOOL, storage[k].name);
+                return 2;
             }
-        return SSS_CLI_RUN; /* the scene names meshes and materials: the rest is the plain bake's */
+        if (a->near_terms_given) return refuse("--own-term: not with --point-light (the file is baked and stored as "
+                                               "a scene's object: docs/scenes.md)");
+        if (a->scene) return SSS_CLI_RUN; /* the scene names meshes and materials: the rest is the plain bake's */
     }
     if (compress_given && a->have_quant)
         return refuse("--quant and the compression options (--sh-order, --refs, ...) exclude each other");
@@ -722,5 +747,9 @@ int main(int argc, char **argv)
     int rc = parse(argc, argv, &a);
     if (rc == SSS_CLI_RUN) rc = options(&a, &s);
     if (rc != SSS_CLI_RUN) return rc;
-    return a.scene ? scene_main(TOOL, a.scene, a.out, a.plan, a.json, a.quiet, &s.opt) : run(&a, &s, &argc, &argv);
+    if (a.scene) return scene_main(TOOL, a.scene, a.out, a.plan, a.json, a.quiet, &s.opt);
+    if (a.npoints)
+        return points_main(TOOL, a.mesh, a.out, &s.mat, a.mm_per_unit, (const double (*)[4])a.points, a.npoints, a.json,
+                           a.quiet, &s.opt);
+    return run(&a, &s, &argc, &argv);
 }

@@ -15,6 +15,8 @@ B=(m.ply --material skin1 --dirs 30 -q)
 [ ! -e c.sss ] || fail "a refused bake wrote its output"
 echo '{"objects":[]}' > s.json
 expect_fail "sss-bake: --vector applies to plain bakes, not to --scene" "$SSS_BAKE" --scene s.json -o s.sss --vector
+expect_fail "sss-bake: --vector applies to plain bakes, not to --point-light (a scene's object has no Q)" \
+    "$SSS_BAKE" m.ply --point-light 0,0,3 -o p.sss --vector
 
 expect_ok "$SSS_BAKE" "${B[@]}" --quant float -o q.sss
 expect_ok "$SSS_BAKE" "${B[@]}" --quant float --vector -o v.sss --threads 1

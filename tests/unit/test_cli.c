@@ -561,6 +561,48 @@ static void repeatedPositionalFillsArrayUpToMax(void **state)
     assert_string_equal(take(err_f), "sss-test: unexpected argument 'd'\n"); /* no usage, no extra_msg */
 }
 
+static void repeatedOptionFillsArrayAndRefusesOneTooMany(void **state)
+{
+    (void)state;
+    double l[2][3] = {{9, 9, 9}, {9, 9, 9}};
+    int n = -1;
+    const sss_cli_opt o[] = {{.name = "--light", .kind = SSS_CLI_TRIPLE, .dest = l, .flags = SSS_CLI_REPEAT | SSS_CLI_NONZERO,
+                              .count = &n, .max = 2}};
+    sss_cli c = tool(o, 1);
+    assert_int_equal(run(&c, NULL), SSS_CLI_RUN);
+    assert_int_equal(n, 0); /* the parse counts from 0 */
+    assert_int_equal(run(&c, "--light", "1,0,0", "--light", "0,2,0", NULL), SSS_CLI_RUN);
+    assert_int_equal(n, 2);
+    assert_true(l[0][0] == 1 && l[0][1] == 0 && l[1][1] == 2 && l[1][2] == 0);
+    assert_int_equal(run(&c, "--light", "0,0,3", "--light", "0,0,4", "--light", "0,0,5", NULL), 2);
+    assert_string_equal(take(err_f), "sss-test: --light: '0,0,5': at most 2 may be given\n");
+    assert_true(l[1][2] == 4); /* the one too many is not read */
+    /* each value is still checked as its kind says */
+    assert_int_equal(run(&c, "--light", "0,0,0", NULL), 2);
+    assert_string_equal(take(err_f), "sss-test: --light: '0,0,0' is not a direction\n");
+    assert_int_equal(n, 0);
+}
+
+static void pointReadsPositionAndOptionalPositiveIntensity(void **state)
+{
+    (void)state;
+    double p[4] = {9, 9, 9, 9};
+    const sss_cli_opt o[] = {{.name = "--point-light", .kind = SSS_CLI_POINT, .dest = p}};
+    sss_cli c = tool(o, 1);
+    assert_int_equal(run(&c, "--point-light", "1,-2,3e1", NULL), SSS_CLI_RUN);
+    assert_true(p[0] == 1 && p[1] == -2 && p[2] == 30 && p[3] == 0); /* no intensity: 0, the tool's default */
+    assert_int_equal(run(&c, "--point-light", "0,0,0,2.5", NULL), SSS_CLI_RUN);
+    assert_true(p[2] == 0 && p[3] == 2.5);
+    const char *bad[] = {"1,2", "1,2,3,", "1,2,3,0", "1,2,3,-1", "1,2,3,nan", "nan,0,0", "1,2,3,4,5", "1,2,inf"};
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+        assert_int_equal(run(&c, "--point-light", bad[k], NULL), 2);
+        char want[128];
+        snprintf(want, sizeof want, "sss-test: --point-light: '%s' must be X,Y,Z or X,Y,Z,I with I > 0\n", bad[k]);
+        assert_string_equal(take(err_f), want);
+    }
+    assert_true(p[3] == 2.5);
+}
+
 /* ---- single values and helpers ------------------------------------------ */
 
 /* These print on stderr itself: file descriptor 2 is pointed at err_f
@@ -640,6 +682,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(positionalsBeyondTheRowsPrintExtraMessageAtOnce, setup, teardown),
         cmocka_unit_test_setup_teardown(countErrorsWithoutMessagePrintUsageOnErr, setup, teardown),
         cmocka_unit_test_setup_teardown(repeatedPositionalFillsArrayUpToMax, setup, teardown),
+        cmocka_unit_test_setup_teardown(repeatedOptionFillsArrayAndRefusesOneTooMany, setup, teardown),
+        cmocka_unit_test_setup_teardown(pointReadsPositionAndOptionalPositiveIntensity, setup, teardown),
         cmocka_unit_test_setup_teardown(singleValueParsersPrintOnStderrAndWriteOnlyOnSuccess, setup, teardown),
         cmocka_unit_test_setup_teardown(basenameIsTheTailAfterTheLastSlash, setup, teardown),
     };

@@ -1199,9 +1199,51 @@ static void importRejectsCoordinatesBeyondTheRange(void **state)
     sss_mesh_free(&m);
 }
 
+/* Signed volume of a closed mesh (the divergence theorem over its triangles). */
+static double mesh_volume(const sss_mesh *m)
+{
+    double v = 0;
+    for (uint32_t f = 0; f < m->nf; f++) {
+        const float *a = &m->pos[3 * (size_t)m->tri[3 * f]], *b = &m->pos[3 * (size_t)m->tri[3 * f + 1]],
+                    *c = &m->pos[3 * (size_t)m->tri[3 * f + 2]];
+        v += (a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) - a[1] * ((double)b[0] * c[2] - (double)b[2] * c[0]) +
+              a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0])) / 6.0;
+    }
+    return v;
+}
+
+/* sss_gen_subdivide (sss-genmesh subdivide, tests/bench/table1.sh): n² triangles
+ * per triangle, V + E (n − 1) + T (n − 1)(n − 2)/2 vertices with the edge
+ * points shared (a closed mesh stays closed: Euler's V − E + F = 2 with
+ * E = 3F/2), the same surface (area and enclosed volume, the winding kept). */
+static void subdivisionCutsEveryTriangleIntoNSquaredOnTheSameSurface(void **state)
+{
+    (void)state;
+    sss_error err;
+    sss_mesh s, d;
+    assert_int_equal(sss_gen_sphere(&s, 1.0, 1, &err), SSS_OK); /* 42 vertices, 120 edges, 80 triangles */
+    double area = 0, area3 = 0;
+    for (uint32_t v = 0; v < s.nv; v++) area += s.area[v];
+    for (unsigned n = 1; n <= 4; n++) {
+        assert_int_equal(sss_gen_subdivide(&s, n, &d, &err), SSS_OK);
+        assert_int_equal(d.nf, 80u * n * n);
+        assert_int_equal(d.nv, 42u + 120u * (n - 1) + 80u * (n - 1) * (n - 2) / 2);
+        assert_int_equal((int64_t)d.nv - 3 * (int64_t)d.nf / 2 + d.nf, 2);
+        area3 = 0;
+        for (uint32_t v = 0; v < d.nv; v++) area3 += d.area[v];
+        assert_true(fabs(area3 - area) < 1e-6 * area);
+        assert_true(fabs(mesh_volume(&d) - mesh_volume(&s)) < 1e-6 * mesh_volume(&s));
+        assert_true(mesh_volume(&d) > 0); /* outward, as the input */
+        sss_mesh_free(&d);
+    }
+    assert_int_equal(sss_gen_subdivide(&s, 0, &d, &err), SSS_ERR_ARG);
+    sss_mesh_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(subdivisionCutsEveryTriangleIntoNSquaredOnTheSameSurface),
         cmocka_unit_test(importReadsAsciiPlyCubeAndTriangulatesQuads),
         cmocka_unit_test(importDropsUtf8ByteOrderMarkInEveryTextFormat),
         cmocka_unit_test(importRejectsCoordinatesBeyondTheRange),

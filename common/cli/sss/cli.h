@@ -65,6 +65,12 @@ typedef enum sss_cli_kind {
      * Default messages: "%s: %s: '%s' must be three numbers X,Y,Z\n";
      * all zero (msg2): "%s: %s: '%s' is not a direction\n". */
     SSS_CLI_TRIPLE,
+    /* ((double *)dest)[0..3]: "X,Y,Z" or "X,Y,Z,I", a position and an
+     * optional intensity (sss-view's and sss-bake's --point-light): the
+     * numbers read as SSS_CLI_TRIPLE's, I a finite number > 0 when given,
+     * 0 when not (the tool's default then).
+     * Default message: "%s: %s: '%s' must be X,Y,Z or X,Y,Z,I with I > 0\n". */
+    SSS_CLI_POINT,
     /* ((int *)dest)[0..1] = W, H: "WxH" as sscanf's "%dx%d" reads it (blanks
      * before W and H), each in [lo, hi] without wrapping, nothing after H.
      * Default message: "%s: %s: '%s' must be WxH with each in [%d, %d]\n". */
@@ -100,7 +106,13 @@ enum {
     /* The last positional row only: it takes this and every further
      * positional up to sss_cli.max_pos; dest is then an array with one element
      * per positional it takes (const char * for a string, double for a number,
-     * ...). A SSS_CLI_CUSTOM row's dest is not advanced. */
+     * ...). A SSS_CLI_CUSTOM row's dest is not advanced.
+     * An option row: the option may be given up to `max` times (a light per
+     * --light); dest is an array of max elements, the k-th value given goes
+     * into element k, and *count holds how many were given (the parse sets
+     * it to 0 first). One more than max is refused with
+     * "%s: %s: '%s': at most %d may be given\n" (tool, option, value, max),
+     * the value not read. Not with SSS_CLI_CUSTOM. */
     SSS_CLI_REPEAT = 1u << 4
 };
 
@@ -152,6 +164,8 @@ struct sss_cli_opt {
     const char *msg;            /* bad value; NULL: the kind's default */
     const char *msg2;           /* SSS_CLI_TRIPLE with SSS_CLI_NONZERO: all zero; NULL: default */
     const char *need_msg;       /* missing value; NULL: the tool's (sss_cli.need_msg) */
+    int *count;                 /* an option with SSS_CLI_REPEAT: how many values were read */
+    int max;                    /* an option with SSS_CLI_REPEAT: the most it takes (dest's length) */
 };
 
 /* A tool's command line. */

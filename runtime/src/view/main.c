@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "app.h"
 #include "sss/cli.h"
@@ -13,8 +14,16 @@
 #include "sss/fileio.h"
 #include "sss/format.h"
 #include "sss/render.h"
+#include "sss/vec3.h"
 
 static const char *TOOL = "sss-view";
+
+/* The most --light and the most --point-light one command line takes: each
+ * light is one more evaluation of q per frame (a direction-set decode or a
+ * §3.3 shell interpolation over every vertex), and 16 of either already
+ * make a frame 16 times the one-light frame; a scene file takes more
+ * (docs/viewer.md, "Several lights and point lights"). */
+#define VIEW_LIGHTS_MAX 16
 
 static void usage(FILE *f)
 {
@@ -29,7 +38,11 @@ static void usage(FILE *f)
         "  --offscreen          render one image without a window (EGL surfaceless) and exit\n"
         "  --out FILE           image to write: .png (8-bit sRGB, tone-mapped) or .exr (linear float)\n"
         "  --size WxH           image or window size (default 800x600)\n"
-        "  --light X,Y,Z        direction towards the light (default 0,0,1)\n"
+        "  --light X,Y,Z        direction towards the light (default 0,0,1); up to 16 --light, summed\n"
+        "  --point-light X,Y,Z[,I]   a point light at X,Y,Z (mesh units) of intensity I per steradian\n"
+        "                       (default: irradiance 1 at the object's centre, times --intensity); up\n"
+        "                       to 16, summed with the --light ones; needs a file baked with\n"
+        "                       sss-bake --point-light (distance shells, Hao & Varshney 2004 sec. 3.3)\n"
         "  --view X,Y,Z         direction from the object towards the camera (default 0,0,1)\n"
         "  --exposure E         radiance multiplier before tone mapping (default: 1 / (I q_slab), q_slab\n"
         "                       the q of a flat surface of the file's material lit head-on: the\n"
@@ -85,6 +98,11 @@ typedef struct view_args {
     int tonemap, cpu;  /* --tonemap, --cpu */
     int no_vector;     /* --no-vector: q's rows of a file with Q */
     sss_view_params p;
+    /* --light (each given one) and --point-light X,Y,Z[,I] (I 0: the
+     * default); several --light or any --point-light are summed as a
+     * scene's lights are (lights_scene) */
+    double lights[VIEW_LIGHTS_MAX][3], points[VIEW_LIGHTS_MAX][4];
+    int nlights, npoints;
     const char *input[2]; /* the files read (FILE.sss, --scene): no output may be one of them */
     sss_inputs inputs;
 } view_args;
@@ -113,7 +131,10 @@ static int parse(int argc, char **argv, view_args *a)
         {.name = "--out", .kind = SSS_CLI_STRING, .dest = &a->out},
         /* 16384: the renderer's largest image side (sss/render.h) */
         {.name = "--size", .kind = SSS_CLI_SIZE, .dest = a->size, .lo = 1, .hi = 16384},
-        {.name = "--light", .kind = SSS_CLI_TRIPLE, .dest = a->p.light, .flags = SSS_CLI_NONZERO},
+        {.name = "--light", .kind = SSS_CLI_TRIPLE, .dest = a->lights, .flags = SSS_CLI_NONZERO | SSS_CLI_REPEAT,
+         .count = &a->nlights, .max = VIEW_LIGHTS_MAX},
+        {.name = "--point-light", .kind = SSS_CLI_POINT, .dest = a->points, .flags = SSS_CLI_REPEAT,
+         .count = &a->npoints, .max = VIEW_LIGHTS_MAX},
         {.name = "--view", .kind = SSS_CLI_TRIPLE, .dest = a->p.view, .flags = SSS_CLI_NONZERO},
         /* at most 1e12 each: with the stored values' bound (SSS_VALUE_MAX)
          * q · E · exposure stays far inside float (docs/robustness.md) */
@@ -148,6 +169,12 @@ static int parse(int argc, char **argv, view_args *a)
                          .missing_msg = "%s: missing FILE.sss (see --help)\n"};
     int rc = sss_cli_parse(&cli, argc, argv);
     if (rc != SSS_CLI_RUN) return rc;
+    if (a->nlights) memcpy(a->p.light, a->lights[0], sizeof a->p.light); /* one --light: the plain path, as ever */
+    if (a->scene && (a->npoints || a->nlights > 1)) {
+        sss_cli_printf(stderr, "%s: --scene names its own lights: not with %s\n", TOOL,
+                       a->npoints ? "--point-light" : "several --light");
+        return 2;
+    }
     if (a->offscreen && !a->out && !a->nbench) {
         sss_cli_printf(stderr, "%s: --offscreen needs --out IMG.png|IMG.exr or --bench N\n", TOOL);
         return 2;
@@ -274,13 +301,97 @@ static int offscreen_render(const sss_bake_file *f, view_args *a)
     return rc;
 }
 
-/* Loads the scene, prepares its light sum for file f and takes its camera;
- * the lights' colours are folded into q. Non-zero (message printed) on failure. */
-static int scene_open(const sss_bake_file *f, const char *scene_path, sss_view_params *p, sss_scene *sc,
+/* The command that bakes the distance shells file f lacks, as far as its
+ * provenance (PARM's "mesh", the material) tells: for the one-line message
+ * of a --point-light on a file without them. */
+static void shells_command(const sss_bake_file *f, const view_args *a, char *buf, size_t n)
+{
+    char mesh[256] = "MESH", mat[256];
+    const char *k = f->params_json ? strstr(f->params_json, "\"mesh\":\"") : NULL;
+    const char *e = k ? strchr(k + 8, '"') : NULL;
+    if (e && e > k + 8 && !memchr(k + 8, '\\', (size_t)(e - k - 8))) {
+        const char *b = k + 8;
+        for (const char *q = b; q < e; q++)
+            if (*q == '/') b = q + 1;
+        if (e > b) snprintf(mesh, sizeof mesh, "%.*s", (int)(e - b), b);
+    }
+    const sss_material *m = &f->material;
+    if (strcmp(m->name, "custom"))
+        snprintf(mat, sizeof mat, "--material %s", m->name);
+    else
+        snprintf(mat, sizeof mat, "--sigma-a %.6g,%.6g,%.6g --sigma-s %.6g,%.6g,%.6g --eta %.6g", m->sigma_a[0],
+                 m->sigma_a[1], m->sigma_a[2], m->sigmap_s[0], m->sigmap_s[1], m->sigmap_s[2], m->eta);
+    char mm[64] = "";
+    if (f->mm_per_unit != 1.0) snprintf(mm, sizeof mm, " --mm-per-unit %.9g", f->mm_per_unit);
+    snprintf(buf, n, "sss-bake %s %s%s --point-light %.9g,%.9g,%.9g -o %s", mesh, mat, mm, a->points[0][0],
+             a->points[0][1], a->points[0][2], a->path);
+}
+
+/* --point-light and several --light: each light needs its effect in the
+ * file (the point-shells of sss-bake --point-light, the direction set of a
+ * plain bake). Non-zero (one line printed) when one is missing. */
+static int lights_check(const sss_bake_file *f, const view_args *a)
+{
+    if (a->npoints && !(f->fx.mask & SSS_FX_POINT_SHELLS)) {
+        char cmd[1024];
+        shells_command(f, a, cmd, sizeof cmd);
+        sss_cli_printf(stderr, "%s: %s: not baked for near point lights (no distance shells, section PSHL): bake it "
+                       "with '%s'\n", TOOL, a->path, cmd);
+        return 2;
+    }
+    if (a->nlights && f->fx.mask && !(f->fx.mask & SSS_FX_DIR_SET)) {
+        sss_cli_printf(stderr, "%s: %s: no direction set for --light (the file holds a scene's static lights "
+                       "only): bake it without --scene, or with a moving directional light\n", TOOL, a->path);
+        return 2;
+    }
+    return 0;
+}
+
+/* --light and --point-light as the lights of a scene with no file, so that
+ * they are summed by the scene's own evaluators (scene_view.c, fx_gpu.c):
+ * each --light a static directional light of irradiance --intensity; each
+ * --point-light a point light of its intensity, or by default of
+ * --intensity × d² with d its distance from the shells' centre, the
+ * irradiance of a --light at the object's centre (I / d², §3.3). A point
+ * light is marked moving so that the sum takes the file's shells for it,
+ * never a far light's one direction; the window holds it still. */
+static sss_result lights_scene(const sss_bake_file *f, const view_args *a, sss_scene *sc, sss_error *err)
+{
+    memset(sc, 0, sizeof *sc);
+    snprintf(sc->path, sizeof sc->path, "%s", a->path);
+    const uint32_t n = (uint32_t)(a->nlights + a->npoints);
+    sc->lights = calloc(n, sizeof *sc->lights);
+    if (!sc->lights) return sss_fail(err, SSS_ERR_NOMEM, "out of memory");
+    sc->nlights = n;
+    for (int i = 0; i < a->nlights; i++) {
+        sss_scene_light *L = &sc->lights[i];
+        L->kind = SSS_LIGHT_DIRECTIONAL;
+        memcpy(L->direction, a->lights[i], sizeof L->direction);
+        sss_normalize3(L->direction);
+        L->intensity = a->intensity;
+        L->colour[0] = L->colour[1] = L->colour[2] = 1.0;
+    }
+    for (int i = 0; i < a->npoints; i++) {
+        sss_scene_light *L = &sc->lights[a->nlights + i];
+        L->kind = SSS_LIGHT_POINT;
+        L->moving = 1;
+        memcpy(L->position, a->points[i], sizeof L->position);
+        double d2 = 0;
+        for (int k = 0; k < 3; k++) d2 += (L->position[k] - f->fx.shell_centre[k]) * (L->position[k] - f->fx.shell_centre[k]);
+        L->intensity = a->points[i][3] > 0 ? a->points[i][3] : a->intensity * d2;
+        L->colour[0] = L->colour[1] = L->colour[2] = 1.0;
+    }
+    return SSS_OK;
+}
+
+/* Loads the scene (--scene, or the lights of the command line), prepares
+ * its light sum for file f and takes its camera; the lights' colours are
+ * folded into q. Non-zero (message printed) on failure. */
+static int scene_open(const sss_bake_file *f, const view_args *a, sss_view_params *p, sss_scene *sc,
                       sss_scene_eval **ev)
 {
     sss_error err = {{0}};
-    if (sss_scene_load(scene_path, sc, &err) != SSS_OK) {
+    if ((a->scene ? sss_scene_load(a->scene, sc, &err) : lights_scene(f, a, sc, &err)) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 1;
     }
@@ -352,7 +463,7 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
     sss_error err = {{0}};
     sss_scene sc;
     sss_scene_eval *ev = NULL;
-    if (scene_open(f, a->scene, &a->p, &sc, &ev) != 0) return 2;
+    if (scene_open(f, a, &a->p, &sc, &ev) != 0) return 2;
     sss_offscreen *ctx = NULL;
     sss_renderer *r = NULL;
     float *q = malloc((size_t)f->mesh.nv * f->channels * sizeof(float));
@@ -378,8 +489,9 @@ static int scene_offscreen(const sss_bake_file *f, view_args *a)
             sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
             rc = 1;
         } else {
-            sss_cli_printf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, scene %s: %s\n", TOOL, a->out, w, h,
-                    sss_gl_renderer_name(), evals, a->scene, sss_scene_eval_paths(ev));
+            sss_cli_printf(stderr, "%s: %s: %dx%d, %s, lights summed on the %s, %s %s: %s\n", TOOL, a->out, w, h,
+                    sss_gl_renderer_name(), evals, a->scene ? "scene" : "lights of", a->scene ? a->scene : "the command line",
+                    sss_scene_eval_paths(ev));
         }
         free(rgb);
         free(hdr);
@@ -404,12 +516,14 @@ typedef struct scene_win {
     sss_fx_gpu *g;
     int cpu;
     char desc[192];
+    int still; /* the command line's lights: they stay where they were given */
 } scene_win;
 
 static void scene_frame(void *user, const sss_view_params *p, double t, float *q)
 {
     sss_scene_eval_set_view(((scene_win *)user)->ev, p); /* the near terms as the O key leaves them */
-    sss_scene_eval_frame(((scene_win *)user)->ev, 0.3 * t, q);
+    const scene_win *s = user;
+    sss_scene_eval_frame(s->ev, s->still ? 0.0 : 0.3 * t, q);
 }
 
 static const char *scene_frame_gpu(void *user, const sss_view_params *p, sss_renderer *r, double t)
@@ -433,7 +547,7 @@ static const char *scene_frame_gpu(void *user, const sss_view_params *p, sss_ren
                  sss_fx_gpu_describe(s->g));
         sss_cli_printf(stderr, "%s: scene lights: %s\n", TOOL, s->desc);
     }
-    sss_fx_gpu_frame(s->g, 0.3 * t);
+    sss_fx_gpu_frame(s->g, s->still ? 0.0 : 0.3 * t);
     return s->desc;
 }
 
@@ -441,9 +555,9 @@ static int scene_window(const sss_bake_file *f, view_args *a)
 {
     sss_scene sc;
     sss_scene_eval *ev = NULL;
-    if (scene_open(f, a->scene, &a->p, &sc, &ev) != 0) return 2;
+    if (scene_open(f, a, &a->p, &sc, &ev) != 0) return 2;
     a->p.background[0] = a->p.background[1] = a->p.background[2] = 0.02f;
-    scene_win sw = {f, ev, NULL, a->p.path == SSS_EVAL_CPU, ""};
+    scene_win sw = {f, ev, NULL, a->p.path == SSS_EVAL_CPU, "", !a->scene};
     sss_app_options ao = {a->path, a->size[0], a->size[1], a->shot, scene_frame, &sw, scene_frame_gpu, ev};
     int rc = sss_app_run(f, &a->p, &ao);
     sss_scene_eval_destroy(ev);
@@ -494,8 +608,14 @@ int main(int argc, char **argv)
         const double qs = sss_material_slab_q(&f.material, f.channels) * (a.scene ? 1.0 : a.intensity) / c;
         a.p.exposure = qs > 0.0 && isfinite(1.0 / qs) ? 1.0 / qs : 1.0;
     }
-    if (a.offscreen) rc = a.scene ? scene_offscreen(&f, &a) : offscreen_render(&f, &a);
-    else rc = a.scene ? scene_window(&f, &a) : window(&f, &a);
+    /* several lights, or point lights: summed as a scene's (lights_scene) */
+    const int summed = a.scene || a.npoints || a.nlights > 1;
+    if (!a.scene && summed && (rc = lights_check(&f, &a)) != 0) {
+        sss_file_free(&f);
+        return rc;
+    }
+    if (a.offscreen) rc = summed ? scene_offscreen(&f, &a) : offscreen_render(&f, &a);
+    else rc = summed ? scene_window(&f, &a) : window(&f, &a);
     sss_file_free(&f);
     return rc;
 }
