@@ -213,6 +213,13 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
     const size_t L = sss_shq_levels(s->kind), ntab = (size_t)f->channels * s->ncoef;
     double y[SSS_SH_MAX_COUNT];
     sss_sh_eval(s->order, d, y);
+    if (s->kind == SSS_SHQ_LINEAR16) {
+        /* one level, the step scale / 32767 times y_i, in double from the
+         * stored scale and rounded once: a coefficient then costs one
+         * product code · T */
+        for (size_t t = 0; t < ntab; t++) T[t] = (float)((double)s->scale[t] * y[t % s->ncoef] / 32767.0);
+        return;
+    }
     for (size_t t = 0; t < ntab; t++) {
         const double yi = y[t % s->ncoef];
         for (size_t x = 0; x < L; x++) T[t * L + x] = (float)(s->table[t * L + x] * yi);
@@ -231,11 +238,16 @@ static float *fold_sh(const sss_bake_file *f, const double d[3])
 /* Σ_i T[(c·ncoef + i)·L + code_i] for coded vertex k, channel c. */
 static float sh_sum(const sss_shcode *s, const float *T, size_t C, size_t k, size_t c)
 {
-    const size_t ncoef = s->ncoef, L = s->kind == SSS_SHQ_LLOYD4 ? 16 : 256;
+    const size_t ncoef = s->ncoef, L = sss_shq_levels(s->kind);
     const size_t e0 = (k * C + c) * ncoef;
     const float *Tc = T + c * ncoef * L;
     float acc = 0.0f;
-    if (s->kind == SSS_SHQ_LLOYD4)
+    if (s->kind == SSS_SHQ_LINEAR16)
+        for (size_t i = 0; i < ncoef; i++) {
+            const float p = (float)(int16_t)sss_shq_code(s->code, SSS_SHQ_LINEAR16, e0 + i) * Tc[i];
+            acc += p; /* product rounded, then summed: the GPU's precise order */
+        }
+    else if (s->kind == SSS_SHQ_LLOYD4)
         for (size_t i = 0; i < ncoef; i++) acc += Tc[i * L + sss_shq_code(s->code, SSS_SHQ_LLOYD4, e0 + i)];
     else
         for (size_t i = 0; i < ncoef; i++) acc += Tc[i * L + s->code[e0 + i]];

@@ -11,7 +11,7 @@
  *           below any storage-block limit, while the whole table (1 GB for
  *           the 437K dragon in RGB float) only needs to fit in memory;
  *   compressed forms (Hao–Varshney 2004 §4) stay compressed: the SH codes
- *           (§4.1, each vertex's codes word-aligned), and for the reference
+ *           (§4.1, each vertex's codes word-aligned; 4, 8 or 16 bits), and for the reference
  *           form each coded vertex's triangle and weight codes (§4.2–4.3).
  *           Two passes: the references' values, then every coded vertex
  *           (blend of three references plus its SH-coded delta).
@@ -129,7 +129,8 @@ sss_result sss_gpu_layout_create(const sss_bake_file *f, uint32_t row_alignment,
         set_program(&L->pass[SSS_GPU_PASS_CODED], "scatter_coded", L->ncoded);
         snprintf(L->pass[SSS_GPU_PASS_CODED].defines, sizeof L->pass[0].defines,
                  "#define CHANNELS %u\n#define NCOEF %u\n#define SH_LEVELS %u\n%s%s", C, shc->ncoef,
-                 L->sh_levels ? L->sh_levels : 256u, shc->kind == SSS_SHQ_LLOYD4 ? "#define SH_NIBBLE 1\n" : "",
+                 L->sh_levels ? L->sh_levels : 256u,
+                 shc->kind == SSS_SHQ_LLOYD4 ? "#define SH_NIBBLE 1\n" : shc->kind == SSS_SHQ_LINEAR16 ? "#define SH_LINEAR16 1\n" : "",
                  refs ? "#define REFS 1\n" : "");
     }
     if (sh || refs) {
@@ -138,7 +139,8 @@ sss_result sss_gpu_layout_create(const sss_bake_file *f, uint32_t row_alignment,
              * on a word of their own (at most 3 bytes of padding per
              * vertex): an invocation then loads its vertex's few words
              * once, at fixed offsets, instead of one word per code. */
-            const uint32_t per_word = shc->kind == SSS_SHQ_LLOYD4 ? 8 : 4, ncv = C * shc->ncoef;
+            const uint32_t per_word = shc->kind == SSS_SHQ_LLOYD4 ? 8 : shc->kind == SSS_SHQ_LINEAR16 ? 2 : 4;
+            const uint32_t ncv = C * shc->ncoef;
             const uint32_t vwords = (ncv + per_word - 1) / per_word, bits = 32 / per_word;
             uint32_t *words = calloc((size_t)L->ncoded * vwords + 1, sizeof *words);
             if (!words) goto oom;

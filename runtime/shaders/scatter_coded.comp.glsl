@@ -2,6 +2,8 @@ layout(local_size_x = 256) in;
 const uint C = uint(CHANNELS), N = uint(NCOEF), L = uint(SH_LEVELS);
 #ifdef SH_NIBBLE
 const uint BITS = 4u;
+#elif defined(SH_LINEAR16)
+const uint BITS = 16u; // int16 codes (Hao-Varshney 2004 sec. 4.1), two's complement
 #else
 const uint BITS = 8u;
 #endif
@@ -11,7 +13,8 @@ layout(std430, binding = 3) writeonly buffer Q { float q[]; };
 // each coded vertex's C * N codes in file order (channel-major), packed from the
 // low bits up, starting on a word of its own: codes[k * W + b / PER]
 layout(std430, binding = 0) readonly buffer Codes { uint codes[]; };
-// dequantisation tables times y_i(light), rewritten per frame: sh_t[(c * N + i) * L + code]
+// dequantisation tables times y_i(light), rewritten per frame: sh_t[(c * N + i) * L + code];
+// SH_LINEAR16 (L = 1): sh_t[c * N + i] = scale * y_i / 32767, the coefficient is code * sh_t
 layout(std430, binding = 4) readonly buffer ShTable { float sh_t[]; };
 #endif
 #ifdef REFS
@@ -48,8 +51,15 @@ void main() {
         precise float acc = 0.0;
         for (uint j = 0u; j < N; j++) {
             uint e = ch * N + j;
+#ifdef SH_LINEAR16
+            // the 16 bits, sign-extended: the C decoder's (int16_t) code
+            int code = int(words[e / PER] << (16u - (e % PER) * BITS)) >> 16;
+            precise float p = float(code) * sh_t[ch * N + j];
+            acc += p;
+#else
             uint code = (words[e / PER] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
             acc += sh_t[(ch * N + j) * L + code];
+#endif
         }
         x += acc;
 #endif

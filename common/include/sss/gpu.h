@@ -101,7 +101,7 @@ typedef struct sss_gpu_layout {
     uint64_t row_range;       /* bytes to bind per row range: row_bytes rounded up to 4 */
     uint32_t row_n;           /* entries per row / C: nv, or nref for the reference form */
     uint32_t ncoded;          /* coded vertices (SH: nv; reference form: nv − nref) */
-    uint32_t sh_levels;       /* SH dequantisation levels: 256, 16, or 0 without an SH part */
+    uint32_t sh_levels;       /* SH dequantisation levels: 256, 16, 1 (linear16: the step), or 0 without an SH part */
     sss_gpu_program pass[SSS_GPU_PASSES];
     sss_gpu_buffer buffer[SSS_GPU_BUFFERS];
     /* Per-frame block sizes (sss_gpu_frame), 0 when absent. */
