@@ -137,8 +137,13 @@ sss_result sss_gpu_layout_create(const sss_bake_file *f, uint32_t row_alignment,
         if (shc->ncoef) {
             /* The codes as stored, but each vertex's C·ncoef codes starting
              * on a word of their own (at most 3 bytes of padding per
-             * vertex): an invocation then loads its vertex's few words
-             * once, at fixed offsets, instead of one word per code. */
+             * vertex), and word-major: word n of coded vertex k at
+             * n·ncoded + k, so that neighbouring invocations (vertices)
+             * read neighbouring words. Vertex-major (k·W + n), a group's
+             * loads were W words apart, a cache line each: 74 words per
+             * vertex at order 7 in 16 bits, and the SH-only frame was 50×
+             * lloyd8's on llvmpipe (docs/benchmarks.md, "Compressed forms'
+             * per-frame cost"). */
             const uint32_t per_word = shc->kind == SSS_SHQ_LLOYD4 ? 8 : shc->kind == SSS_SHQ_LINEAR16 ? 2 : 4;
             const uint32_t ncv = C * shc->ncoef;
             const uint32_t vwords = (ncv + per_word - 1) / per_word, bits = 32 / per_word;
@@ -147,7 +152,7 @@ sss_result sss_gpu_layout_create(const sss_bake_file *f, uint32_t row_alignment,
             L->owned_[0] = words;
             for (size_t k = 0; k < L->ncoded; k++)
                 for (uint32_t b = 0; b < ncv; b++)
-                    words[k * vwords + b / per_word] |= sss_shq_code(shc->code, shc->kind, (uint64_t)k * ncv + b)
+                    words[(size_t)(b / per_word) * L->ncoded + k] |= sss_shq_code(shc->code, shc->kind, (uint64_t)k * ncv + b)
                                                         << (b % per_word * bits);
             one_block(&L->buffer[SSS_GPU_BUF_SH_CODES], "sh_codes", 0, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, words,
                       (uint64_t)L->ncoded * vwords * 4);

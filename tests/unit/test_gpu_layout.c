@@ -105,7 +105,8 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
         const uint32_t N = L->f->sh.ncoef, Lv = L->sh_levels ? L->sh_levels : 256u;
         const int lin16 = strstr(p1->defines, "SH_LINEAR16") != NULL;
         const uint32_t BITS = strstr(p1->defines, "SH_NIBBLE") ? 4u : lin16 ? 16u : 8u, PER = 32u / BITS;
-        const uint32_t W = (C * N + PER - 1u) / PER;
+        const uint32_t W = (C * N + PER - 1u) / PER; /* words per coded vertex */
+        if (N) assert_int_equal(L->buffer[SSS_GPU_BUF_SH_CODES].bytes, (uint64_t)fr->u_count[1] * W * 4);
         for (uint32_t k = 0; k < fr->u_count[1]; k++) {
             uint32_t v = k, r0 = 0, r1 = 0, r2 = 0;
             double w0 = 0, w1 = 0, w2 = 0;
@@ -123,7 +124,7 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
                     float acc = 0.0f;
                     for (uint32_t j = 0; j < N; j++) {
                         const uint32_t e = ch * N + j;
-                        const uint32_t code = (codes[k * W + e / PER] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
+                        const uint32_t code = (codes[(e / PER) * fr->u_count[1] + k] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
                         if (lin16) {
                             /* int(w << (16 − shift)) >> 16: the sign-extended code times the folded step */
                             const float prod = (float)(int16_t)code * fr->sh[ch * N + j];
