@@ -6,7 +6,8 @@
 # (the paper's 3 % with linear8 codes, the compact preset's settings), all
 # compressed from one float bake so that only the storage differs.
 #   tests/bench/compressed_forms.sh OUTDIR [ROUNDS] [BUILD...]
-# Each round runs every file on every BUILD (default: build) in turn, so
+# A BUILD that cannot read a file (an older one, before 16-bit codes)
+# shows "—" there. Each round runs every file on every BUILD (default: build) in turn, so
 # that builds and forms share the machine's load; printed: the median over
 # the rounds of sss-view's scatter median (--offscreen --bench 15 --size
 # 64x64, GPU path and --cpu path) and of decode_bench's one-thread decode.
@@ -45,10 +46,11 @@ for ((r = 0; r < ROUNDS; r++)); do
       for path in gpu cpu; do
         a=(); [ $path = cpu ] && a=(--cpu)
         ms=$("$b/runtime/sss-view" "$OUT/$f.sss" --offscreen --bench 15 --size 64x64 "${a[@]}" |
-             python3 -c 'import json,sys; print(json.load(sys.stdin)["scatter_ms_median"])')
+             python3 -c 'import json,sys; print(json.load(sys.stdin)["scatter_ms_median"])') || ms=nan
         printf '%s\t%s\t%s\t%s\n' "$b" "$f" "$path" "$ms" >> "$OUT/forms.tsv"
       done
-      ms=$("$b/tests/bench/decode_bench" --decode-only 30 "$OUT/$f.sss" | awk '{print $3}')
+      ms=$("$b/tests/bench/decode_bench" --decode-only 30 "$OUT/$f.sss" | awk '{print $3}') || ms=nan
+      [ -n "$ms" ] || ms=nan
       printf '%s\t%s\t%s\t%s\n' "$b" "$f" decode1t "$ms" >> "$OUT/forms.tsv"
     done
   done
@@ -71,6 +73,6 @@ for f in files:
     cells = []
     for b, p in cols:
         x, ref = m[(b, f, p)], m[(b, "d100_lloyd8", p)]
-        cells.append(f"{x:.2f} ({x / ref:.1f}×)")
+        cells.append("—" if x != x else f"{x:.2f} ({x / ref:.1f}×)")
     print(f"| {f} | " + " | ".join(cells) + " |")
 PY
