@@ -271,6 +271,13 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
     const size_t L = sss_shq_levels(s->kind), ntab = (size_t)f->channels * s->ncoef;
     double y[SSS_SH_MAX_COUNT];
     sss_sh_eval(s->order, d, y);
+    if (s->kind == SSS_SHQ_LINEAR16) {
+        /* one level, the step scale / 32767 times y_i, in double from the
+         * stored scale and rounded once: a coefficient then costs one
+         * product code · T */
+        for (size_t t = 0; t < ntab; t++) T[t] = (float)((double)s->scale[t] * y[t % s->ncoef] / 32767.0);
+        return;
+    }
     for (size_t t = 0; t < ntab; t++) {
         const double yi = y[t % s->ncoef];
         for (size_t x = 0; x < L; x++) T[t * L + x] = (float)(s->table[t * L + x] * yi);
@@ -286,19 +293,66 @@ static float *fold_sh(const sss_bake_file *f, const double d[3])
     return T;
 }
 
-/* Σ_i T[(c·ncoef + i)·L + code_i] for coded vertex k, channel c. */
-static float sh_sum(const sss_shcode *s, const float *T, size_t C, size_t k, size_t c)
+/* Σ_i T[(c·ncoef + i)·L + code_i] for every channel c of coded vertex k,
+ * into acc[0 … C−1]: each channel summed in coefficient order in float, as
+ * the coded shader sums (so the GPU's result stays the C decoder's to the
+ * bit). A sum of ncoef terms is a chain of dependent adds, so with three
+ * channels the three chains advance together, one term each per step
+ * (the latency of one add covers three loads); one loop per kind, the table
+ * width a constant. TERM(e) is the term of code element e of the vertex. */
+#define SH_SUMS(TERM)                                                                                                  \
+    do {                                                                                                               \
+        if (C == 3) {                                                                                                  \
+            float a0 = 0.0f, a1 = 0.0f, a2 = 0.0f;                                                                     \
+            for (size_t i = 0; i < ncoef; i++) {                                                                       \
+                a0 += TERM(i);                                                                                         \
+                a1 += TERM(ncoef + i);                                                                                 \
+                a2 += TERM(2 * ncoef + i);                                                                             \
+            }                                                                                                          \
+            acc[0] = a0, acc[1] = a1, acc[2] = a2;                                                                     \
+        } else {                                                                                                       \
+            for (size_t c = 0; c < C; c++) {                                                                           \
+                float a = 0.0f;                                                                                        \
+                for (size_t i = 0; i < ncoef; i++) a += TERM(c * ncoef + i);                                           \
+                acc[c] = a;                                                                                            \
+            }                                                                                                          \
+        }                                                                                                              \
+    } while (0)
+
+/* LINEAR16: the product rounded, then summed (the GPU's precise order) */
+static inline float l16_term(const uint8_t *p, const float *T, size_t e)
 {
-    const size_t ncoef = s->ncoef, L = s->kind == SSS_SHQ_LLOYD4 ? 16 : 256;
-    const size_t e0 = (k * C + c) * ncoef;
-    const float *Tc = T + c * ncoef * L;
-    float acc = 0.0f;
-    if (s->kind == SSS_SHQ_LLOYD4)
-        for (size_t i = 0; i < ncoef; i++) acc += Tc[i * L + sss_shq_code(s->code, SSS_SHQ_LLOYD4, e0 + i)];
-    else
-        for (size_t i = 0; i < ncoef; i++) acc += Tc[i * L + s->code[e0 + i]];
-    return acc;
+    const float prod = (float)(int16_t)(uint16_t)(p[2 * e] | p[2 * e + 1] << 8) * T[e];
+    return prod;
 }
+
+static inline void sh_sums(const sss_shcode *s, const float *T, size_t C, size_t k, float *acc)
+{
+    const size_t ncoef = s->ncoef, e0 = k * C * ncoef;
+    switch (s->kind) {
+    case SSS_SHQ_LINEAR16: {
+        const uint8_t *p = s->code + 2 * e0;
+#define TERM_L16(e) l16_term(p, T, (e))
+        SH_SUMS(TERM_L16);
+#undef TERM_L16
+        break;
+    }
+    case SSS_SHQ_LLOYD4: {
+        const uint8_t *p = s->code;
+#define TERM_L4(e) T[(e) * 16 + ((p[(e0 + (e)) >> 1] >> (((e0 + (e)) & 1u) * 4u)) & 15u)]
+        SH_SUMS(TERM_L4);
+#undef TERM_L4
+        break;
+    }
+    default: { /* the 8-bit kinds: one byte per code, 256 levels */
+        const uint8_t *p = s->code + e0;
+#define TERM_B(e) T[(e) * 256 + p[(e)]]
+        SH_SUMS(TERM_B);
+#undef TERM_B
+    }
+    }
+}
+#undef SH_SUMS
 
 /* Reference values at d: R[k·C + c] for every reference k (lloyd8
  * interpolation between the three direction rows). */
@@ -336,18 +390,27 @@ static void ref_values(const sss_bake_file *f, const double d[3], sss_interp int
 /* Values of coded vertex k, all channels, into out[0 … C−1], from the
  * reference values R and the folded SH tables T (either may be NULL when
  * absent). The triangle and weights are shared by the channels: read once. */
-static void coded_values(const sss_bake_file *f, const float *R, const float *T, size_t k, float *out)
+static inline void coded_values(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k,
+                                float *out)
 {
     const size_t C = f->channels;
     double w[3] = {0, 0, 0};
     const uint32_t *t = NULL;
+    float sh[SSS_MAX_CHANNELS] = {0};
     if (f->quant == SSS_QUANT_REFS) {
-        coded_weights(&f->ref, k, w);
+        if (wt) { /* coded_weights' values, tabulated per call (8-bit codes) */
+            w[0] = wt[f->ref.w[2 * k]];
+            w[1] = wt[f->ref.w[2 * k + 1]];
+            w[2] = 1.0 - w[0] - w[1];
+        } else {
+            coded_weights(&f->ref, k, w);
+        }
         t = f->ref.ref_tri + 3 * (size_t)f->ref.vtri[k];
     }
+    if (T && f->sh.ncoef) sh_sums(&f->sh, T, C, k, sh);
     for (size_t c = 0; c < C; c++) {
         float x = t ? (float)(w[0] * R[t[0] * C + c] + w[1] * R[t[1] * C + c] + w[2] * R[t[2] * C + c]) : 0.0f;
-        if (T && f->sh.ncoef) x += sh_sum(&f->sh, T, C, k, c);
+        x += sh[c];
         out[c] = x > 0.0f ? x : 0.0f;
     }
 }
@@ -380,17 +443,26 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
             for (size_t c = 0; c < C; c++) out[((size_t)r->ref_vertex[k] - first) * C + c] = R[k * C + c];
         const ptrdiff_t k0 = (ptrdiff_t)lower_bound_u32(r->coded_vertex, f->sh.ncoded, first);
         const ptrdiff_t k1 = (ptrdiff_t)lower_bound_u32(r->coded_vertex, f->sh.ncoded, end);
+        /* 8-bit weight codes: their 256 weights once per call, as
+         * coded_weights computes each (a division per weight saved) */
+        double wt8[256];
+        const double *wt = NULL;
+        if (r->wbits == 8) {
+            const double span = (double)r->w_hi - r->w_lo;
+            for (int x = 0; x < 256; x++) wt8[x] = r->w_lo + span * (x / 255.0);
+            wt = wt8;
+        }
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if ((k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
         for (ptrdiff_t k = k0; k < k1; k++)
-            coded_values(f, R, T, (size_t)k, out + ((size_t)r->coded_vertex[k] - first) * C);
+            coded_values(f, R, T, wt, (size_t)k, out + ((size_t)r->coded_vertex[k] - first) * C);
     } else {
         const ptrdiff_t n = (ptrdiff_t)count;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if (n * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
-        for (ptrdiff_t v = 0; v < n; v++) coded_values(f, NULL, T, first + (size_t)v, out + (size_t)v * C);
+        for (ptrdiff_t v = 0; v < n; v++) coded_values(f, NULL, T, NULL, first + (size_t)v, out + (size_t)v * C);
     }
     free(R);
     free(T);
@@ -481,18 +553,19 @@ void sss_decode_vertex(const sss_bake_file *f, uint32_t v, const double light[3]
             for (size_t c = 0; c < C; c++) out[c] = R[c];
         } else {
             double wk[3];
+            float sh[SSS_MAX_CHANNELS] = {0};
             coded_weights(r, k, wk);
+            if (T) sh_sums(&f->sh, T, C, k, sh);
             for (size_t c = 0; c < C; c++) {
                 float x = (float)(wk[0] * R[c] + wk[1] * R[C + c] + wk[2] * R[2 * C + c]);
-                if (T) x += sh_sum(&f->sh, T, C, k, c);
+                x += sh[c];
                 out[c] = x > 0.0f ? x : 0.0f;
             }
         }
     } else {
-        for (size_t c = 0; c < C; c++) {
-            float x = T ? sh_sum(&f->sh, T, C, k, c) : 0.0f;
-            out[c] = x > 0.0f ? x : 0.0f;
-        }
+        float sh[SSS_MAX_CHANNELS] = {0};
+        if (T) sh_sums(&f->sh, T, C, k, sh);
+        for (size_t c = 0; c < C; c++) out[c] = sh[c] > 0.0f ? sh[c] : 0.0f;
     }
     free(T);
 }

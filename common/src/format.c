@@ -124,6 +124,9 @@ static sss_result encode_named(const sss_bake_file *f, const char *name, uint8_t
         ok = ok && (size[k] != 0 || (sections[k].flags & SSS_SEC_MAY_BE_EMPTY));
         if (sections[k].since > minor) minor = sections[k].since;
     }
+    /* SHC's 16-bit codes (docs/format.md §5.8) are a kind a 1.1–1.6 reader
+     * refuses by its number: the file says 1.7 */
+    if (want[SSS_SEC_SHC] && f->sh.kind == SSS_SHQ_LINEAR16 && minor < 7) minor = 7;
     uint64_t total = header_size(nsec);
     for (int k = 0; k < SSS_SEC_COUNT && ok; k++)
         if (want[k]) ok = add_u64(total, size[k], &total);
@@ -458,7 +461,7 @@ void sss_file_storage(const sss_bake_file *f, sss_storage *s)
         const sss_shcode *h = &f->sh;
         const uint64_t ntab = C * h->ncoef;
         s->section_headers += 16;
-        s->sh_tables = 4 * ntab * (h->kind == SSS_SHQ_LINEAR8 ? 1 : sss_shq_levels(h->kind));
+        s->sh_tables = 4 * ntab * (sss_shq_linear_max(h->kind) ? 1 : sss_shq_levels(h->kind));
         s->sh_codes = sss_shq_code_bytes(h->kind, (uint64_t)h->ncoded * ntab);
         break;
     }

@@ -11,7 +11,7 @@
  *           below any storage-block limit, while the whole table (1 GB for
  *           the 437K dragon in RGB float) only needs to fit in memory;
  *   compressed forms (Hao–Varshney 2004 §4) stay compressed: the SH codes
- *           (§4.1, each vertex's codes word-aligned), and for the reference
+ *           (§4.1, each vertex's codes word-aligned; 4, 8 or 16 bits), and for the reference
  *           form each coded vertex's triangle and weight codes (§4.2–4.3).
  *           Two passes: the references' values, then every coded vertex
  *           (blend of three references plus its SH-coded delta).
@@ -136,23 +136,30 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
         set_program(&L->pass[SSS_GPU_PASS_CODED], "scatter_coded", L->ncoded);
         snprintf(L->pass[SSS_GPU_PASS_CODED].defines, sizeof L->pass[0].defines,
                  "#define CHANNELS %u\n#define NCOEF %u\n#define SH_LEVELS %u\n%s%s", C, shc->ncoef,
-                 L->sh_levels ? L->sh_levels : 256u, shc->kind == SSS_SHQ_LLOYD4 ? "#define SH_NIBBLE 1\n" : "",
+                 L->sh_levels ? L->sh_levels : 256u,
+                 shc->kind == SSS_SHQ_LLOYD4 ? "#define SH_NIBBLE 1\n" : shc->kind == SSS_SHQ_LINEAR16 ? "#define SH_LINEAR16 1\n" : "",
                  refs ? "#define REFS 1\n" : "");
     }
     if (sh || refs) {
         if (shc->ncoef) {
             /* The codes as stored, but each vertex's C·ncoef codes starting
              * on a word of their own (at most 3 bytes of padding per
-             * vertex): an invocation then loads its vertex's few words
-             * once, at fixed offsets, instead of one word per code. */
-            const uint32_t per_word = shc->kind == SSS_SHQ_LLOYD4 ? 8 : 4, ncv = C * shc->ncoef;
+             * vertex), and word-major: word n of coded vertex k at
+             * n·ncoded + k, so that neighbouring invocations (vertices)
+             * read neighbouring words. Vertex-major (k·W + n), a group's
+             * loads were W words apart, a cache line each: 74 words per
+             * vertex at order 7 in 16 bits, and the SH-only frame was 50×
+             * lloyd8's on llvmpipe (docs/benchmarks.md, "Compressed forms'
+             * per-frame cost"). */
+            const uint32_t per_word = shc->kind == SSS_SHQ_LLOYD4 ? 8 : shc->kind == SSS_SHQ_LINEAR16 ? 2 : 4;
+            const uint32_t ncv = C * shc->ncoef;
             const uint32_t vwords = (ncv + per_word - 1) / per_word, bits = 32 / per_word;
             uint32_t *words = calloc((size_t)L->ncoded * vwords + 1, sizeof *words);
             if (!words) goto oom;
             L->owned_[0] = words;
             for (size_t k = 0; k < L->ncoded; k++)
                 for (uint32_t b = 0; b < ncv; b++)
-                    words[k * vwords + b / per_word] |= sss_shq_code(shc->code, shc->kind, (uint64_t)k * ncv + b)
+                    words[(size_t)(b / per_word) * L->ncoded + k] |= sss_shq_code(shc->code, shc->kind, (uint64_t)k * ncv + b)
                                                         << (b % per_word * bits);
             one_block(&L->buffer[SSS_GPU_BUF_SH_CODES], "sh_codes", 0, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, words,
                       (uint64_t)L->ncoded * vwords * 4);

@@ -50,6 +50,7 @@ static void usage(FILE *f)
         "  --dirs N             number of light directions (default 200)\n"
         "  --preset paper       Hao & Varshney 2004 exactly: 200 directions, point weights, every\n"
         "                       term baked, --compress paper (refuses options that would change it)\n"
+        "  --preset paper-sh    the same with the paper's SH-only storage (sec. 4.1), --compress paper-sh\n"
         "  --eps E              neighbourhood energy cutoff: radius holds 1-E of R_d total (default 1e-3)\n"
         "  --quant float|lloyd8 store the integrals uncompressed, as floats or 8-bit codes\n"
         "                       (default: compressed, --compress compact)\n"
@@ -71,10 +72,12 @@ static void usage(FILE *f)
         "  --compress P         preset: compact (default: 1 %% references for RGB, 3 %% grey, SH\n"
         "                       order 3 in 4-bit codes, 8-bit least-squares weights; docs/compression.md)\n"
         "                       or paper (3 %% references, SH order 3, linear 8-bit codes, 16-bit\n"
-        "                       barycentric weights); the options below override it\n"
+        "                       barycentric weights) or paper-sh (sec. 4.1: SH order 7 in linear\n"
+        "                       16-bit codes, no references, 98 code bytes per vertex and channel);\n"
+        "                       the options below override it\n"
         "  --sh-order N         SH order 0..8 (N^2 coefficients per vertex and channel)\n"
         "  --refs FRACTION      reference vertices as a fraction of all (0: SH only)\n"
-        "  --sh-quant K         SH codes: linear8 (paper) | lloyd8 | lloyd4\n"
+        "  --sh-quant K         SH codes: linear8 (paper) | lloyd8 | lloyd4 | linear16 (paper sec. 4.1)\n"
         "  --weight-bits B      8 or 16 bits per stored weight\n"
         "  --ls-weights         least-squares weights instead of barycentrics\n"
         "  --illum-refs W       illumination-aware references, feature weight W > 0\n"
@@ -110,9 +113,10 @@ typedef struct bake_args {
     double mm_per_unit, eps, theta;
     uint32_t dirs;
     int dirs_given;
-    /* --preset paper: Hao–Varshney 2004's configuration, every other option
-     * that would change it refused (docs/accuracy.md, "The
-     * defaults") */
+    /* --preset paper | paper-sh: Hao–Varshney 2004's configuration (its
+     * §4.2–4.3 references, or its §4.1 SH alone), every other option that
+     * would change it refused (docs/accuracy.md, "The defaults";
+     * docs/compression.md, "The paper's SH-only storage") */
     int bake_preset, bake_preset_given;
     int threads;
     int quant, have_quant; /* sss_quant */
@@ -197,15 +201,15 @@ static int parse(int argc, char **argv, bake_args *a)
 {
     static const char *const quants[] = {"float", "lloyd8", NULL};
     static const int quant_values[] = {SSS_QUANT_FLOAT, SSS_QUANT_LLOYD8};
-    static const char *const presets[] = {"paper", "compact", NULL};
-    static const int preset_values[] = {SSS_COMPRESS_PAPER, SSS_COMPRESS_COMPACT};
-    static const char *const shqs[] = {"linear8", "lloyd8", "lloyd4", NULL};
-    static const int shq_values[] = {SSS_SHQ_LINEAR8, SSS_SHQ_LLOYD8, SSS_SHQ_LLOYD4};
+    static const char *const presets[] = {"paper", "compact", "paper-sh", NULL};
+    static const int preset_values[] = {SSS_COMPRESS_PAPER, SSS_COMPRESS_COMPACT, SSS_COMPRESS_PAPER_SH};
+    static const char *const shqs[] = {"linear8", "lloyd8", "lloyd4", "linear16", NULL};
+    static const int shq_values[] = {SSS_SHQ_LINEAR8, SSS_SHQ_LLOYD8, SSS_SHQ_LLOYD4, SSS_SHQ_LINEAR16};
     static const char *const gathers[] = {"direct", "tree", NULL};
     static const int gather_values[] = {SSS_GATHER_DIRECT, SSS_GATHER_TREE};
     static const char *const weight_rules[] = {"hat", "point", NULL};
-    static const char *const bake_presets[] = {"paper", NULL};
-    static const int bake_preset_values[] = {0};
+    static const char *const bake_presets[] = {"paper", "paper-sh", NULL};
+    static const int bake_preset_values[] = {SSS_COMPRESS_PAPER, SSS_COMPRESS_PAPER_SH};
     static const int weight_values[] = {SSS_WEIGHTS_HAT, SSS_WEIGHTS_POINT};
     memset(a, 0, sizeof *a);
     a->eta = 1.3;
@@ -291,8 +295,8 @@ static int parse(int argc, char **argv, bake_args *a)
             {a->wbits_given, "--weight-bits"}, {a->ls_given, "--ls-weights"}, {a->illum_given, "--illum-refs"}};
         for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; k++)
             if (fixed[k].given) {
-                sss_cli_printf(stderr, "%s: --preset paper is the paper's configuration exactly: not with %s\n", TOOL,
-                               fixed[k].name);
+                sss_cli_printf(stderr, "%s: --preset %s is the paper's configuration exactly: not with %s\n", TOOL,
+                               bake_presets[a->bake_preset == SSS_COMPRESS_PAPER_SH], fixed[k].name);
                 return 2;
             }
         if (a->scene) return refuse("--preset applies to plain bakes, not to --scene");
@@ -301,7 +305,7 @@ static int parse(int argc, char **argv, bake_args *a)
         a->weights = SSS_WEIGHTS_POINT;
         a->weights_given = 1;
         a->near_terms = 0;
-        a->preset = SSS_COMPRESS_PAPER;
+        a->preset = a->bake_preset; /* the paper's compression, §4.2–4.3 or §4.1 */
         a->preset_given = 1;
     }
     const int compress_given = a->preset_given || a->order_given || a->refs_given || a->sh_quant_given ||

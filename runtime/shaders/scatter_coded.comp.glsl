@@ -2,6 +2,8 @@ layout(local_size_x = 256) in;
 const uint C = uint(CHANNELS), N = uint(NCOEF), L = uint(SH_LEVELS);
 #ifdef SH_NIBBLE
 const uint BITS = 4u;
+#elif defined(SH_LINEAR16)
+const uint BITS = 16u; // int16 codes (Hao-Varshney 2004 sec. 4.1), two's complement
 #else
 const uint BITS = 8u;
 #endif
@@ -9,9 +11,11 @@ const uint PER = 32u / BITS, W = (C * N + PER - 1u) / PER; // codes per word, wo
 layout(std430, binding = 3) writeonly buffer Q { float q[]; };
 #if NCOEF > 0
 // each coded vertex's C * N codes in file order (channel-major), packed from the
-// low bits up, starting on a word of its own: codes[k * W + b / PER]
+// low bits up, starting on a word of its own; word-major, so that neighbouring
+// invocations read neighbouring words: code b of vertex k is in codes[(b / PER) * u_count + k]
 layout(std430, binding = 0) readonly buffer Codes { uint codes[]; };
-// dequantisation tables times y_i(light), rewritten per frame: sh_t[(c * N + i) * L + code]
+// dequantisation tables times y_i(light), rewritten per frame: sh_t[(c * N + i) * L + code];
+// SH_LINEAR16 (L = 1): sh_t[c * N + i] = scale * y_i / 32767, the coefficient is code * sh_t
 layout(std430, binding = 4) readonly buffer ShTable { float sh_t[]; };
 #endif
 #ifdef REFS
@@ -35,8 +39,10 @@ void main() {
     precise double w2 = 1.0lf - w0 - w1;
 #endif
 #if NCOEF > 0
-    uint words[W];
-    for (uint n = 0u; n < W; n++) words[n] = codes[k * W + n];
+    // the word holding the current code, loaded when the walk reaches it:
+    // no per-invocation array, which a software rasteriser keeps in memory
+    // when the loops are too long to unroll (order 7 in 16 bits: 74 words)
+    uint word = 0u;
 #endif
     for (uint ch = 0u; ch < C; ch++) {
         precise float x = 0.0;
@@ -48,8 +54,16 @@ void main() {
         precise float acc = 0.0;
         for (uint j = 0u; j < N; j++) {
             uint e = ch * N + j;
-            uint code = (words[e / PER] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
+            if (e % PER == 0u) word = codes[(e / PER) * u_count + k]; // e walks 0 … C·N − 1 in order
+#ifdef SH_LINEAR16
+            // the 16 bits, sign-extended: the C decoder's (int16_t) code
+            int code = int(word << (16u - (e % PER) * BITS)) >> 16;
+            precise float p = float(code) * sh_t[ch * N + j];
+            acc += p;
+#else
+            uint code = (word >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
             acc += sh_t[(ch * N + j) * L + code];
+#endif
         }
         x += acc;
 #endif

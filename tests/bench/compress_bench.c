@@ -3,7 +3,7 @@
  * .sss bake, for the table in docs/compression.md.
  *   compress_bench FILE.sss ORDER FRACTION [options]
  *     --dirs N          random test light directions (default 1000)
- *     --kind K          SH codes: linear8 (paper) | lloyd8 | lloyd4
+ *     --kind K          SH codes: linear8 (paper) | lloyd8 | lloyd4 | linear16
  *     --wbits B         8 or 16 bits per weight (default 16)
  *     --ls              least-squares weights (beyond the paper)
  *     --illum W         illumination-aware references with weight W
@@ -33,7 +33,7 @@
 
 static int usage(void)
 {
-    fprintf(stderr, "usage: compress_bench FILE.sss ORDER FRACTION [--dirs N] [--kind linear8|lloyd8|lloyd4] "
+    fprintf(stderr, "usage: compress_bench FILE.sss ORDER FRACTION [--dirs N] [--kind linear8|lloyd8|lloyd4|linear16] "
                     "[--wbits 8|16] [--ls] [--illum W] [--mono C] [--out FILE] [--row]\n"
                     "       compress_bench FILE.sss --configs LIST [--dirs N] [--mono C] [--row]\n");
     return 2;
@@ -77,6 +77,7 @@ static int parse_args(int n, char **a, int positional, sss_compress_opts *o, glo
             if (!strcmp(v, "linear8")) o->sh_kind = SSS_SHQ_LINEAR8;
             else if (!strcmp(v, "lloyd8")) o->sh_kind = SSS_SHQ_LLOYD8;
             else if (!strcmp(v, "lloyd4")) o->sh_kind = SSS_SHQ_LLOYD4;
+            else if (!strcmp(v, "linear16")) o->sh_kind = SSS_SHQ_LINEAR16;
             else return 0;
             i++;
         } else return 0;
@@ -155,7 +156,7 @@ static int run_one(const char *path, sss_bake_file *f, sss_compress_opts o, cons
         free(out);
     }
     const uint32_t nv = cf.mesh.nv, C = cf.channels;
-    static const char *kinds[] = {"linear8", "lloyd8", "lloyd4"};
+    static const char *kinds[] = {"linear8", "lloyd8", "lloyd4", "linear16"};
     if (g->row) {
         char refs[64] = "—", w[64] = "—";
         if (cf.quant == SSS_QUANT_REFS) {

@@ -1,6 +1,9 @@
 /* decode_bench: CPU scatter-evaluation throughput of sss_decode_all against
  * the memory-bandwidth bound, for one .sss file.
  *   decode_bench FILE.sss [FRAMES]
+ *   decode_bench --decode-only FRAMES FILE.sss...
+ *     one line per file: "FILE quant ms_1t", the one-thread median alone
+ *     (no bandwidth runs: the files' forms compared side by side)
  * Prints one JSON object: the measured read and copy bandwidth (one thread
  * and all threads), the decode time per frame (median over FRAMES light
  * directions, one thread and all threads), the bytes each frame must move
@@ -72,7 +75,22 @@ static double decode_ms(const sss_bake_file *f, float *out, int threads, int fra
 
 int main(int argc, char **argv)
 {
-    if (argc < 2) { fprintf(stderr, "usage: decode_bench FILE.sss [FRAMES]\n"); return 2; }
+    if (argc < 2) { fprintf(stderr, "usage: decode_bench FILE.sss [FRAMES] | --decode-only FRAMES FILE...\n"); return 2; }
+    if (!strcmp(argv[1], "--decode-only") && argc > 3) {
+        const int n = atoi(argv[2]) > 0 ? atoi(argv[2]) : 1;
+        for (int a = 3; a < argc; a++) {
+            sss_bake_file g;
+            sss_error e = {{0}};
+            if (sss_file_read(argv[a], &g, &e) != SSS_OK) { fprintf(stderr, "decode_bench: %s\n", e.msg); return 1; }
+            float *o = malloc((size_t)g.mesh.nv * g.channels * sizeof(float));
+            if (!o) return 1;
+            printf("%s %s %.4f\n", argv[a], sss_quant_name(g.quant), decode_ms(&g, o, 1, n));
+            fflush(stdout);
+            free(o);
+            sss_file_free(&g);
+        }
+        return 0;
+    }
     int frames = argc > 2 ? atoi(argv[2]) : 50;
     if (frames < 1) frames = 1;
     sss_bake_file f;

@@ -58,8 +58,8 @@ expect_arg_error "$T: --sigma-s: 'inf,1,1' must be three numbers X,Y,Z" "$SSS_BA
 
 # choices
 expect_arg_error "$T: --quant: 'bf16' must be float or lloyd8" "$SSS_BAKE" "${B[@]}" --quant bf16
-expect_arg_error "$T: --compress: 'tiny' must be paper or compact" "$SSS_BAKE" "${B[@]}" --compress tiny
-expect_arg_error "$T: --sh-quant: 'lloyd2' must be linear8, lloyd8 or lloyd4" "$SSS_BAKE" "${B[@]}" --sh-quant lloyd2
+expect_arg_error "$T: --compress: 'tiny' must be paper, compact or paper-sh" "$SSS_BAKE" "${B[@]}" --compress tiny
+expect_arg_error "$T: --sh-quant: 'lloyd2' must be linear8, lloyd8, lloyd4 or linear16" "$SSS_BAKE" "${B[@]}" --sh-quant lloyd2
 expect_arg_error "$T: --gather: '' must be direct or tree" "$SSS_BAKE" "${B[@]}" --gather ''
 expect_arg_error "$T: --own-term: 'both' must be runtime or baked" "$SSS_BAKE" "${B[@]}" --own-term both
 expect_arg_error "$T: material 'jelly': unknown preset (known: apple, chicken1, chicken2, cream, ketchup, marble, potato, skimmilk, skin1, skin2, wholemilk)" \
@@ -84,7 +84,12 @@ for x in "--dirs 200" "--weights hat" "--own-term baked" "--quant float" "--comp
   expect_arg_error "$T: --preset paper is the paper's configuration exactly: not with ${x%% *}" \
     "$SSS_BAKE" "${B[@]}" --preset paper $x
 done
-expect_arg_error "$T: --preset: 'compact' must be paper" "$SSS_BAKE" "${B[@]}" --preset compact
+for x in "--sh-quant linear8" "--sh-order 3" "--refs 0.03" "--own-term baked"; do
+  # shellcheck disable=SC2086
+  expect_arg_error "$T: --preset paper-sh is the paper's configuration exactly: not with ${x%% *}" \
+    "$SSS_BAKE" "${B[@]}" --preset paper-sh $x
+done
+expect_arg_error "$T: --preset: 'compact' must be paper or paper-sh" "$SSS_BAKE" "${B[@]}" --preset compact
 expect_arg_error "$T: --preset applies to plain bakes, not to --scene" "$SSS_BAKE" --scene s.json --preset paper
 for x in "--rings 1" "--near-radius 2"; do
   # shellcheck disable=SC2086

@@ -84,7 +84,7 @@ expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/blob_compact2.sss" --material ski
 expect_ok "$SSS_STAT" "$TMP/blob_compact2.sss" --json
 contains "$TMP/out" '"sh_order":2'
 contains "$TMP/out" '"sh_quant":"lloyd4"'
-expect_fail 'paper or compact' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --compress tiny
+expect_fail 'paper, compact or paper-sh' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --compress tiny
 # contradictory or empty compression settings are refused before baking
 expect_fail 'exclude each other' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --quant lloyd8 --sh-order 3
 expect_fail 'needs --refs' "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/x.sss" --sh-order 0
@@ -138,6 +138,19 @@ grep -q 'near terms added at run time' "$TMP/out" && fail "--preset paper split 
 # and keeps its directions in float64 (DIRS), as 1.1 readers read them
 expect_ok "$SSS_STAT" "$TMP/hv.sss" --json
 contains "$TMP/out" '"tag":"DIRS","bytes":9560,'
+# --preset paper-sh: the paper's SH-only storage (§4.1): SH order 7, each
+# coefficient a normalised short, no references: 49 x 2 = 98 code bytes per
+# vertex and channel, 294 in RGB; the same bytes as its options spelt out
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/hs.sss" --material skin1 --mm-per-unit 20 --preset paper-sh -q
+expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/hs2.sss" --material skin1 --mm-per-unit 20 --dirs 200 --weights point \
+  --own-term baked --compress paper --sh-order 7 --refs 0 --sh-quant linear16 -q
+cmp -s "$TMP/hs.sss" "$TMP/hs2.sss" || fail "--preset paper-sh differs from its options spelt out"
+expect_ok "$SSS_STAT" "$TMP/hs.sss"
+for k in 'format 1.7,' 'directions 200, storage sh' 'SH order 7 (linear16) at every vertex' \
+         'sh_codes  *188748  *294.000' 'sh_tables  *588 '; do
+  contains "$TMP/out" "$k"
+done
+grep -q 'near terms added at run time' "$TMP/out" && fail "--preset paper-sh split near terms off"
 # the bundled sample bakes too
 expect_ok "$SSS_BAKE" "$SSS_SOURCE/data/meshes/blob.ply" -o "$TMP/sample.sss" --material marble --mm-per-unit 100 --dirs 25 -q
 echo "cli_bake_stat: ok"

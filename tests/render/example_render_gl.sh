@@ -1,6 +1,6 @@
 # examples/render_gl: an engine's own GL code fed by libsss's GPU layout
 # (sss/gpu.h, docs/gpu_layout.md) gives sss_decode_all's q to the bit, for
-# every storage form (float, lloyd8, SH linear8 / lloyd8 / lloyd4, the
+# every storage form (float, lloyd8, SH linear8 / lloyd8 / lloyd4 / linear16, the
 # reference form with and without SH deltas), and draws a picture of it.
 . "$(dirname "$0")/../integration/lib.sh"
 # sanitizer builds preload Mesa's driver (tests/CMakeLists.txt)
@@ -14,10 +14,11 @@ bake lloyd8 "${SKIN[@]}" --quant lloyd8
 bake sh_linear8 "${SKIN[@]}" --sh-order 4 --refs 0 --sh-quant linear8
 bake sh_lloyd8 "${SKIN[@]}" --sh-order 3 --refs 0 --sh-quant lloyd8
 bake sh_lloyd4 "${SKIN[@]}" --sh-order 4 --refs 0 --sh-quant lloyd4
+bake sh_linear16 "${SKIN[@]}" --compress paper-sh
 bake refs_sh "${SKIN[@]}" --sh-order 3 --refs 0.05 --sh-quant lloyd8 --weight-bits 16
 bake refs_only "${SKIN[@]}" --sh-order 0 --refs 0.1 --weight-bits 8
 bake grey --quant lloyd8 --sigma-a 0.01,0.01,0.01 --sigma-s 1,1,1
-for name in float lloyd8 sh_linear8 sh_lloyd8 sh_lloyd4 refs_sh refs_only grey; do
+for name in float lloyd8 sh_linear8 sh_lloyd8 sh_lloyd4 sh_linear16 refs_sh refs_only grey; do
   for light in "0.3 0.5 0.8" "0 0 -1" "-1 0.2 0"; do
     expect_ok run "$TMP/$name.sss" "$TMP/$name.ppm" $light
     contains "$TMP/out" "= 0 (bit-identical)"
@@ -28,7 +29,7 @@ for name in float lloyd8 sh_linear8 sh_lloyd8 sh_lloyd4 refs_sh refs_only grey; 
 done
 # each file holds the form it is meant to test
 for pair in "float:float, " "lloyd8:lloyd8, " "sh_linear8:sh SH linear8, " "sh_lloyd8:sh SH lloyd8, " \
-  "sh_lloyd4:sh SH lloyd4, " "refs_sh:refs SH lloyd8, " "refs_only:refs, " "grey:x 1 channels"; do
+  "sh_lloyd4:sh SH lloyd4, " "sh_linear16:sh SH linear16, " "refs_sh:refs SH lloyd8, " "refs_only:refs, " "grey:x 1 channels"; do
   expect_ok run "$TMP/${pair%%:*}.sss" "$TMP/x.ppm"
   contains "$TMP/out" "${pair#*:}"
 done

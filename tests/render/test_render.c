@@ -129,8 +129,8 @@ static void compress(const sss_bake_file *src, uint32_t order, double fraction, 
 }
 
 /* The compressed forms (§4.1 SH-only; §4.2–4.3 references, blend and
- * SH-coded delta, clamped at 0): both code widths (the 4-bit codes are
- * packed two per byte), both weight widths, barycentric and least-squares
+ * SH-coded delta, clamped at 0): every code width (the 4-bit codes are
+ * packed two per byte, the 16-bit ones two per word and sign-extended), both weight widths, barycentric and least-squares
  * weights (which leave [0, 1], so the blend can cancel against the delta),
  * a reference form without SH part, RGB and grey. */
 static void gpuEvaluationMatchesCDecoderCompressed(void **state)
@@ -153,6 +153,9 @@ static void gpuEvaluationMatchesCDecoderCompressed(void **state)
         {0, 3, 0.03, SSS_SHQ_LINEAR8, 16, 0},/* references, the paper's defaults */
         {1, 4, 0.1, SSS_SHQ_LLOYD4, 8, 1},   /* references, grey, 8-bit weights, lloyd4 */
         {0, 0, 0.1, SSS_SHQ_LINEAR8, 8, 0},  /* references only, no SH part */
+        {0, 7, 0.0, SSS_SHQ_LINEAR16, 16, 0},/* SH-only, 16-bit codes: the paper's §4.1 storage */
+        {1, 5, 0.0, SSS_SHQ_LINEAR16, 16, 0},/* SH-only, grey, 16-bit, odd count of codes per vertex */
+        {0, 3, 0.05, SSS_SHQ_LINEAR16, 8, 1},/* references, 16-bit SH delta */
     };
     sss_bake_file src[2];
     bake_preset(&m, "skin1", 0, 20.0, 100, SSS_QUANT_FLOAT, -1, &src[0]);

@@ -90,8 +90,9 @@ static void expect_file_round_trip(const sss_bake_file *f)
     sss_bake_file g;
     if (sss_file_decode(buf, len, "rt.sss", &g, &err) != SSS_OK) fail_msg("decode: %s", err.msg);
     assert_int_equal(g.quant, f->quant);
-    /* compressed forms are 1.1; a bake that records its ε (NBHD) is 1.4 */
-    assert_int_equal(g.version_minor, f->eps > 0 ? 4 : 1);
+    /* compressed forms are 1.1; a bake that records its ε (NBHD) is 1.4;
+     * 16-bit SH codes are 1.7 (docs/format.md §5.8) */
+    assert_int_equal(g.version_minor, f->sh.kind == SSS_SHQ_LINEAR16 ? 7 : f->eps > 0 ? 4 : 1);
     sss_storage s;
     sss_file_storage(&g, &s);
     const size_t n = (size_t)f->mesh.nv * f->channels;
@@ -200,6 +201,91 @@ static void shOnlyMatchesFitAtSamplesWithinCodeBound(void **state)
     free(out);
     sss_sh_projector_destroy(p);
     expect_file_round_trip(&cf);
+    sss_file_free(&cf);
+}
+
+/* Largest |decoded − fit| at the direction samples of an SH-only file, over
+ * every 3rd vertex and every channel (the fit as in the test above). */
+static double sh_only_max_error(const sss_bake_file *cf)
+{
+    const uint32_t nv = g_file.mesh.nv, C = g_file.channels, nd = g_file.dirs.n, order = cf->sh.order;
+    sss_sh_projector *p;
+    sss_error err = {{0}};
+    if (sss_sh_projector_create(&g_file.dirs, order, SSS_SH_LEAST_SQUARES, &p, &err) != SSS_OK) fail_msg("%s", err.msg);
+    double *x = malloc((size_t)nd * sizeof *x), worst = 0.0;
+    float *out = malloc((size_t)nv * C * sizeof *out);
+    assert_non_null(x);
+    assert_non_null(out);
+    for (uint32_t j = 0; j < nd; j++) {
+        const double *dj = g_file.dirs.dir + 3 * (size_t)j;
+        double y[SSS_SH_MAX_COUNT];
+        sss_sh_eval(order, dj, y);
+        sss_decode_all(cf, dj, out);
+        for (uint32_t v = 0; v < nv; v += 3)
+            for (uint32_t c = 0; c < C; c++) {
+                double coef[SSS_SH_MAX_COUNT], fit = 0.0;
+                for (uint32_t i = 0; i < nd; i++) x[i] = g_file.q[((size_t)i * nv + v) * C + c];
+                sss_sh_project(p, x, coef);
+                for (uint32_t i = 0; i < order * order; i++) fit += coef[i] * y[i];
+                worst = fmax(worst, fabs(out[(size_t)v * C + c] - fmax(fit, 0.0)));
+            }
+    }
+    free(x);
+    free(out);
+    sss_sh_projector_destroy(p);
+    return worst;
+}
+
+/* SH-only, the paper's 16-bit codes (§4.1, order 7 as its 98 bytes): every
+ * stored coefficient (int16)code · scale / 32767 is the least-squares fit's
+ * within half a code step, scale / 65534 (plus the fit's rounding to float
+ * before quantisation, ≤ 2^-23 |c|); the bound is not vacuous (some codes
+ * round by more than 0.3 of it); and the decoded q is at least 50 times
+ * closer to the fit than with the 8-bit codes. The file says 1.7 and reads
+ * back to the same decode. */
+static void shOnlyLinear16WithinHalfCodeStep(void **state)
+{
+    (void)state;
+    const uint32_t order = 7, ncoef = order * order;
+    sss_bake_file cf, c8;
+    compress_or_fail(order, 0.0, SSS_SHQ_LINEAR16, 0, &cf);
+    assert_int_equal(cf.sh.kind, SSS_SHQ_LINEAR16);
+    const uint32_t nv = g_file.mesh.nv, C = g_file.channels, nd = g_file.dirs.n;
+    sss_storage st;
+    sss_file_storage(&cf, &st);
+    assert_int_equal(st.sh_codes, (uint64_t)nv * C * ncoef * 2); /* 98 bytes per vertex and channel */
+    assert_int_equal(st.sh_tables, (uint64_t)C * ncoef * 4);     /* one scale per (channel, coefficient) */
+    sss_sh_projector *p;
+    sss_error err = {{0}};
+    if (sss_sh_projector_create(&g_file.dirs, order, SSS_SH_LEAST_SQUARES, &p, &err) != SSS_OK) fail_msg("%s", err.msg);
+    double *x = malloc((size_t)nd * sizeof *x), worst = 0.0;
+    assert_non_null(x);
+    for (uint32_t v = 0; v < nv; v++)
+        for (uint32_t c = 0; c < C; c++) {
+            double coef[SSS_SH_MAX_COUNT];
+            for (uint32_t j = 0; j < nd; j++) x[j] = g_file.q[((size_t)j * nv + v) * C + c];
+            sss_sh_project(p, x, coef);
+            for (uint32_t i = 0; i < ncoef; i++) {
+                const uint64_t e = ((uint64_t)v * C + c) * ncoef + i;
+                const double sc = cf.sh.scale[c * ncoef + i];
+                const int code = (int16_t)sss_shq_code(cf.sh.code, SSS_SHQ_LINEAR16, e);
+                assert_true(code >= -32767 && code <= 32767);
+                const double got = code * sc / 32767.0, half = 0.5 * sc / 32767.0;
+                const double bound = half * (1.0 + 1e-6) + fabs(coef[i]) * 0x1p-23;
+                if (!(fabs(got - coef[i]) <= bound))
+                    fail_msg("vertex %u channel %u coefficient %u: %.9g, fit %.9g (half a step %g)", v, c, i, got,
+                             coef[i], half);
+                if (half > 0.0) worst = fmax(worst, fabs(got - coef[i]) / half);
+            }
+        }
+    assert_true(worst > 0.3);
+    free(x);
+    sss_sh_projector_destroy(p);
+    compress_or_fail(order, 0.0, SSS_SHQ_LINEAR8, 0, &c8);
+    const double e16 = sh_only_max_error(&cf), e8 = sh_only_max_error(&c8);
+    if (!(e16 * 50.0 < e8)) fail_msg("16-bit codes' error %g is not 50 times below the 8-bit codes' %g", e16, e8);
+    expect_file_round_trip(&cf);
+    sss_file_free(&c8);
     sss_file_free(&cf);
 }
 
@@ -514,7 +600,7 @@ static void damagedCompressedSectionsRejected(void **state)
         {"SHC ", 4, 9, 4, "order"},
         {"SHC ", 4, 3, 4, "size"},
         {"SHC ", 8, 5, 4, "coded vertices"},
-        {"SHC ", 12, 3, 4, "kind"},
+        {"SHC ", 12, 4, 4, "kind"},
         {"SHC ", 16, 0x7F800000u, 4, "not finite"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
@@ -534,6 +620,57 @@ static void damagedCompressedSectionsRejected(void **state)
         if (!strstr(err.msg, bad[i].tag) || !strstr(err.msg, bad[i].needle))
             fail_msg("case %zu: \"%s\" lacks \"%s\" / \"%s\"", i, err.msg, bad[i].tag, bad[i].needle);
         assert_null(g.ref.idx);
+        free(c);
+    }
+    free(buf);
+    sss_file_free(&cf);
+}
+
+/* A 16-bit SH file whose scale table or codes are damaged (checksums
+ * repaired, so only the value checks can catch it) is refused naming the
+ * section and the fault: a NaN, a negative and an infinite scale, the
+ * meaningless code −32768, an unknown kind. */
+static void damagedLinear16Rejected(void **state)
+{
+    (void)state;
+    sss_bake_file cf;
+    compress_or_fail(3, 0.0, SSS_SHQ_LINEAR16, 0, &cf);
+    uint8_t *buf;
+    size_t len;
+    sss_error err = {{0}};
+    if (sss_file_encode(&cf, &buf, &len, &err) != SSS_OK) fail_msg("%s", err.msg);
+    const size_t codes = 16 + 4 * (size_t)cf.channels * cf.sh.ncoef; /* the first code's offset */
+    const struct {
+        size_t off;
+        uint32_t value;
+        int width;
+        const char *needle;
+    } bad[] = {
+        {16, 0x7FC00000u, 4, "scale 0"},                                /* NaN */
+        {16 + 4 * 5, 0xBF800000u, 4, "scale 5"},                        /* −1 */
+        {16 + 4 * 8, 0x7F800000u, 4, "scale 8"},                        /* +inf */
+        {codes, 0x8000u, 2, "code 0 is -32768"},
+        {codes + 2 * 11, 0x8000u, 2, "code 11 is -32768"},
+        {12, 4, 4, "unknown quantisation kind 4"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        uint8_t *c = malloc(len);
+        assert_non_null(c);
+        memcpy(c, buf, len);
+        uint64_t sz;
+        uint8_t *s = section(c, "SHC ", &sz);
+        assert_true(bad[i].off + (size_t)bad[i].width <= sz);
+        if (bad[i].width == 4) wr32(s + bad[i].off, bad[i].value);
+        else s[bad[i].off] = (uint8_t)bad[i].value, s[bad[i].off + 1] = (uint8_t)(bad[i].value >> 8);
+        fix_crcs(c);
+        sss_bake_file g;
+        memset(&err, 0, sizeof err);
+        sss_result r = sss_file_decode(c, len, "t.sss", &g, &err);
+        if (r == SSS_OK) fail_msg("case %zu (+%zu): accepted", i, bad[i].off);
+        assert_int_equal(r, SSS_ERR_CORRUPT);
+        if (!strstr(err.msg, "t.sss: section SHC") || !strstr(err.msg, bad[i].needle))
+            fail_msg("case %zu: \"%s\" lacks \"%s\"", i, err.msg, bad[i].needle);
+        assert_null(g.sh.code);
         free(c);
     }
     free(buf);
@@ -595,6 +732,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(fractionOneMatchesSamplesWithinLloydBound),
         cmocka_unit_test(shOnlyMatchesFitAtSamplesWithinCodeBound),
+        cmocka_unit_test(shOnlyLinear16WithinHalfCodeStep),
         cmocka_unit_test(orderWithMoreCoefficientsThanSamplesRejected),
         cmocka_unit_test(shOnlyErrorDecreasesWithOrder),
         cmocka_unit_test(referenceDeltaOrder3BeatsOrder0),
@@ -605,6 +743,7 @@ int main(void)
         cmocka_unit_test(accountingSumsToTotal),
         cmocka_unit_test(garbageInputsRejected),
         cmocka_unit_test(damagedCompressedSectionsRejected),
+        cmocka_unit_test(damagedLinear16Rejected),
         cmocka_unit_test(randomDamageNeverCrashes),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

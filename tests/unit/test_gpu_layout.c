@@ -107,8 +107,10 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
         uint32_t *ref_tri = image(L, SSS_GPU_BUF_REF_TRI);
         double *wtab = image(L, SSS_GPU_BUF_WEIGHTS);
         const uint32_t N = L->f->sh.ncoef, Lv = L->sh_levels ? L->sh_levels : 256u;
-        const uint32_t BITS = strstr(p1->defines, "SH_NIBBLE") ? 4u : 8u, PER = 32u / BITS;
-        const uint32_t W = (C * N + PER - 1u) / PER;
+        const int lin16 = strstr(p1->defines, "SH_LINEAR16") != NULL;
+        const uint32_t BITS = strstr(p1->defines, "SH_NIBBLE") ? 4u : lin16 ? 16u : 8u, PER = 32u / BITS;
+        const uint32_t W = (C * N + PER - 1u) / PER; /* words per coded vertex */
+        if (N) assert_int_equal(L->buffer[SSS_GPU_BUF_SH_CODES].bytes, (uint64_t)fr->u_count[1] * W * 4);
         for (uint32_t k = 0; k < fr->u_count[1]; k++) {
             uint32_t v = k, r0 = 0, r1 = 0, r2 = 0;
             double w0 = 0, w1 = 0, w2 = 0;
@@ -126,8 +128,14 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
                     float acc = 0.0f;
                     for (uint32_t j = 0; j < N; j++) {
                         const uint32_t e = ch * N + j;
-                        const uint32_t code = (codes[k * W + e / PER] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
-                        acc += fr->sh[(ch * N + j) * Lv + code];
+                        const uint32_t code = (codes[(e / PER) * fr->u_count[1] + k] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
+                        if (lin16) {
+                            /* int(w << (16 − shift)) >> 16: the sign-extended code times the folded step */
+                            const float prod = (float)(int16_t)code * fr->sh[ch * N + j];
+                            acc += prod;
+                        } else {
+                            acc += fr->sh[(ch * N + j) * Lv + code];
+                        }
                     }
                     x += acc;
                 }
@@ -192,7 +200,9 @@ static void everyFormReplaysToTheDecoder(void **state)
     static const struct { uint32_t order; double fraction; uint32_t kind, wbits; const char *what; } forms[] = {
         {4, 0.0, SSS_SHQ_LINEAR8, 16, "SH linear8"},  {3, 0.0, SSS_SHQ_LLOYD8, 16, "SH lloyd8"},
         {4, 0.0, SSS_SHQ_LLOYD4, 16, "SH lloyd4"},    {3, 0.05, SSS_SHQ_LLOYD4, 8, "refs + SH lloyd4, 8-bit weights"},
-        {2, 0.1, SSS_SHQ_LINEAR8, 16, "refs + SH linear8"}, {0, 0.1, SSS_SHQ_LINEAR8, 16, "refs alone"}};
+        {2, 0.1, SSS_SHQ_LINEAR8, 16, "refs + SH linear8"}, {0, 0.1, SSS_SHQ_LINEAR8, 16, "refs alone"},
+        {6, 0.0, SSS_SHQ_LINEAR16, 16, "SH linear16"},      {5, 0.0, SSS_SHQ_LINEAR16, 16, "SH linear16, odd codes"},
+        {3, 0.05, SSS_SHQ_LINEAR16, 8, "refs + SH linear16"}};
     for (size_t i = 0; i < sizeof forms / sizeof forms[0]; i++) {
         sss_bake_file cf;
         compress_to(forms[i].order, forms[i].fraction, forms[i].kind, forms[i].wbits, &cf);

@@ -64,7 +64,7 @@ typedef struct sss_asset_desc {
     uint32_t quant;              /* storage form of the direction set's rows: sss_quant (sss/format.h) */
     char quant_name[SSS_ASSET_NAME_MAX];   /* "float", "lloyd8", "sh", "refs" */
     uint32_t sh_order;           /* SH order of the coded part (SSS_QUANT_SH / _REFS; 0 otherwise) */
-    char sh_kind_name[SSS_ASSET_NAME_MAX]; /* "linear8", "lloyd8", "lloyd4"; "" without an SH part */
+    char sh_kind_name[SSS_ASSET_NAME_MAX]; /* "linear8", "lloyd8", "lloyd4", "linear16"; "" without an SH part */
     uint32_t ndirs;              /* direction samples ω_j of the rows (and of the point-light shells) */
     uint32_t effects;            /* SSS_FX_* bits of a scene bake (docs/scenes.md); 0 for a plain bake */
     uint32_t has_dir_set;        /* 1: sss_asset_decode works (a plain bake, or SSS_FX_DIR_SET) */

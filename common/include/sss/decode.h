@@ -50,7 +50,9 @@ void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_in
  * unit direction d: T[(c·ncoef + i)·L + x] = table[(c·ncoef + i)·L + x] ·
  * y_i(d), L = sss_shq_levels(f->sh.kind); T holds channels·ncoef·L floats.
  * Per frame, these make q̃ = Σ_i c_i y_i(d) (§4.1) one table load per
- * coefficient: the C decoder's and the GPU path's terms, to the bit. */
+ * coefficient: the C decoder's and the GPU path's terms, to the bit.
+ * LINEAR16 (L = 1): T[c·ncoef + i] = scale · y_i(d) / 32767, and a
+ * coefficient costs the float product (int16_t)code · T. */
 void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T);
 
 /* q(x_v, ω) for one vertex into out[0 … channels−1], the same value

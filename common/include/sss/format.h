@@ -62,8 +62,11 @@ typedef enum sss_quant {
 typedef enum sss_shq {
     SSS_SHQ_LINEAR8 = 0,   /* the paper's: int8 code, one scale per (channel, coefficient) */
     SSS_SHQ_LLOYD8 = 1,    /* 8-bit code into a 256-level Lloyd-Max table per (channel, coefficient) */
-    SSS_SHQ_LLOYD4 = 2     /* 4-bit code (two per byte, low nibble first) into a 16-level table */
+    SSS_SHQ_LLOYD4 = 2,    /* 4-bit code (two per byte, low nibble first) into a 16-level table */
+    SSS_SHQ_LINEAR16 = 3   /* (1.7) the paper's §4.1 precision: int16 code (little-endian) in −32767 … 32767,
+                              one scale per (channel, coefficient) */
 } sss_shq;
+#define SSS_SHQ_KINDS 4
 
 #define SSS_SH_FILE_MAX_ORDER 8
 
@@ -78,12 +81,16 @@ typedef struct sss_shcode {
     uint32_t ncoded;       /* coded vertices */
     /* Dequantisation tables, always filled in memory: coefficient i of
      * channel c with code x is table[(c * ncoef + i) * levels + x], levels =
-     * 256 or 16. For LINEAR8 the file stores only the scales and the reader
-     * builds table[b] = (int8_t)b · scale / 127 for each code byte b. */
+     * sss_shq_levels(kind): 256 or 16. For LINEAR8 the file stores only the
+     * scales and the reader builds table[b] = (int8_t)b · scale / 127 for
+     * each code byte b. LINEAR16 has one level, the step: coefficient =
+     * (int16_t)x · table[c * ncoef + i], table = scale / 32767 (a 65536-entry
+     * table per coefficient would be 12 MiB at order 7 in RGB). */
     float *table;          /* channels * ncoef * levels, owned */
-    float *scale;          /* LINEAR8 only: channels * ncoef scales (what the file stores), owned */
+    float *scale;          /* linear kinds only: channels * ncoef scales (what the file stores), owned */
     uint8_t *code;         /* code bytes as in the file: element e = (k * channels + c) * ncoef + i,
-                              one byte each (8-bit kinds) or nibble e%2 of byte e/2 (LLOYD4); owned */
+                              one byte each (8-bit kinds), nibble e%2 of byte e/2 (LLOYD4) or bytes 2e, 2e+1
+                              little-endian (LINEAR16); owned */
 } sss_shcode;
 
 /* Reference part (SSS_QUANT_REFS). */
@@ -258,11 +265,16 @@ void sss_file_storage(const sss_bake_file *f, sss_storage *s);
 /* "float", "lloyd8", "sh", "refs" ("?" for an unknown value). */
 const char *sss_quant_name(sss_quant q);
 
-/* "linear8", "lloyd8", "lloyd4" ("?" for an unknown value). */
+/* "linear8", "lloyd8", "lloyd4", "linear16" ("?" for an unknown value). */
 const char *sss_shq_name(uint32_t kind);
 
-/* Number of SH dequantisation levels of a kind (256 or 16; 0 if unknown). */
+/* Number of SH dequantisation levels held in memory per coefficient (256
+ * or 16; 1 for LINEAR16, whose one level is the step; 0 if unknown). */
 uint32_t sss_shq_levels(uint32_t kind);
+
+/* Largest code magnitude of a linear kind (127 LINEAR8, 32767 LINEAR16),
+ * 0 for a table (Lloyd) kind: a linear code x stands for x · scale / max. */
+uint32_t sss_shq_linear_max(uint32_t kind);
 
 /* Fewest bytes (2, 3 or 4) that hold every reference-triangle index below
  * nrt: the stored width of sss_refcode.vtri. */
@@ -272,12 +284,18 @@ uint32_t sss_refs_tri_bytes(uint32_t nrt);
  * scales; reader and compressor both use it, so they agree to the bit. */
 void sss_shq_linear8_table(const float *scale, uint32_t n, float *table);
 
+/* LINEAR16's one level per scale, the step scale / 32767 (n floats); the
+ * decoders fold y_i(ω) · scale / 32767 from the scale itself, in double. */
+void sss_shq_linear16_table(const float *scale, uint32_t n, float *table);
+
 /* Bytes of the SH code array for n elements of a kind. */
 uint64_t sss_shq_code_bytes(uint32_t kind, uint64_t n);
 
-/* Code of element e of an SH code array. */
+/* Code of element e of an SH code array (LINEAR16: the raw 16 bits, the
+ * signed code is (int16_t) of it). */
 static inline uint32_t sss_shq_code(const uint8_t *code, uint32_t kind, uint64_t e)
 {
+    if (kind == SSS_SHQ_LINEAR16) return (uint32_t)code[2 * e] | (uint32_t)code[2 * e + 1] << 8;
     return kind == SSS_SHQ_LLOYD4 ? (uint32_t)(code[e >> 1] >> ((e & 1u) * 4u)) & 15u : code[e];
 }
 

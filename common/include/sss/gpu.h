@@ -108,7 +108,7 @@ typedef struct sss_gpu_layout {
     uint64_t row_range;       /* bytes to bind per row range: row_bytes rounded up to 4 */
     uint32_t row_n;           /* entries per row / C: nv, or nref for the reference form */
     uint32_t ncoded;          /* coded vertices (SH: nv; reference form: nv − nref) */
-    uint32_t sh_levels;       /* SH dequantisation levels: 256, 16, or 0 without an SH part */
+    uint32_t sh_levels;       /* SH dequantisation levels: 256, 16, 1 (linear16: the step), or 0 without an SH part */
     /* 1: the rows are the vector integrals Q (section QVEC, format 1.7):
      * 3·nv·C float32 per direction, interpolated per component and dotted
      * with the light (uniform u_light), sss_decode_vector_range's floats;

@@ -3,7 +3,8 @@
  * channel, the first order² real SH coefficients (sss/sh.h basis) of q
  * itself (SH-only files) or of the delta left after blending the
  * references of section REFS (refs.c), quantised linearly (the paper's
- * int8 scheme) or with Lloyd–Max tables. Layout and rules:
+ * §4.3 int8 scheme, or §4.1's "normalized short integer", int16, format
+ * 1.7) or with Lloyd–Max tables. Layout and rules:
  * docs/format.md §5.8.
  */
 #include <stdlib.h>
@@ -16,8 +17,8 @@
 
 const char *sss_shq_name(uint32_t kind)
 {
-    static const char *const n[] = {"linear8", "lloyd8", "lloyd4"};
-    return kind < 3 ? n[kind] : "?";
+    static const char *const n[SSS_SHQ_KINDS] = {"linear8", "lloyd8", "lloyd4", "linear16"};
+    return kind < SSS_SHQ_KINDS ? n[kind] : "?";
 }
 
 uint32_t sss_shq_levels(uint32_t kind)
@@ -26,11 +27,26 @@ uint32_t sss_shq_levels(uint32_t kind)
     case SSS_SHQ_LINEAR8:
     case SSS_SHQ_LLOYD8: return 256;
     case SSS_SHQ_LLOYD4: return 16;
+    case SSS_SHQ_LINEAR16: return 1;
     default: return 0;
     }
 }
 
-uint64_t sss_shq_code_bytes(uint32_t kind, uint64_t n) { return kind == SSS_SHQ_LLOYD4 ? n / 2 + (n & 1) : n; }
+uint32_t sss_shq_linear_max(uint32_t kind)
+{
+    return kind == SSS_SHQ_LINEAR8 ? 127u : kind == SSS_SHQ_LINEAR16 ? 32767u : 0u;
+}
+
+uint64_t sss_shq_code_bytes(uint32_t kind, uint64_t n)
+{
+    if (kind == SSS_SHQ_LINEAR16) return n <= UINT64_MAX / 2 ? 2 * n : 0;
+    return kind == SSS_SHQ_LLOYD4 ? n / 2 + (n & 1) : n;
+}
+
+void sss_shq_linear16_table(const float *scale, uint32_t n, float *table)
+{
+    for (uint32_t i = 0; i < n; i++) table[i] = (float)((double)scale[i] / 32767.0);
+}
 
 void sss_shq_linear8_table(const float *scale, uint32_t n, float *table)
 {
@@ -42,9 +58,11 @@ void sss_shq_linear8_table(const float *scale, uint32_t n, float *table)
 static uint64_t shc_size_of(uint32_t C, uint32_t order, uint32_t kind, uint64_t ncoded)
 {
     const uint64_t ncoef = (uint64_t)order * order;
-    const uint64_t per = kind == SSS_SHQ_LINEAR8 ? 1 : sss_shq_levels(kind);
+    const uint64_t per = sss_shq_linear_max(kind) ? 1 : sss_shq_levels(kind);
     uint64_t n, s = SHC_HEADER + 4ull * C * ncoef * per;
-    if (!mul_u64(ncoded, C * ncoef, &n) || !add_u64(s, sss_shq_code_bytes(kind, n), &s)) return 0;
+    if (!mul_u64(ncoded, C * ncoef, &n) || (n && !sss_shq_code_bytes(kind, n)) ||
+        !add_u64(s, sss_shq_code_bytes(kind, n), &s))
+        return 0;
     return s;
 }
 
@@ -76,11 +94,12 @@ sss_result sss_sec_shc_check(const sss_bake_file *f, const char *name, sss_resul
                         (unsigned long long)sss_sec_ncoded(f));
     const uint64_t ntab = (uint64_t)C * s->ncoef;
     const uint64_t ncodes = (uint64_t)s->ncoded * ntab;
-    if ((ntab && !s->table) || (s->kind == SSS_SHQ_LINEAR8 && ntab && !s->scale) || (ncodes && !s->code))
+    const int linear = sss_shq_linear_max(s->kind) != 0;
+    if ((ntab && !s->table) || (linear && ntab && !s->scale) || (ncodes && !s->code))
         return sss_fail(err, code, "%s: section SHC : arrays missing", name);
     /* scales and table entries at most SSS_VALUE_MAX: the bound a decode
      * survives (sss/format.h) */
-    if (s->kind == SSS_SHQ_LINEAR8) {
+    if (linear) {
         for (uint64_t i = 0; i < ntab; i++)
             if (!(s->scale[i] >= 0.0f) || !(s->scale[i] <= SSS_VALUE_MAX))
                 return sss_fail(err, code, "%s: section SHC : scale %llu (%g) is not a number in [0, %g]", name,
@@ -95,6 +114,13 @@ sss_result sss_sec_shc_check(const sss_bake_file *f, const char *name, sss_resul
      * it must be 0, so that one content has one encoding. */
     if (s->kind == SSS_SHQ_LLOYD4 && (ncodes & 1) && (s->code[ncodes / 2] >> 4) != 0)
         return sss_fail(err, code, "%s: section SHC : unused high nibble of the last code byte is not 0", name);
+    /* 16-bit codes are symmetric, −32767 … 32767, as the 8-bit ones are
+     * (−127 … 127): −32768 has no meaning, so one content has one encoding */
+    if (s->kind == SSS_SHQ_LINEAR16)
+        for (uint64_t e = 0; e < ncodes; e++)
+            if (sss_shq_code(s->code, s->kind, e) == 0x8000u)
+                return sss_fail(err, code, "%s: section SHC : code %llu is -32768, outside -32767 … 32767", name,
+                                (unsigned long long)e);
     return SSS_OK;
 }
 
@@ -107,7 +133,7 @@ void sss_sec_shc_pack(const sss_bake_file *f, uint8_t *p)
     put_u32(p + 8, s->ncoded);
     put_u32(p + 12, s->kind);
     p += SHC_HEADER;
-    if (s->kind == SSS_SHQ_LINEAR8)
+    if (sss_shq_linear_max(s->kind))
         for (uint64_t i = 0; i < ntab; i++, p += 4) put_f32(p, s->scale[i]);
     else
         for (uint64_t i = 0; i < ntab * sss_shq_levels(s->kind); i++, p += 4) put_f32(p, s->table[i]);
@@ -151,11 +177,12 @@ sss_result sss_sec_shc_parse(const uint8_t *p, uint64_t size, uint64_t count, co
     const uint64_t nb = sss_shq_code_bytes(s->kind, (uint64_t)s->ncoded * ntab);
     s->table = malloc((size_t)(ntab * L + 1) * sizeof *s->table);
     s->code = malloc((size_t)nb + 1);
-    if (s->kind == SSS_SHQ_LINEAR8) s->scale = malloc((size_t)(ntab + 1) * sizeof *s->scale);
-    if (!s->table || !s->code || (s->kind == SSS_SHQ_LINEAR8 && !s->scale))
+    const int linear = sss_shq_linear_max(s->kind) != 0;
+    if (linear) s->scale = malloc((size_t)(ntab + 1) * sizeof *s->scale);
+    if (!s->table || !s->code || (linear && !s->scale))
         return sss_sec_nomem(err, name, "SHC ", size);
     p += SHC_HEADER;
-    if (s->kind == SSS_SHQ_LINEAR8) {
+    if (linear) {
         for (uint64_t i = 0; i < ntab; i++, p += 4) s->scale[i] = get_f32(p);
     } else {
         for (uint64_t i = 0; i < ntab * L; i++, p += 4) s->table[i] = get_f32(p);
@@ -164,6 +191,7 @@ sss_result sss_sec_shc_parse(const uint8_t *p, uint64_t size, uint64_t count, co
     sss_result res = sss_sec_shc_check(f, name, CORRUPT, err);
     if (res != SSS_OK) return res;
     if (s->kind == SSS_SHQ_LINEAR8) sss_shq_linear8_table(s->scale, (uint32_t)ntab, s->table);
+    if (s->kind == SSS_SHQ_LINEAR16) sss_shq_linear16_table(s->scale, (uint32_t)ntab, s->table);
     return SSS_OK;
 }
 

@@ -13,7 +13,8 @@
  *     corrects the quantisation of both. RGB shares triangles and weights.
  *
  * SH coefficients are quantised per (channel, coefficient index): the
- * paper's linear 8-bit codes with one scale (SSS_SHQ_LINEAR8), or Lloyd-Max
+ * paper's linear 8-bit codes with one scale (SSS_SHQ_LINEAR8, §4.3), its
+ * linear 16-bit codes (SSS_SHQ_LINEAR16, §4.1), or Lloyd-Max
  * tables of 256 or 16 levels (SSS_SHQ_LLOYD8, SSS_SHQ_LLOYD4).
  *
  * Beyond the paper (its §6 lists both as future work):
@@ -62,12 +63,15 @@ sss_result sss_compress_choose_refs(const sss_bake_file *f, double fraction, dou
  * SH codes, 16-bit barycentric weights, geometric references. */
 void sss_compress_opts_default(sss_compress_opts *o);
 
-/* Presets (docs/compression.md): the paper's configuration, and "compact":
+/* Presets (docs/compression.md): the paper's configuration, "compact":
  * at most 16 (grey) / 30 (RGB) bytes per vertex at no more error than the
- * paper's, measured on the dragons. */
+ * paper's, measured on the dragons, and the paper's SH-only configuration of
+ * §4.1 (order 7, 16-bit codes, no references: 98 code bytes per vertex and
+ * channel). */
 typedef enum sss_compress_preset {
     SSS_COMPRESS_PAPER = 0,
-    SSS_COMPRESS_COMPACT = 1
+    SSS_COMPRESS_COMPACT = 1,
+    SSS_COMPRESS_PAPER_SH = 2
 } sss_compress_preset;
 
 /* Fields of sss_compress_opts a caller set itself (bits of `given`). */

@@ -52,6 +52,13 @@ void sss_compress_preset_apply(sss_compress_opts *o, sss_compress_preset p, uint
         d.ls_weights = 1;
         d.illum_weight = 1e-3;
         d.dirs_f32 = 1;
+    } else if (p == SSS_COMPRESS_PAPER_SH) {
+        /* Hao–Varshney 2004 §4.1: n = 7 (49 coefficients), each a
+         * normalised short, no references: 49 · 2 = 98 bytes per vertex and
+         * channel (docs/compression.md, "The paper's SH-only storage") */
+        d.order = 7;
+        d.fraction = 0.0;
+        d.sh_kind = SSS_SHQ_LINEAR16;
     }
     if (!(given & SSS_CO_ORDER))
         for (o->order = d.order; o->order > 1 && o->order * o->order > n_dirs;) o->order--;
@@ -205,7 +212,7 @@ static sss_result check_opts(const sss_bake_file *f, const sss_compress_opts *o,
         return sss_fail(err, SSS_ERR_ARG, "compress: reference fraction %g out of range [0, 1]", o->fraction);
     if (o->fraction == 0.0 && o->order == 0)
         return sss_fail(err, SSS_ERR_ARG, "compress: SH-only mode (no references) needs SH order >= 1");
-    if (o->sh_kind > SSS_SHQ_LLOYD4)
+    if (o->sh_kind >= SSS_SHQ_KINDS)
         return sss_fail(err, SSS_ERR_ARG, "compress: unknown SH quantisation %u", o->sh_kind);
     if (o->wbits != 8 && o->wbits != 16)
         return sss_fail(err, SSS_ERR_ARG, "compress: %u bits per weight (8 or 16)", o->wbits);
@@ -329,12 +336,14 @@ static sss_result quantise_sh(const float *coef, uint32_t kind, sss_bake_file *d
     s->kind = kind;
     s->table = calloc(ntab * L + 1, sizeof *s->table);
     s->code = calloc((size_t)sss_shq_code_bytes(kind, ncodes) + 1, 1);
-    if (kind == SSS_SHQ_LINEAR8) s->scale = calloc(ntab + 1, sizeof *s->scale);
-    if (!s->table || !s->code || (kind == SSS_SHQ_LINEAR8 && !s->scale))
+    const long M = (long)sss_shq_linear_max(kind); /* 127 or 32767 for the linear kinds, else 0 */
+    if (M) s->scale = calloc(ntab + 1, sizeof *s->scale);
+    if (!s->table || !s->code || (M && !s->scale))
         return sss_fail(err, SSS_ERR_NOMEM, "compress: out of memory for SH codes");
     if (nk == 0 || ntab == 0) return SSS_OK;
-    if (kind == SSS_SHQ_LINEAR8) {
-        /* the paper's: code = round(127 c / scale), scale = max |c| */
+    if (M) {
+        /* the paper's: code = round(M c / scale), scale = max |c|, M = 127
+         * (§4.3's normalised byte) or 32767 (§4.1's normalised short) */
         for (size_t e = 0; e < ncodes; e++) {
             float a = fabsf(coef[e]);
             if (a > s->scale[e % ntab]) s->scale[e % ntab] = a;
@@ -344,11 +353,18 @@ static sss_result quantise_sh(const float *coef, uint32_t kind, sss_bake_file *d
             if (s->scale[t] > 0.0f) s->scale[t] = nextafterf(s->scale[t], INFINITY);
         for (size_t e = 0; e < ncodes; e++) {
             double sc = s->scale[e % ntab];
-            long q = sc > 0.0 ? lround(coef[e] / sc * 127.0) : 0;
-            q = q > 127 ? 127 : q < -127 ? -127 : q;
-            s->code[e] = (uint8_t)(int8_t)q;
+            long q = sc > 0.0 ? lround(coef[e] / sc * (double)M) : 0;
+            q = q > M ? M : q < -M ? -M : q;
+            if (kind == SSS_SHQ_LINEAR8) {
+                s->code[e] = (uint8_t)(int8_t)q;
+            } else { /* two bytes, little-endian two's complement */
+                const uint16_t u = (uint16_t)(int16_t)q;
+                s->code[2 * e] = (uint8_t)(u & 0xFFu);
+                s->code[2 * e + 1] = (uint8_t)(u >> 8);
+            }
         }
-        sss_shq_linear8_table(s->scale, (uint32_t)ntab, s->table);
+        if (kind == SSS_SHQ_LINEAR8) sss_shq_linear8_table(s->scale, (uint32_t)ntab, s->table);
+        else sss_shq_linear16_table(s->scale, (uint32_t)ntab, s->table);
         return SSS_OK;
     }
     /* Lloyd-Max per (channel, coefficient): each column has its own
