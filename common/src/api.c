@@ -227,8 +227,11 @@ sss_result sss_asset_decode(const sss_asset *a, const double light[3], uint32_t 
         return sss_fail(err, SSS_ERR_ARG, "%s: %s: the file holds no direction set (a scene bake without DIRS rows)",
                         label(a), fn);
     /* the rows decoded from the caller's light, not from d: sss_decode_all
-     * normalises it itself, and so gives these very bits */
-    sss_decode_range(&a->f, light, first, count, out);
+     * normalises it itself, and so gives these very bits; a file with the
+     * vector integrals Q is read as the viewer reads it, Q interpolated and
+     * dotted with the light (Hao–Varshney 2004 §3.2, docs/format.md §5.19) */
+    if (sss_decode_has_vector(&a->f)) sss_decode_vector_range(&a->f, light, SSS_INTERP_TRIANGLE, first, count, out);
+    else sss_decode_range(&a->f, light, first, count, out);
     return a->near_on ? add_near(a, d, first, count, lit, out, err) : SSS_OK;
 }
 

@@ -55,7 +55,7 @@ typedef struct tfile {
 } tfile;
 
 enum { F_FLOAT, F_LLOYD8, F_SH_LIN8, F_SH_LLOYD8, F_SH_LLOYD4, F_REFS, F_REFS_ONLY, /* no near terms */
-       F_OWN, F_RING, F_RADIUS, F_REFS_NEAR, F_SCENE, NFILES };
+       F_OWN, F_RING, F_RADIUS, F_REFS_NEAR, F_SCENE, F_VECTOR, NFILES };
 static tfile g[NFILES];
 #define FIRST_NEAR F_OWN
 
@@ -185,6 +185,16 @@ static int setup(void **state)
     take(&g[F_RADIUS], "near_radius", &rad);
     compress(&own, 2, 0.05, SSS_SHQ_LLOYD8, &c), take(&g[F_REFS_NEAR], "near_refs", &c), sss_file_free(&c);
     bake_scene(&c), take(&g[F_SCENE], "scene", &c), sss_file_free(&c);
+    {   /* the vector integrals Q beside float rows (sss-bake --vector) */
+        sss_material mat;
+        sss_bake_options opt;
+        memset(&opt, 0, sizeof opt);
+        opt.mm_per_unit = 20.0, opt.n_dirs = 100, opt.quant = SSS_QUANT_FLOAT, opt.threads = 2, opt.vector = 1;
+        if (sss_material_preset("skin1", &mat, &err) != SSS_OK ||
+            sss_bake(&blob, "blob", &mat, &opt, &c, NULL, &err) != SSS_OK)
+            fail_msg("bake vector: %s", err.msg);
+        take(&g[F_VECTOR], "vector", &c), sss_file_free(&c);
+    }
     sss_file_free(&fl), sss_file_free(&l8), sss_file_free(&own), sss_file_free(&ring), sss_file_free(&rad);
     sss_mesh_free(&blob);
     sss_mesh_free(&torus);
@@ -266,6 +276,34 @@ static void decodesEveryStorageFormBitIdentically(void **state)
     assert_int_equal(sss_asset_info(g[F_REFS_ONLY].mem, &d, NULL), SSS_OK);
     assert_string_equal(d.quant_name, "refs");
     assert_string_equal(d.sh_kind_name, "");
+}
+
+/* A file with Q decodes Q·ω (sss_decode_vector_range's bits, what the
+ * viewer draws), not its q rows, which differ between the samples. */
+static void vectorFileDecodesQ(void **state)
+{
+    (void)state;
+    const tfile *t = &g[F_VECTOR];
+    assert_non_null(t->f.qvec);
+    double L[NLIGHTS][3];
+    lights(L);
+    const size_t n = (size_t)t->f.mesh.nv * t->f.channels;
+    float *want = malloc(n * sizeof *want), *rows = malloc(n * sizeof *rows);
+    assert_non_null(want);
+    assert_non_null(rows);
+    double differ = 0.0, maxq = 0.0;
+    for (int l = 0; l < NLIGHTS; l++) {
+        sss_decode_vector_range(&t->f, L[l], SSS_INTERP_TRIANGLE, 0, t->f.mesh.nv, want);
+        sss_decode_all(&t->f, L[l], rows);
+        float *q = decode_all_api(t, t->path, L[l], NULL);
+        assert_memory_equal(q, want, n * sizeof *q);
+        for (size_t e = 0; e < n; e++) differ = fmax(differ, fabs((double)q[e] - rows[e])), maxq = fmax(maxq, q[e]);
+        free(q);
+    }
+    print_message("vector file: Q against its q rows, largest difference %.3g (max %.3g)\n", differ, maxq);
+    assert_true(maxq > 0.01 && differ > 0.0);
+    free(want);
+    free(rows);
 }
 
 /* The unit light exactly as reconstruct.c forms it. */
@@ -583,6 +621,7 @@ int main(void)
         cmocka_unit_test(concurrentDecodesEqualSerial),
         cmocka_unit_test(sceneEffectsDecodeAsEffectsC),
         cmocka_unit_test(badArgumentsGiveErrors),
+        cmocka_unit_test(vectorFileDecodesQ),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -134,7 +134,9 @@ const sss_bake_file *sss_asset_file(const sss_asset *a);
 /* q(x_v, ω) for vertices [first, first + count) into out[(v − first) ·
  * channels + c], the value the viewer shows: the stored rows interpolated
  * over the spherical triangle of direction samples around ω (§3.2) and
- * decoded as sss_decode_all decodes them, to the bit, plus, for a file whose
+ * decoded as sss_decode_all decodes them, to the bit (for a file with the
+ * vector integrals Q, section QVEC: Q interpolated so and dotted with ω,
+ * sss_decode_vector_range's bits, as the viewer draws it), plus, for a file whose
  * near terms are evaluated at run time (desc.near_terms), those terms for
  * ω (sss/nearterms.h; the sum sss_near_add forms).
  *
