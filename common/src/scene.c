@@ -227,10 +227,42 @@ static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath
     return SSS_OK;
 }
 
+/* "deform" of an object (docs/scenes.md, sss/deform.h). */
+static sss_result parse_deform(const ctx *c, const cJSON *d, const char *jpath, sss_deform *out)
+{
+    if (!cJSON_IsObject(d)) return fail_at(c, jpath, "expected an object {type, axis, angle_deg, period_s}");
+    static const char *const keys[] = {"type", "axis", "angle_deg", "period_s", NULL};
+    static const char *const types[] = {"bend", "twist", "wave", "skin", NULL};
+    uint32_t type = 0;
+    sss_result r = get_choice(c, d, jpath, "type", types, &type);
+    if (r != SSS_OK) return r;
+    char p[512];
+    join(p, sizeof p, jpath, "type");
+    if (!type) return fail_at(c, p, "missing (expected \"bend\", \"twist\" or \"wave\")");
+    /* the generated two-bone rig is not built yet (docs/deformable.md §6):
+     * refused by name rather than drawn rigid */
+    if (type == 4) return fail_at(c, p, "\"skin\" is not supported yet (docs/deformable.md); use bend, twist or wave");
+    if ((r = only_keys(c, d, jpath, keys)) != SSS_OK) return r;
+    memset(out, 0, sizeof *out);
+    out->kind = (sss_deform_kind)type; /* SSS_DEFORM_* in the order of `types` */
+    out->axis[2] = 1.0;
+    out->period_s = SSS_DEFORM_PERIOD_DEFAULT;
+    if ((r = get_vec3(c, d, jpath, "axis", 0, -1e12, 1e12, out->axis)) != SSS_OK) return r;
+    join(p, sizeof p, jpath, "axis");
+    if (!(sss_normalize3(out->axis) > 1e-12)) return fail_at(c, p, "must be a non-zero vector");
+    const double lim = out->kind == SSS_DEFORM_BEND    ? SSS_DEFORM_BEND_MAX_DEG
+                       : out->kind == SSS_DEFORM_TWIST ? SSS_DEFORM_TWIST_MAX_DEG
+                                                       : SSS_DEFORM_WAVE_MAX_DEG;
+    if ((r = get_number(c, d, jpath, "angle_deg", 1, -lim, lim, &out->angle_deg)) != SSS_OK) return r;
+    if ((r = get_number(c, d, jpath, "period_s", 0, 1e-6, 1e9, &out->period_s)) != SSS_OK) return r;
+    return SSS_OK;
+}
+
 static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, int index, sss_scene_object *out)
 {
     if (!cJSON_IsObject(o)) return fail_at(c, jpath, "expected an object");
-    static const char *const keys[] = {"name", "mesh", "material", "mm_per_unit", "transform", "moving", NULL};
+    static const char *const keys[] = {"name", "mesh", "material", "mm_per_unit", "transform", "moving", "deform",
+                                       NULL};
     sss_result r = only_keys(c, o, jpath, keys);
     if (r != SSS_OK) return r;
     memset(out, 0, sizeof *out);
@@ -264,6 +296,11 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
         return fail_at(c, p, "must be > 0");
     }
     if ((r = get_bool(c, o, jpath, "moving", &out->moving)) != SSS_OK) return r;
+    const cJSON *df = cJSON_GetObjectItemCaseSensitive(o, "deform");
+    if (df) {
+        join(p, sizeof p, jpath, "deform");
+        if ((r = parse_deform(c, df, p, &out->deform)) != SSS_OK) return r;
+    }
     const cJSON *t = cJSON_GetObjectItemCaseSensitive(o, "transform");
     if (t) {
         join(p, sizeof p, jpath, "transform");

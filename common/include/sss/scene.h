@@ -11,6 +11,7 @@
 #define SSS_SCENE_H
 
 #include <stdint.h>
+#include "sss/deform.h"
 #include "sss/dipole.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
@@ -55,6 +56,9 @@ typedef struct sss_scene_object {
      * dipole distances isotropic. */
     double translate[3], rotate_deg[3], scale;
     int moving;                     /* 1: moves relative to the others (cannot cast baked shadows) */
+    /* "deform": the procedural deformer applied in mesh units before the
+     * transform (sss/deform.h; kind SSS_DEFORM_NONE: rigid) */
+    sss_deform deform;
 } sss_scene_object;
 
 typedef struct sss_scene_camera {
