@@ -17,7 +17,7 @@ declare -A hstage=(
   [nbhd]=kernels [visibility]=kernels [transfer]=kernels [lloyd]=kernels
   [gather]=gather
   [refs]=compress [compress]=compress
-  [bake]=bake [planner]=bake [bake_scene]=bake
+  [bake]=bake [planner]=bake [bake_scene]=bake [perframe]=bake
   [exact]=measure [reconstruct]=measure [vertex_error]=measure [env_error]=measure
   [reference]=reference
 )

@@ -37,4 +37,27 @@ static inline double sss_normalize3(double v[3])
     return n;
 }
 
+/* Unit direction towards a light, or 0 for a zero or non-finite one. A
+ * light that is already unit up to rounding (every stored ω_j) is used as
+ * given, so at a direction sample the rays and cosines are bit for bit the
+ * bake's; others are scaled by their largest component first, so huge or
+ * tiny finite vectors normalise without overflow. Shared by the exact
+ * evaluator and the per-frame path (docs/deformable.md §3), which must
+ * take the same ω to agree to rounding. */
+static inline int sss_light_unit(const double l[3], double d[3])
+{
+    if (!isfinite(l[0]) || !isfinite(l[1]) || !isfinite(l[2])) return 0;
+    double n2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+    if (fabs(n2 - 1.0) <= 1e-12) {
+        d[0] = l[0], d[1] = l[1], d[2] = l[2];
+        return 1;
+    }
+    double m = fmax(fabs(l[0]), fmax(fabs(l[1]), fabs(l[2])));
+    if (!(m > 0.0)) return 0;
+    double s[3] = {l[0] / m, l[1] / m, l[2] / m};
+    double len = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    for (int k = 0; k < 3; k++) d[k] = s[k] / len;
+    return 1;
+}
+
 #endif

@@ -19,6 +19,7 @@
 #include "sss/bake.h"
 #include "sss/planner.h"
 #include "sss/bake_scene.h"
+#include "sss/perframe.h"
 
 #include "sss/refs.h"
 #include "sss/compress.h"

@@ -91,8 +91,8 @@ static uint32_t chunk_start(uint32_t D, uint32_t c, uint32_t n) { return (uint32
  * hat-function corrections of docs/physics.md §9 on top of the point
  * weights the gather used. Elements are independent: the bytes do not
  * depend on the thread count. */
-static int add_hat(const sss_weights *hat, const uint32_t *inv, const float *Gm, uint32_t nv, uint32_t C,
-                   uint32_t j0, uint32_t Dc, int clamp, float *q)
+int sss_bake_add_hat(const sss_weights *hat, const uint32_t *inv, const float *Gm, uint32_t nv, uint32_t C,
+                     uint32_t j0, uint32_t Dc, int clamp, float *q)
 {
     int failed = 0;
 #pragma omp parallel
@@ -413,7 +413,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
                 }
             }
         }
-        if (inv && !add_hat(hat, inv, Gm, nv, C, j0, Dc, 1, out->q)) {
+        if (inv && !sss_bake_add_hat(hat, inv, Gm, nv, C, j0, Dc, 1, out->q)) {
             r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the hat-function corrections");
             break;
         }
@@ -427,7 +427,7 @@ sss_result sss_bake_tree(const sss_mesh *mesh, const sss_material *mat, const ss
                 sss_transfer_axis(mesh, out->dirs.dir + 3 * (size_t)j0, Dc, order, 0, nv, Gq, a, Gm);
                 r = sss_gather_tree_moments(tree, mesh, err);
                 if (r == SSS_OK) r = sss_gather_run_chunk(tree, mesh, dip, C, R, b0, b1, j0, D, P, 1, &g, err);
-                if (r == SSS_OK && inv && !add_hat(hat, inv, Gm, nv, C, j0, Dc, 0, P))
+                if (r == SSS_OK && inv && !sss_bake_add_hat(hat, inv, Gm, nv, C, j0, Dc, 0, P))
                     r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for the hat-function corrections");
                 if (r == SSS_OK) interleave(P, (size_t)j0 * nv * C, (size_t)(j0 + Dc) * nv * C, a, out->qvec);
             }

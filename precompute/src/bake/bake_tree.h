@@ -16,6 +16,16 @@ sss_result sss_bake_visibility(const sss_mesh *mesh, double eta, const double *d
                                uint32_t v1, const sss_cancel_flag *cancel, float *G, sss_bake_stats *st,
                                sss_error *err);
 
+/* q += Σ_i C(v, i) G[i, j] for directions [j0, j0 + Dc) of q's layout
+ * ((j · nv + v) · C + c), Gm the transfer rows in the gather tree's order
+ * (row inv[i] is vertex i; Dc values per row): the hat-function
+ * corrections (docs/physics.md §9) on top of the point weights the gather
+ * used, each element in double from q's float and, with clamp, clamped at
+ * 0 (sss_integrate_hat's rule). Shared by the bake's tree path and the
+ * per-frame path (perframe.c). Returns 0 when out of memory. */
+int sss_bake_add_hat(const sss_weights *hat, const uint32_t *inv, const float *Gm, uint32_t nv, uint32_t C,
+                     uint32_t j0, uint32_t Dc, int clamp, float *q);
+
 /* Visibility, tree and gather: fills out->q (rank 0 only under MPI) and the
  * stats' timings. avail: bytes that may be used (0: unknown). When the
  * transfer rows and tree moments of all directions do not fit next to q,

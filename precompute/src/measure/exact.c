@@ -17,6 +17,7 @@
 #include "sss/memory.h"
 #include "sss/nbhd.h"
 #include "sss/transfer.h"
+#include "sss/vec3.h"
 #include "sss/visibility.h"
 #include "kernels/transfer.h"
 
@@ -169,27 +170,6 @@ double sss_exact_eps(const sss_exact *e) { return e->eps; }
 double sss_exact_search_radius_mm(const sss_exact *e) { return e->search_radius_mm; }
 void sss_exact_set_shadows(sss_exact *e, int on) { e->shadows = on != 0; }
 
-/* Unit direction towards the light, or 0 for a zero or non-finite one. A
- * light that is already unit up to rounding (every stored ω_j) is used as
- * given, so at a direction sample the rays and cosines are bit for bit the
- * bake's; others are scaled by their largest component first, so huge or
- * tiny finite vectors normalise without overflow. */
-static int unit_light(const double l[3], double d[3])
-{
-    if (!isfinite(l[0]) || !isfinite(l[1]) || !isfinite(l[2])) return 0;
-    double n2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
-    if (fabs(n2 - 1.0) <= 1e-12) {
-        d[0] = l[0], d[1] = l[1], d[2] = l[2];
-        return 1;
-    }
-    double m = fmax(fabs(l[0]), fmax(fabs(l[1]), fabs(l[2])));
-    if (!(m > 0.0)) return 0;
-    double s[3] = {l[0] / m, l[1] / m, l[2] / m};
-    double len = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-    for (int k = 0; k < 3; k++) d[k] = s[k] / len;
-    return 1;
-}
-
 /* Row v of the sparse sum q = Σ_i w(v, i) G(x_i, ω) with G taken from g
  * (a table over all vertices) or, when g is NULL, traced on the fly. The
  * products and their order are sss_integrate's (double accumulation,
@@ -221,7 +201,7 @@ static void row_sum(const sss_exact *e, uint32_t v, const double d[3], const flo
 void sss_exact_eval_vertex(const sss_exact *e, uint32_t v, const double light[3], float *out)
 {
     double d[3];
-    if (v >= e->mesh.nv || !unit_light(light, d)) {
+    if (v >= e->mesh.nv || !sss_light_unit(light, d)) {
         for (uint32_t c = 0; c < e->channels; c++) out[c] = 0.0f;
         return;
     }
@@ -232,7 +212,7 @@ void sss_exact_eval(const sss_exact *e, const double light[3], float *out)
 {
     const uint32_t nv = e->mesh.nv, C = e->channels;
     double d[3];
-    if (!unit_light(light, d)) {
+    if (!sss_light_unit(light, d)) {
         memset(out, 0, (size_t)nv * C * sizeof *out);
         return;
     }
@@ -343,7 +323,7 @@ void sss_exact_subset_eval(sss_exact_subset *s, const double *lights, uint32_t n
     const uint32_t C = e->channels, nv = e->mesh.nv, n = s->n;
     for (uint32_t l0 = 0; l0 < nlights; l0 += s->batch) {
         const uint32_t B = nlights - l0 < s->batch ? nlights - l0 : s->batch;
-        for (uint32_t b = 0; b < B; b++) s->ok[b] = unit_light(&lights[3 * ((size_t)l0 + b)], &s->d[3 * (size_t)b]);
+        for (uint32_t b = 0; b < B; b++) s->ok[b] = sss_light_unit(&lights[3 * ((size_t)l0 + b)], &s->d[3 * (size_t)b]);
         /* G once per source and light (sss_exact_eval's table, restricted
          * to the rows that are read), then each receiver's row in its own
          * order: every value is computed by one thread, so the result does
