@@ -124,6 +124,7 @@ static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path
     /* every output checked before anything is baked (the writer checks
      * each again) */
     for (uint32_t i = 0; !plan_only && i < sc.nobjects; i++) {
+        if (sc.objects[i].deform.kind != SSS_DEFORM_NONE) continue; /* per-frame: no file (docs/deformable.md §4) */
         const int n = plain ? snprintf(outpath[i], sizeof outpath[i], "%s", outfile)
                             : snprintf(outpath[i], sizeof outpath[i], "%s/%s.sss", outdir, sc.objects[i].name);
         if (n < 0 || (size_t)n >= sizeof outpath[i]) {
@@ -179,6 +180,20 @@ static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path
      * baked (sss/fileio.h), so a failure leaves no part of the set. */
     for (uint32_t i = 0; i < sc.nobjects; i++) {
         const char *path = outpath[i];
+        if (plan.obj[i].per_frame) {
+            /* a deforming object: nothing of one pose holds for the next, so
+             * no file; its q is evaluated per frame (docs/deformable.md §4) */
+            if (!quiet)
+                sss_cli_printf(stderr, "%s: object '%s' deforms: evaluated per frame, nothing baked (see --plan)\n",
+                               tool, sc.objects[i].name);
+            if (report) {
+                cJSON *o = cJSON_CreateObject();
+                cJSON_AddStringToObject(o, "object", sc.objects[i].name);
+                cJSON_AddBoolToObject(o, "per_frame", 1);
+                cJSON_AddItemToArray(report, o);
+            }
+            continue;
+        }
         sss_bake_file f;
         sss_bake_stats st;
         double t0 = sss_now();

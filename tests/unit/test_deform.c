@@ -17,6 +17,7 @@
 
 #include "genmesh.h"
 #include "sss/deform.h"
+#include "sss/planner.h"
 #include "sss/scene.h"
 #include "sss/vec3.h"
 
@@ -262,6 +263,46 @@ static void sceneRefusesBadDeformWithItsPath(void **state)
     expect_error("{\"type\":\"skin\",\"bones\":[]}", "/objects/0/deform/type: \"skin\" is not supported yet");
 }
 
+/* The planner sends a deforming object to the per-frame path (nothing
+ * baked, the reason given) and keeps a static object's bake; a deforming
+ * object with no directional light is refused with its JSON path. */
+static void plannerSendsDeformingObjectToPerFramePath(void **state)
+{
+    (void)state;
+    sss_scene s;
+    sss_error err = {{0}};
+    assert_int_equal(sss_scene_parse("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":\"marble\",\"deform\":"
+                                     "{\"type\":\"wave\",\"angle_deg\":20}},"
+                                     "{\"mesh\":\"b.ply\",\"material\":\"marble\"}],"
+                                     "\"lights\":[{\"type\":\"directional\",\"direction\":[0,0,1]}]}",
+                                     "scene.json", &s, &err),
+                     SSS_OK);
+    sss_mesh world[2];
+    world[0] = box_or_fail();
+    world[1] = box_or_fail();
+    sss_plan plan;
+    if (sss_plan_scene(&s, world, &plan, &err) != SSS_OK) fail_msg("%s", err.msg);
+    const sss_object_plan *a = &plan.obj[0], *b = &plan.obj[1];
+    assert_int_equal(a->per_frame, 1);
+    assert_int_equal(a->effects & ~(uint32_t)SSS_FX_RGB, 0);
+    assert_int_equal(a->light_pass[0], UINT32_MAX);
+    int said = 0;
+    for (uint32_t d = 0; d < a->ndecisions; d++)
+        said |= !strcmp(a->decisions[d].effect, "deform") && !strcmp(a->decisions[d].choice, "per-frame") &&
+                strstr(a->decisions[d].reason, "nothing is baked") != NULL;
+    assert_true(said);
+    assert_int_equal(b->per_frame, 0);
+    assert_int_equal(b->light_pass[0], SSS_PASS_DIR_EXACT);
+    assert_int_equal(b->scene_shadow, 0); /* the deforming object casts no baked shadow */
+    sss_plan_free(&plan);
+    s.lights[0].kind = SSS_LIGHT_POINT;
+    assert_int_equal(sss_plan_scene(&s, world, &plan, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "scene.json: /objects/0/deform: no directional light"));
+    sss_mesh_free(&world[0]);
+    sss_mesh_free(&world[1]);
+    sss_scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -273,6 +314,7 @@ int main(void)
         cmocka_unit_test(poseRefusesBadParameters),
         cmocka_unit_test(sceneParsesDeform),
         cmocka_unit_test(sceneRefusesBadDeformWithItsPath),
+        cmocka_unit_test(plannerSendsDeformingObjectToPerFramePath),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -60,6 +60,11 @@ typedef struct sss_object_plan {
     uint32_t weights;
     int compress;
     int near_runtime;
+    /* 1: the object deforms ("deform", sss/deform.h): nothing is baked for
+     * it, q is evaluated per frame on its pose (sss/perframe.h,
+     * docs/deformable.md §4); effects and passes are then 0 and light_pass
+     * is UINT32_MAX for every light */
+    int per_frame;
     uint32_t ndecisions;
     sss_decision decisions[SSS_PLAN_MAX_DECISIONS];
 } sss_object_plan;

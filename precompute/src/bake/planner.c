@@ -161,7 +161,8 @@ static void rule_scene_shadow(const plan_in *in, sss_object_plan *p)
     uint32_t n = 0, moving = 0;
     for (uint32_t k = 0; k < s->nobjects; k++) {
         if (k == p->object) continue;
-        if (o->moving || s->objects[k].moving) { moving++; continue; }
+        /* a deforming object's shape changes: its shadow cannot be baked */
+        if (o->moving || s->objects[k].moving || s->objects[k].deform.kind != SSS_DEFORM_NONE) { moving++; continue; }
         p->occluders[n++] = k;
     }
     p->noccluders = n;
@@ -170,8 +171,8 @@ static void rule_scene_shadow(const plan_in *in, sss_object_plan *p)
     if (s->nobjects == 1)
         decide(p, "scene-shadow", "off", "the object is alone in the scene");
     else if (n == 0)
-        decide(p, "scene-shadow", "off", "%s moves: shadows from the other objects are not fixed and are not baked",
-               o->moving ? "the object" : "every other object");
+        decide(p, "scene-shadow", "off", "%s moves (or deforms): shadows from the other objects are not fixed and "
+               "are not baked", o->moving ? "the object" : "every other object");
     else {
         char list[200] = "";
         size_t k = 0;
@@ -180,6 +181,40 @@ static void rule_scene_shadow(const plan_in *in, sss_object_plan *p)
         decide(p, "scene-shadow", "on", "static scene: %s cast%s shadows onto it (rays traced against %u other "
                "object%s)%s", list, n == 1 ? "s" : "", n, n == 1 ? "" : "s",
                moving ? "; moving objects are left out" : "");
+    }
+}
+
+/* A deforming object (docs/deformable.md §4): its neighbourhoods N(x_o),
+ * areas ΔA and visibility V change with the pose, so nothing baked for one
+ * pose holds; it takes the per-frame path instead (Hao–Varshney 2004
+ * §2.3's run-time mode on each pose, sss/perframe.h), which traces the
+ * object alone and takes directional lights. Replaces the shadow, light
+ * and storage rules for the object. */
+static void rule_per_frame(const plan_in *in, sss_object_plan *p)
+{
+    const sss_scene *s = in->scene;
+    const sss_deform *d = &s->objects[p->object].deform;
+    p->per_frame = 1;
+    p->self_shadow = 1;
+    decide(p, "deform", "per-frame", "the object deforms (%s about (%.3g, %.3g, %.3g), %g deg, period %g s): "
+           "neighbourhoods, areas and visibility change with the pose, so nothing is baked; q is evaluated on each "
+           "frame's pose (docs/deformable.md sec. 3)", sss_deform_kind_name(d->kind), d->axis[0], d->axis[1],
+           d->axis[2], d->angle_deg, d->period_s);
+    decide(p, "self-shadow", "on", "the pose changes the shape (a convex rest pose need not stay convex): rays "
+           "against each frame's pose");
+    decide(p, "scene-shadow", "off", "the per-frame path traces the object alone (docs/deformable.md sec. 6)");
+    for (uint32_t l = 0; l < s->nlights; l++) {
+        const sss_scene_light *L = &s->lights[l];
+        char eff[32];
+        snprintf(eff, sizeof eff, "light %u", l);
+        p->light_pass[l] = UINT32_MAX;
+        if (L->intensity == 0.0 || (L->colour[0] == 0 && L->colour[1] == 0 && L->colour[2] == 0))
+            decide(p, eff, "none", "%s light of zero intensity adds nothing", sss_light_kind_name(L->kind));
+        else if (L->kind == SSS_LIGHT_DIRECTIONAL)
+            decide(p, eff, "per-frame", "directional light: q for its direction on each frame's pose");
+        else
+            decide(p, eff, "none", "the per-frame path takes directional lights only (docs/deformable.md sec. 6): "
+                   "this %s light is not drawn on the object", sss_light_kind_name(L->kind));
     }
 }
 
@@ -390,6 +425,8 @@ static sss_result check_probes(const sss_scene *s, uint64_t memory_limit, sss_er
 
 typedef void (*rule_fn)(const plan_in *, sss_object_plan *);
 static const rule_fn rules[] = {rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights, rule_storage};
+/* the rules of a deforming object */
+static const rule_fn rules_per_frame[] = {rule_channels, rule_per_frame};
 
 sss_result sss_plan_scene(const sss_scene *scene, const sss_mesh *world, sss_plan *out, sss_error *err)
 {
@@ -430,6 +467,21 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
         p->size = sss_mesh_bounds(&world[i], lo, hi);
         for (int k = 0; k < 3; k++) p->centre[k] = 0.5 * (lo[k] + hi[k]);
         p->convex = sss_mesh_is_convex(&world[i]);
+        if (scene->objects[i].deform.kind != SSS_DEFORM_NONE) {
+            for (size_t r = 0; r < sizeof rules_per_frame / sizeof rules_per_frame[0]; r++) rules_per_frame[r](&in, p);
+            uint32_t lit = 0;
+            for (uint32_t l = 0; l < scene->nlights; l++) {
+                const sss_scene_light *L = &scene->lights[l];
+                lit += L->kind == SSS_LIGHT_DIRECTIONAL && L->intensity != 0.0 &&
+                       (L->colour[0] != 0 || L->colour[1] != 0 || L->colour[2] != 0);
+            }
+            if (!lit) {
+                sss_plan_free(out);
+                return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/deform: no directional light of non-zero intensity: "
+                                "the per-frame path takes directional lights only (docs/deformable.md)", scene->path, i);
+            }
+            continue;
+        }
         for (size_t r = 0; r < sizeof rules / sizeof rules[0]; r++) rules[r](&in, p);
         sss_result rr = count_exact_rows(scene, p, err);
         if (rr != SSS_OK) {
@@ -475,7 +527,8 @@ void sss_plan_print(const sss_scene *scene, const sss_plan *p, FILE *out)
         const sss_object_plan *o = &p->obj[i];
         char fx[200];
         effects_text(o->effects, fx, sizeof fx);
-        fprintf(out, "object %u '%s' (%s): effects: %s\n", i, scene->objects[i].name, scene->objects[i].mesh, fx);
+        fprintf(out, "object %u '%s' (%s): effects: %s\n", i, scene->objects[i].name, scene->objects[i].mesh,
+                o->per_frame ? "none (per-frame: nothing baked)" : fx);
         for (uint32_t d = 0; d < o->ndecisions; d++)
             fprintf(out, "  %-13s %-18s %s\n", o->decisions[d].effect, o->decisions[d].choice, o->decisions[d].reason);
         fprintf(out, "  passes:");
@@ -518,6 +571,7 @@ char *sss_plan_json(const sss_scene *scene, const sss_plan *p)
         for (uint32_t b = 0; b < SSS_FX_COUNT; b++)
             if (o->effects >> b & 1u) cJSON_AddItemToArray(fx, cJSON_CreateString(sss_effect_name(b)));
         cJSON_AddNumberToObject(jo, "channels", o->channels);
+        cJSON_AddBoolToObject(jo, "per_frame", o->per_frame);
         cJSON_AddBoolToObject(jo, "convex", o->convex);
         cJSON_AddBoolToObject(jo, "self_shadow", o->self_shadow);
         cJSON_AddStringToObject(jo, "weights", o->weights == SSS_WEIGHTS_HAT ? "hat" : "point");

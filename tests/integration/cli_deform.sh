@@ -1,0 +1,42 @@
+# sss-bake --scene with a deforming object (docs/deformable.md §4): the
+# planner sends it to the per-frame path with its reason and bakes nothing
+# for it, while a static object of the same scene keeps its bake; scene
+# errors in "deform" name the file and the JSON path.
+. "$(dirname "$0")/lib.sh"
+expect_ok "$SSS_GENMESH" blob 2 "$TMP/blob.ply"
+expect_ok "$SSS_GENMESH" sphere 2 "$TMP/sphere.ply"
+cat > "$TMP/s.json" <<'J'
+{"objects": [
+  {"name": "bar", "mesh": "blob.ply", "material": "marble", "mm_per_unit": 10,
+   "deform": {"type": "bend", "axis": [0, 0, 1], "angle_deg": 40, "period_s": 4}},
+  {"name": "ball", "mesh": "sphere.ply", "material": "skin1", "transform": {"translate": [3, 0, 0]}}],
+ "lights": [{"type": "directional", "direction": [1, 0, 1]},
+            {"type": "point", "position": [0, 3, 0]}],
+ "bake": {"dirs": 20}}
+J
+expect_ok "$SSS_BAKE" --scene "$TMP/s.json" --plan
+for pat in "object 0 'bar' .*effects: none (per-frame: nothing baked)" 'deform        per-frame .*the object deforms (bend' \
+           'light 0       per-frame' 'light 1       none .*directional lights only' \
+           "object 1 'ball'" 'scene-shadow  off .*every other object moves (or deforms)' 'light 0       directional-exact'; do
+  grep -q -- "$pat" "$TMP/out" || { cat "$TMP/out" >&2; fail "--plan should print '$pat'"; }
+done
+expect_ok "$SSS_BAKE" --scene "$TMP/s.json" --plan --json
+contains "$TMP/out" '"per_frame":	true'
+contains "$TMP/out" '"per_frame":	false'
+# the bake writes the static object's file only, and says why not the other
+mkdir -p "$TMP/o"
+expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/o"
+contains "$TMP/err" "object 'bar' deforms: evaluated per frame, nothing baked"
+[ -s "$TMP/o/ball.sss" ] || fail "no ball.sss"
+[ ! -e "$TMP/o/bar.sss" ] || fail "bar.sss written for a deforming object"
+expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/o" -q --json
+contains "$TMP/out" '"object":"bar","per_frame":true'
+# a deforming object needs a directional light; bad deformers name their path
+sed 's/{"type": "directional", "direction": \[1, 0, 1\]},//' "$TMP/s.json" > "$TMP/bad1.json"
+expect_fail "bad1.json: /objects/0/deform: no directional light" "$SSS_BAKE" --scene "$TMP/bad1.json" --plan
+sed 's/"angle_deg": 40/"angle_deg": "40"/' "$TMP/s.json" > "$TMP/bad2.json"
+expect_fail "bad2.json: /objects/0/deform/angle_deg: expected a number" "$SSS_BAKE" --scene "$TMP/bad2.json" --plan
+[ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "message should be one line"
+sed 's/"type": "bend"/"type": "skin"/' "$TMP/s.json" > "$TMP/bad3.json"
+expect_fail "bad3.json: /objects/0/deform/type: \"skin\" is not supported yet" "$SSS_BAKE" --scene "$TMP/bad3.json" --plan
+echo ok
