@@ -191,6 +191,34 @@ sss_result sss_gen_torus(sss_mesh *m, double R, double r, unsigned nu, unsigned 
     return b_finish(&b, m, "torus", err);
 }
 
+sss_result sss_gen_tube(sss_mesh *m, double radius, double length, unsigned nring, unsigned nseg, sss_error *err)
+{
+    if (nring < 3 || nseg < 1 || (uint64_t)nring * (nseg + 1) > 50000000u || !(radius > 0) || !(length > 0))
+        return sss_fail(err, SSS_ERR_ARG, "tube: bad parameters (radius %g, length %g, %u x %u)", radius, length,
+                        nring, nseg);
+    builder b = {0};
+    for (unsigned i = 0; i <= nseg; i++)
+        for (unsigned j = 0; j < nring; j++) {
+            const double u = 2 * SSS_PI * j / nring;
+            b_vertex(&b, radius * cos(u), radius * sin(u), length * ((double)i / nseg - 0.5));
+        }
+    const uint32_t bottom = (nseg + 1) * nring, top = bottom + 1;
+    b_vertex(&b, 0.0, 0.0, -0.5 * length);
+    b_vertex(&b, 0.0, 0.0, 0.5 * length);
+    for (unsigned i = 0; i < nseg; i++)
+        for (unsigned j = 0; j < nring; j++) { /* side quads, outward: (around) × (along z) is radial */
+            const uint32_t a = i * nring + j, c = i * nring + (j + 1) % nring, d = (i + 1) * nring + (j + 1) % nring,
+                           e = (i + 1) * nring + j;
+            b_tri(&b, a, c, d);
+            b_tri(&b, a, d, e);
+        }
+    for (unsigned j = 0; j < nring; j++) { /* caps: fans about their centres, facing −z and +z */
+        b_tri(&b, bottom, (j + 1) % nring, j);
+        b_tri(&b, top, nseg * nring + j, nseg * nring + (j + 1) % nring);
+    }
+    return b_finish(&b, m, "tube", err);
+}
+
 sss_result sss_gen_blob(sss_mesh *m, double radius, unsigned subdiv, sss_error *err)
 {
     sss_result r = sss_gen_sphere(m, 1.0, subdiv, err);
@@ -334,5 +362,7 @@ sss_result sss_gen_by_name(const char *kind, unsigned res, double size, sss_mesh
     if (!strcmp(kind, "cube") || !strcmp(kind, "box")) return sss_gen_box(m, size, size, size, res, 0, err);
     if (!strcmp(kind, "slab")) return sss_gen_box(m, size, size, size / 50.0, res, 0, err);
     if (!strcmp(kind, "torus")) return sss_gen_torus(m, size, size / 3.0, 2 * res, res, err);
-    return sss_fail(err, SSS_ERR_ARG, "unknown mesh kind '%s' (sphere, blob, plane, cube, slab, torus, pair)", kind);
+    if (!strcmp(kind, "tube")) return sss_gen_tube(m, 0.5 * size, 4.0 * size, 2 * res, 4 * res, err);
+    return sss_fail(err, SSS_ERR_ARG, "unknown mesh kind '%s' (sphere, blob, plane, cube, slab, torus, tube, pair)",
+                    kind);
 }

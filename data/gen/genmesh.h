@@ -26,6 +26,11 @@ sss_result sss_gen_box(sss_mesh *m, double sx, double sy, double sz, unsigned n,
 /* Torus around z: major radius R, minor radius r, nu × nv segments. */
 sss_result sss_gen_torus(sss_mesh *m, double R, double r, unsigned nu, unsigned nv, sss_error *err);
 
+/* Closed tube along z, centred at the origin: radius, length, nring
+ * vertices around and nseg segments along, capped by fans about the axis
+ * (the bending tube of docs/deformable.md). */
+sss_result sss_gen_tube(sss_mesh *m, double radius, double length, unsigned nring, unsigned nseg, sss_error *err);
+
 /* A lumpy sphere (radius modulated by low-frequency bumps) with concave
  * regions that shadow themselves: the bundled sample's shape. */
 sss_result sss_gen_blob(sss_mesh *m, double radius, unsigned subdiv, sss_error *err);

@@ -17,9 +17,10 @@ static const char *TOOL = "sss-genmesh";
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: sss-genmesh sphere|blob|plane|cube|slab|torus|pair RES OUT.ply|OUT.gltf|OUT.glb [SIZE [SCENE]]\n"
+    fprintf(f, "usage: sss-genmesh sphere|blob|plane|cube|slab|torus|tube|pair RES OUT.ply|OUT.gltf|OUT.glb [SIZE [SCENE]]\n"
                "  RES: subdivisions (sphere, blob, pair) or segments per side (others); SIZE: radius or edge,\n"
-               "  default 1 (pair: a sphere of radius SIZE and one of 250 SIZE, far apart)\n"
+               "  default 1 (pair: a sphere of radius SIZE and one of 250 SIZE, far apart; tube: radius SIZE/2,\n"
+               "  length 4 SIZE along z, 2 RES vertices around and 4 RES segments along)\n"
                "  SCENE (glTF only): one (default), two (two instances under transformed nodes),\n"
                "  one+attributes or two+attributes (with TEXCOORD_0 and COLOR_0)\n"
                "       sss-genmesh subdivide N IN OUT.ply|OUT.gltf|OUT.glb\n"

@@ -1,0 +1,27 @@
+/* pose.h: sss-view --scene S.json --time T --offscreen with no .sss file
+ * (docs/deformable.md §4): one pose of a scene's deforming object, its q
+ * from the object-space per-frame path (sss/perframe.h), drawn by the
+ * renderer as any q is drawn. */
+#ifndef SSS_VIEW_POSE_H
+#define SSS_VIEW_POSE_H
+
+#include "sss/fileio.h"
+#include "sss/render.h"
+
+typedef struct sss_pose_view {
+    const char *tool;
+    const char *scene;      /* S.json */
+    double time;            /* seconds */
+    const char *out;        /* IMG.png|IMG.exr */
+    int width, height;
+    int exposure_given;     /* else 1 / the material's flat-slab q */
+    const sss_inputs *inputs;
+} sss_pose_view;
+
+/* Renders the scene's one object at time v->time into v->out with the
+ * view parameters p (its camera from the scene). Returns the exit status
+ * (0; 1 after a failure; 2 for a scene it cannot draw), messages on stderr
+ * in one line each. */
+int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p);
+
+#endif
