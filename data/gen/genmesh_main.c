@@ -22,7 +22,8 @@ static void usage(FILE *f)
                "  default 1 (pair: a sphere of radius SIZE and one of 250 SIZE, far apart; tube: radius SIZE/2,\n"
                "  length 4 SIZE along z, 2 RES vertices around and 4 RES segments along)\n"
                "  SCENE (glTF only): one (default), two (two instances under transformed nodes),\n"
-               "  one+attributes or two+attributes (with TEXCOORD_0 and COLOR_0)\n"
+               "  one+attributes or two+attributes (with TEXCOORD_0 and COLOR_0), or skin (a two-bone rig along z\n"
+               "  with JOINTS_0, WEIGHTS_0 and a clip 'bend': sss-genmesh tube 8 tube.gltf 0.25 skin)\n"
                "       sss-genmesh subdivide N IN OUT.ply|OUT.gltf|OUT.glb\n"
                "  every triangle of the mesh IN (any format sss-bake reads) cut into N x N, each edge into N\n"
                "  equal segments: the midpoint subdivision for N = 2, the shape unchanged\n");
@@ -43,8 +44,9 @@ static int parse_args(int argc, char **argv, genmesh_args *a)
     a->res = 0;
     a->size = 1.0;
     a->scene = 0;
-    static const char *const scenes[] = {"one", "two", "one+attributes", "two+attributes", NULL};
-    static const int scene_flags[] = {0, SSS_GLTF_TWO_NODES, SSS_GLTF_ATTRIBUTES, SSS_GLTF_TWO_NODES | SSS_GLTF_ATTRIBUTES};
+    static const char *const scenes[] = {"one", "two", "one+attributes", "two+attributes", "skin", NULL};
+    static const int scene_flags[] = {0, SSS_GLTF_TWO_NODES, SSS_GLTF_ATTRIBUTES, SSS_GLTF_TWO_NODES | SSS_GLTF_ATTRIBUTES,
+                                      SSS_GLTF_SKIN};
     int npos = 0;
     /* Only positionals, read as strtol and strtod read them (SSS_CLI_LAX):
      * an empty RES is 0 and a SIZE may be infinite, as they always were. */

@@ -71,6 +71,9 @@ typedef struct gltf {
     /* the arrays' items by index (cJSON arrays are lists: walking one per
      * look-up would be quadratic in a hostile file) */
     cJSON **views, **accs, **nodes, **meshes, **buffers;
+    /* per mesh: the fewest joints of the skins nodes give it (-1: none),
+     * and one such skin (docs/deformable.md §5) */
+    int *mesh_joints, *mesh_skin;
 } gltf;
 
 /* An accessor, checked: element e component c is at
@@ -376,6 +379,106 @@ static sss_result get_attr(gltf *g, const cJSON *attrs, const char *key, const c
     return SSS_OK;
 }
 
+/* A skinned primitive's JOINTS_0 and WEIGHTS_0 (glTF 2.0 §3.7.3.3;
+ * docs/deformable.md §5): both or neither; as many elements as POSITION;
+ * joints VEC4 of unsigned byte or short naming joints the mesh's skin has;
+ * weights VEC4 of float or normalised unsigned byte or short, each finite
+ * and ≥ 0, summing to 1 within 10⁻³ (the linear blend of the joints'
+ * transforms is a weighted mean). The rig is checked, not yet applied: the
+ * canonical file holds the rest pose (docs/deformable.md §6). */
+static sss_result check_skin(gltf *g, int m, const cJSON *attrs, const char *what, ull nv)
+{
+    const int hj = cJSON_GetObjectItemCaseSensitive(attrs, "JOINTS_0") != NULL,
+              hw = cJSON_GetObjectItemCaseSensitive(attrs, "WEIGHTS_0") != NULL;
+    if (!hj && !hw) return SSS_OK;
+    if (!hj || !hw) return bad(g, "%s: %s without %s", what, hj ? "JOINTS_0" : "WEIGHTS_0", hj ? "WEIGHTS_0" : "JOINTS_0");
+    char w2[96];
+    snprintf(w2, sizeof w2, "%s: JOINTS_0", what);
+    long long ij = get_index(g, attrs, "JOINTS_0", g->nacc, 0, w2, "accessor");
+    snprintf(w2, sizeof w2, "%s: WEIGHTS_0", what);
+    long long iw = get_index(g, attrs, "WEIGHTS_0", g->nacc, 0, w2, "accessor");
+    if (ij < 0 || iw < 0) return SSS_ERR_FORMAT;
+    acc j, w;
+    sss_result r = get_acc(g, (int)ij, &j);
+    if (r == SSS_OK) r = get_acc(g, (int)iw, &w);
+    if (r != SSS_OK) return r;
+    if (j.ncomp != 4 || j.normalized || (j.ctype != C_UBYTE && j.ctype != C_USHORT))
+        return bad(g, "accessor %lld: JOINTS_0 must be VEC4 of unsigned byte or short", ij);
+    if (w.ncomp != 4 || !(w.ctype == C_FLOAT || ((w.ctype == C_UBYTE || w.ctype == C_USHORT) && w.normalized)))
+        return bad(g, "accessor %lld: WEIGHTS_0 must be VEC4 of float or normalised unsigned byte/short", iw);
+    if (j.count != nv) return bad(g, "accessor %lld: JOINTS_0 has %llu elements, POSITION has %llu", ij, j.count, nv);
+    if (w.count != nv) return bad(g, "accessor %lld: WEIGHTS_0 has %llu elements, POSITION has %llu", iw, w.count, nv);
+    const int nj = g->mesh_joints[m];
+    if (nj < 0) return bad(g, "%s: JOINTS_0 but no node gives mesh %d a skin", what, m);
+    for (ull e = 0; e < nv; e++) {
+        double sum = 0;
+        for (int c = 0; c < 4; c++) {
+            const float x = acc_float(&w, e, c);
+            if (!isfinite(x) || x < 0)
+                return bad(g, "accessor %lld: WEIGHTS_0 of vertex %llu: weight %d is %g (finite and >= 0 expected)", iw,
+                           e, c, x);
+            sum += x;
+            const unsigned char *p = j.base + e * j.stride + (ull)c * (ull)j.csize;
+            const ull k = rd_uint(p, (size_t)j.csize, 0);
+            if (k >= (ull)nj)
+                return bad(g, "accessor %lld: JOINTS_0 of vertex %llu names joint %llu, but skin %d has %d joints", ij,
+                           e, k, g->mesh_skin[m], nj);
+        }
+        if (!(fabs(sum - 1.0) <= 1e-3))
+            return bad(g, "accessor %lld: WEIGHTS_0 of vertex %llu sum to %.6g, not 1", iw, e, sum);
+    }
+    return SSS_OK;
+}
+
+static sss_result skin_rows(gltf *g, cJSON **skins, int nskin);
+
+/* The joint counts of the skins nodes give each mesh (gltf.mesh_joints):
+ * skins' joints must be nodes of the file. */
+static sss_result skin_joints(gltf *g)
+{
+    int failed = 0, nskin = 0;
+    cJSON *skins = get_array(g, g->root, "skins", &nskin, &failed);
+    if (failed) return SSS_ERR_FORMAT;
+    cJSON **sk_items = items(skins, nskin); /* by index: no list walk per node */
+    if (!sk_items) return sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory", g->s->name);
+    sss_result r = skin_rows(g, sk_items, nskin);
+    free(sk_items);
+    return r;
+}
+
+static sss_result skin_rows(gltf *g, cJSON **skins, int nskin)
+{
+    int failed = 0;
+    for (int m = 0; m < g->nmesh; m++) g->mesh_joints[m] = -1, g->mesh_skin[m] = -1;
+    for (int n = 0; n < g->nnode; n++) {
+        const cJSON *o = g->nodes[n];
+        if (!cJSON_IsObject(o) || !cJSON_GetObjectItemCaseSensitive(o, "skin")) continue;
+        char what[32];
+        snprintf(what, sizeof what, "node %d", n);
+        long long sk = get_index(g, o, "skin", nskin, 0, what, "skin");
+        long long m = cJSON_GetObjectItemCaseSensitive(o, "mesh") ? get_index(g, o, "mesh", g->nmesh, 0, what, "mesh")
+                                                                 : -2;
+        if (sk < 0 || m == -1) return SSS_ERR_FORMAT;
+        const cJSON *so = skins[sk];
+        char swhat[32];
+        snprintf(swhat, sizeof swhat, "skin %lld", sk);
+        int nj = 0;
+        cJSON *joints = cJSON_IsObject(so) ? get_array(g, so, "joints", &nj, &failed) : NULL;
+        if (failed) return SSS_ERR_FORMAT;
+        if (!joints || nj == 0) return bad(g, "%s: no 'joints'", swhat);
+        int k = 0;
+        const cJSON *jn;
+        cJSON_ArrayForEach(jn, joints) {
+            if (!cJSON_IsNumber(jn) || jn->valuedouble != floor(jn->valuedouble) || jn->valuedouble < 0 ||
+                jn->valuedouble >= g->nnode)
+                return bad(g, "%s: joint %d is not a node of the file's %d", swhat, k, g->nnode);
+            k++;
+        }
+        if (m >= 0 && (g->mesh_joints[m] < 0 || nj < g->mesh_joints[m])) g->mesh_joints[m] = nj, g->mesh_skin[m] = (int)sk;
+    }
+    return SSS_OK;
+}
+
 /* Checks primitive p of mesh m; *skip when it has no surface (points or
  * lines). */
 static sss_result get_prim(gltf *g, int m, int p, const cJSON *o, prim *pr, int *skip)
@@ -409,6 +512,7 @@ static sss_result get_prim(gltf *g, int m, int p, const cJSON *o, prim *pr, int 
                 return bad(g, "accessor %lld: element %llu: coordinate is not finite", pi, e);
     if ((r = get_attr(g, attrs, "TEXCOORD_0", what, pr->nv, &pr->uv, &pr->has_uv)) != SSS_OK) return r;
     if ((r = get_attr(g, attrs, "COLOR_0", what, pr->nv, &pr->col, &pr->has_col)) != SSS_OK) return r;
+    if ((r = check_skin(g, m, attrs, what, pr->nv)) != SSS_OK) return r;
     if (cJSON_GetObjectItemCaseSensitive(o, "indices")) {
         long long ii = get_index(g, o, "indices", g->nacc, 0, what, "accessor");
         if (ii < 0) return SSS_ERR_FORMAT;
@@ -742,6 +846,7 @@ static void gltf_free(gltf *g)
     for (int i = 0; g->buf && i < g->nbuf; i++) free(g->buf[i].own);
     free(g->buf);
     free(g->buffers); free(g->views); free(g->accs); free(g->nodes); free(g->meshes);
+    free(g->mesh_joints); free(g->mesh_skin);
     cJSON_Delete(g->root);
 }
 
@@ -800,6 +905,10 @@ static sss_result scan(gltf *g, expect *ex)
     blob b = {0};
     if (!g->buf || !vert || !tri || !canon || !parent || !out)
         r = sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory", s->name);
+    g->mesh_joints = malloc(((size_t)g->nmesh + 1) * sizeof *g->mesh_joints);
+    g->mesh_skin = malloc(((size_t)g->nmesh + 1) * sizeof *g->mesh_skin);
+    if (r == SSS_OK && (!g->mesh_joints || !g->mesh_skin)) r = sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory", s->name);
+    if (r == SSS_OK) r = skin_joints(g);
     if (r == SSS_OK) {
         cJSON *a = cJSON_AddObjectToObject(out, "asset");
         cJSON_AddStringToObject(a, "version", "2.0");
