@@ -76,12 +76,13 @@ int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
         sss_cli_printf(stderr, "%s: out of memory for %u vertices\n", T, nv);
         goto done;
     }
-    /* the bake's defaults: hat weights unless the scene asks for the
-     * paper's, and the tree gather (within 2e-3 of the direct sum,
-     * docs/deformable.md §3) */
+    /* the paper's point weights unless the scene asks for hat weights,
+     * whose corrections cost 30x the rest of a frame on the 100K dragon,
+     * and the tree gather (within 2e-3 of the direct sum; both measured in
+     * docs/deformable.md §3, §7) */
     sss_perframe_options po = {.mode = SSS_PERFRAME_TREE,
-                               .weights = sc.bake.weights == SSS_SCENE_WEIGHTS_POINT ? SSS_WEIGHTS_POINT
-                                                                                     : SSS_WEIGHTS_HAT,
+                               .weights = sc.bake.weights == SSS_SCENE_WEIGHTS_HAT ? SSS_WEIGHTS_HAT
+                                                                                   : SSS_WEIGHTS_POINT,
                                .eps = sc.bake.eps};
     const double mpw = sss_scene_object_mm_per_world_unit(o);
     const double t0 = sss_now();
@@ -126,9 +127,10 @@ int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
         goto done;
     }
     sss_cli_printf(stderr, "%s: %s: %dx%d, %s, '%s' at t = %g s (%s, theta %.4g deg), %u vertices, q per frame on "
-                   "the CPU (tree gather) in %.3f s\n", T, v->out, v->width, v->height, sss_gl_renderer_name(),
-                   o->name, v->time, sss_deform_kind_name(o->deform.kind),
-                   sss_deform_angle(&o->deform, v->time) * 180.0 / SSS_PI, nv, tq);
+                   "the CPU (tree gather, %s weights) in %.3f s\n", T, v->out, v->width, v->height,
+                   sss_gl_renderer_name(), o->name, v->time, sss_deform_kind_name(o->deform.kind),
+                   sss_deform_angle(&o->deform, v->time) * 180.0 / SSS_PI, nv,
+                   po.weights == SSS_WEIGHTS_HAT ? "hat" : "point", tq);
     rc = 0;
 done:
     free(rgb);
