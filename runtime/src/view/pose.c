@@ -64,6 +64,7 @@ int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
         sss_cli_printf(stderr, "%s: %s: /objects/0/mesh: %s\n", T, v->scene, err.msg);
         goto done;
     }
+    const double tp0 = sss_now();
     if (sss_deform_pose(&o->deform, v->time, &rest, o->name, &posed, &err) != SSS_OK ||
         sss_scene_object_world(o, &posed, &world, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s: /objects/0: %s\n", T, v->scene, err.msg);
@@ -86,6 +87,7 @@ int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
                                .eps = sc.bake.eps};
     const double mpw = sss_scene_object_mm_per_world_unit(o);
     const double t0 = sss_now();
+    const double t_pose = t0 - tp0;
     for (uint32_t l = 0; l < sc.nlights; l++) {
         const sss_scene_light *L = &sc.lights[l];
         if (L->kind != SSS_LIGHT_DIRECTIONAL || L->intensity == 0.0) continue;
@@ -120,17 +122,18 @@ int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
         p->exposure = qs > 0.0 && isfinite(1.0 / qs) ? 1.0 / qs : 1.0;
     }
     sss_scene_camera_params(&sc, &f, p);
+    double td = 0;
     if (sss_offscreen_create(&ctx, &err) != SSS_OK || sss_renderer_create(&f, &r, &err) != SSS_OK ||
-        sss_renderer_render_q_image(r, p, q, v->width, v->height, &rgb, &hdr, &err) != SSS_OK ||
-        sss_write_image_with(v->out, rgb, hdr, v->width, v->height, v->inputs, &err) != SSS_OK) {
+        (td = sss_now(), sss_renderer_render_q_image(r, p, q, v->width, v->height, &rgb, &hdr, &err)) != SSS_OK ||
+        (td = sss_now() - td, sss_write_image_with(v->out, rgb, hdr, v->width, v->height, v->inputs, &err)) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s\n", T, err.msg);
         goto done;
     }
     sss_cli_printf(stderr, "%s: %s: %dx%d, %s, '%s' at t = %g s (%s, theta %.4g deg), %u vertices, q per frame on "
-                   "the CPU (tree gather, %s weights) in %.3f s\n", T, v->out, v->width, v->height,
-                   sss_gl_renderer_name(), o->name, v->time, sss_deform_kind_name(o->deform.kind),
+                   "the CPU (tree gather, %s weights) in %.3f s; pose %.3f s, draw %.3f s\n", T, v->out, v->width,
+                   v->height, sss_gl_renderer_name(), o->name, v->time, sss_deform_kind_name(o->deform.kind),
                    sss_deform_angle(&o->deform, v->time) * 180.0 / SSS_PI, nv,
-                   po.weights == SSS_WEIGHTS_HAT ? "hat" : "point", tq);
+                   po.weights == SSS_WEIGHTS_HAT ? "hat" : "point", tq, t_pose, td);
     rc = 0;
 done:
     free(rgb);
