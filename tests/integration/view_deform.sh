@@ -39,7 +39,7 @@ expect_fail "static.json: /objects/0: 'tube' does not deform: bake it" \
 sed 's/"objects": \[/"objects": [{"name": "b", "mesh": "tube.ply", "material": "skin1"}, /' "$TMP/d90.json" > "$TMP/two.json"
 expect_fail "two.json: /objects: 2 objects" VIEW --scene "$TMP/two.json" --offscreen --out "$TMP/x.png"
 [ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "message should be one line"
-expect_fail "draws one pose offscreen" VIEW --scene "$TMP/d90.json" --time 1
+expect_fail "draws one pose offscreen with --out" VIEW --scene "$TMP/d90.json" --time 1 --offscreen --bench 3
 expect_fail "--time poses a deforming object" VIEW "$TMP/tube.sss" --scene "$TMP/static.json" --time 1 --offscreen --out "$TMP/x.png"
 expect_fail "missing FILE.sss" VIEW --offscreen --out "$TMP/x.png"
 [ ! -e "$TMP/x.png" ] || fail "x.png written by a refused command"

@@ -236,6 +236,14 @@ sss_result sss_renderer_render_image(sss_renderer *r, const sss_view_params *p, 
  * as the file's decoder returns it. */
 void sss_renderer_upload_q(sss_renderer *r, const float *q);
 
+/* Uploads the positions and normals of the file r was created with again,
+ * after the caller changed them in place (same vertex and triangle counts):
+ * a deforming object's pose (docs/deformable.md §4). The surface terms'
+ * shadow map is made again on the next draw; the camera's centre and
+ * radius stay those of the first shape. Files with OWNT are not supported
+ * (their near-term BVH is built once). */
+void sss_renderer_update_geometry(sss_renderer *r);
+
 /* sss_renderer_render_image with the per-vertex q supplied (uploaded with
  * sss_renderer_upload_q) instead of evaluated from the file; for a file with
  * OWNT the near terms for p->light are added when p->near_terms is set.

@@ -12,6 +12,7 @@
 
 #include "effects/effects.h"
 #include "renderer.h"
+#include "shadow.h"
 
 /* The mesh's geometry and the per-vertex q buffer. */
 static void mesh_upload(sss_gpu_mesh *m)
@@ -234,6 +235,18 @@ void sss_storage_describe(const sss_bake_file *f, char *buf, size_t n)
         /* the vector integrals Q are what is drawn (section QVEC) */
         snprintf(buf, n, "%s%s", q, f->qvec ? " + vector Q (drawn)" : "");
     }
+}
+
+void sss_renderer_update_geometry(sss_renderer *r)
+{
+    const sss_gpu_mesh *m = &r->mesh;
+    glBindBuffer(GL_ARRAY_BUFFER, m->vbo_pos);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)m->nv * 3 * sizeof(float), m->f->mesh.pos);
+    glBindBuffer(GL_ARRAY_BUFFER, m->vbo_nrm);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)m->nv * 3 * sizeof(float), m->f->mesh.nrm);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    /* the surface terms' shadow map was rendered from the old shape */
+    if (r->draw.shadow) sss_shadow_invalidate(r->draw.shadow);
 }
 
 void sss_renderer_upload_q(sss_renderer *r, const float *q)

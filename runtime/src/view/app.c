@@ -48,6 +48,8 @@ const char *sss_app_controls_help =
     "  T                             toggle tone map clamp / Reinhard\n"
     "  R                             reset camera and light (direction and intensity)\n"
     "  P                             save a screenshot PNG (--screenshot FILE, else sss-view-NNN.png)\n"
+    "  space                         pause / play the scene's time (moving lights, a deforming object)\n"
+    "  . / ,                         step the time by +1/30 s / -1/30 s (and pause)\n"
     "  H                             toggle the overlay\n"
     "  G                             toggle the panel (light, exposure, effects, frame times, the file)\n"
     "  Esc, Q                        quit\n";
@@ -71,6 +73,10 @@ typedef struct app {
     int show_panel;
     int want_shot;     /* 'P' seen: save after the next frame is drawn */
     double last_t;     /* start of the previous frame, seconds */
+    /* the time the frame callbacks get: runs with the wall clock unless
+     * paused (space); '.' and ',' step it by 1/30 s (docs/deformable.md §4) */
+    double clock;
+    int paused;
     double frame_ms, scatter_ms, draw_ms, near_ms; /* smoothed for a readable overlay */
     int frames;
 } app;
@@ -195,6 +201,9 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
         a->p.distance = a->initial.distance;
         break;
     case GLFW_KEY_P: a->want_shot = 1; break;
+    case GLFW_KEY_SPACE: a->paused = !a->paused; break;
+    case GLFW_KEY_PERIOD: a->paused = 1, a->clock += 1.0 / 30.0; break;
+    case GLFW_KEY_COMMA: a->paused = 1, a->clock -= 1.0 / 30.0; break;
     case GLFW_KEY_H: a->overlay = !a->overlay; break;
     case GLFW_KEY_G: a->show_panel = !a->show_panel; break;
     case GLFW_KEY_ESCAPE:
@@ -496,6 +505,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
             continue;
         }
         double t = glfwGetTime();
+        if (!a.paused && a.last_t > 0) a.clock += t - a.last_t;
         pinfo.frame_ms = a.last_t > 0 ? 1e3 * (t - a.last_t) : 0.0;
         if (a.last_t > 0) a.frame_ms = smooth(a.frame_ms, pinfo.frame_ms, a.frame_ms == 0);
         a.last_t = t;
@@ -514,11 +524,11 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
         if (a.panel) sss_panel_frame(a.panel, a.show_panel, &a.p, &pinfo);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         sss_view_params dp = a.p;
-        if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, &a.p, a.r, t)) != NULL) {
+        if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, &a.p, a.r, a.clock)) != NULL) {
             /* the scene's lights summed on the GPU, straight into q */
             dp.near_terms = 0; /* the sum holds each light's near terms */
         } else if (scene_q) {
-            opt->frame_q(opt->user, &a.p, t, scene_q);
+            opt->frame_q(opt->user, &a.p, a.clock, scene_q);
             sss_renderer_upload_q(a.r, scene_q);
             dp.near_terms = 0; /* the sum holds each light's near terms */
         } else {

@@ -31,7 +31,7 @@ static void usage(FILE *f)
     fprintf(f,
         "usage: sss-view FILE.sss [options]\n"
         "       sss-view FILE.sss --offscreen --out IMG.png|IMG.exr [--size WxH] [--light X,Y,Z] [--view X,Y,Z] [--exposure E]\n"
-        "       sss-view --scene S.json [--time T] --offscreen --out IMG.png|IMG.exr   (a deforming object, no file)\n"
+        "       sss-view --scene S.json [--time T] [--offscreen --out IMG.png|IMG.exr]   (a deforming object, no file)\n"
         "Shows a baked translucent mesh: every frame reconstructs each vertex's scattering q for the\n"
         "light direction (GPU compute shader by default, or the CPU decoder) and shades\n"
         "L = E q F_t(eta, n.w_o) + the surface terms, shadowed. Any storage form: float, lloyd8, and the\n"
@@ -77,8 +77,8 @@ static void usage(FILE *f)
         "  --bench N            offscreen: time N frames and print JSON timings on stdout\n"
         "  --scene S.json       the scene's lights (summed, each from the effect the file records)\n"
         "                       and camera instead of --light/--view (docs/scenes.md)\n"
-        "  --time T             without FILE.sss: the pose of the scene's deforming object at T seconds,\n"
-        "                       its q evaluated on the CPU (docs/deformable.md)\n"
+        "  --time T             without FILE.sss: the pose of the scene's deforming object at T seconds\n"
+        "                       (the window starts there and plays), q evaluated on the CPU (docs/deformable.md)\n"
         "  -h, --help           this text\n\n"
         "window controls:\n%s",
         sss_app_controls_help);
@@ -182,9 +182,9 @@ static int parse(int argc, char **argv, view_args *a)
         sss_cli_printf(stderr, "%s: missing FILE.sss (see --help)\n", TOOL);
         return 2;
     }
-    if (!a->path && !(a->offscreen && a->out)) {
-        sss_cli_printf(stderr, "%s: --scene without FILE.sss draws one pose offscreen: add --offscreen --out IMG.png "
-                       "(the window does not play deforming objects yet, docs/deformable.md)\n", TOOL);
+    if (!a->path && a->offscreen && (a->nbench || !a->out)) {
+        sss_cli_printf(stderr, "%s: --scene without FILE.sss draws one pose offscreen with --out IMG.png (not "
+                       "--bench)\n", TOOL);
         return 2;
     }
     if (a->path && a->time_given) {
@@ -610,8 +610,9 @@ int main(int argc, char **argv)
             sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
             return 1;
         }
-        sss_pose_view pv = {TOOL, a.scene, a.time, a.out, a.size[0], a.size[1], a.exposure_given, &a.inputs};
-        return sss_pose_offscreen(&pv, &a.p);
+        sss_pose_view pv = {TOOL, a.scene, a.time, a.out, a.shot, a.size[0], a.size[1], a.exposure_given, &a.inputs};
+        if (!a.offscreen) a.p.background[0] = a.p.background[1] = a.p.background[2] = 0.02f; /* as window() */
+        return a.offscreen ? sss_pose_offscreen(&pv, &a.p) : sss_pose_window(&pv, &a.p);
     }
     a.input[0] = a.path;
     a.input[1] = a.scene;

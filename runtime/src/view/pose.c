@@ -1,13 +1,15 @@
-/* pose.c: one pose of a deforming scene object drawn offscreen without a
- * .sss file (docs/deformable.md §4). The mesh is imported, posed at time t
- * (sss/deform.h) and placed (sss_scene_object_world); q of every
+/* pose.c: a deforming scene object drawn without a .sss file
+ * (docs/deformable.md §4). The mesh is imported once, then for each time t
+ * posed (sss/deform.h) and placed (sss_scene_object_world); q of every
  * directional light comes from the object-space per-frame path
  * (sss/perframe.h, Hao–Varshney 2004 §2.3's run-time mode), summed with
  * each light's intensity × colour as the scene's lights are summed for a
- * file (scene_view.c), and handed to the renderer as q computed elsewhere
- * (sss_renderer_render_q_image). sss-view is a tool, so like sss-stat it
- * links the precompute library for the importer and the per-frame path
- * (docs/architecture.md §1); the render library does not.
+ * file (scene_view.c), and handed to the renderer as q computed elsewhere.
+ * One pose offscreen (sss_pose_offscreen), or the window playing time
+ * (sss_pose_window: the app's clock, space pauses, '.' and ',' step).
+ * sss-view is a tool, so like sss-stat it links the precompute library for
+ * the importer and the per-frame path (docs/architecture.md §1); the
+ * render library does not.
  */
 #include "pose.h"
 
@@ -16,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app.h"
 #include "sss/cli.h"
 #include "sss/clock.h"
 #include "sss/deform.h"
@@ -24,127 +27,224 @@
 #include "sss/scene.h"
 #include "sss/vec3.h"
 
-int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
-{
-    const char *T = v->tool;
-    sss_error err = {{0}};
+/* The scene, its object's rest mesh, the file the renderer draws (its mesh
+ * is the pose, updated in place) and the frame's q. */
+typedef struct pose_state {
+    const sss_pose_view *v;
     sss_scene sc;
-    if (sss_scene_load(v->scene, &sc, &err) != SSS_OK) {
-        sss_cli_printf(stderr, "%s: %s\n", T, err.msg);
-        return 2;
-    }
-    int rc = 2;
-    sss_mesh rest = {0}, posed = {0}, world = {0};
-    float *q = NULL, *ql = NULL, *rgb = NULL, *hdr = NULL;
-    sss_offscreen *ctx = NULL;
-    sss_renderer *r = NULL;
-    /* one object: the renderer draws one mesh (docs/deformable.md §6) */
-    if (sc.nobjects != 1) {
-        sss_cli_printf(stderr, "%s: %s: /objects: %u objects: without a .sss file sss-view draws a scene of one "
-                       "deforming object\n", T, v->scene, sc.nobjects);
-        goto done;
-    }
-    const sss_scene_object *o = &sc.objects[0];
-    /* a static object is drawn from its bake, which holds what this path
-     * would recompute every frame */
-    if (o->deform.kind == SSS_DEFORM_NONE) {
-        sss_cli_printf(stderr, "%s: %s: /objects/0: '%s' does not deform: bake it (sss-bake --scene %s -o DIR) and "
-                       "draw DIR/%s.sss\n", T, v->scene, o->name, v->scene, o->name);
-        goto done;
-    }
-    uint32_t ndir = 0;
-    for (uint32_t l = 0; l < sc.nlights; l++) ndir += sc.lights[l].kind == SSS_LIGHT_DIRECTIONAL;
-    if (!ndir) {
-        sss_cli_printf(stderr, "%s: %s: /lights: no directional light: the per-frame path takes directional lights "
-                       "only\n", T, v->scene);
-        goto done;
-    }
-    rc = 1;
-    if (sss_import_mesh(o->mesh, &rest, NULL, &err) != SSS_OK) {
-        sss_cli_printf(stderr, "%s: %s: /objects/0/mesh: %s\n", T, v->scene, err.msg);
-        goto done;
-    }
+    sss_mesh rest;
+    sss_bake_file f;
+    float *q, *ql;
+    uint32_t C;
+    sss_perframe_options po;
+    double t_pose, t_q; /* seconds of the last frame's stages */
+    double shown_t;     /* the time f and q hold (window: NAN before the first) */
+    char desc[160];
+} pose_state;
+
+static void state_free(pose_state *s)
+{
+    free(s->q);
+    free(s->ql);
+    sss_mesh_free(&s->rest);
+    sss_mesh_free(&s->f.mesh);
+    sss_scene_free(&s->sc);
+}
+
+/* The pose at time t into s->f.mesh (positions, normals, areas) and its q
+ * into s->q. 0, or 1 after a message. */
+static int pose_frame(pose_state *s, double t)
+{
+    const char *T = s->v->tool;
+    const sss_scene_object *o = &s->sc.objects[0];
+    sss_error err = {{0}};
+    sss_mesh posed = {0}, world = {0};
     const double tp0 = sss_now();
-    if (sss_deform_pose(&o->deform, v->time, &rest, o->name, &posed, &err) != SSS_OK ||
+    if (sss_deform_pose(&o->deform, t, &s->rest, o->name, &posed, &err) != SSS_OK ||
         sss_scene_object_world(o, &posed, &world, &err) != SSS_OK) {
-        sss_cli_printf(stderr, "%s: %s: /objects/0: %s\n", T, v->scene, err.msg);
-        goto done;
+        sss_mesh_free(&posed);
+        sss_cli_printf(stderr, "%s: %s: /objects/0: %s\n", T, s->v->scene, err.msg);
+        return 1;
     }
-    const uint32_t C = sss_material_channels(&o->material), nv = world.nv;
-    q = calloc((size_t)nv * C, sizeof *q);
-    ql = malloc((size_t)nv * C * sizeof *ql);
-    if (!q || !ql) {
-        sss_cli_printf(stderr, "%s: out of memory for %u vertices\n", T, nv);
-        goto done;
+    sss_mesh_free(&posed);
+    if (s->f.mesh.pos) { /* the renderer's file keeps its arrays: the pose is copied in */
+        memcpy(s->f.mesh.pos, world.pos, 3 * (size_t)world.nv * sizeof(float));
+        memcpy(s->f.mesh.nrm, world.nrm, 3 * (size_t)world.nv * sizeof(float));
+        memcpy(s->f.mesh.area, world.area, (size_t)world.nv * sizeof(double));
+        sss_mesh_free(&world);
+    } else {
+        s->f.mesh = world;
     }
-    /* the paper's point weights unless the scene asks for hat weights,
-     * whose corrections cost 30x the rest of a frame on the 100K dragon,
-     * and the tree gather (within 2e-3 of the direct sum; both measured in
-     * docs/deformable.md §3, §7) */
-    sss_perframe_options po = {.mode = SSS_PERFRAME_TREE,
-                               .weights = sc.bake.weights == SSS_SCENE_WEIGHTS_HAT ? SSS_WEIGHTS_HAT
-                                                                                   : SSS_WEIGHTS_POINT,
-                               .eps = sc.bake.eps};
-    const double mpw = sss_scene_object_mm_per_world_unit(o);
     const double t0 = sss_now();
-    const double t_pose = t0 - tp0;
-    for (uint32_t l = 0; l < sc.nlights; l++) {
-        const sss_scene_light *L = &sc.lights[l];
+    s->t_pose = t0 - tp0;
+    const uint32_t nv = s->f.mesh.nv, C = s->C;
+    memset(s->q, 0, (size_t)nv * C * sizeof *s->q);
+    const double mpw = sss_scene_object_mm_per_world_unit(o);
+    for (uint32_t l = 0; l < s->sc.nlights; l++) {
+        const sss_scene_light *L = &s->sc.lights[l];
         if (L->kind != SSS_LIGHT_DIRECTIONAL || L->intensity == 0.0) continue;
-        if (sss_perframe_q(&world, &o->material, C, mpw, L->direction, &po, ql, NULL, &err) != SSS_OK) {
-            sss_cli_printf(stderr, "%s: %s: /objects/0: %s\n", T, v->scene, err.msg);
-            goto done;
+        if (sss_perframe_q(&s->f.mesh, &o->material, C, mpw, L->direction, &s->po, s->ql, NULL, &err) != SSS_OK) {
+            sss_cli_printf(stderr, "%s: %s: /objects/0: %s\n", T, s->v->scene, err.msg);
+            return 1;
         }
         /* a grey object has one value per vertex: coloured lights add up
          * with their mean colour (docs/scenes.md), as for a file */
         double w[3];
         for (int k = 0; k < 3; k++) w[k] = L->intensity * L->colour[k];
         if (C == 1) w[0] = (w[0] + w[1] + w[2]) / 3.0;
-        for (size_t i = 0; i < (size_t)nv * C; i++) q[i] += (float)(w[i % C] * ql[i]);
+        for (size_t i = 0; i < (size_t)nv * C; i++) s->q[i] += (float)(w[i % C] * s->ql[i]);
     }
-    const double tq = sss_now() - t0;
+    s->t_q = sss_now() - t0;
+    s->shown_t = t;
+    return 0;
+}
+
+/* Loads and checks the scene, imports the rest mesh and makes the pose at
+ * v->time. Returns 0, or the exit status after a message (2: a scene it
+ * cannot draw; 1: a failure). */
+static int state_open(const sss_pose_view *v, pose_state *s)
+{
+    const char *T = v->tool;
+    memset(s, 0, sizeof *s);
+    s->v = v;
+    sss_error err = {{0}};
+    if (sss_scene_load(v->scene, &s->sc, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", T, err.msg);
+        return 2;
+    }
+    /* one object: the renderer draws one mesh (docs/deformable.md §6) */
+    if (s->sc.nobjects != 1) {
+        sss_cli_printf(stderr, "%s: %s: /objects: %u objects: without a .sss file sss-view draws a scene of one "
+                       "deforming object\n", T, v->scene, s->sc.nobjects);
+        return 2;
+    }
+    const sss_scene_object *o = &s->sc.objects[0];
+    /* a static object is drawn from its bake, which holds what this path
+     * would recompute every frame */
+    if (o->deform.kind == SSS_DEFORM_NONE) {
+        sss_cli_printf(stderr, "%s: %s: /objects/0: '%s' does not deform: bake it (sss-bake --scene %s -o DIR) and "
+                       "draw DIR/%s.sss\n", T, v->scene, o->name, v->scene, o->name);
+        return 2;
+    }
+    uint32_t ndir = 0;
+    for (uint32_t l = 0; l < s->sc.nlights; l++) ndir += s->sc.lights[l].kind == SSS_LIGHT_DIRECTIONAL;
+    if (!ndir) {
+        sss_cli_printf(stderr, "%s: %s: /lights: no directional light: the per-frame path takes directional lights "
+                       "only\n", T, v->scene);
+        return 2;
+    }
+    if (sss_import_mesh(o->mesh, &s->rest, NULL, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: /objects/0/mesh: %s\n", T, v->scene, err.msg);
+        return 1;
+    }
+    s->C = sss_material_channels(&o->material);
+    s->q = calloc((size_t)s->rest.nv * s->C, sizeof *s->q);
+    s->ql = malloc((size_t)s->rest.nv * s->C * sizeof *s->ql);
+    if (!s->q || !s->ql) {
+        sss_cli_printf(stderr, "%s: out of memory for %u vertices\n", T, s->rest.nv);
+        return 1;
+    }
+    /* the paper's point weights unless the scene asks for hat weights,
+     * whose corrections cost 30x the rest of a frame on the 100K dragon,
+     * and the tree gather (within 2e-3 of the direct sum; both measured in
+     * docs/deformable.md §3, §7) */
+    s->po = (sss_perframe_options){.mode = SSS_PERFRAME_TREE,
+                                   .weights = s->sc.bake.weights == SSS_SCENE_WEIGHTS_HAT ? SSS_WEIGHTS_HAT
+                                                                                          : SSS_WEIGHTS_POINT,
+                                   .eps = s->sc.bake.eps};
+    if (pose_frame(s, v->time) != 0) return 1;
     /* the renderer draws a file: this one holds the pose and the material,
      * and no stored rows (q is supplied) */
-    sss_bake_file f;
-    memset(&f, 0, sizeof f);
-    f.mesh = world;
-    f.material = o->material;
-    f.mm_per_unit = mpw;
-    f.channels = C;
-    f.quant = SSS_QUANT_FLOAT;
-    /* drawn as sss-view draws a scene's summed q from a file
-     * (sss_scene_render_image): q whole, E and the surface terms' light
-     * from the command line (--intensity, --light), so that the two images
-     * of one pose agree (view_deform) */
+    s->f.material = o->material;
+    s->f.mm_per_unit = sss_scene_object_mm_per_world_unit(o);
+    s->f.channels = s->C;
+    s->f.quant = SSS_QUANT_FLOAT;
+    return 0;
+}
+
+/* The view parameters as sss-view draws a scene's summed q from a file
+ * (sss_scene_render_image): q whole, E and the surface terms' light from
+ * the command line (--intensity, --light), the scene's camera. */
+static void view_params(pose_state *s, sss_view_params *p)
+{
     p->near_terms = 0;
-    if (!v->exposure_given) {
-        const double qs = sss_material_slab_q(&o->material, C);
+    if (!s->v->exposure_given) {
+        const double qs = sss_material_slab_q(&s->sc.objects[0].material, s->C);
         p->exposure = qs > 0.0 && isfinite(1.0 / qs) ? 1.0 / qs : 1.0;
     }
-    sss_scene_camera_params(&sc, &f, p);
+    sss_scene_camera_params(&s->sc, &s->f, p);
+}
+
+static const char *weights_name(const pose_state *s) { return s->po.weights == SSS_WEIGHTS_HAT ? "hat" : "point"; }
+
+int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
+{
+    const char *T = v->tool;
+    pose_state s;
+    int rc = state_open(v, &s);
+    if (rc != 0) {
+        state_free(&s);
+        return rc;
+    }
+    view_params(&s, p);
+    sss_error err = {{0}};
+    sss_offscreen *ctx = NULL;
+    sss_renderer *r = NULL;
+    float *rgb = NULL, *hdr = NULL;
     double td = 0;
-    if (sss_offscreen_create(&ctx, &err) != SSS_OK || sss_renderer_create(&f, &r, &err) != SSS_OK ||
-        (td = sss_now(), sss_renderer_render_q_image(r, p, q, v->width, v->height, &rgb, &hdr, &err)) != SSS_OK ||
+    rc = 1;
+    if (sss_offscreen_create(&ctx, &err) != SSS_OK || sss_renderer_create(&s.f, &r, &err) != SSS_OK ||
+        (td = sss_now(), sss_renderer_render_q_image(r, p, s.q, v->width, v->height, &rgb, &hdr, &err)) != SSS_OK ||
         (td = sss_now() - td, sss_write_image_with(v->out, rgb, hdr, v->width, v->height, v->inputs, &err)) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s\n", T, err.msg);
-        goto done;
+    } else {
+        const sss_deform *d = &s.sc.objects[0].deform;
+        sss_cli_printf(stderr, "%s: %s: %dx%d, %s, '%s' at t = %g s (%s, theta %.4g deg), %u vertices, q per frame on "
+                       "the CPU (tree gather, %s weights) in %.3f s; pose %.3f s, draw %.3f s\n", T, v->out, v->width,
+                       v->height, sss_gl_renderer_name(), s.sc.objects[0].name, v->time, sss_deform_kind_name(d->kind),
+                       sss_deform_angle(d, v->time) * 180.0 / SSS_PI, s.f.mesh.nv, weights_name(&s), s.t_q, s.t_pose,
+                       td);
+        rc = 0;
     }
-    sss_cli_printf(stderr, "%s: %s: %dx%d, %s, '%s' at t = %g s (%s, theta %.4g deg), %u vertices, q per frame on "
-                   "the CPU (tree gather, %s weights) in %.3f s; pose %.3f s, draw %.3f s\n", T, v->out, v->width,
-                   v->height, sss_gl_renderer_name(), o->name, v->time, sss_deform_kind_name(o->deform.kind),
-                   sss_deform_angle(&o->deform, v->time) * 180.0 / SSS_PI, nv,
-                   po.weights == SSS_WEIGHTS_HAT ? "hat" : "point", tq, t_pose, td);
-    rc = 0;
-done:
     free(rgb);
     free(hdr);
-    free(q);
-    free(ql);
     sss_renderer_destroy(r);
     sss_offscreen_destroy(ctx);
-    sss_mesh_free(&rest);
-    sss_mesh_free(&posed);
-    sss_mesh_free(&world);
-    sss_scene_free(&sc);
+    state_free(&s);
+    return rc;
+}
+
+/* The window's frame: the pose and q at the app's clock (recomputed only
+ * when it moved: a paused clock costs nothing), uploaded into the
+ * renderer (app.h's frame_gpu hook). */
+static const char *window_frame(void *user, const sss_view_params *p, sss_renderer *r, double t)
+{
+    (void)p;
+    pose_state *s = user;
+    if (!r) return NULL;
+    t += s->v->time; /* the clock starts at --time */
+    if (t != s->shown_t) {
+        if (pose_frame(s, t) != 0) return NULL;
+        sss_renderer_update_geometry(r);
+        const sss_deform *d = &s->sc.objects[0].deform;
+        snprintf(s->desc, sizeof s->desc, "t = %.2f s (%s %.3g deg): pose %.0f ms, q %.0f ms on the CPU", t,
+                 sss_deform_kind_name(d->kind), sss_deform_angle(d, t) * 180.0 / SSS_PI, 1e3 * s->t_pose,
+                 1e3 * s->t_q);
+    }
+    sss_renderer_upload_q(r, s->q);
+    return s->desc;
+}
+
+int sss_pose_window(const sss_pose_view *v, sss_view_params *p)
+{
+    pose_state s;
+    int rc = state_open(v, &s);
+    if (rc == 0) {
+        view_params(&s, p);
+        s.shown_t = NAN; /* the first frame uploads the pose */
+        sss_app_options ao = {v->scene, v->width, v->height, v->shot, NULL, &s, window_frame, NULL};
+        rc = sss_app_run(&s.f, p, &ao);
+    }
+    state_free(&s);
     return rc;
 }

@@ -1,7 +1,8 @@
-/* pose.h: sss-view --scene S.json --time T --offscreen with no .sss file
- * (docs/deformable.md §4): one pose of a scene's deforming object, its q
- * from the object-space per-frame path (sss/perframe.h), drawn by the
- * renderer as any q is drawn. */
+/* pose.h: sss-view --scene S.json [--time T] [--offscreen] with no .sss
+ * file (docs/deformable.md §4): a scene's deforming object posed at a time,
+ * its q from the object-space per-frame path (sss/perframe.h), drawn by
+ * the renderer as any q is drawn; one pose offscreen, or the window
+ * playing time. */
 #ifndef SSS_VIEW_POSE_H
 #define SSS_VIEW_POSE_H
 
@@ -12,7 +13,8 @@ typedef struct sss_pose_view {
     const char *tool;
     const char *scene;      /* S.json */
     double time;            /* seconds */
-    const char *out;        /* IMG.png|IMG.exr */
+    const char *out;        /* IMG.png|IMG.exr (offscreen) */
+    const char *shot;       /* --screenshot (window) */
     int width, height;
     int exposure_given;     /* else 1 / the material's flat-slab q */
     const sss_inputs *inputs;
@@ -23,5 +25,10 @@ typedef struct sss_pose_view {
  * (0; 1 after a failure; 2 for a scene it cannot draw), messages on stderr
  * in one line each. */
 int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p);
+
+/* The window (app.c) playing the scene's time from v->time: each frame the
+ * pose and q at the app's clock (space pauses, '.' and ',' step). Returns
+ * the exit status as sss_pose_offscreen does. */
+int sss_pose_window(const sss_pose_view *v, sss_view_params *p);
 
 #endif
