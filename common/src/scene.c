@@ -557,6 +557,18 @@ sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mes
     return r;
 }
 
+sss_result sss_scene_object_posed(const sss_scene_object *o, const sss_mesh *rest, double t, sss_mesh *out,
+                                  sss_error *err)
+{
+    sss_mesh posed;
+    memset(out, 0, sizeof *out);
+    sss_result r = sss_deform_pose(&o->deform, t, rest, o->name, &posed, err);
+    if (r != SSS_OK) return r;
+    r = sss_scene_object_world(o, &posed, out, err);
+    sss_mesh_free(&posed);
+    return r;
+}
+
 const char *sss_light_kind_name(sss_light_kind k)
 {
     switch (k) {

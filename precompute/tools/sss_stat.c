@@ -14,6 +14,7 @@
 
 #include "sss/cli.h"
 #include "image_error.h"
+#include "deform_error.h"
 #include "sss/render.h" /* SSS_SHADOW_SIZE, the viewer's default map */
 #include "sss/decode.h"
 #include "sss/vertex_error.h"
@@ -38,6 +39,7 @@ static void usage(FILE *f)
                "                [--image-size N] [--exposure E] [--error-images DIR] [--no-image]\n"
                "                [--image-visibility viewer|rays|map[:N]] [--backlit]\n"
                "                [--interp triangle|nearest4] [--no-vector]\n"
+               "       sss-stat --scene S.json --error [--time T] [--views N] [--seed S] [--json]\n"
                "       sss-stat FILE.sss --model-error --light X,Y,Z --view X,Y,Z [--query VERTEX | --vertices N]\n"
                "                [--paths N] [--seed S] [--exit jensen|normalised] [--json]\n"
                "Prints vertex count, channels, directions, storage, material, the bytes of every\n"
@@ -52,6 +54,10 @@ static void usage(FILE *f)
                "the value reconstructed from the stored data (interpolated between the three\n"
                "nearest direction samples, decoded from any storage form), and their difference\n"
                "(reconstructed - exact). Builds the neighbourhoods of the whole mesh first.\n"
+               "\n"
+               "--scene S.json --error [--time T]: for each deforming object of the scene (docs/deformable.md),\n"
+               "the per-vertex error of the q sss-view draws for its pose at T (default 0; the per-frame\n"
+               "path: tree gather) against the exact evaluator on that pose, at --views random lights.\n"
                "\n"
                "--error: per-vertex error of the stored data against that exact evaluator at N\n"
                "random light directions (--views, default 100; --seed, default 1), none on a\n"
@@ -941,6 +947,9 @@ typedef struct stat_args {
     int no_vector; /* --no-vector: measure q's rows of a file that holds Q too */
     int image_opt; /* given: --image-views, --image-size, --exposure, --error-images or --image-visibility */
     error_args ea; /* the image options; views, seed and interp join them for the run */
+    const char *scene; /* --scene S.json without FILE.sss: a deforming object's pose (deform_error.c) */
+    double time;       /* --time T */
+    int time_given;
 } stat_args;
 
 /* --image-visibility viewer|rays|map|map:N (N = 256 ... 8192); "viewer",
@@ -1002,11 +1011,13 @@ static int parse_args(int argc, char **argv, stat_args *a)
         {.name = "--paths", .kind = SSS_CLI_U32, .dest = &a->ma.paths, .lo = 1, .hi = 1u << 30, .given = &a->model_opt},
         {.name = "--exit", .kind = SSS_CLI_CHOICE, .dest = &a->ma.exit_normalised, .choices = exits,
          .given = &a->model_opt},
+        {.name = "--scene", .kind = SSS_CLI_STRING, .dest = &a->scene},
+        {.name = "--time", .kind = SSS_CLI_DOUBLE, .dest = &a->time, .lo = -1e9, .hi = 1e9, .given = &a->time_given},
     };
     const sss_cli_opt pos[] = {{.name = "FILE.sss", .kind = SSS_CLI_STRING, .dest = &a->path}};
     const sss_cli cli = {
         .tool = TOOL, .opts = opts, .nopts = SSS_CLI_COUNT(opts), .pos = pos, .npos = SSS_CLI_COUNT(pos),
-        .min_pos = 1, .usage = usage,
+        .min_pos = 0, .usage = usage,
         .need_msg = "%s: %s needs a value (see --help)\n",
         .extra_msg = "%s: unexpected argument '%s'\n",
         .missing_msg = "%s: missing FILE.sss (see --help)\n",
@@ -1081,6 +1092,23 @@ int main(int argc, char **argv)
     stat_args a;
     int rc = parse_args(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;
+    /* a deforming scene without a file (docs/deformable.md §4) */
+    if (a.path && (a.scene || a.time_given)) {
+        sss_cli_printf(stderr, "%s: --scene and --time measure a deforming scene without FILE.sss\n", TOOL);
+        return 2;
+    }
+    if (!a.path && !a.scene) {
+        sss_cli_printf(stderr, "%s: missing FILE.sss (see --help)\n", TOOL);
+        return 2;
+    }
+    if (!a.path) {
+        if (!a.want_error || a.qvertex || a.qlight || a.want_model || a.image_opt || a.interp || a.no_vector) {
+            sss_cli_printf(stderr, "%s: --scene S.json takes --error [--time T] [--views N] [--seed S] [--json] "
+                           "only\n", TOOL);
+            return 2;
+        }
+        return sss_deform_error_report(TOOL, a.scene, a.time, a.views, a.seed, a.json);
+    }
     if (!a.want_model && !a.qvertex != !a.qlight) {
         sss_cli_printf(stderr, "%s: %s needs %s (see --help)\n", TOOL, a.qvertex ? "--query" : "--light",
                 a.qvertex ? "--light X,Y,Z" : "--query VERTEX");

@@ -31,6 +31,20 @@ contains "$TMP/err" "object 'bar' deforms: evaluated per frame, nothing baked"
 [ ! -e "$TMP/o/bar.sss" ] || fail "bar.sss written for a deforming object"
 expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/o" -q --json
 contains "$TMP/out" '"object":"bar","per_frame":true'
+# sss-stat --scene --time --error: what sss-view draws for the pose (tree
+# gather) against the exact evaluator on that pose, within the tree's
+# stated bound (docs/deformable.md §3: 2e-3 of max q)
+expect_ok "$SSS_STAT" --scene "$TMP/s.json" --time 1 --error --views 3 --json
+contains "$TMP/out" '"object":"bar","deform":"bend","time":1,"theta_deg":40'
+python3 - "$TMP/out" <<'P' || fail "sss-stat --scene: error beyond the tree's bound: $(cat "$TMP/out")"
+import json, sys
+o = json.load(open(sys.argv[1]))["objects"][0]
+sys.exit(0 if o["rms_exact"] > 0 and o["max_abs"] <= 2e-3 * 5 * o["rms_exact"] and o["rel_rms"] < 2e-3 else 1)
+P
+expect_ok "$SSS_STAT" --scene "$TMP/s.json" --time 1 --error --views 2
+contains "$TMP/out" "object 'bar' at t = 1 s (bend, theta 40 deg), 162 vertices, 2 views: per-frame q (tree gather, point weights)"
+expect_fail "takes --error" "$SSS_STAT" --scene "$TMP/s.json" --time 1
+expect_fail "without FILE.sss" "$SSS_STAT" "$TMP/o/ball.sss" --scene "$TMP/s.json" --error
 # a deforming object needs a directional light; bad deformers name their path
 sed 's/{"type": "directional", "direction": \[1, 0, 1\]},//' "$TMP/s.json" > "$TMP/bad1.json"
 expect_fail "bad1.json: /objects/0/deform: no directional light" "$SSS_BAKE" --scene "$TMP/bad1.json" --plan

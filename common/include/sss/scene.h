@@ -109,6 +109,12 @@ void sss_scene_free(sss_scene *s);
  * recomputed. mesh is the imported object-space mesh. */
 sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mesh, sss_mesh *out, sss_error *err);
 
+/* Object i's pose at time t in world units: its "deform" applied to the
+ * rest mesh (sss_deform_pose, docs/deformable.md §2), then its transform
+ * (sss_scene_object_world). A rigid object gives its world mesh. */
+sss_result sss_scene_object_posed(const sss_scene_object *o, const sss_mesh *rest, double t, sss_mesh *out,
+                                  sss_error *err);
+
 /* millimetres per world unit for object o: mm_per_unit / scale. */
 double sss_scene_object_mm_per_world_unit(const sss_scene_object *o);
 

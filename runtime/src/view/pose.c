@@ -58,15 +58,12 @@ static int pose_frame(pose_state *s, double t)
     const char *T = s->v->tool;
     const sss_scene_object *o = &s->sc.objects[0];
     sss_error err = {{0}};
-    sss_mesh posed = {0}, world = {0};
+    sss_mesh world = {0};
     const double tp0 = sss_now();
-    if (sss_deform_pose(&o->deform, t, &s->rest, o->name, &posed, &err) != SSS_OK ||
-        sss_scene_object_world(o, &posed, &world, &err) != SSS_OK) {
-        sss_mesh_free(&posed);
+    if (sss_scene_object_posed(o, &s->rest, t, &world, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s: /objects/0: %s\n", T, s->v->scene, err.msg);
         return 1;
     }
-    sss_mesh_free(&posed);
     if (s->f.mesh.pos) { /* the renderer's file keeps its arrays: the pose is copied in */
         memcpy(s->f.mesh.pos, world.pos, 3 * (size_t)world.nv * sizeof(float));
         memcpy(s->f.mesh.nrm, world.nrm, 3 * (size_t)world.nv * sizeof(float));

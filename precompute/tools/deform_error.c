@@ -1,0 +1,157 @@
+/* deform_error.c: sss-stat --scene S.json --time T --error
+ * (deform_error.h, docs/deformable.md §4). For each deforming object: the
+ * pose at T (sss_scene_object_posed), q from the per-frame path as sss-view
+ * runs it (tree gather, the paper's point weights unless the scene asks for
+ * hat weights: runtime/src/view/pose.c) against the exact evaluator
+ * (sss/exact.h) built on a file holding that pose, at random light
+ * directions; the error figures are sss_err_accum's, as for a file's
+ * --error (area-weighted RMS, relative RMS, max). */
+#include "deform_error.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sss/cli.h"
+#include "sss/decode.h"
+#include "sss/deform.h"
+#include "sss/exact.h"
+#include "sss/import.h"
+#include "sss/jsontext.h"
+#include "sss/perframe.h"
+#include "sss/random.h"
+#include "sss/scene.h"
+#include "sss/vec3.h"
+
+/* One object: 0, or 1 after a message. */
+static int measure(const char *tool, const sss_scene *sc, uint32_t i, double t, uint32_t views, uint64_t seed,
+                   cJSON *arr)
+{
+    const sss_scene_object *o = &sc->objects[i];
+    sss_error err = {{0}};
+    sss_mesh rest = {0}, pose = {0};
+    sss_exact *e = NULL;
+    float *x = NULL, *r = NULL;
+    double *area = NULL;
+    int rc = 1;
+    if (sss_import_mesh(o->mesh, &rest, NULL, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: /objects/%u/mesh: %s\n", tool, sc->path, i, err.msg);
+        goto done;
+    }
+    if (sss_scene_object_posed(o, &rest, t, &pose, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc->path, i, err.msg);
+        goto done;
+    }
+    const uint32_t C = sss_material_channels(&o->material), nv = pose.nv;
+    const uint32_t weights = sc->bake.weights == SSS_SCENE_WEIGHTS_HAT ? SSS_WEIGHTS_HAT : SSS_WEIGHTS_POINT;
+    const double eps = sc->bake.eps > 0 ? sc->bake.eps : 1e-3, mpw = sss_scene_object_mm_per_world_unit(o);
+    /* the exact evaluator reads a file: this one holds the pose and what
+     * the per-frame path was given */
+    sss_bake_file f;
+    memset(&f, 0, sizeof f);
+    f.mesh = pose;
+    f.mesh.area = NULL;
+    f.material = o->material;
+    f.mm_per_unit = mpw;
+    f.channels = C;
+    f.eps = eps;
+    f.weights = weights;
+    if (sss_exact_create(&f, &e, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc->path, i, err.msg);
+        goto done;
+    }
+    x = malloc((size_t)nv * C * sizeof *x);
+    r = malloc((size_t)nv * C * sizeof *r);
+    area = malloc((size_t)nv * sizeof *area);
+    if (!x || !r || !area) {
+        sss_cli_printf(stderr, "%s: out of memory for %u vertices\n", tool, nv);
+        goto done;
+    }
+    sss_mesh_vertex_areas(&pose, area);
+    sss_err_accum acc;
+    sss_err_accum_init(&acc, C, area, nv);
+    const sss_perframe_options po = {.mode = SSS_PERFRAME_TREE, .weights = weights, .eps = eps};
+    uint64_t state = seed;
+    for (uint32_t k = 0; k < views; k++) {
+        double d[3];
+        sss_rng_direction(&state, d);
+        sss_exact_eval(e, d, x);
+        if (sss_perframe_q(&pose, &o->material, C, mpw, d, &po, r, NULL, &err) != SSS_OK) {
+            sss_cli_printf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc->path, i, err.msg);
+            goto done;
+        }
+        sss_err_accum_add(&acc, area, r, x, nv);
+    }
+    double rms[SSS_MAX_CHANNELS + 1], rel[SSS_MAX_CHANNELS + 1], mx[SSS_MAX_CHANNELS + 1], ref[SSS_MAX_CHANNELS + 1];
+    sss_err_accum_result(&acc, rms, rel, mx, ref);
+    const double theta = sss_deform_angle(&o->deform, t) * 180.0 / SSS_PI;
+    const char *wn = weights == SSS_WEIGHTS_HAT ? "hat" : "point";
+    if (arr) {
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "object", o->name);
+        cJSON_AddStringToObject(j, "deform", sss_deform_kind_name(o->deform.kind));
+        cJSON_AddNumberToObject(j, "time", t);
+        cJSON_AddNumberToObject(j, "theta_deg", theta);
+        cJSON_AddNumberToObject(j, "vertices", nv);
+        cJSON_AddNumberToObject(j, "channels", C);
+        cJSON_AddNumberToObject(j, "views", views);
+        cJSON_AddStringToObject(j, "path", "tree");
+        cJSON_AddStringToObject(j, "weights", wn);
+        cJSON_AddNumberToObject(j, "rms", rms[C]);
+        cJSON_AddNumberToObject(j, "rel_rms", rel[C]);
+        cJSON_AddNumberToObject(j, "max_abs", mx[C]);
+        cJSON_AddNumberToObject(j, "rms_exact", ref[C]);
+        cJSON_AddItemToArray(arr, j);
+    } else {
+        printf("%s: object '%s' at t = %g s (%s, theta %.4g deg), %u vertices, %u views: per-frame q (tree gather, "
+               "%s weights) against the exact evaluator on the pose: relative RMS %.3e, RMS %.3e, max |diff| %.3e "
+               "(RMS of q %.3e)\n", sc->path, o->name, t, sss_deform_kind_name(o->deform.kind), theta, nv, views, wn,
+               rel[C], rms[C], mx[C], ref[C]);
+    }
+    rc = 0;
+done:
+    sss_exact_destroy(e);
+    free(x);
+    free(r);
+    free(area);
+    sss_mesh_free(&rest);
+    sss_mesh_free(&pose);
+    return rc;
+}
+
+int sss_deform_error_report(const char *tool, const char *scene, double t, uint32_t views, uint64_t seed, int json)
+{
+    sss_scene sc;
+    sss_error err = {{0}};
+    if (sss_scene_load(scene, &sc, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", tool, err.msg);
+        return 2;
+    }
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < sc.nobjects; i++) n += sc.objects[i].deform.kind != SSS_DEFORM_NONE;
+    if (!n) {
+        sss_cli_printf(stderr, "%s: %s: /objects: no object deforms: measure each baked file (sss-stat FILE.sss "
+                       "--error)\n", tool, scene);
+        sss_scene_free(&sc);
+        return 2;
+    }
+    cJSON *root = json ? cJSON_CreateObject() : NULL, *arr = NULL;
+    if (root) {
+        cJSON_AddStringToObject(root, "scene", scene);
+        arr = cJSON_AddArrayToObject(root, "objects");
+    }
+    int rc = 0;
+    for (uint32_t i = 0; i < sc.nobjects && rc == 0; i++)
+        if (sc.objects[i].deform.kind != SSS_DEFORM_NONE) rc = measure(tool, &sc, i, t, views, seed, arr);
+    if (root && rc == 0) {
+        sss_json_utf8(root);
+        char *s = cJSON_PrintUnformatted(root);
+        if (s) puts(s);
+        free(s);
+    }
+    cJSON_Delete(root);
+    sss_scene_free(&sc);
+    return rc;
+}
