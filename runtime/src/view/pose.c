@@ -39,6 +39,7 @@ typedef struct pose_state {
     sss_perframe_options po;
     double t_pose, t_q; /* seconds of the last frame's stages */
     double shown_t;     /* the time f and q hold (window: NAN before the first) */
+    int failed;         /* window: a pose failed; the last one stays */
     char desc[160];
 } pose_state;
 
@@ -220,8 +221,14 @@ static const char *window_frame(void *user, const sss_view_params *p, sss_render
     pose_state *s = user;
     if (!r) return NULL;
     t += s->v->time; /* the clock starts at --time */
-    if (t != s->shown_t) {
-        if (pose_frame(s, t) != 0) return NULL;
+    if (t != s->shown_t && !s->failed) {
+        /* a failure (said once) leaves the last pose on screen: the
+         * renderer has no stored rows to fall back on */
+        if (pose_frame(s, t) != 0) {
+            s->failed = 1;
+            snprintf(s->desc, sizeof s->desc, "t = %.2f s: the pose failed (see the terminal)", t);
+            return s->desc;
+        }
         sss_renderer_update_geometry(r);
         const sss_deform *d = &s->sc.objects[0].deform;
         snprintf(s->desc, sizeof s->desc, "t = %.2f s (%s %.3g deg): pose %.0f ms, q %.0f ms on the CPU", t,
