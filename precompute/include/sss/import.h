@@ -62,6 +62,11 @@ typedef struct sss_import_report {
     uint64_t primitives_skipped;     /* warning: primitives of points or lines, which have no surface */
     int texcoords;                   /* the mesh carries texture coordinates (sss_mesh.uv) */
     int colours;                     /* the mesh carries vertex colours (sss_mesh.rgba) */
+    /* glTF skinning (sss_import_mesh_at, docs/deformable.md §5): 1 when a
+     * skinned mesh was posed by the file's first clip, whose keyframes
+     * span [clip_start, clip_end] seconds */
+    int animated;
+    double clip_start, clip_end;
 } sss_import_report;
 
 /* Polygons with more vertices than this are fanned even when non-convex
@@ -74,6 +79,18 @@ typedef struct sss_import_report {
  * *rep (may be NULL) receives the counts above. On failure *out is zeroed
  * and err says "FILE: ELEMENT: problem". */
 sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *rep, sss_error *err);
+
+/* The same with a glTF's skinned meshes posed at time t (seconds): each
+ * node's translation, rotation and scale from the file's first animation
+ * at t (clamped to its keyframes; LINEAR and STEP, rotations slerped), the
+ * joints' matrices G(joint) · inverse bind matrix, and every vertex moved
+ * by linear blend skinning, Σ_i w_i J_{j_i} p (glTF 2.0 §3.7.3; the
+ * skinned mesh node's own transform does not apply). The rest of the
+ * import is sss_import_mesh's. Other formats, and glTF without skins, read
+ * as sss_import_mesh reads them. Errors beyond its: a non-finite t, a clip
+ * the scanner cannot sample (CUBICSPLINE, bad accessors), a skinned mesh
+ * used by several nodes. */
+sss_result sss_import_mesh_at(const char *path, double t, sss_mesh *out, sss_import_report *rep, sss_error *err);
 
 /* Number of repairs in rep (sum of the repair counters; the subsets
  * polygons_ear_clipped and surfaces_inside_out and the warnings are not

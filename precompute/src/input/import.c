@@ -77,7 +77,25 @@ static void formats_list(char *buf, size_t n)
         k += (size_t)snprintf(buf + k, n - k, "%s.%s", i == 0 ? "" : i + 1 < NFORMATS ? ", " : " or ", formats[i].ext);
 }
 
+static sss_result import_mesh(const char *path, int pose, double t, sss_mesh *out, sss_import_report *rep,
+                              sss_error *err);
+
 sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *rep, sss_error *err)
+{
+    return import_mesh(path, 0, 0.0, out, rep, err);
+}
+
+sss_result sss_import_mesh_at(const char *path, double t, sss_mesh *out, sss_import_report *rep, sss_error *err)
+{
+    if (!isfinite(t)) {
+        if (out) memset(out, 0, sizeof *out);
+        return sss_fail(err, SSS_ERR_ARG, "%s: time %g is not a finite number", path ? path : "import", t);
+    }
+    return import_mesh(path, 1, t, out, rep, err);
+}
+
+static sss_result import_mesh(const char *path, int pose, double t, sss_mesh *out, sss_import_report *rep,
+                              sss_error *err)
 {
     sss_import_report local;
     if (!rep) rep = &local;
@@ -97,6 +115,8 @@ sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *r
     src s;
     expect ex;
     memset(&ex, 0, sizeof ex);
+    ex.pose = pose;
+    ex.pose_t = t;
     sss_result r = sss_src_open(&s, path, err);
     if (r == SSS_OK) r = formats[ff].scan(&s, &ex, err);
     if (s.f) { fclose(s.f); s.f = NULL; }
@@ -132,6 +152,9 @@ sss_result sss_import_mesh(const char *path, sss_mesh *out, sss_import_report *r
         /* after the recentring: the range every stage computes in
          * (sss/mesh.h), before anything reaches Embree */
         if (r == SSS_OK) r = sss_mesh_check_range(out, 0.0, path, err);
+        rep->animated = ex.animated;
+        rep->clip_start = ex.clip_t0;
+        rep->clip_end = ex.clip_t1;
     }
     sss_om_soup_free(&soup);
     free(ex.drop);

@@ -74,6 +74,10 @@ typedef struct gltf {
     /* per mesh: the fewest joints of the skins nodes give it (-1: none),
      * and one such skin (docs/deformable.md §5) */
     int *mesh_joints, *mesh_skin;
+    /* posing (ex->pose): every node's global matrix at the pose time
+     * (16 doubles each, column-major as glTF), NULL when not posing */
+    double *G;
+    expect *ex;
 } gltf;
 
 /* An accessor, checked: element e component c is at
@@ -479,6 +483,318 @@ static sss_result skin_rows(gltf *g, cJSON **skins, int nskin)
     return SSS_OK;
 }
 
+/* ---- posing skinned meshes (docs/deformable.md §5; glTF 2.0 §3.7.3) ---- */
+
+/* A node's local transform: its matrix, or T · R · S. */
+typedef struct local_xf {
+    double t[3], r[4], s[3], m[16];
+    int has_m;
+} local_xf;
+
+/* Up to n numbers of member key of o into v (left as they are when absent
+ * or not numbers: canon_nodes refuses such a node later). */
+static void read_numbers(const cJSON *o, const char *key, int n, double *v)
+{
+    const cJSON *a = cJSON_GetObjectItemCaseSensitive(o, key);
+    if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) != n) return;
+    int i = 0;
+    const cJSON *x;
+    cJSON_ArrayForEach(x, a) {
+        if (!cJSON_IsNumber(x) || !isfinite(x->valuedouble)) return;
+        v[i++] = x->valuedouble;
+    }
+}
+
+static void node_local(const cJSON *o, local_xf *x)
+{
+    memset(x, 0, sizeof *x);
+    x->r[3] = 1.0;
+    x->s[0] = x->s[1] = x->s[2] = 1.0;
+    if (!cJSON_IsObject(o)) return;
+    x->has_m = cJSON_GetObjectItemCaseSensitive(o, "matrix") != NULL;
+    if (x->has_m) {
+        for (int k = 0; k < 16; k++) x->m[k] = k % 5 == 0;
+        read_numbers(o, "matrix", 16, x->m);
+    }
+    read_numbers(o, "translation", 3, x->t);
+    read_numbers(o, "rotation", 4, x->r);
+    read_numbers(o, "scale", 3, x->s);
+}
+
+/* T · R · S as a column-major matrix, the quaternion (x, y, z, w)
+ * normalised first. */
+static void local_matrix(const local_xf *x, double m[16])
+{
+    if (x->has_m) {
+        memcpy(m, x->m, sizeof x->m);
+        return;
+    }
+    double q[4] = {x->r[0], x->r[1], x->r[2], x->r[3]};
+    const double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (n > 0)
+        for (int k = 0; k < 4; k++) q[k] /= n;
+    const double X = q[0], Y = q[1], Z = q[2], W = q[3];
+    const double R[9] = {1 - 2 * (Y * Y + Z * Z), 2 * (X * Y + Z * W), 2 * (X * Z - Y * W),  /* column 0 */
+                         2 * (X * Y - Z * W), 1 - 2 * (X * X + Z * Z), 2 * (Y * Z + X * W),  /* column 1 */
+                         2 * (X * Z + Y * W), 2 * (Y * Z - X * W), 1 - 2 * (X * X + Y * Y)}; /* column 2 */
+    for (int c = 0; c < 3; c++) {
+        for (int r = 0; r < 3; r++) m[4 * c + r] = R[3 * c + r] * x->s[c];
+        m[4 * c + 3] = 0;
+    }
+    m[12] = x->t[0], m[13] = x->t[1], m[14] = x->t[2], m[15] = 1;
+}
+
+/* c = a · b (column-major 4 × 4) */
+static void mat_mul(const double *a, const double *b, double *c)
+{
+    for (int col = 0; col < 4; col++)
+        for (int row = 0; row < 4; row++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++) s += a[4 * k + row] * b[4 * col + k];
+            c[4 * col + row] = s;
+        }
+}
+
+/* The inverse of an affine column-major matrix; 0 when singular. */
+static int affine_inverse(const double *m, double *inv)
+{
+    const double a = m[0], b = m[4], c = m[8], d = m[1], e = m[5], f = m[9], g2 = m[2], h = m[6], i = m[10];
+    const double A = e * i - f * h, B = -(d * i - f * g2), C = d * h - e * g2;
+    const double det = a * A + b * B + c * C;
+    if (!(fabs(det) > 0) || !isfinite(det)) return 0;
+    const double r[9] = {A / det, B / det, C / det,                                   /* column 0 of the inverse */
+                         -(b * i - c * h) / det, (a * i - c * g2) / det, -(a * h - b * g2) / det, /* column 1 */
+                         (b * f - c * e) / det, -(a * f - c * d) / det, (a * e - b * d) / det};  /* column 2 */
+    for (int col = 0; col < 3; col++) {
+        for (int row = 0; row < 3; row++) inv[4 * col + row] = r[3 * col + row];
+        inv[4 * col + 3] = 0;
+    }
+    for (int row = 0; row < 3; row++)
+        inv[12 + row] = -(inv[row] * m[12] + inv[4 + row] * m[13] + inv[8 + row] * m[14]);
+    inv[15] = 1;
+    return 1;
+}
+
+/* Channel values of a sampler at t (clamped to its keyframes): STEP takes
+ * the keyframe at or before t, LINEAR interpolates (a rotation by slerp,
+ * glTF 2.0 Appendix C). */
+static sss_result sample_channel(gltf *g, int ch, const cJSON *smp, int ncomp, double t, double *out)
+{
+    char what[48];
+    snprintf(what, sizeof what, "animation 0 channel %d", ch);
+    long long ii = get_index(g, smp, "input", g->nacc, 0, what, "accessor");
+    long long io = get_index(g, smp, "output", g->nacc, 0, what, "accessor");
+    if (ii < 0 || io < 0) return SSS_ERR_FORMAT;
+    const cJSON *ip = cJSON_GetObjectItemCaseSensitive(smp, "interpolation");
+    const char *mode = cJSON_IsString(ip) ? ip->valuestring : "LINEAR";
+    if (strcmp(mode, "LINEAR") != 0 && strcmp(mode, "STEP") != 0)
+        return bad(g, "%s: interpolation '%.20s' is not supported (LINEAR or STEP)", what, mode);
+    acc in, o;
+    sss_result r = get_acc(g, (int)ii, &in);
+    if (r == SSS_OK) r = get_acc(g, (int)io, &o);
+    if (r != SSS_OK) return r;
+    if (in.ctype != C_FLOAT || in.ncomp != 1) return bad(g, "accessor %lld: a clip's times must be SCALAR float", ii);
+    if (o.ctype != C_FLOAT || o.ncomp != ncomp || o.count != in.count)
+        return bad(g, "accessor %lld: %s needs %llu float VEC%d values", io, what, in.count, ncomp);
+    const ull n = in.count;
+    double prev = -INFINITY;
+    for (ull k = 0; k < n; k++) {
+        const double tk = acc_float(&in, k, 0);
+        if (!isfinite(tk) || tk < prev)
+            return bad(g, "accessor %lld: keyframe %llu: times must be finite and increasing", ii, k);
+        prev = tk;
+        for (int c = 0; c < ncomp; c++)
+            if (!isfinite(acc_float(&o, k, c))) return bad(g, "accessor %lld: value %llu is not finite", io, k);
+    }
+    const double t0 = acc_float(&in, 0, 0), t1 = acc_float(&in, n - 1, 0);
+    if (!g->ex->animated || t0 < g->ex->clip_t0) g->ex->clip_t0 = t0;
+    if (!g->ex->animated || t1 > g->ex->clip_t1) g->ex->clip_t1 = t1;
+    g->ex->animated = 1;
+    const double tc = t < t0 ? t0 : t > t1 ? t1 : t;
+    ull k = 0;
+    while (k + 1 < n && acc_float(&in, k + 1, 0) <= tc) k++;
+    double a[4], b[4];
+    for (int c = 0; c < ncomp; c++) a[c] = acc_float(&o, k, c), b[c] = acc_float(&o, k + 1 < n ? k + 1 : k, c);
+    const double span = k + 1 < n ? acc_float(&in, k + 1, 0) - acc_float(&in, k, 0) : 0.0;
+    const double u = !strcmp(mode, "STEP") || !(span > 0) ? 0.0 : (tc - acc_float(&in, k, 0)) / span;
+    if (ncomp == 4) { /* slerp along the shorter arc */
+        double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+        if (d < 0) {
+            d = -d;
+            for (int c = 0; c < 4; c++) b[c] = -b[c];
+        }
+        double wa = 1 - u, wb = u;
+        if (d < 0.9995) {
+            const double th = acos(d), st = sin(th);
+            wa = sin((1 - u) * th) / st, wb = sin(u * th) / st;
+        }
+        for (int c = 0; c < 4; c++) out[c] = wa * a[c] + wb * b[c];
+    } else {
+        for (int c = 0; c < ncomp; c++) out[c] = (1 - u) * a[c] + u * b[c];
+    }
+    return SSS_OK;
+}
+
+/* Every node's global matrix at ex->pose_t into g->G: the local
+ * transforms, the first animation's channels over them, then parent ·
+ * child down each tree (a cycle or a second parent is refused here as
+ * canon_nodes refuses it). */
+static sss_result pose_nodes(gltf *g)
+{
+    const int nn = g->nnode;
+    local_xf *L = calloc((size_t)nn + 1, sizeof *L);
+    int *parent = malloc(((size_t)nn + 1) * sizeof *parent), *state = calloc((size_t)nn + 1, sizeof *state);
+    g->G = malloc(((size_t)nn + 1) * 16 * sizeof *g->G);
+    sss_result r = SSS_OK;
+    if (!L || !parent || !state || !g->G) r = sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory for %d nodes", g->s->name, nn);
+    for (int n = 0; r == SSS_OK && n < nn; n++) parent[n] = -1, node_local(g->nodes[n], &L[n]);
+    for (int n = 0; r == SSS_OK && n < nn; n++) {
+        const cJSON *ch = cJSON_IsObject(g->nodes[n]) ? cJSON_GetObjectItemCaseSensitive(g->nodes[n], "children") : NULL;
+        const cJSON *c;
+        cJSON_ArrayForEach(c, ch) {
+            const double d = cJSON_IsNumber(c) ? c->valuedouble : -1.0;
+            if (!(d >= 0.0 && d < nn && d == floor(d)) || d == n || parent[(int)d] >= 0) {
+                r = bad(g, "node %d: child is not a node index in [0, %d) of its own (nodes must form trees)", n, nn);
+                break;
+            }
+            parent[(int)d] = n;
+        }
+    }
+    int na = 0, failed = 0;
+    cJSON *anims = r == SSS_OK ? get_array(g, g->root, "animations", &na, &failed) : NULL;
+    if (failed) r = SSS_ERR_FORMAT;
+    if (r == SSS_OK && na > 0) {
+        const cJSON *a0 = cJSON_GetArrayItem(anims, 0);
+        int nch = 0, nsm = 0;
+        cJSON *chs = cJSON_IsObject(a0) ? get_array(g, a0, "channels", &nch, &failed) : NULL;
+        cJSON *sms = cJSON_IsObject(a0) ? get_array(g, a0, "samplers", &nsm, &failed) : NULL;
+        if (failed) r = SSS_ERR_FORMAT;
+        cJSON **smv = r == SSS_OK ? items(sms, nsm) : NULL;
+        if (r == SSS_OK && !smv) r = sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory", g->s->name);
+        int ci = 0;
+        const cJSON *c;
+        cJSON_ArrayForEach(c, chs) {
+            if (r != SSS_OK) break;
+            char what[48];
+            snprintf(what, sizeof what, "animation 0 channel %d", ci);
+            const cJSON *tg = cJSON_IsObject(c) ? cJSON_GetObjectItemCaseSensitive(c, "target") : NULL;
+            const cJSON *path = cJSON_IsObject(tg) ? cJSON_GetObjectItemCaseSensitive(tg, "path") : NULL;
+            long long si = cJSON_IsObject(c) ? get_index(g, c, "sampler", nsm, 0, what, "sampler") : -1;
+            long long ni = cJSON_IsObject(tg) && cJSON_GetObjectItemCaseSensitive(tg, "node")
+                               ? get_index(g, tg, "node", nn, 0, what, "node")
+                               : -1;
+            if (si < 0 || ni < 0 || !cJSON_IsString(path)) {
+                r = si < 0 || ni < 0 ? SSS_ERR_FORMAT : bad(g, "%s: no target path", what);
+                break;
+            }
+            const char *pth = path->valuestring;
+            double *dst = !strcmp(pth, "translation") ? L[ni].t : !strcmp(pth, "rotation") ? L[ni].r
+                                                                : !strcmp(pth, "scale")      ? L[ni].s
+                                                                                             : NULL;
+            if (dst && L[ni].has_m) r = bad(g, "%s: node %lld has a matrix and may not be animated", what, ni);
+            else if (dst) r = sample_channel(g, ci, smv[si], !strcmp(pth, "rotation") ? 4 : 3, g->ex->pose_t, dst);
+            ci++; /* "weights" (morph targets) are not applied */
+        }
+        free(smv);
+    }
+    /* global matrices, each node once, down from its root */
+    for (int n = 0; r == SSS_OK && n < nn; n++) {
+        int k = n, steps = 0;
+        while (state[k] == 0 && parent[k] >= 0 && steps++ <= nn) k = parent[k];
+        if (steps > nn) { r = bad(g, "node %d: the hierarchy has a cycle through it", n); break; }
+        /* k is a root or done: walk back down, each step from its parent */
+        int chain[DEPTH_MAX + 2], len = 0;
+        for (int j = n; j != k && len <= DEPTH_MAX; j = parent[j]) chain[len++] = j;
+        if (len > DEPTH_MAX) { r = bad(g, "node %d: more than %d levels deep in the hierarchy", n, DEPTH_MAX); break; }
+        if (state[k] == 0) { local_matrix(&L[k], &g->G[16 * (size_t)k]); state[k] = 1; }
+        for (int i = len - 1; i >= 0; i--) {
+            double l[16];
+            local_matrix(&L[chain[i]], l);
+            mat_mul(&g->G[16 * (size_t)parent[chain[i]]], l, &g->G[16 * (size_t)chain[i]]);
+            state[chain[i]] = 1;
+        }
+    }
+    free(L);
+    free(parent);
+    free(state);
+    return r;
+}
+
+/* Primitive pr of skinned mesh m posed: *posed (3 floats a vertex,
+ * caller frees) and pr->pos made to read it. */
+static sss_result pose_prim(gltf *g, int m, const cJSON *attrs, prim *pr, float **posed)
+{
+    *posed = NULL;
+    const int sk = g->mesh_skin[m];
+    /* the one node that instances the mesh: its transform is undone, the
+     * joints place the mesh (glTF 2.0 §3.7.3.3) */
+    int mn = -1, uses = 0;
+    for (int n = 0; n < g->nnode; n++) {
+        const cJSON *o = g->nodes[n], *mi = cJSON_IsObject(o) ? cJSON_GetObjectItemCaseSensitive(o, "mesh") : NULL;
+        if (cJSON_IsNumber(mi) && mi->valuedouble == m) mn = n, uses++;
+    }
+    if (uses != 1) return bad(g, "mesh %d: skinned and used by %d nodes; posing needs exactly one", m, uses);
+    double Ginv[16];
+    if (!affine_inverse(&g->G[16 * (size_t)mn], Ginv)) return bad(g, "node %d: its transform is singular", mn);
+    const cJSON *so = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(g->root, "skins"), sk);
+    const cJSON *jl = cJSON_GetObjectItemCaseSensitive(so, "joints");
+    const int nj = cJSON_GetArraySize(jl);
+    double *J = malloc((size_t)nj * 16 * sizeof *J);
+    if (!J) return sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory", g->s->name);
+    acc ibm = {0};
+    int has_ibm = cJSON_GetObjectItemCaseSensitive(so, "inverseBindMatrices") != NULL;
+    char what[32];
+    snprintf(what, sizeof what, "skin %d", sk);
+    if (has_ibm) {
+        long long ia = get_index(g, so, "inverseBindMatrices", g->nacc, 0, what, "accessor");
+        sss_result r = ia < 0 ? SSS_ERR_FORMAT : get_acc(g, (int)ia, &ibm);
+        if (r == SSS_OK && (ibm.ctype != C_FLOAT || ibm.ncomp != 16 || ibm.count < (ull)nj))
+            r = bad(g, "accessor %lld: inverseBindMatrices must be %d MAT4 of float", ia, nj);
+        if (r != SSS_OK) { free(J); return r; }
+    }
+    int k = 0;
+    const cJSON *jn;
+    cJSON_ArrayForEach(jn, jl) { /* J_k = G(joint k) · IBM_k, then the mesh node's transform undone */
+        double ib[16], t1[16];
+        for (int e = 0; e < 16; e++) ib[e] = has_ibm ? acc_float(&ibm, (ull)k, e) : e % 5 == 0;
+        mat_mul(&g->G[16 * (size_t)(int)jn->valuedouble], ib, t1);
+        mat_mul(Ginv, t1, &J[16 * (size_t)k]);
+        k++;
+    }
+    long long ij = get_index(g, attrs, "JOINTS_0", g->nacc, 0, "JOINTS_0", "accessor");
+    long long iw = get_index(g, attrs, "WEIGHTS_0", g->nacc, 0, "WEIGHTS_0", "accessor");
+    acc ja, wa;
+    sss_result r = get_acc(g, (int)ij, &ja);
+    if (r == SSS_OK) r = get_acc(g, (int)iw, &wa);
+    float *out = r == SSS_OK ? malloc((size_t)pr->nv * 3 * sizeof *out + 1) : NULL;
+    if (r == SSS_OK && !out) r = sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory", g->s->name);
+    for (ull e = 0; r == SSS_OK && e < pr->nv; e++) {
+        const double p[3] = {acc_float(&pr->pos, e, 0), acc_float(&pr->pos, e, 1), acc_float(&pr->pos, e, 2)};
+        double q[3] = {0, 0, 0};
+        for (int c = 0; c < 4; c++) { /* Σ_i w_i J_{j_i} p (check_skin: j_i < joints, Σ w_i = 1) */
+            const double w = acc_float(&wa, e, c);
+            if (w == 0) continue;
+            const ull j = rd_uint(ja.base + e * ja.stride + (ull)c * (ull)ja.csize, (size_t)ja.csize, 0);
+            const double *M = &J[16 * (size_t)j];
+            for (int a = 0; a < 3; a++) q[a] += w * (M[a] * p[0] + M[4 + a] * p[1] + M[8 + a] * p[2] + M[12 + a]);
+        }
+        for (int a = 0; a < 3; a++) {
+            if (!(fabs(q[a]) <= SSS_COORD_MAX)) r = bad(g, "mesh %d: posed vertex %llu leaves the coordinate range", m, e);
+            out[3 * e + (ull)a] = (float)q[a];
+        }
+    }
+    free(J);
+    if (r != SSS_OK) { free(out); return r; }
+    pr->pos.base = (const unsigned char *)out;
+    pr->pos.stride = 12;
+    pr->pos.ctype = C_FLOAT;
+    pr->pos.csize = 4;
+    pr->pos.ncomp = 3;
+    pr->pos.normalized = 0;
+    *posed = out;
+    return SSS_OK;
+}
+
 /* Checks primitive p of mesh m; *skip when it has no surface (points or
  * lines). */
 static sss_result get_prim(gltf *g, int m, int p, const cJSON *o, prim *pr, int *skip)
@@ -656,6 +972,7 @@ static sss_result canon_meshes(gltf *g, blob *b, cJSON *out, ull *vert, ull *tri
                 ex->skipped++;
                 continue;
             }
+
             held = sat_add(held, sat_add(pr.nv, pr.ni / 3));
             if (held > cap)
                 return bad(g, "mesh %d primitive %d: the primitives hold more than %llu vertices and triangles, the most a file of %llu bytes may", m, p, cap, g->s->size);
@@ -668,7 +985,15 @@ static sss_result canon_meshes(gltf *g, blob *b, cJSON *out, ull *vert, ull *tri
             cJSON *cp = cJSON_CreateObject();
             cJSON_AddItemToArray(cprims, cp);
             cJSON *at = cJSON_AddObjectToObject(cp, "attributes");
+            /* a skinned primitive posed (sss_import_mesh_at): pr.pos reads
+             * the posed copy while it is packed */
+            float *posed = NULL;
+            const cJSON *pat = cJSON_GetObjectItemCaseSensitive(po, "attributes");
+            if (g->G && g->mesh_skin[m] >= 0 && cJSON_GetObjectItemCaseSensitive(pat, "JOINTS_0") &&
+                (r = pose_prim(g, m, pat, &pr, &posed)) != SSS_OK)
+                return r;
             int ip = put_acc(b, views, accs, &pr.pos, pr.nv, 3, 0);
+            free(posed);
             int iu = pr.has_uv ? put_acc(b, views, accs, &pr.uv, pr.nv, 2, 0) : 0;
             int ic = pr.has_col ? put_acc(b, views, accs, &pr.col, pr.nv, 4, 0) : 0;
             int ii = put_acc(b, views, accs, pr.has_idx ? &pr.idx : NULL, pr.ni, 1, 1);
@@ -846,7 +1171,7 @@ static void gltf_free(gltf *g)
     for (int i = 0; g->buf && i < g->nbuf; i++) free(g->buf[i].own);
     free(g->buf);
     free(g->buffers); free(g->views); free(g->accs); free(g->nodes); free(g->meshes);
-    free(g->mesh_joints); free(g->mesh_skin);
+    free(g->mesh_joints); free(g->mesh_skin); free(g->G);
     cJSON_Delete(g->root);
 }
 
@@ -909,6 +1234,8 @@ static sss_result scan(gltf *g, expect *ex)
     g->mesh_skin = malloc(((size_t)g->nmesh + 1) * sizeof *g->mesh_skin);
     if (r == SSS_OK && (!g->mesh_joints || !g->mesh_skin)) r = sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory", s->name);
     if (r == SSS_OK) r = skin_joints(g);
+    g->ex = ex;
+    if (r == SSS_OK && ex->pose) r = pose_nodes(g);
     if (r == SSS_OK) {
         cJSON *a = cJSON_AddObjectToObject(out, "asset");
         cJSON_AddStringToObject(a, "version", "2.0");

@@ -141,6 +141,13 @@ typedef struct expect {
     char *own;
     ull skipped;
     int texcoords, colours;
+    /* glTF skinning (docs/deformable.md §5): in, pose = 1 asks for the
+     * skinned meshes posed at pose_t by the file's first clip; out,
+     * animated = 1 when a skinned mesh was posed, and the clip's times */
+    int pose;
+    double pose_t;
+    int animated;
+    double clip_t0, clip_t1;
 } expect;
 
 sss_result sss_src_open(src *s, const char *path, sss_error *err);
