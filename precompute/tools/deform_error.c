@@ -25,21 +25,30 @@
 #include "sss/scene.h"
 #include "sss/vec3.h"
 
-/* One object: 0, or 1 after a message. */
-static int measure(const char *tool, const sss_scene *sc, uint32_t i, double t, uint32_t views, uint64_t seed,
-                   cJSON *arr)
+/* One object: 0, or 1 after a message; *measured 0 when it does not
+ * deform (its mesh read at t, where a glTF's rig may move it). */
+static int measure(const char *tool, sss_scene *sc, uint32_t i, double t, uint32_t views, uint64_t seed, cJSON *arr,
+                   int *measured)
 {
-    const sss_scene_object *o = &sc->objects[i];
+    sss_scene_object *o = &sc->objects[i];
     sss_error err = {{0}};
     sss_mesh rest = {0}, pose = {0};
     sss_exact *e = NULL;
     float *x = NULL, *r = NULL;
     double *area = NULL;
     int rc = 1;
-    if (sss_import_mesh(o->mesh, &rest, NULL, &err) != SSS_OK) {
+    sss_import_report rep;
+    *measured = 0;
+    if (sss_import_mesh_at(o->mesh, t, &rest, &rep, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s: /objects/%u/mesh: %s\n", tool, sc->path, i, err.msg);
         goto done;
     }
+    o->animated = rep.animated;
+    if (!sss_scene_object_deforms(o)) {
+        rc = 0;
+        goto done;
+    }
+    *measured = 1;
     if (sss_scene_object_posed(o, &rest, t, &pose, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc->path, i, err.msg);
         goto done;
@@ -92,6 +101,7 @@ static int measure(const char *tool, const sss_scene *sc, uint32_t i, double t, 
         cJSON *j = cJSON_CreateObject();
         cJSON_AddStringToObject(j, "object", o->name);
         cJSON_AddStringToObject(j, "deform", sss_deform_kind_name(o->deform.kind));
+        cJSON_AddBoolToObject(j, "animated", o->animated);
         cJSON_AddNumberToObject(j, "time", t);
         cJSON_AddNumberToObject(j, "theta_deg", theta);
         cJSON_AddNumberToObject(j, "vertices", nv);
@@ -105,9 +115,11 @@ static int measure(const char *tool, const sss_scene *sc, uint32_t i, double t, 
         cJSON_AddNumberToObject(j, "rms_exact", ref[C]);
         cJSON_AddItemToArray(arr, j);
     } else {
-        printf("%s: object '%s' at t = %g s (%s, theta %.4g deg), %u vertices, %u views: per-frame q (tree gather, "
+        char motion[96];
+        sss_scene_object_motion(o, t, motion, sizeof motion);
+        printf("%s: object '%s' at t = %g s (%s), %u vertices, %u views: per-frame q (tree gather, "
                "%s weights) against the exact evaluator on the pose: relative RMS %.3e, RMS %.3e, max |diff| %.3e "
-               "(RMS of q %.3e)\n", sc->path, o->name, t, sss_deform_kind_name(o->deform.kind), theta, nv, views, wn,
+               "(RMS of q %.3e)\n", sc->path, o->name, t, motion, nv, views, wn,
                rel[C], rms[C], mx[C], ref[C]);
     }
     rc = 0;
@@ -129,22 +141,23 @@ int sss_deform_error_report(const char *tool, const char *scene, double t, uint3
         sss_cli_printf(stderr, "%s: %s\n", tool, err.msg);
         return 2;
     }
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < sc.nobjects; i++) n += sc.objects[i].deform.kind != SSS_DEFORM_NONE;
-    if (!n) {
-        sss_cli_printf(stderr, "%s: %s: /objects: no object deforms: measure each baked file (sss-stat FILE.sss "
-                       "--error)\n", tool, scene);
-        sss_scene_free(&sc);
-        return 2;
-    }
     cJSON *root = json ? cJSON_CreateObject() : NULL, *arr = NULL;
     if (root) {
         cJSON_AddStringToObject(root, "scene", scene);
         arr = cJSON_AddArrayToObject(root, "objects");
     }
     int rc = 0;
-    for (uint32_t i = 0; i < sc.nobjects && rc == 0; i++)
-        if (sc.objects[i].deform.kind != SSS_DEFORM_NONE) rc = measure(tool, &sc, i, t, views, seed, arr);
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < sc.nobjects && rc == 0; i++) {
+        int measured = 0;
+        rc = measure(tool, &sc, i, t, views, seed, arr, &measured);
+        n += (uint32_t)measured;
+    }
+    if (rc == 0 && !n) {
+        sss_cli_printf(stderr, "%s: %s: /objects: no object deforms: measure each baked file (sss-stat FILE.sss "
+                       "--error)\n", tool, scene);
+        rc = 2;
+    }
     if (root && rc == 0) {
         sss_json_utf8(root);
         char *s = cJSON_PrintUnformatted(root);

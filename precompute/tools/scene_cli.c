@@ -142,7 +142,11 @@ static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path
     for (uint32_t i = 0; i < sc.nobjects; i++) {
         sss_mesh m;
         sss_import_report rep;
-        if (sss_import_mesh(sc.objects[i].mesh, &m, &rep, &err) != SSS_OK) {
+        /* a scene's glTF is read at t = 0 of its clip, and an animated
+         * rig makes the object deform (docs/deformable.md §5); a plain bake
+         * reads the mesh as it is */
+        if ((plain ? sss_import_mesh(sc.objects[i].mesh, &m, &rep, &err)
+                   : sss_import_mesh_at(sc.objects[i].mesh, 0.0, &m, &rep, &err)) != SSS_OK) {
             object_error(tool, &sc, plain, i, "/mesh", err.msg);
             rc = 1;
             goto done;
@@ -152,6 +156,7 @@ static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path
             snprintf(prefix, sizeof prefix, "%s: %s", tool, sss_cli_shown(sc.objects[i].mesh, shown, sizeof shown));
             sss_import_print_warnings(&rep, prefix, stderr); /* as a plain bake prints them */
         }
+        sc.objects[i].animated = !plain && rep.animated;
         sss_result r = sss_scene_object_world(&sc.objects[i], &m, &world[i], &err);
         sss_mesh_free(&m);
         if (r != SSS_OK) {

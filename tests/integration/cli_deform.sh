@@ -35,7 +35,7 @@ contains "$TMP/out" '"object":"bar","per_frame":true'
 # gather) against the exact evaluator on that pose, within the tree's
 # stated bound (docs/deformable.md §3: 2e-3 of max q)
 expect_ok "$SSS_STAT" --scene "$TMP/s.json" --time 1 --error --views 3 --json
-contains "$TMP/out" '"object":"bar","deform":"bend","time":1,"theta_deg":40'
+contains "$TMP/out" '"object":"bar","deform":"bend","animated":false,"time":1,"theta_deg":40'
 python3 - "$TMP/out" <<'P' || fail "sss-stat --scene: error beyond the tree's bound: $(cat "$TMP/out")"
 import json, sys
 o = json.load(open(sys.argv[1]))["objects"][0]
@@ -53,4 +53,18 @@ expect_fail "bad2.json: /objects/0/deform/angle_deg: expected a number" "$SSS_BA
 [ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "message should be one line"
 sed 's/"type": "bend"/"type": "skin"/' "$TMP/s.json" > "$TMP/bad3.json"
 expect_fail "bad3.json: /objects/0/deform/type: \"skin\" is not supported yet" "$SSS_BAKE" --scene "$TMP/bad3.json" --plan
+# a glTF whose skin its clip moves (sss-genmesh's two-bone tube) deforms
+# without a "deform" key: per frame, no file; sss-stat measures its pose
+expect_ok "$SSS_GENMESH" tube 4 "$TMP/arm.gltf" 0.25 skin
+cat > "$TMP/arm.json" <<'J'
+{"objects": [{"name": "arm", "mesh": "arm.gltf", "material": "skin1", "mm_per_unit": 100}],
+ "lights": [{"type": "directional", "direction": [0.6, -0.3, 0.8]}]}
+J
+expect_ok "$SSS_BAKE" --scene "$TMP/arm.json" --plan
+contains "$TMP/out" 'deform        per-frame          the mesh is skinned and its clip moves it'
+mkdir -p "$TMP/oa"
+expect_ok "$SSS_BAKE" --scene "$TMP/arm.json" -o "$TMP/oa" -q
+[ ! -e "$TMP/oa/arm.sss" ] || fail "arm.sss written for an animated rig"
+expect_ok "$SSS_STAT" --scene "$TMP/arm.json" --time 1 --error --views 2
+contains "$TMP/out" "object 'arm' at t = 1 s (the glTF's clip), 138 vertices"
 echo ok

@@ -43,4 +43,14 @@ expect_fail "draws one pose offscreen with --out" VIEW --scene "$TMP/d90.json" -
 expect_fail "--time poses a deforming object" VIEW "$TMP/tube.sss" --scene "$TMP/static.json" --time 1 --offscreen --out "$TMP/x.png"
 expect_fail "missing FILE.sss" VIEW --offscreen --out "$TMP/x.png"
 [ ! -e "$TMP/x.png" ] || fail "x.png written by a refused command"
+# a glTF's rig posed by its clip: the pose at t = 1 (bone1 at 45 degrees)
+# differs from t = 0 and t = 4 (0 degrees) equals it
+expect_ok "$SSS_GENMESH" tube 8 "$TMP/arm.gltf" 0.25 skin
+sed 's/"mesh": "tube.ply"/"mesh": "arm.gltf"/' "$TMP/static.json" > "$TMP/arm.json"
+for t in 0 1 4; do expect_ok VIEW --scene "$TMP/arm.json" --time $t --offscreen --out "$TMP/arm$t.png" --size 160x120; done
+contains "$TMP/err" "(the glTF's clip)"
+F=$("$SSS_PNGSTATS" "$TMP/arm0.png" "$TMP/arm1.png")
+awk -v f="$F" 'BEGIN { exit !(f > 0.02) }' || fail "the clip at t = 1 changed only $F of the pixels"
+F=$("$SSS_PNGSTATS" "$TMP/arm0.png" "$TMP/arm4.png")
+awk -v f="$F" 'BEGIN { exit !(f == 0) }' || fail "t = 4 (0 degrees) differs from t = 0 in $F of the pixels"
 echo ok

@@ -11,10 +11,12 @@
 #define SSS_SCENE_H
 
 #include <stdint.h>
+#include <stdio.h>
 #include "sss/deform.h"
 #include "sss/dipole.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
+#include "sss/vec3.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -59,6 +61,11 @@ typedef struct sss_scene_object {
     /* "deform": the procedural deformer applied in mesh units before the
      * transform (sss/deform.h; kind SSS_DEFORM_NONE: rigid) */
     sss_deform deform;
+    /* Not a key of the file: set by a tool from the import
+     * (sss_import_report.animated) when the mesh is a glTF whose skin its
+     * first clip moves; such an object deforms as one with "deform" does
+     * (docs/deformable.md §5) */
+    int animated;
 } sss_scene_object;
 
 typedef struct sss_scene_camera {
@@ -108,6 +115,25 @@ void sss_scene_free(sss_scene *s);
 /* Object i's mesh in world units: positions transformed, normals and areas
  * recomputed. mesh is the imported object-space mesh. */
 sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mesh, sss_mesh *out, sss_error *err);
+
+/* Whether object o changes its shape at run time: a "deform", or a mesh
+ * animated by its own rig (o->animated). */
+static inline int sss_scene_object_deforms(const sss_scene_object *o)
+{
+    return o->deform.kind != SSS_DEFORM_NONE || o->animated;
+}
+
+/* What moves object o at time t, for messages: "bend, theta 40 deg", or
+ * "the glTF's clip" for an animated rig (both when it has both). */
+static inline void sss_scene_object_motion(const sss_scene_object *o, double t, char *buf, size_t n)
+{
+    if (o->deform.kind != SSS_DEFORM_NONE)
+        snprintf(buf, n, "%s, theta %.4g deg%s", sss_deform_kind_name(o->deform.kind),
+                 sss_deform_angle(&o->deform, t) * (180.0 / SSS_PI),
+                 o->animated ? ", and the glTF's clip" : "");
+    else
+        snprintf(buf, n, "%s", o->animated ? "the glTF's clip" : "rigid");
+}
 
 /* Object i's pose at time t in world units: its "deform" applied to the
  * rest mesh (sss_deform_pose, docs/deformable.md §2), then its transform

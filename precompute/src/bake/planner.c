@@ -162,7 +162,7 @@ static void rule_scene_shadow(const plan_in *in, sss_object_plan *p)
     for (uint32_t k = 0; k < s->nobjects; k++) {
         if (k == p->object) continue;
         /* a deforming object's shape changes: its shadow cannot be baked */
-        if (o->moving || s->objects[k].moving || s->objects[k].deform.kind != SSS_DEFORM_NONE) { moving++; continue; }
+        if (o->moving || s->objects[k].moving || sss_scene_object_deforms(&s->objects[k])) { moving++; continue; }
         p->occluders[n++] = k;
     }
     p->noccluders = n;
@@ -196,10 +196,15 @@ static void rule_per_frame(const plan_in *in, sss_object_plan *p)
     const sss_deform *d = &s->objects[p->object].deform;
     p->per_frame = 1;
     p->self_shadow = 1;
-    decide(p, "deform", "per-frame", "the object deforms (%s about (%.3g, %.3g, %.3g), %g deg, period %g s): "
-           "neighbourhoods, areas and visibility change with the pose, so nothing is baked; q is evaluated on each "
-           "frame's pose (docs/deformable.md sec. 3)", sss_deform_kind_name(d->kind), d->axis[0], d->axis[1],
-           d->axis[2], d->angle_deg, d->period_s);
+    if (d->kind != SSS_DEFORM_NONE)
+        decide(p, "deform", "per-frame", "the object deforms (%s about (%.3g, %.3g, %.3g), %g deg, period %g s): "
+               "neighbourhoods, areas and visibility change with the pose, so nothing is baked; q is evaluated on "
+               "each frame's pose (docs/deformable.md sec. 3)", sss_deform_kind_name(d->kind), d->axis[0], d->axis[1],
+               d->axis[2], d->angle_deg, d->period_s);
+    else
+        decide(p, "deform", "per-frame", "the mesh is skinned and its clip moves it (glTF): neighbourhoods, areas and "
+               "visibility change with the pose, so nothing is baked; q is evaluated on each frame's pose "
+               "(docs/deformable.md sec. 3, 5)");
     decide(p, "self-shadow", "on", "the pose changes the shape (a convex rest pose need not stay convex): rays "
            "against each frame's pose");
     decide(p, "scene-shadow", "off", "the per-frame path traces the object alone (docs/deformable.md sec. 6)");
@@ -467,7 +472,7 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
         p->size = sss_mesh_bounds(&world[i], lo, hi);
         for (int k = 0; k < 3; k++) p->centre[k] = 0.5 * (lo[k] + hi[k]);
         p->convex = sss_mesh_is_convex(&world[i]);
-        if (scene->objects[i].deform.kind != SSS_DEFORM_NONE) {
+        if (sss_scene_object_deforms(&scene->objects[i])) {
             for (size_t r = 0; r < sizeof rules_per_frame / sizeof rules_per_frame[0]; r++) rules_per_frame[r](&in, p);
             uint32_t lit = 0;
             for (uint32_t l = 0; l < scene->nlights; l++) {
@@ -477,8 +482,9 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
             }
             if (!lit) {
                 sss_plan_free(out);
-                return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/deform: no directional light of non-zero intensity: "
-                                "the per-frame path takes directional lights only (docs/deformable.md)", scene->path, i);
+                return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/%s: no directional light of non-zero intensity: "
+                                "the per-frame path takes directional lights only (docs/deformable.md)", scene->path, i,
+                                scene->objects[i].deform.kind != SSS_DEFORM_NONE ? "deform" : "mesh");
             }
             continue;
         }

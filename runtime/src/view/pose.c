@@ -61,6 +61,20 @@ static int pose_frame(pose_state *s, double t)
     sss_error err = {{0}};
     sss_mesh world = {0};
     const double tp0 = sss_now();
+    if (o->animated && s->f.mesh.pos) { /* the rig's pose at t: the glTF read again (docs/deformable.md §5) */
+        sss_mesh again;
+        if (sss_import_mesh_at(o->mesh, t, &again, NULL, &err) != SSS_OK) {
+            sss_cli_printf(stderr, "%s: %s: /objects/0/mesh: %s\n", T, s->v->scene, err.msg);
+            return 1;
+        }
+        sss_mesh_free(&s->rest);
+        s->rest = again;
+    }
+    if (s->f.mesh.pos && (s->rest.nv != s->f.mesh.nv || s->rest.nf != s->f.mesh.nf)) {
+        sss_cli_printf(stderr, "%s: %s: /objects/0/mesh: the pose at t = %g s has %u vertices and %u triangles, the "
+                       "first had %u and %u\n", T, s->v->scene, t, s->rest.nv, s->rest.nf, s->f.mesh.nv, s->f.mesh.nf);
+        return 1;
+    }
     if (sss_scene_object_posed(o, &s->rest, t, &world, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s: /objects/0: %s\n", T, s->v->scene, err.msg);
         return 1;
@@ -116,10 +130,17 @@ static int state_open(const sss_pose_view *v, pose_state *s)
                        "deforming object\n", T, v->scene, s->sc.nobjects);
         return 2;
     }
-    const sss_scene_object *o = &s->sc.objects[0];
+    sss_scene_object *o = &s->sc.objects[0];
+    /* the mesh at the first time (a glTF's rig posed there) */
+    sss_import_report rep;
+    if (sss_import_mesh_at(o->mesh, v->time, &s->rest, &rep, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: /objects/0/mesh: %s\n", T, v->scene, err.msg);
+        return 1;
+    }
+    o->animated = rep.animated;
     /* a static object is drawn from its bake, which holds what this path
      * would recompute every frame */
-    if (o->deform.kind == SSS_DEFORM_NONE) {
+    if (!sss_scene_object_deforms(o)) {
         sss_cli_printf(stderr, "%s: %s: /objects/0: '%s' does not deform: bake it (sss-bake --scene %s -o DIR) and "
                        "draw DIR/%s.sss\n", T, v->scene, o->name, v->scene, o->name);
         return 2;
@@ -130,10 +151,6 @@ static int state_open(const sss_pose_view *v, pose_state *s)
         sss_cli_printf(stderr, "%s: %s: /lights: no directional light: the per-frame path takes directional lights "
                        "only\n", T, v->scene);
         return 2;
-    }
-    if (sss_import_mesh(o->mesh, &s->rest, NULL, &err) != SSS_OK) {
-        sss_cli_printf(stderr, "%s: %s: /objects/0/mesh: %s\n", T, v->scene, err.msg);
-        return 1;
     }
     s->C = sss_material_channels(&o->material);
     s->q = calloc((size_t)s->rest.nv * s->C, sizeof *s->q);
@@ -196,12 +213,12 @@ int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
         (td = sss_now() - td, sss_write_image_with(v->out, rgb, hdr, v->width, v->height, v->inputs, &err)) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s\n", T, err.msg);
     } else {
-        const sss_deform *d = &s.sc.objects[0].deform;
-        sss_cli_printf(stderr, "%s: %s: %dx%d, %s, '%s' at t = %g s (%s, theta %.4g deg), %u vertices, q per frame on "
-                       "the CPU (tree gather, %s weights) in %.3f s; pose %.3f s, draw %.3f s\n", T, v->out, v->width,
-                       v->height, sss_gl_renderer_name(), s.sc.objects[0].name, v->time, sss_deform_kind_name(d->kind),
-                       sss_deform_angle(d, v->time) * 180.0 / SSS_PI, s.f.mesh.nv, weights_name(&s), s.t_q, s.t_pose,
-                       td);
+        char motion[96];
+        sss_scene_object_motion(&s.sc.objects[0], v->time, motion, sizeof motion);
+        sss_cli_printf(stderr, "%s: %s: %dx%d, %s, '%s' at t = %g s (%s), %u vertices, q per frame on the CPU (tree "
+                       "gather, %s weights) in %.3f s; pose %.3f s, draw %.3f s\n", T, v->out, v->width, v->height,
+                       sss_gl_renderer_name(), s.sc.objects[0].name, v->time, motion, s.f.mesh.nv, weights_name(&s),
+                       s.t_q, s.t_pose, td);
         rc = 0;
     }
     free(rgb);
@@ -230,10 +247,10 @@ static const char *window_frame(void *user, const sss_view_params *p, sss_render
             return s->desc;
         }
         sss_renderer_update_geometry(r);
-        const sss_deform *d = &s->sc.objects[0].deform;
-        snprintf(s->desc, sizeof s->desc, "t = %.2f s (%s %.3g deg): pose %.0f ms, q %.0f ms on the CPU", t,
-                 sss_deform_kind_name(d->kind), sss_deform_angle(d, t) * 180.0 / SSS_PI, 1e3 * s->t_pose,
-                 1e3 * s->t_q);
+        char motion[96];
+        sss_scene_object_motion(&s->sc.objects[0], t, motion, sizeof motion);
+        snprintf(s->desc, sizeof s->desc, "t = %.2f s (%s): pose %.0f ms, q %.0f ms on the CPU", t, motion,
+                 1e3 * s->t_pose, 1e3 * s->t_q);
     }
     sss_renderer_upload_q(r, s->q);
     return s->desc;
