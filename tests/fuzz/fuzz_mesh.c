@@ -1,7 +1,9 @@
 /* fuzz_mesh.c: libFuzzer harness for the mesh importers (PLY ascii and
  * binary, OBJ, OFF, STL, glTF .gltf and .glb; docs/robustness.md). The first
- * input byte's low three bits pick the format (extension), the rest is the
- * file. sss_import_mesh must refuse it with a
+ * input byte's low three bits pick the format (extension), its bit 3 asks
+ * for the pose at t = 1 (sss_import_mesh_at: a glTF's skin moved by its
+ * clip, docs/deformable.md §5), the rest is the file. The importer must
+ * refuse it with a
  * message naming the file, or return a mesh whose indices are in range and
  * whose positions, normals and areas are finite. The importer reads paths
  * (OpenMesh does), so each input goes through a private temporary file. */
@@ -34,7 +36,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     sss_mesh m;
     sss_import_report rep;
     sss_error err = {{0}};
-    sss_result r = sss_import_mesh(path, &m, &rep, &err);
+    sss_result r = data[0] & 8 ? sss_import_mesh_at(path, 1.0, &m, &rep, &err) : sss_import_mesh(path, &m, &rep, &err);
     unlink(path);
     if (r != SSS_OK) {
         if (!strstr(err.msg, path)) abort(); /* the message names the file */
