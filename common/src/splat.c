@@ -1,5 +1,5 @@
 /* splat.c: the tables and tests of Chen et al. 2012's multiresolution
- * splatting that need no GL (sss/splat.h; seed 003 §4, Eqs. 10–16). */
+ * splatting that need no GL (sss/splat.h; Chen et al. 2012 §4, Eqs. 10–16). */
 #include "sss/splat.h"
 
 #include <math.h>

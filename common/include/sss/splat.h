@@ -1,5 +1,5 @@
 /* sss/splat.h: the CPU side of Chen et al. 2012's multiresolution
- * splatting (seed 003 §4; docs/deformable.md §6): the required sampling
+ * splatting (Chen et al. 2012 §4; docs/deformable.md §6): the required sampling
  * rate M (Eq. 11), the sample selection test (Eq. 10), the mean normalised
  * scattering profile P̄ (Eqs. 15–16), the minimal effective rendering
  * radius R̄ (Eq. 14) and the levels' rendering ranges [R_min^k, R_max^k]

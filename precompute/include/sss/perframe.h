@@ -1,6 +1,6 @@
 /* sss/perframe.h: the object-space per-frame path for deforming objects
- * (docs/deformable.md §3): Hao–Varshney 2004's run-time mode (seed 001
- * §2.3) evaluated on a posed mesh with the bake's own pieces and nothing
+ * (docs/deformable.md §3): Hao–Varshney 2004's run-time mode (§2.3)
+ * evaluated on a posed mesh with the bake's own pieces and nothing
  * baked. For one directional light ω:
  *
  *   G(x_i, ω)  = F_t(η, n_i·ω) · max(0, n_i·ω) · V(x_i, ω)     (irradiance per vertex, with visibility)

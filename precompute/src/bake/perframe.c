@@ -1,6 +1,6 @@
 /* perframe.c: the object-space per-frame path (sss/perframe.h,
- * docs/deformable.md §3): Hao–Varshney 2004's run-time mode (seed 001
- * §2.3) on a posed mesh. Every piece is the bake's: the radius rule and
+ * docs/deformable.md §3): Hao–Varshney 2004's run-time mode
+ * (§2.3) on a posed mesh. Every piece is the bake's: the radius rule and
  * neighbourhoods of nbhd.c, the hat corrections of hatweights.c, the rays
  * of visibility.c, G of transfer.c, and either the direct sum of
  * transfer.c or the hierarchical gather of gather/ with the bake's
