@@ -130,7 +130,9 @@ static void posedTubeBendsItsUpperHalfByTheClip(void **state)
     sss_mesh p0;
     if (sss_import_mesh_at(p, 0.0, &p0, NULL, &err) != SSS_OK) fail_msg("%s", err.msg);
     for (size_t i = 0; i < 3 * (size_t)rest.nv; i++) assert_true(fabsf(p0.pos[i] - rest.pos[i]) < 1e-6f);
-    assert_int_equal(sss_import_mesh_at(p, NAN, &p0 /* zeroed on failure */, NULL, &err), SSS_ERR_ARG);
+    sss_mesh_free(&p0);
+    assert_int_equal(sss_import_mesh_at(p, NAN, &p0, NULL, &err), SSS_ERR_ARG);
+    assert_null(p0.pos); /* zeroed on failure */
     sss_mesh_free(&tube), sss_mesh_free(&rest), sss_mesh_free(&p1), sss_mesh_free(&p3), sss_mesh_free(&p9);
 }
 
