@@ -194,6 +194,26 @@ static sss_result get_path(const ctx *c, const cJSON *obj, const char *jpath, co
     return SSS_OK;
 }
 
+/* The scattering of a material object: "sigmap_s" (σ′s, as before), or
+ * "sigma_s" with an optional "g" (σ′s = σs (1 − g), docs/physics.md §1);
+ * "g" alone keeps σ′s (a preset's, or "sigmap_s") and only sets the phase.
+ * `required`: one of the two coefficients must be given (no preset). */
+static sss_result parse_scattering(const ctx *c, const cJSON *m, const char *jpath, int required, sss_material *out)
+{
+    const int has_s = cJSON_GetObjectItemCaseSensitive(m, "sigma_s") != NULL;
+    char p[512];
+    join(p, sizeof p, jpath, "sigma_s");
+    if (has_s && cJSON_GetObjectItemCaseSensitive(m, "sigmap_s"))
+        return fail_at(c, p, "give either sigma_s (with g) or sigmap_s, not both");
+    sss_result r = get_number(c, m, jpath, "g", 0, -SSS_G_MAX, SSS_G_MAX, &out->g);
+    if (r != SSS_OK) return r;
+    if (!has_s) return get_vec3(c, m, jpath, "sigmap_s", required, 0.0, SSS_SIGMA_MAX, out->sigmap_s);
+    double s[3];
+    if ((r = get_vec3(c, m, jpath, "sigma_s", 1, 0.0, SSS_SIGMA_MAX, s)) != SSS_OK) return r;
+    for (int k = 0; k < 3; k++) out->sigmap_s[k] = s[k] * (1.0 - out->g);
+    return SSS_OK;
+}
+
 static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath, sss_material *out)
 {
     sss_error e2 = {{0}};
@@ -204,7 +224,7 @@ static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath
         return SSS_OK;
     }
     if (!cJSON_IsObject(m)) return fail_at(c, jpath, "expected a preset name or an object");
-    static const char *const keys[] = {"preset", "sigma_a", "sigmap_s", "eta", NULL};
+    static const char *const keys[] = {"preset", "sigma_a", "sigmap_s", "eta", "sigma_s", "g", NULL};
     sss_result r = only_keys(c, m, jpath, keys);
     if (r != SSS_OK) return r;
     memset(out, 0, sizeof *out);
@@ -219,9 +239,10 @@ static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath
         out->eta = 1.3;
     }
     if ((r = get_vec3(c, m, jpath, "sigma_a", !pr, 0.0, SSS_SIGMA_MAX, out->sigma_a)) != SSS_OK) return r;
-    if ((r = get_vec3(c, m, jpath, "sigmap_s", !pr, 0.0, SSS_SIGMA_MAX, out->sigmap_s)) != SSS_OK) return r;
+    if ((r = parse_scattering(c, m, jpath, !pr, out)) != SSS_OK) return r;
     if ((r = get_number(c, m, jpath, "eta", 0, SSS_ETA_MIN, SSS_ETA_MAX, &out->eta)) != SSS_OK) return r;
-    if (pr && (cJSON_GetObjectItemCaseSensitive(m, "sigma_a") || cJSON_GetObjectItemCaseSensitive(m, "sigmap_s")))
+    if (pr && (cJSON_GetObjectItemCaseSensitive(m, "sigma_a") || cJSON_GetObjectItemCaseSensitive(m, "sigmap_s") ||
+               cJSON_GetObjectItemCaseSensitive(m, "sigma_s")))
         snprintf(out->name, sizeof out->name, "custom");
     if (sss_material_validate(out, &e2) != SSS_OK) return fail_at(c, jpath, "%s", e2.msg);
     return SSS_OK;

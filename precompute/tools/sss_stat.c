@@ -895,6 +895,8 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         printf("  vertices %u, triangles %u, channels %u, directions %u, storage %s\n", f->mesh.nv, f->mesh.nf,
                f->channels, f->dirs.n, quant);
         printf("  material %s (eta %g), %g mm per unit\n", f->material.name, f->material.eta, f->mm_per_unit);
+        if (f->material.g != 0.0) /* section PHAS (docs/layers.md §2) */
+            printf("  phase function Henyey-Greenstein, g %g (sigma_s = sigma'_s / (1 - g))\n", f->material.g);
         if (f->near_terms && f->near_radius_mm > 0.0)
             printf("  near terms added at run time: every vertex within %g mm (sections OWNT, NRAD)\n",
                    f->near_radius_mm);

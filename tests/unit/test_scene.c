@@ -110,6 +110,35 @@ static void invalidScenesNameFileAndJsonPath(void **state)
     sss_scene_free(&s);
 }
 
+/* A material's phase (docs/layers.md §2): "sigma_s" with "g" gives
+ * σ′s = σs (1 − g); "g" alone keeps a preset's σ′s; bad combinations and
+ * ranges are refused naming the key. */
+static void materialTakesSigmaSAndG(void **state)
+{
+    (void)state;
+    sss_scene s;
+    sss_error err = {{0}};
+    assert_int_equal(sss_scene_parse("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"sigma_a\":[0.1,0.2,0.3],"
+                                     "\"sigma_s\":[2,1,1],\"g\":0.25}},{\"mesh\":\"b.ply\",\"material\":{"
+                                     "\"preset\":\"skin1\",\"g\":0.5}}]}",
+                                     "scene.json", &s, &err), SSS_OK);
+    const sss_material *m = &s.objects[0].material;
+    assert_true(m->g == 0.25);
+    assert_true(m->sigmap_s[0] == 1.5 && m->sigmap_s[1] == 0.75 && m->sigmap_s[2] == 0.75);
+    assert_true(fabs(sss_material_sigma_s(m, 0) - 2.0) < 1e-15);
+    const sss_material *p = &s.objects[1].material;
+    assert_true(p->g == 0.5 && p->sigmap_s[0] == 0.74);
+    assert_string_equal(p->name, "skin1");
+    sss_scene_free(&s);
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"sigma_a\":[1,1,1],\"sigma_s\":[1,1,1],"
+                 "\"sigmap_s\":[1,1,1]}}]}",
+                 "/objects/0/material/sigma_s: give either sigma_s (with g) or sigmap_s, not both");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"g\":1}}]}",
+                 "/objects/0/material/g: 1 is out of range [-0.99, 0.99]");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"sigma_a\":[1,1,1],\"sigma_s\":[1,-1,1]}}]}",
+                 "/objects/0/material/sigma_s/1: -1 is out of range");
+}
+
 /* Silent misreadings refused, naming the JSON path (docs/robustness.md
  * item 9): a key given twice (cJSON keeps both and a lookup finds the
  * first, so the second was ignored), a string holding \u0000 (the name was
@@ -739,6 +768,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(invalidScenesNameFileAndJsonPath),
         cmocka_unit_test(sceneRefusesDuplicateKeysNulAndDotNames),
+        cmocka_unit_test(materialTakesSigmaSAndG),
         cmocka_unit_test(greyMaterialBakesOneChannel),
         cmocka_unit_test(convexObjectAloneTracesNoRaysAndMatchesVisibilityOn),
         cmocka_unit_test(directionSetHasThePlainBakesWeightsAndThePlanSaysWhy),
