@@ -57,12 +57,14 @@ int sss_ss_geometry(const double n[3], const double wi[3], const double wo[3], d
     if (refract) {
         g->mu_i = refract_in(n, wi, eta, ti);
         g->mu_o = refract_in(n, wo, eta, to);
-        g->F_t = sss_ft(eta, ci) * sss_ft(eta, co);
+        /* in: F_t of the irradiance over the refracted beam's cross-section;
+         * out: F_t of the radiance, over η² (docs/reference.md §5.4) */
+        g->boundary = sss_ft(eta, ci) * ci / g->mu_i * sss_ft(eta, co) / (eta * eta);
     } else {
         for (int k = 0; k < 3; k++) ti[k] = -wi[k], to[k] = -wo[k];
         g->mu_i = ci;
         g->mu_o = co;
-        g->F_t = 1.0;
+        g->boundary = 1.0;
     }
     /* the scattered light propagates against the view ray's way in (−to) */
     g->cos_phase = -sss_dot3(ti, to);
@@ -73,7 +75,7 @@ double sss_ss_halfspace(double sigma_s, double sigma_t, double hg_g, const sss_s
 {
     if (!(sigma_t > 0.0)) return 0.0;
     /* ∫₀^∞ e^{−σt s μ_o/μ_i} e^{−σt s} ds = μ_i / (σt (μ_i + μ_o)) */
-    return g->F_t * sigma_s * sss_phase_hg(hg_g, g->cos_phase) * g->mu_i / (sigma_t * (g->mu_i + g->mu_o));
+    return g->boundary * sigma_s * sss_phase_hg(hg_g, g->cos_phase) * g->mu_i / (sigma_t * (g->mu_i + g->mu_o));
 }
 
 double sss_ss_albedo(double sigma_s, double sigma_t, double hg_g, double eta)
@@ -129,7 +131,7 @@ double sss_layers_closed(const sss_layer_stack *st, uint32_t c, const sss_ss_geo
         sum += L->sigma_s[c] * p * g->mu_i / (st_k * (g->mu_i + g->mu_o)) * exp(-tau * m) * open;
         tau += st_k * h;
     }
-    return g->F_t * sum;
+    return g->boundary * sum;
 }
 
 double sss_ss_march(const sss_layer_stack *st, uint32_t c, const sss_ss_geom *g, double s_max, uint32_t n,
@@ -146,7 +148,7 @@ double sss_ss_march(const sss_layer_stack *st, uint32_t c, const sss_ss_geom *g,
         L += ly->sigma_s[c] * sss_phase_eval(st->phase, ly->g, g->cos_phase) * exp(-pt.tau_light) * T * delta;
         T *= exp(-ly->sigma_t[c] * delta); /* Eq. 13 */
     }
-    return g->F_t * L;
+    return g->boundary * L;
 }
 
 /* (1 − e^{−x}) / x, 1 at x = 0: the mean of e^{−t} over t ∈ [0, x]. */
@@ -199,7 +201,7 @@ double sss_ss_march_segments(const sss_layer_stack *st, uint32_t c, const sss_ss
         a = b;
         pa = pb;
     }
-    return g->F_t * L;
+    return g->boundary * L;
 }
 
 void sss_ss_locate_flat(void *user, uint32_t c, double s, sss_ss_point *out)

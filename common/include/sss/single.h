@@ -52,28 +52,38 @@ typedef struct sss_ss_geom {
     double mu_i;      /* cosine of the (refracted) light direction with the normal, (0, 1] */
     double mu_o;      /* cosine of the (refracted) view direction with the normal, (0, 1] */
     double cos_phase; /* cosine between the light's and the scattered light's propagation directions */
-    double F_t;       /* Fresnel transmittance at both crossings, F_t(η, ω_i) F_t(η, ω_o); 1 without Fresnel */
+    double boundary;  /* what the two crossings pass: F_t(η, ω_i) F_t(η, ω_o) cos θ_i / (η² μ_i), 1 without them */
 } sss_ss_geom;
 
 /* The geometry of a light from direction wi (unit, towards the light) seen
  * from direction wo (unit, towards the viewer) at a surface of outward unit
  * normal n. With refract = 1 both directions are refracted by Snell's law
- * into a medium of relative index η = n_inside / n_outside and F_t is the
- * product of the two Fresnel transmittances (sss_ft); with refract = 0 the
- * directions go straight on and F_t = 1 (seed 002's model). Returns 0 and
- * leaves g zeroed when the light or the viewer is below the surface. */
+ * into a medium of relative index η = n_inside / n_outside, and the
+ * boundary factor is what the crossings let through: F_t(η, cos θ_i)
+ * (sss_ft) of the irradiance, spread over the refracted beam's wider
+ * cross-section (cos θ_i / μ_i), and on the way out F_t(η, cos θ_o) of the
+ * radiance, divided by η² as it leaves the denser medium (radiance over n²
+ * is conserved). Jensen 2001's eq. 4 keeps the two F_t only; the factor
+ * cos θ_i / (η² μ_i) is what the path-traced reference measures
+ * (docs/reference.md §5.4; docs/layers.md §1). With refract = 0 the
+ * directions go straight on and the factor is 1 (seed 002's model).
+ * Returns 0 and leaves g zeroed when the light or the viewer is below the
+ * surface. */
 int sss_ss_geometry(const double n[3], const double wi[3], const double wo[3], double eta, int refract,
                     sss_ss_geom *g);
 
-/* Jensen 2001's S⁽¹⁾ for a homogeneous half-space (docs/physics.md §10),
- * closed form of its integral along the refracted view ray:
- *   L / L_i = F_t · σs · p · μ_i / (σt (μ_i + μ_o)),
- * p the HG phase of g at g->cos_phase. 0 when σt = 0. */
+/* The single scattering of a homogeneous half-space (Jensen 2001's S⁽¹⁾,
+ * docs/physics.md §10, with the boundary factor above), closed form of its
+ * integral along the refracted view ray:
+ *   L / L_i = B · σs · p · μ_i / (σt (μ_i + μ_o)),
+ * B = g->boundary, p the HG phase of hg_g at g->cos_phase; with
+ * refraction B μ_i = F_t F_t cos θ_i / η², the reference's closed form.
+ * 0 when σt = 0. */
 double sss_ss_halfspace(double sigma_s, double sigma_t, double hg_g, const sss_ss_geom *g);
 
 /* The half-space's single-scattering albedo at normal incidence: the
- * radiant exitance of sss_ss_halfspace (refracted, Fresnel at both
- * crossings, index η) over the incident irradiance,
+ * radiant exitance of sss_ss_halfspace (refracted, both crossings, index
+ * η) over the incident irradiance,
  *   R_ss = ∫ L⁽¹⁾(ω_o) cos θ_o dω_o / E,
  * by the midpoint rule on 1024 cells in cos θ_o (at normal incidence the
  * phase angle depends on θ_o alone). Dimensionless, in [0, 1). The planner
@@ -118,9 +128,9 @@ double sss_layers_tau(const sss_layer_stack *st, uint32_t c, double z, double mu
 
 /* The stack's single scattering on a flat surface, closed form: the sum
  * over layers k of
- *   F_t · σs_k p_k μ_i / (σt_k (μ_i + μ_o)) · e^{−τ_k m} (1 − e^{−σt_k h_k m}),
- * m = 1/μ_i + 1/μ_o, τ_k the optical depth of the layers above k along the
- * normal, h_k the thickness of layer k. One homogeneous layer of depth D
+ *   B · σs_k p_k μ_i / (σt_k (μ_i + μ_o)) · e^{−τ_k m} (1 − e^{−σt_k h_k m}),
+ * B = g->boundary, m = 1/μ_i + 1/μ_o, τ_k the optical depth of the layers
+ * above k along the normal, h_k the thickness of layer k. One homogeneous layer of depth D
  * gives seed 002's closed form
  *   L = (σs/σt)·p·L_i·μ_i/(μ_i+μ_o)·[1 − e^{−σt D (1/μ_i + 1/μ_o)}].
  * Result per unit L_i, channel c. */
@@ -143,7 +153,8 @@ typedef void (*sss_ss_locate_fn)(void *user, uint32_t c, double s, sss_ss_point 
  * reduced intensity of its own point and the view attenuation T of the
  * points before it, then T *= e^{−σt Δ} with its own layer's σt (the
  * incremental attenuation of Eq. 13). A left Riemann sum: first order in Δ.
- * F_t and the phase's cosine from g. Channel c; n = 0 gives 0. */
+ * The boundary factor and the phase's cosine from g. Channel c; n = 0
+ * gives 0. */
 double sss_ss_march(const sss_layer_stack *st, uint32_t c, const sss_ss_geom *g, double s_max, uint32_t n,
                     sss_ss_locate_fn locate, void *user);
 
