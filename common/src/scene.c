@@ -251,7 +251,8 @@ static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath
 static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, int index, sss_scene_object *out)
 {
     if (!cJSON_IsObject(o)) return fail_at(c, jpath, "expected an object");
-    static const char *const keys[] = {"name", "mesh", "material", "mm_per_unit", "transform", "moving", NULL};
+    static const char *const keys[] = {"name", "mesh", "material", "mm_per_unit", "transform", "moving",
+                                       "single_scattering", NULL};
     sss_result r = only_keys(c, o, jpath, keys);
     if (r != SSS_OK) return r;
     memset(out, 0, sizeof *out);
@@ -285,6 +286,11 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
         return fail_at(c, p, "must be > 0");
     }
     if ((r = get_bool(c, o, jpath, "moving", &out->moving)) != SSS_OK) return r;
+    if (cJSON_GetObjectItemCaseSensitive(o, "single_scattering")) { /* forces the planner's rule (docs/layers.md §4) */
+        int on = 0;
+        if ((r = get_bool(c, o, jpath, "single_scattering", &on)) != SSS_OK) return r;
+        out->single_scattering = on ? 1 : -1;
+    }
     const cJSON *t = cJSON_GetObjectItemCaseSensitive(o, "transform");
     if (t) {
         join(p, sizeof p, jpath, "transform");

@@ -307,6 +307,54 @@ static const sss_decision *decision(const sss_object_plan *p, const char *effect
     return NULL;
 }
 
+/* Single scattering (docs/layers.md §4): on where its share of the
+ * reflectance reaches the threshold (skin1: 0.28 in blue), off where it does
+ * not (marble: 0.085 at most), forced either way by the scene, and the
+ * choice is the file's effect bit. */
+static void plannerChoosesSingleScatteringByItsShare(void **state)
+{
+    (void)state;
+    make_sphere("sphere.ply", 1.0, 1);
+    static const char *const mats[] = {"\"skin1\"", "\"marble\"", "\"marble\",\"single_scattering\":true",
+                                       "\"skin1\",\"single_scattering\":false"};
+    static const int want[] = {1, 0, 1, 0};
+    for (int i = 0; i < 4; i++) {
+        char json[512];
+        snprintf(json, sizeof json, "{\"objects\":[{\"mesh\":\"sphere.ply\",\"material\":%s}],\"lights\":"
+                 "[{\"type\":\"directional\",\"direction\":[0,0,1]}]}", mats[i]);
+        baked b = {0};
+        load(&b, json);
+        const sss_object_plan *p = &b.plan.obj[0];
+        const sss_decision *d = decision(p, "single-scattering");
+        assert_non_null(d);
+        assert_string_equal(d->choice, want[i] ? "on" : "off");
+        assert_int_equal(!!(p->effects & SSS_FX_SINGLE), want[i]);
+        if (i < 2) assert_non_null(strstr(d->reason, want[i] ? "at least 0.10" : "below 0.10"));
+        else assert_non_null(strstr(d->reason, "the scene sets \"single_scattering\""));
+        if (i == 0) {
+            sss_bake_file f;
+            sss_bake_stats st;
+            bake(&b, 0, &f, &st);
+            assert_true(f.fx.mask & SSS_FX_SINGLE);
+            sss_file_free(&f);
+        }
+        unload(&b);
+    }
+    /* forward scattering lowers the share: the seed's dermis (Table 1) with
+     * g = 0.75 falls below the threshold in red */
+    sss_material m = {"dermis", {0.6, 0.6, 0.6}, {0.5, 0.25, 0.25}, 1.3, 0.75};
+    uint32_t c = 9;
+    const double s75 = sss_single_share(&m, 1, &c);
+    m.g = 0.0;
+    m.sigmap_s[0] = 2.0;
+    const double s0 = sss_single_share(&m, 1, &c);
+    assert_int_equal(c, 0);
+    assert_true(s75 < 0.10 && s0 > 0.2);
+    /* a scene key of the wrong type names it */
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":\"skin1\",\"single_scattering\":1}]}",
+                 "/objects/0/single_scattering: expected true or false");
+}
+
 /* The storage rule (planner.c, docs/scenes.md "Rows, weights and near
  * terms"): by default hat weights, the direction set's near terms at run
  * time and its rows compact, each stated with its reason; an occluded
@@ -769,6 +817,7 @@ int main(void)
         cmocka_unit_test(invalidScenesNameFileAndJsonPath),
         cmocka_unit_test(sceneRefusesDuplicateKeysNulAndDotNames),
         cmocka_unit_test(materialTakesSigmaSAndG),
+        cmocka_unit_test(plannerChoosesSingleScatteringByItsShare),
         cmocka_unit_test(greyMaterialBakesOneChannel),
         cmocka_unit_test(convexObjectAloneTracesNoRaysAndMatchesVisibilityOn),
         cmocka_unit_test(directionSetHasThePlainBakesWeightsAndThePlanSaysWhy),

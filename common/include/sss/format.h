@@ -121,8 +121,9 @@ typedef struct sss_refcode {
 #define SSS_FX_DIR_SET      (1u << 4) /* moving directional light: DIRS + QFLT / QL8 / SHC (§3.2) */
 #define SSS_FX_POINT_SHELLS (1u << 5) /* near point light: DIRS x distance shells (PSHL, §3.3) */
 #define SSS_FX_ENV_SH       (1u << 6) /* environment: SH transfer (ENVT) */
-#define SSS_FX_KNOWN        0x7Fu
-#define SSS_FX_COUNT        7
+#define SSS_FX_SINGLE       (1u << 7) /* (1.8) single scattering added at run time from MATL, PHAS and GEOM (docs/layers.md) */
+#define SSS_FX_KNOWN        0xFFu
+#define SSS_FX_COUNT        8
 
 typedef struct sss_effects {
     uint32_t mask;           /* SSS_FX_* */

@@ -55,6 +55,7 @@ typedef struct sss_scene_object {
      * dipole distances isotropic. */
     double translate[3], rotate_deg[3], scale;
     int moving;                     /* 1: moves relative to the others (cannot cast baked shadows) */
+    int single_scattering;          /* "single_scattering": 1 true, -1 false, 0 absent (the planner decides) */
 } sss_scene_object;
 
 typedef struct sss_scene_camera {
