@@ -68,6 +68,8 @@ int sss_ss_geometry(const double n[3], const double wi[3], const double wo[3], d
     }
     /* the scattered light propagates against the view ray's way in (−to) */
     g->cos_phase = -sss_dot3(ti, to);
+    memcpy(g->dir_i, ti, sizeof ti);
+    memcpy(g->dir_o, to, sizeof to);
     return 1;
 }
 

@@ -53,6 +53,8 @@ typedef struct sss_ss_geom {
     double mu_o;      /* cosine of the (refracted) view direction with the normal, (0, 1] */
     double cos_phase; /* cosine between the light's and the scattered light's propagation directions */
     double boundary;  /* what the two crossings pass: F_t(η, ω_i) F_t(η, ω_o) cos θ_i / (η² μ_i), 1 without them */
+    double dir_i[3];  /* the light's propagation direction inside (unit, into the medium) */
+    double dir_o[3];  /* the view ray's direction inside (unit, into the medium; the scattered light runs against it) */
 } sss_ss_geom;
 
 /* The geometry of a light from direction wi (unit, towards the light) seen

@@ -1,0 +1,50 @@
+/* sss/single_mesh.h: single scattering at a vertex of a closed mesh, on the
+ * CPU: the oracle a per-pixel pass is checked against, and what
+ * `sss-stat --query V --light --view` reports (docs/layers.md §5).
+ *
+ * The view ray refracts at the vertex (its normal, η of the material) and
+ * is marched inside until it leaves the mesh or its light is negligible;
+ * the light reaching each sample comes from the point K where the reversed
+ * refracted light direction leaves the mesh, found by an exact ray cast
+ * through the mesh's BVH (sss/bvh.h), not by seed 002's fitted planes; K
+ * itself is lit only when nothing outside the object shades it. The
+ * boundary factor (Fresnel in and out, beam spread, η²) is the vertex's own
+ * (sss_ss_geometry): on a flat surface every K shares the vertex's normal
+ * and the result is the half-space's or the slab's closed form.
+ * Homogeneous materials only for now (σs = σ′s / (1 − g), HG phase of g).
+ */
+#ifndef SSS_SINGLE_MESH_H
+#define SSS_SINGLE_MESH_H
+
+#include <stdint.h>
+
+#include "sss/bvh.h"
+#include "sss/dipole.h"
+#include "sss/mesh.h"
+#include "sss/result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Options; zero means default. */
+typedef struct sss_ss_mesh_opts {
+    uint32_t samples;  /* N, segments along the view ray (default 64) */
+    double tau_max;    /* the march ends where the view ray's optical depth σt s reaches this (default 16: e^{−16} ≈ 10⁻⁷) */
+    int seed_march;    /* 1: seed 002's Algorithm 1 (left Riemann sum); 0: the per-segment closed form */
+} sss_ss_mesh_opts;
+
+/* Single-scattered radiance leaving vertex v of mesh (built into bvh, which
+ * must be the mesh's own) towards the unit direction view, for a
+ * directional light of unit irradiance across its beam from the unit
+ * direction light, per channel c < channels into out[c] (1/sr). mm_per_unit
+ * converts mesh units to mm. 0 where the light or the viewer is below the
+ * vertex's tangent plane. SSS_ERR_ARG for an invalid material or vertex. */
+sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double mm_per_unit, const sss_material *m,
+                              uint32_t channels, uint32_t v, const double light[3], const double view[3],
+                              const sss_ss_mesh_opts *opts, double *out, sss_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

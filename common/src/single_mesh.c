@@ -1,0 +1,111 @@
+/* single_mesh.c: single scattering at a mesh vertex (sss/single_mesh.h):
+ * Jensen et al. 2001's S⁽¹⁾ marched along the refracted view ray as seed
+ * 002 (Algorithm 1) does, with the light's entry point K found by casting
+ * a ray through the mesh instead of the paper's fitted planes (Eqs. 7–10),
+ * and the per-segment closed form of sss/single.h by default.
+ * docs/layers.md §5 lists the choices.
+ */
+#include "sss/single_mesh.h"
+#include "sss/single.h"
+#include "sss/vec3.h"
+
+#include <math.h>
+#include <string.h>
+
+typedef struct march_ctx {
+    const sss_bvh *bvh;
+    double x[3];        /* the vertex, mesh units */
+    double dir_i[3];    /* the light's propagation inside */
+    double dir_o[3];    /* the view ray inside */
+    double light[3];    /* towards the light, outside */
+    double mu_i, mu_o;  /* their cosines with the vertex normal */
+    double mm_per_unit;
+    float delta;        /* the bake's ray offset (sss_mesh_ray_offset), mesh units */
+    const sss_layer_stack *stack;
+} march_ctx;
+
+/* The light's path to the point s mm along the view ray: back along the
+ * light's inside direction to the surface (K), and whether K sees the
+ * light. A ray that finds no surface beyond the ray offset (a point within
+ * the offset of the surface, or a float leak at a grazing triangle) falls
+ * back on the vertex's tangent plane, depth / μ_i. */
+static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
+{
+    const march_ctx *k = user;
+    out->layer = 0;
+    const double su = s / k->mm_per_unit;
+    float M[3], back[3];
+    for (int a = 0; a < 3; a++) {
+        M[a] = (float)(k->x[a] + su * k->dir_o[a]);
+        back[a] = (float)-k->dir_i[a];
+    }
+    /* hits closer than the ray offset are the surface the point lies on
+     * (where the view ray leaves, at s_max), not where the light enters */
+    double t = su > 0.0 ? (double)sss_bvh_nearest(k->bvh, M, back, k->delta, NULL) : 0.0;
+    if (!isfinite(t)) t = su * k->mu_o / k->mu_i;
+    float K[3];
+    const float L[3] = {(float)k->light[0], (float)k->light[1], (float)k->light[2]};
+    for (int a = 0; a < 3; a++) K[a] = (float)(M[a] + t * back[a]);
+    /* shaded K: no light enters there (a large optical depth, finite so
+     * that the segment rule's differences stay numbers) */
+    if (sss_bvh_occluded(k->bvh, K, L, k->delta)) {
+        out->tau_light = 1e30;
+        return;
+    }
+    out->tau_light = k->stack->layer[0].sigma_t[c] * t * k->mm_per_unit;
+}
+
+sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double mm_per_unit, const sss_material *m,
+                              uint32_t channels, uint32_t v, const double light[3], const double view[3],
+                              const sss_ss_mesh_opts *opts, double *out, sss_error *err)
+{
+    if (v >= mesh->nv || !mesh->nrm)
+        return sss_fail(err, SSS_ERR_ARG, "single scattering: vertex %u out of range [0, %u) or no normals", v,
+                        mesh->nv);
+    if (!(mm_per_unit > 0.0) || !isfinite(mm_per_unit))
+        return sss_fail(err, SSS_ERR_ARG, "single scattering: mm_per_unit %g must be > 0", mm_per_unit);
+    sss_result r = sss_material_check(m, channels, SSS_ERR_ARG, err);
+    if (r != SSS_OK) return r;
+    const uint32_t N = opts && opts->samples ? opts->samples : 64;
+    const double tau_max = opts && opts->tau_max > 0.0 ? opts->tau_max : 16.0;
+    for (uint32_t c = 0; c < channels; c++) out[c] = 0.0;
+
+    double n[3], x[3];
+    for (int a = 0; a < 3; a++) {
+        n[a] = mesh->nrm[3 * (size_t)v + a];
+        x[a] = mesh->pos[3 * (size_t)v + a];
+    }
+    sss_normalize3(n);
+    sss_ss_geom g;
+    if (!sss_ss_geometry(n, light, view, m->eta, 1, &g)) return SSS_OK;
+
+    sss_layer_stack st;
+    memset(&st, 0, sizeof st);
+    st.n = 1;
+    st.phase = SSS_PHASE_HG;
+    st.layer[0].g = m->g;
+    st.layer[0].depth = INFINITY;
+    for (uint32_t c = 0; c < channels; c++) {
+        st.layer[0].sigma_s[c] = sss_material_sigma_s(m, (int)c);
+        st.layer[0].sigma_t[c] = m->sigma_a[c] + st.layer[0].sigma_s[c];
+    }
+    march_ctx k = {.bvh = bvh, .mu_i = g.mu_i, .mu_o = g.mu_o, .mm_per_unit = mm_per_unit,
+                   .delta = sss_mesh_ray_offset(mesh), .stack = &st};
+    memcpy(k.x, x, sizeof x);
+    memcpy(k.dir_i, g.dir_i, sizeof g.dir_i);
+    memcpy(k.dir_o, g.dir_o, sizeof g.dir_o);
+    memcpy(k.light, light, sizeof k.light);
+
+    /* where the view ray leaves the object: the march ends there at most */
+    float xo[3], d[3];
+    for (int a = 0; a < 3; a++) xo[a] = (float)x[a], d[a] = (float)g.dir_o[a];
+    const double s_exit = (double)sss_bvh_nearest(bvh, xo, d, k.delta, NULL) * mm_per_unit;
+    for (uint32_t c = 0; c < channels; c++) {
+        const double sigma_t = st.layer[0].sigma_t[c];
+        if (!(sigma_t > 0.0)) continue;
+        const double s_max = fmin(s_exit, tau_max / sigma_t);
+        out[c] = opts && opts->seed_march ? sss_ss_march(&st, c, &g, s_max, N, locate_mesh, &k)
+                                          : sss_ss_march_segments(&st, c, &g, s_max, N, locate_mesh, &k);
+    }
+    return SSS_OK;
+}

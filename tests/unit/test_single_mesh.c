@@ -1,0 +1,171 @@
+/* Single scattering at a mesh vertex (sss/single_mesh.h, docs/layers.md
+ * §5): on the flat top of a box, generated here, the march through the
+ * mesh must give the closed forms of sss/single.h (a half-space when the
+ * box is deep, a slab of the box's height when it is thin), its seed
+ * march must converge to them, and light or view below the surface, or a
+ * shaded entry point, must give nothing. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <string.h>
+
+#include "genmesh.h"
+#include "sss/single.h"
+#include "sss/single_mesh.h"
+#include "sss/vec3.h"
+
+typedef struct box {
+    sss_mesh m;
+    sss_bvh bvh;
+    uint32_t top; /* the vertex at the centre of the top face */
+} box;
+
+static void make_box(box *b, double sx, double sz, unsigned n)
+{
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_box(&b->m, sx, sx, sz, n, 0, &err), SSS_OK);
+    if (!b->m.nrm) assert_int_equal(sss_mesh_compute_normals_areas(&b->m, "box", &err), SSS_OK);
+    assert_int_equal(sss_bvh_build(b->m.pos, b->m.nv, b->m.tri, b->m.nf, &b->bvh, &err), SSS_OK);
+    b->top = UINT32_MAX;
+    for (uint32_t v = 0; v < b->m.nv; v++) {
+        const float *p = &b->m.pos[3 * (size_t)v];
+        if (fabsf(p[0]) < 1e-6f && fabsf(p[1]) < 1e-6f && p[2] > 0.0f) b->top = v;
+    }
+    assert_true(b->top != UINT32_MAX);
+    assert_true(fabsf(b->m.nrm[3 * (size_t)b->top + 2] - 1.0f) < 1e-6f);
+}
+
+static void free_box(box *b)
+{
+    sss_bvh_free(&b->bvh);
+    sss_mesh_free(&b->m);
+}
+
+static void unit(double v[3])
+{
+    const double l = sqrt(sss_dot3(v, v));
+    for (int k = 0; k < 3; k++) v[k] /= l;
+}
+
+static const sss_material seed_dermis = {"dermis", {0.6, 0.6, 0.6}, {1.5, 0.75, 0.75}, 1.3, 0.25};
+
+static void deepBoxGivesTheHalfSpace(void **state)
+{
+    (void)state;
+    box b;
+    make_box(&b, 400.0, 200.0, 4); /* 400 mm wide, 200 mm deep: σt = 2.6 /mm sees a half-space */
+    double light[3] = {0.4, 0.1, 0.9}, view[3] = {-0.3, 0.2, 0.93};
+    unit(light);
+    unit(view);
+    double out[3];
+    sss_error err = {{0}};
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, 3, b.top, light, view, NULL, out, &err), SSS_OK);
+    const double n[3] = {0, 0, 1};
+    sss_ss_geom g;
+    assert_int_equal(sss_ss_geometry(n, light, view, 1.3, 1, &g), 1);
+    for (uint32_t c = 0; c < 3; c++) {
+        const double ss = sss_material_sigma_s(&seed_dermis, (int)c), st = ss + seed_dermis.sigma_a[c];
+        const double want = sss_ss_halfspace(ss, st, seed_dermis.g, &g);
+        print_message("channel %u: mesh %.9g half-space %.9g\n", c, out[c], want);
+        assert_true(fabs(out[c] - want) < 1e-5 * want);
+    }
+    /* the same at another scale: 10 mm per unit of a box 10 times smaller */
+    double out10[3];
+    free_box(&b);
+    make_box(&b, 40.0, 20.0, 4);
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 10.0, &seed_dermis, 3, b.top, light, view, NULL, out10, &err),
+                     SSS_OK);
+    for (uint32_t c = 0; c < 3; c++) assert_true(fabs(out10[c] - out[c]) < 1e-5 * out[c]);
+    /* light or viewer below the tangent plane: nothing */
+    const double below[3] = {0.0, 0.6, -0.8};
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 10.0, &seed_dermis, 3, b.top, below, view, NULL, out, &err),
+                     SSS_OK);
+    assert_true(out[0] == 0.0 && out[1] == 0.0 && out[2] == 0.0);
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 10.0, &seed_dermis, 3, b.m.nv, light, view, NULL, out, &err),
+                     SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "out of range"));
+    free_box(&b);
+}
+
+static void thinBoxGivesTheSlabAndTheSeedMarchConverges(void **state)
+{
+    (void)state;
+    box b;
+    make_box(&b, 400.0, 0.3, 4); /* a 0.3 mm slab: the view ray leaves through the bottom */
+    double light[3] = {0.2, 0.0, 1.0}, view[3] = {0.0, -0.5, 0.9};
+    unit(light);
+    unit(view);
+    const double n[3] = {0, 0, 1};
+    sss_ss_geom g;
+    assert_int_equal(sss_ss_geometry(n, light, view, 1.3, 1, &g), 1);
+    sss_layer_stack st;
+    memset(&st, 0, sizeof st);
+    st.n = 1;
+    st.layer[0].g = seed_dermis.g;
+    st.layer[0].depth = 0.3;
+    for (int c = 0; c < 3; c++) {
+        st.layer[0].sigma_s[c] = sss_material_sigma_s(&seed_dermis, c);
+        st.layer[0].sigma_t[c] = st.layer[0].sigma_s[c] + seed_dermis.sigma_a[c];
+    }
+    double out[3], prev_err[3] = {INFINITY, INFINITY, INFINITY};
+    sss_error err = {{0}};
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, 3, b.top, light, view, NULL, out, &err), SSS_OK);
+    for (uint32_t c = 0; c < 3; c++) {
+        const double want = sss_layers_closed(&st, c, &g);
+        print_message("channel %u: mesh %.9g slab %.9g\n", c, out[c], want);
+        assert_true(fabs(out[c] - want) < 1e-4 * want);
+        /* and far below the half-space's: the slab holds a fraction */
+        assert_true(out[c] < 0.9 * sss_ss_halfspace(st.layer[0].sigma_s[c], st.layer[0].sigma_t[c], st.layer[0].g, &g));
+    }
+    /* seed 002's march: first order, error halving with the samples */
+    for (uint32_t N = 16; N <= 256; N *= 4) {
+        const sss_ss_mesh_opts o = {.samples = N, .seed_march = 1};
+        assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, 3, b.top, light, view, &o, out, &err),
+                         SSS_OK);
+        for (uint32_t c = 0; c < 3; c++) {
+            const double want = sss_layers_closed(&st, c, &g), e = fabs(out[c] - want) / want;
+            print_message("N %u channel %u: relative error %.3e\n", N, c, e);
+            if (isfinite(prev_err[c])) assert_true(e < 0.3 * prev_err[c]); /* ×4 samples: ÷4 error */
+            prev_err[c] = e;
+        }
+    }
+    free_box(&b);
+}
+
+static void shadedEntryPointsGiveNothing(void **state)
+{
+    (void)state;
+    /* a deep box with a wide plate floating above its top: every entry point
+     * of the light is shaded */
+    box b;
+    make_box(&b, 400.0, 200.0, 4);
+    sss_mesh plate;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_plane(&plate, 1000.0, 1000.0, 2, 2, &err), SSS_OK);
+    for (uint32_t v = 0; v < plate.nv; v++) plate.pos[3 * (size_t)v + 2] = 150.0f;
+    assert_int_equal(sss_mesh_append(&b.m, &plate, &err), SSS_OK);
+    sss_mesh_free(&plate);
+    assert_int_equal(sss_mesh_compute_normals_areas(&b.m, "box", &err), SSS_OK);
+    sss_bvh_free(&b.bvh);
+    assert_int_equal(sss_bvh_build(b.m.pos, b.m.nv, b.m.tri, b.m.nf, &b.bvh, &err), SSS_OK);
+    double light[3] = {0.1, 0.0, 1.0}, view[3] = {0.0, 0.3, 1.0}, out[3];
+    unit(light);
+    unit(view);
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, 3, b.top, light, view, NULL, out, &err), SSS_OK);
+    for (int c = 0; c < 3; c++) assert_true(out[c] == 0.0);
+    free_box(&b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(deepBoxGivesTheHalfSpace),
+        cmocka_unit_test(thinBoxGivesTheSlabAndTheSeedMarchConverges),
+        cmocka_unit_test(shadedEntryPointsGiveNothing),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
