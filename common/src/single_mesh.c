@@ -22,7 +22,36 @@ typedef struct march_ctx {
     double mm_per_unit;
     float delta;        /* the bake's ray offset (sss_mesh_ray_offset), mesh units */
     const sss_layer_stack *stack;
+    const sss_mesh *mesh;
+    int refine;         /* refract the light at its entry point K, not at the vertex */
+    double eta, entry_v, cos_phase_v; /* the vertex's entry factor F_t cos θ_i / μ_i and phase cosine */
 } march_ctx;
+
+/* The interpolated unit normal of mesh triangle t at the point p (mesh
+ * units; barycentrics of its projection), as the path tracer's boundary
+ * uses (docs/reference.md). */
+static void normal_at(const sss_mesh *m, uint32_t t, const double p[3], double n[3])
+{
+    const uint32_t *ix = &m->tri[3 * (size_t)t];
+    double a[3], b[3], c[3], e1[3], e2[3], q[3], w[3];
+    for (int k = 0; k < 3; k++) {
+        a[k] = m->pos[3 * (size_t)ix[0] + k];
+        b[k] = m->pos[3 * (size_t)ix[1] + k];
+        c[k] = m->pos[3 * (size_t)ix[2] + k];
+    }
+    sss_sub3(e1, b, a);
+    sss_sub3(e2, c, a);
+    sss_sub3(q, p, a);
+    const double d11 = sss_dot3(e1, e1), d12 = sss_dot3(e1, e2), d22 = sss_dot3(e2, e2);
+    const double q1 = sss_dot3(q, e1), q2 = sss_dot3(q, e2), den = d11 * d22 - d12 * d12;
+    w[1] = den != 0.0 ? (d22 * q1 - d12 * q2) / den : 1.0 / 3.0;
+    w[2] = den != 0.0 ? (d11 * q2 - d12 * q1) / den : 1.0 / 3.0;
+    w[0] = 1.0 - w[1] - w[2];
+    for (int k = 0; k < 3; k++)
+        n[k] = w[0] * m->nrm[3 * (size_t)ix[0] + k] + w[1] * m->nrm[3 * (size_t)ix[1] + k] +
+               w[2] * m->nrm[3 * (size_t)ix[2] + k];
+    sss_normalize3(n);
+}
 
 /* The light's path to the point s mm along the view ray: back along the
  * light's inside direction to the surface (K), and whether K sees the
@@ -41,18 +70,47 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
     }
     /* hits closer than the ray offset are the surface the point lies on
      * (where the view ray leaves, at s_max), not where the light enters */
-    double t = su > 0.0 ? (double)sss_bvh_nearest(k->bvh, M, back, k->delta, NULL) : 0.0;
-    if (!isfinite(t)) t = su * k->mu_o / k->mu_i;
+    uint32_t prim = UINT32_MAX;
+    double t = su > 0.0 ? (double)sss_bvh_nearest(k->bvh, M, back, k->delta, &prim) : 0.0;
+    double weight = 1.0; /* the entry at K against the vertex's (refine) */
+    if (!isfinite(t)) {
+        t = su * k->mu_o / k->mu_i;
+    } else if (k->refine && su > 0.0) {
+        /* The light refracts where it enters, at K's own normal, not at the
+         * vertex's: two fixed-point steps, each refracting the light at the
+         * last K and casting back from M along the new direction. The
+         * entry's F_t cos θ / μ′ and the phase angle are K's too; their ratio
+         * to the vertex's weights the light (docs/layers.md §5). */
+        for (int it = 0; it < 2; it++) {
+            double Kd[3], nK[3], tK[3];
+            for (int a = 0; a < 3; a++) Kd[a] = M[a] + t * back[a];
+            normal_at(k->mesh, prim, Kd, nK);
+            const double cK = sss_dot3(nK, k->light);
+            if (!(cK > 0.0)) break; /* K faces away from the light: keep the last path */
+            const double s2 = (1.0 - cK * cK) / (k->eta * k->eta), ct = sqrt(fmax(0.0, 1.0 - s2));
+            for (int a = 0; a < 3; a++) tK[a] = -k->light[a] / k->eta + (cK / k->eta - ct) * nK[a];
+            float bk[3] = {(float)-tK[0], (float)-tK[1], (float)-tK[2]};
+            uint32_t p2 = UINT32_MAX;
+            const double t2 = (double)sss_bvh_nearest(k->bvh, M, bk, k->delta, &p2);
+            if (!isfinite(t2)) break;
+            t = t2;
+            prim = p2;
+            memcpy(back, bk, sizeof bk);
+            const double ph = sss_phase_eval(k->stack->phase, k->stack->layer[0].g, -sss_dot3(tK, k->dir_o));
+            const double ph_v = sss_phase_eval(k->stack->phase, k->stack->layer[0].g, k->cos_phase_v);
+            weight = sss_ft(k->eta, cK) * cK / ct / k->entry_v * (ph_v > 0.0 ? ph / ph_v : 1.0);
+        }
+    }
     float K[3];
     const float L[3] = {(float)k->light[0], (float)k->light[1], (float)k->light[2]};
     for (int a = 0; a < 3; a++) K[a] = (float)(M[a] + t * back[a]);
-    /* shaded K: no light enters there (a large optical depth, finite so
-     * that the segment rule's differences stay numbers) */
-    if (sss_bvh_occluded(k->bvh, K, L, k->delta)) {
+    /* shaded K, or no light entering: a large optical depth, finite so that
+     * the segment rule's differences stay numbers */
+    if (!(weight > 0.0) || sss_bvh_occluded(k->bvh, K, L, k->delta)) {
         out->tau_light = 1e30;
         return;
     }
-    out->tau_light = k->stack->layer[0].sigma_t[c] * t * k->mm_per_unit;
+    out->tau_light = k->stack->layer[0].sigma_t[c] * t * k->mm_per_unit - log(weight);
 }
 
 sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double mm_per_unit, const sss_material *m,
@@ -89,8 +147,11 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
         st.layer[0].sigma_s[c] = sss_material_sigma_s(m, (int)c);
         st.layer[0].sigma_t[c] = m->sigma_a[c] + st.layer[0].sigma_s[c];
     }
+    const double ci = sss_dot3(n, light);
     march_ctx k = {.bvh = bvh, .mu_i = g.mu_i, .mu_o = g.mu_o, .mm_per_unit = mm_per_unit,
-                   .delta = sss_mesh_ray_offset(mesh), .stack = &st};
+                   .delta = sss_mesh_ray_offset(mesh), .stack = &st, .mesh = mesh,
+                   .refine = !(opts && opts->vertex_refraction), .eta = m->eta,
+                   .entry_v = sss_ft(m->eta, ci) * ci / g.mu_i, .cos_phase_v = g.cos_phase};
     memcpy(k.x, x, sizeof x);
     memcpy(k.dir_i, g.dir_i, sizeof g.dir_i);
     memcpy(k.dir_o, g.dir_o, sizeof g.dir_o);

@@ -73,6 +73,11 @@ static void deepBoxGivesTheHalfSpace(void **state)
         print_message("channel %u: mesh %.9g half-space %.9g\n", c, out[c], want);
         assert_true(fabs(out[c] - want) < 1e-5 * want);
     }
+    /* on a flat top, refracting the light at the vertex or at K is the same */
+    double outv[3];
+    const sss_ss_mesh_opts vo = {.vertex_refraction = 1};
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, 3, b.top, light, view, &vo, outv, &err), SSS_OK);
+    for (uint32_t c = 0; c < 3; c++) assert_true(fabs(outv[c] - out[c]) < 1e-6 * out[c]);
     /* the same at another scale: 10 mm per unit of a box 10 times smaller */
     double out10[3];
     free_box(&b);

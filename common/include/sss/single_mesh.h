@@ -7,10 +7,12 @@
  * the light reaching each sample comes from the point K where the reversed
  * refracted light direction leaves the mesh, found by an exact ray cast
  * through the mesh's BVH (sss/bvh.h), not by seed 002's fitted planes; K
- * itself is lit only when nothing outside the object shades it. The
- * boundary factor (Fresnel in and out, beam spread, η²) is the vertex's own
- * (sss_ss_geometry): on a flat surface every K shares the vertex's normal
- * and the result is the half-space's or the slab's closed form.
+ * itself is lit only when nothing outside the object shades it. By default
+ * the light is refracted at K's own interpolated normal (two fixed-point
+ * steps), and the entry's Fresnel, beam spread and phase angle are K's;
+ * the exit's are the vertex's (sss_ss_geometry). On a flat surface every K
+ * shares the vertex's normal and the result is the half-space's or the
+ * slab's closed form.
  * Homogeneous materials only for now (σs = σ′s / (1 − g), HG phase of g).
  */
 #ifndef SSS_SINGLE_MESH_H
@@ -32,6 +34,8 @@ typedef struct sss_ss_mesh_opts {
     uint32_t samples;  /* N, segments along the view ray (default 64) */
     double tau_max;    /* the march ends where the view ray's optical depth σt s reaches this (default 16: e^{−16} ≈ 10⁻⁷) */
     int seed_march;    /* 1: seed 002's Algorithm 1 (left Riemann sum); 0: the per-segment closed form */
+    int vertex_refraction; /* 1: the light refracted at the vertex for every sample (Jensen's local plane);
+                              0: refracted at its own entry point K (two fixed-point steps) */
 } sss_ss_mesh_opts;
 
 /* Single-scattered radiance leaving vertex v of mesh (built into bvh, which
