@@ -214,6 +214,51 @@ static sss_result parse_scattering(const ctx *c, const cJSON *m, const char *jpa
     return SSS_OK;
 }
 
+/* A material's "layers" (docs/layers.md §3): each {"name", "sigma_s",
+ * "sigma_a", "g", "depth_mm"}, depths non-decreasing (equal: a layer of no
+ * thickness). Depth maps ("map") and procedural depths ("procedural") are
+ * refused by name: not built yet (docs/layers.md §7). */
+static sss_result parse_layers(const ctx *c, const cJSON *a, const char *jpath, sss_layer_stack *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!a) return SSS_OK;
+    char p[512];
+    join(p, sizeof p, jpath, "layers");
+    const int n = cJSON_IsArray(a) ? cJSON_GetArraySize(a) : -1;
+    if (n < 1 || n > SSS_MAX_LAYERS)
+        return fail_at(c, p, "expected an array of 1 to %d layers", SSS_MAX_LAYERS);
+    static const char *const keys[] = {"name", "sigma_s", "sigma_a", "g", "depth_mm", NULL};
+    double top = 0.0;
+    for (int i = 0; i < n; i++) {
+        const cJSON *l = cJSON_GetArrayItem(a, i);
+        char pi[520], pd[540];
+        join_index(pi, sizeof pi, p, i);
+        if (!cJSON_IsObject(l)) return fail_at(c, pi, "expected an object {name, sigma_s, sigma_a, g, depth_mm}");
+        sss_result r = only_keys(c, l, pi, keys);
+        if (r != SSS_OK) return r;
+        sss_layer *ly = &out->layer[i];
+        double sa[3];
+        if ((r = get_vec3(c, l, pi, "sigma_s", 1, 0.0, SSS_SIGMA_MAX, ly->sigma_s)) != SSS_OK) return r;
+        if ((r = get_vec3(c, l, pi, "sigma_a", 1, 0.0, SSS_SIGMA_MAX, sa)) != SSS_OK) return r;
+        if ((r = get_number(c, l, pi, "g", 0, -SSS_G_MAX, SSS_G_MAX, &ly->g)) != SSS_OK) return r;
+        for (int k = 0; k < 3; k++) ly->sigma_t[k] = sa[k] + ly->sigma_s[k];
+        const cJSON *d = cJSON_GetObjectItemCaseSensitive(l, "depth_mm");
+        join(pd, sizeof pd, pi, "depth_mm");
+        if (cJSON_IsObject(d)) return fail_at(c, pd, "depth maps and procedural depths are not built yet (docs/layers.md 7): give a number");
+        if ((r = get_number(c, l, pi, "depth_mm", 1, 0.0, 1e6, &ly->depth)) != SSS_OK) return r;
+        if (ly->depth < top) return fail_at(c, pd, "%g is above the layer before it (%g mm)", ly->depth, top);
+        top = ly->depth;
+        const cJSON *nm = cJSON_GetObjectItemCaseSensitive(l, "name");
+        if (nm && !cJSON_IsString(nm)) {
+            join(pd, sizeof pd, pi, "name");
+            return fail_at(c, pd, "expected a string");
+        }
+    }
+    out->n = (uint32_t)n;
+    out->phase = SSS_PHASE_HG;
+    return SSS_OK;
+}
+
 static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath, sss_material *out)
 {
     sss_error e2 = {{0}};
@@ -224,7 +269,7 @@ static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath
         return SSS_OK;
     }
     if (!cJSON_IsObject(m)) return fail_at(c, jpath, "expected a preset name or an object");
-    static const char *const keys[] = {"preset", "sigma_a", "sigmap_s", "eta", "sigma_s", "g", NULL};
+    static const char *const keys[] = {"preset", "sigma_a", "sigmap_s", "eta", "sigma_s", "g", "layers", NULL};
     sss_result r = only_keys(c, m, jpath, keys);
     if (r != SSS_OK) return r;
     memset(out, 0, sizeof *out);
@@ -279,6 +324,10 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
     char p[512];
     join(p, sizeof p, jpath, "material");
     if ((r = parse_material(c, cJSON_GetObjectItemCaseSensitive(o, "material"), p, &out->material)) != SSS_OK)
+        return r;
+    const cJSON *mo = cJSON_GetObjectItemCaseSensitive(o, "material");
+    if (cJSON_IsObject(mo) &&
+        (r = parse_layers(c, cJSON_GetObjectItemCaseSensitive(mo, "layers"), p, &out->layers)) != SSS_OK)
         return r;
     if ((r = get_number(c, o, jpath, "mm_per_unit", 0, 1e-12, 1e12, &out->mm_per_unit)) != SSS_OK) return r;
     if (!(out->mm_per_unit > 0)) {

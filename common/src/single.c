@@ -3,7 +3,7 @@
  * Jensen, Marschner, Levoy and Hanrahan, "A practical model for subsurface
  * light transport" (SIGGRAPH 2001), §2.3 eq. 4–5: the first-order term S⁽¹⁾
  * with refracted directions and Fresnel at both crossings
- * (docs/physics.md §10). François, Pattanaik, Bouatouch and Breton,
+ * (docs/layers.md §1). François, Pattanaik, Bouatouch and Breton,
  * "Subsurface Texture Mapping" (IRISA PI 1806, 2006; seed 002): layers of
  * given depth, the reduced intensity through the layers above (Eqs. 6, 11,
  * 12) and the ray march of Algorithms 1 and 2 (Eqs. 4, 5, 13).

@@ -139,6 +139,35 @@ static void materialTakesSigmaSAndG(void **state)
                  "/objects/0/material/sigma_s/1: -1 is out of range");
 }
 
+/* A material's layers (docs/layers.md §3), seed 002's Table 1: σt = σa + σs,
+ * depths in order; depth maps and procedural depths refused as not built. */
+static void materialTakesLayers(void **state)
+{
+    (void)state;
+    sss_scene s;
+    sss_error err = {{0}};
+    assert_int_equal(sss_scene_parse("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":["
+                                     "{\"name\":\"dermis\",\"sigma_s\":[2,1,1],\"sigma_a\":[0.6,0.6,0.6],\"g\":0.25,\"depth_mm\":0.3},"
+                                     "{\"name\":\"blood\",\"sigma_s\":[6,3,2],\"sigma_a\":[0.6,0.6,0.6],\"g\":0.4,\"depth_mm\":0.8},"
+                                     "{\"name\":\"organs\",\"sigma_s\":[1,1,2],\"sigma_a\":[0.5,0.5,0.5],\"g\":0.8,\"depth_mm\":3}]}}]}",
+                                     "scene.json", &s, &err), SSS_OK);
+    const sss_layer_stack *L = &s.objects[0].layers;
+    assert_int_equal(L->n, 3);
+    assert_true(L->layer[1].sigma_t[0] == 6.6 && L->layer[2].sigma_t[2] == 2.5 && L->layer[0].g == 0.25);
+    assert_true(L->layer[0].depth == 0.3 && L->layer[2].depth == 3.0);
+    assert_string_equal(s.objects[0].material.name, "skin1"); /* the layers lie over the material */
+    sss_scene_free(&s);
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":["
+                 "{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],\"depth_mm\":0.5},{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],"
+                 "\"depth_mm\":0.2}]}}]}",
+                 "/objects/0/material/layers/1/depth_mm: 0.2 is above the layer before it (0.5 mm)");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":["
+                 "{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],\"depth_mm\":{\"map\":\"veins.png\",\"scale_mm\":2}}]}}]}",
+                 "/objects/0/material/layers/0/depth_mm: depth maps and procedural depths are not built yet");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":[]}}]}",
+                 "/objects/0/material/layers: expected an array of 1 to 8 layers");
+}
+
 /* Silent misreadings refused, naming the JSON path (docs/robustness.md
  * item 9): a key given twice (cJSON keeps both and a lookup finds the
  * first, so the second was ignored), a string holding \u0000 (the name was
@@ -338,6 +367,16 @@ static void plannerChoosesSingleScatteringByItsShare(void **state)
             assert_true(f.fx.mask & SSS_FX_SINGLE);
             sss_file_free(&f);
         }
+        unload(&b);
+    }
+    /* layers turn it on whatever the share (marble's is below) */
+    {
+        baked b = {0};
+        load(&b, "{\"objects\":[{\"mesh\":\"sphere.ply\",\"material\":{\"preset\":\"marble\",\"layers\":[{"
+                 "\"sigma_s\":[2,1,1],\"sigma_a\":[0.6,0.6,0.6],\"depth_mm\":0.3}]}}],\"lights\":[{\"type\":"
+                 "\"directional\",\"direction\":[0,0,1]}]}");
+        assert_true(b.plan.obj[0].effects & SSS_FX_SINGLE);
+        assert_non_null(strstr(decision(&b.plan.obj[0], "single-scattering")->reason, "1 layer over it"));
         unload(&b);
     }
     /* forward scattering lowers the share: the seed's dermis (Table 1) with
@@ -817,6 +856,7 @@ int main(void)
         cmocka_unit_test(invalidScenesNameFileAndJsonPath),
         cmocka_unit_test(sceneRefusesDuplicateKeysNulAndDotNames),
         cmocka_unit_test(materialTakesSigmaSAndG),
+        cmocka_unit_test(materialTakesLayers),
         cmocka_unit_test(plannerChoosesSingleScatteringByItsShare),
         cmocka_unit_test(greyMaterialBakesOneChannel),
         cmocka_unit_test(convexObjectAloneTracesNoRaysAndMatchesVisibilityOn),

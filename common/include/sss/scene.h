@@ -12,6 +12,7 @@
 
 #include <stdint.h>
 #include "sss/dipole.h"
+#include "sss/single.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
 
@@ -56,6 +57,11 @@ typedef struct sss_scene_object {
     double translate[3], rotate_deg[3], scale;
     int moving;                     /* 1: moves relative to the others (cannot cast baked shadows) */
     int single_scattering;          /* "single_scattering": 1 true, -1 false, 0 absent (the planner decides) */
+    /* The material's "layers" (seed 002; docs/layers.md §3): flat layers of
+     * the given lower-boundary depths below the surface, over the material
+     * itself; n = 0: none. Single scattering only: the dipole sees the
+     * material. */
+    sss_layer_stack layers;
 } sss_scene_object;
 
 typedef struct sss_scene_camera {

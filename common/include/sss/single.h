@@ -4,7 +4,7 @@
  * Models (formulas, units and every choice: docs/layers.md):
  *   - phase functions: Henyey–Greenstein and Schlick's rational form, the
  *     one seed 002 (François et al. 2006, §3) uses;
- *   - Jensen et al. 2001's S⁽¹⁾ for a half-space (docs/physics.md §10):
+ *   - Jensen et al. 2001's S⁽¹⁾ for a half-space (docs/layers.md §1):
  *     refracted light and view directions, Fresnel at both crossings;
  *   - the layered model of seed 002 (Eqs. 1–6, 11, 12): layers bounded below
  *     at given depths, the light attenuated through the layers above on its
@@ -75,7 +75,7 @@ int sss_ss_geometry(const double n[3], const double wi[3], const double wo[3], d
                     sss_ss_geom *g);
 
 /* The single scattering of a homogeneous half-space (Jensen 2001's S⁽¹⁾,
- * docs/physics.md §10, with the boundary factor above), closed form of its
+ * docs/layers.md §1, with the boundary factor above), closed form of its
  * integral along the refracted view ray:
  *   L / L_i = B · σs · p · μ_i / (σt (μ_i + μ_o)),
  * B = g->boundary, p the HG phase of hg_g at g->cos_phase; with

@@ -396,7 +396,14 @@ static void rule_single(const plan_in *in, sss_object_plan *p)
 {
     const sss_scene_object *o = &in->scene->objects[p->object];
     char why[sizeof p->decisions[0].reason];
-    const int on = sss_single_rule(&o->material, p->channels, o->single_scattering, why, sizeof why);
+    int on;
+    if (o->layers.n && !o->single_scattering) { /* layers show only through single scattering */
+        on = 1;
+        snprintf(why, sizeof why, "the material has %u layer%s over it, which only single scattering shows "
+                 "(docs/layers.md 3)", o->layers.n, o->layers.n > 1 ? "s" : "");
+    } else {
+        on = sss_single_rule(&o->material, p->channels, o->single_scattering, why, sizeof why);
+    }
     if (on) p->effects |= SSS_FX_SINGLE;
     decide(p, "single-scattering", on ? "on" : "off", "%s", why);
 }
