@@ -250,7 +250,12 @@ static void bake(const baked *b, uint32_t obj, sss_bake_file *f, sss_bake_stats 
     if (sss_file_decode(buf, len, "mem.sss", &g, &err) != SSS_OK) fail_msg("%s", err.msg);
     /* 1.2 sections and ε (NBHD, 1.4); the hat weights (QUAD, the default)
      * 1.5; compact rows' float32 directions (DIRC) 1.6 */
-    assert_int_equal(g.version_minor, f->dirs_f32 ? 6 : f->weights == SSS_WEIGHTS_HAT ? 5 : 4);
+    /* and the material's phase or layers (PHAS, LAYR) 1.8 */
+    assert_int_equal(g.version_minor, f->layers.n || f->material.g != 0.0 ? 8
+                                      : f->dirs_f32                         ? 6
+                                      : f->weights == SSS_WEIGHTS_HAT       ? 5
+                                                                            : 4);
+    assert_memory_equal(&g.layers, &f->layers, sizeof g.layers);
     assert_int_equal(g.dirs_f32, f->dirs_f32);
     if (f->quant == SSS_QUANT_REFS || f->quant == SSS_QUANT_SH) assert_true(g.dirs_f32);
     assert_int_equal(g.weights, f->weights);
@@ -377,6 +382,12 @@ static void plannerChoosesSingleScatteringByItsShare(void **state)
                  "\"directional\",\"direction\":[0,0,1]}]}");
         assert_true(b.plan.obj[0].effects & SSS_FX_SINGLE);
         assert_non_null(strstr(decision(&b.plan.obj[0], "single-scattering")->reason, "1 layer over it"));
+        sss_bake_file f;
+        sss_bake_stats st;
+        bake(&b, 0, &f, &st); /* the layers reach the file (LAYR) and read back */
+        assert_int_equal(f.layers.n, 1);
+        assert_true(f.layers.layer[0].sigma_t[0] == 2.6);
+        sss_file_free(&f);
         unload(&b);
     }
     /* forward scattering lowers the share: the seed's dermis (Table 1) with

@@ -16,6 +16,7 @@
 #include "sss/mesh.h"
 #include "sss/dipole.h"
 #include "sss/dirset.h"
+#include "sss/single.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -162,6 +163,7 @@ typedef struct sss_bake_file {
     uint16_t version_major, version_minor;  /* set by the reader */
     sss_mesh mesh;            /* pos, nrm, tri (area is not stored: NULL after reading) */
     sss_material material;
+    sss_layer_stack layers;   /* (1.8, LAYR) seed 002's flat layers over the material; n = 0: none */
     double mm_per_unit;       /* millimetres per mesh unit */
     uint32_t channels;        /* 1 (grey) or 3 (RGB) */
     sss_dirset dirs;          /* directions ω_j and their triangulation */
