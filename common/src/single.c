@@ -104,10 +104,15 @@ uint32_t sss_layers_find(const sss_layer_stack *st, double z)
 
 double sss_layers_tau(const sss_layer_stack *st, uint32_t c, double z, double mu)
 {
-    /* Eq. 12 with |KM| = z/μ: the path's length in layer j is what is left
-     * of |KM| after the layers above, at most the layer's own slant
-     * thickness, and never negative (the clamp the equation lacks) */
-    double left = z / mu, tau = 0.0, top = 0.0;
+    return sss_layers_tau_path(st, c, z / mu, mu);
+}
+
+double sss_layers_tau_path(const sss_layer_stack *st, uint32_t c, double km, double mu)
+{
+    /* Eq. 12: the path's length in layer j is what is left of |KM| after
+     * the layers above, at most the layer's own slant thickness, and never
+     * negative (the clamp the equation lacks) */
+    double left = km, tau = 0.0, top = 0.0;
     for (uint32_t j = 0; j < st->n && left > 0.0; j++) {
         const double Dj = (st->layer[j].depth - top) / mu;
         const double d = fmax(0.0, fmin(left, Dj));

@@ -19,6 +19,7 @@ typedef struct march_ctx {
     double dir_o[3];    /* the view ray inside */
     double light[3];    /* towards the light, outside */
     double mu_i, mu_o;  /* their cosines with the vertex normal */
+    double n[3];        /* the vertex normal */
     double mm_per_unit;
     float delta;        /* the bake's ray offset (sss_mesh_ray_offset), mesh units */
     const sss_layer_stack *stack;
@@ -61,7 +62,9 @@ static void normal_at(const sss_mesh *m, uint32_t t, const double p[3], double n
 static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
 {
     const march_ctx *k = user;
-    out->layer = 0;
+    /* the layer by the depth below the vertex's tangent plane (seed 002
+     * §2.1: depths along the normal) */
+    out->layer = sss_layers_find(k->stack, s * k->mu_o);
     const double su = s / k->mm_per_unit;
     float M[3], back[3];
     for (int a = 0; a < 3; a++) {
@@ -72,7 +75,8 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
      * (where the view ray leaves, at s_max), not where the light enters */
     uint32_t prim = UINT32_MAX;
     double t = su > 0.0 ? (double)sss_bvh_nearest(k->bvh, M, back, k->delta, &prim) : 0.0;
-    double weight = 1.0; /* the entry at K against the vertex's (refine) */
+    double weight = 1.0;    /* the entry at K against the vertex's (refine) */
+    double mu_path = k->mu_i; /* the light path's cosine with the vertex normal (Eq. 12's cos θ) */
     if (!isfinite(t)) {
         t = su * k->mu_o / k->mu_i;
     } else if (k->refine && su > 0.0) {
@@ -96,9 +100,11 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
             t = t2;
             prim = p2;
             memcpy(back, bk, sizeof bk);
-            const double ph = sss_phase_eval(k->stack->phase, k->stack->layer[0].g, -sss_dot3(tK, k->dir_o));
-            const double ph_v = sss_phase_eval(k->stack->phase, k->stack->layer[0].g, k->cos_phase_v);
+            const double gl = k->stack->layer[out->layer < k->stack->n ? out->layer : 0].g;
+            const double ph = sss_phase_eval(k->stack->phase, gl, -sss_dot3(tK, k->dir_o));
+            const double ph_v = sss_phase_eval(k->stack->phase, gl, k->cos_phase_v);
             weight = sss_ft(k->eta, cK) * cK / ct / k->entry_v * (ph_v > 0.0 ? ph / ph_v : 1.0);
+            mu_path = fmax(1e-6, -sss_dot3(tK, k->n));
         }
     }
     float K[3];
@@ -110,12 +116,12 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
         out->tau_light = 1e30;
         return;
     }
-    out->tau_light = k->stack->layer[0].sigma_t[c] * t * k->mm_per_unit - log(weight);
+    out->tau_light = sss_layers_tau_path(k->stack, c, t * k->mm_per_unit, mu_path) - log(weight);
 }
 
 sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double mm_per_unit, const sss_material *m,
-                              uint32_t channels, uint32_t v, const double light[3], const double view[3],
-                              const sss_ss_mesh_opts *opts, double *out, sss_error *err)
+                              const sss_layer_stack *layers, uint32_t channels, uint32_t v, const double light[3],
+                              const double view[3], const sss_ss_mesh_opts *opts, double *out, sss_error *err)
 {
     if (v >= mesh->nv || !mesh->nrm)
         return sss_fail(err, SSS_ERR_ARG, "single scattering: vertex %u out of range [0, %u) or no normals", v,
@@ -137,15 +143,21 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
     sss_ss_geom g;
     if (!sss_ss_geometry(n, light, view, m->eta, 1, &g)) return SSS_OK;
 
+    /* the layers (if any) over the material, a half-space of HG phase */
     sss_layer_stack st;
     memset(&st, 0, sizeof st);
-    st.n = 1;
     st.phase = SSS_PHASE_HG;
-    st.layer[0].g = m->g;
-    st.layer[0].depth = INFINITY;
+    if (layers && layers->n) {
+        if (layers->n > SSS_MAX_LAYERS)
+            return sss_fail(err, SSS_ERR_ARG, "single scattering: %u layers, at most %d", layers->n, SSS_MAX_LAYERS);
+        st = *layers;
+    }
+    sss_layer *base = &st.layer[st.n++];
+    base->g = m->g;
+    base->depth = INFINITY;
     for (uint32_t c = 0; c < channels; c++) {
-        st.layer[0].sigma_s[c] = sss_material_sigma_s(m, (int)c);
-        st.layer[0].sigma_t[c] = m->sigma_a[c] + st.layer[0].sigma_s[c];
+        base->sigma_s[c] = sss_material_sigma_s(m, (int)c);
+        base->sigma_t[c] = m->sigma_a[c] + base->sigma_s[c];
     }
     const double ci = sss_dot3(n, light);
     march_ctx k = {.bvh = bvh, .mu_i = g.mu_i, .mu_o = g.mu_o, .mm_per_unit = mm_per_unit,
@@ -153,6 +165,7 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
                    .refine = !(opts && opts->vertex_refraction), .eta = m->eta,
                    .entry_v = sss_ft(m->eta, ci) * ci / g.mu_i, .cos_phase_v = g.cos_phase};
     memcpy(k.x, x, sizeof x);
+    memcpy(k.n, n, sizeof n);
     memcpy(k.dir_i, g.dir_i, sizeof g.dir_i);
     memcpy(k.dir_o, g.dir_o, sizeof g.dir_o);
     memcpy(k.light, light, sizeof k.light);
@@ -162,7 +175,11 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
     for (int a = 0; a < 3; a++) xo[a] = (float)x[a], d[a] = (float)g.dir_o[a];
     const double s_exit = (double)sss_bvh_nearest(bvh, xo, d, k.delta, NULL) * mm_per_unit;
     for (uint32_t c = 0; c < channels; c++) {
-        const double sigma_t = st.layer[0].sigma_t[c];
+        /* the march ends at s_exit, or where even the least extinguishing
+         * layer (none above counted) would have taken e^{−tau_max} */
+        double sigma_t = INFINITY;
+        for (uint32_t i = 0; i < st.n; i++) sigma_t = fmin(sigma_t, st.layer[i].sigma_t[c]);
+        if (!(sigma_t > 0.0)) sigma_t = base->sigma_t[c];
         if (!(sigma_t > 0.0)) continue;
         const double s_max = fmin(s_exit, tau_max / sigma_t);
         out[c] = opts && opts->seed_march ? sss_ss_march(&st, c, &g, s_max, N, locate_mesh, &k)

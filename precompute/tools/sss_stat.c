@@ -189,7 +189,7 @@ static int query_terms_eval(const char *path, const sss_bake_file *f, uint32_t v
     sss_bvh bvh;
     sss_error err = {{0}};
     if (sss_bvh_build(f->mesh.pos, f->mesh.nv, f->mesh.tri, f->mesh.nf, &bvh, &err) != SSS_OK ||
-        sss_ss_mesh_vertex(&f->mesh, &bvh, f->mm_per_unit, &f->material, f->channels, v, d, view, NULL, t->ss, &err) !=
+        sss_ss_mesh_vertex(&f->mesh, &bvh, f->mm_per_unit, &f->material, &f->layers, f->channels, v, d, view, NULL, t->ss, &err) !=
             SSS_OK) {
         sss_bvh_free(&bvh);
         sss_cli_printf(stderr, "%s: %s: single scattering at vertex %u: %s\n", TOOL, path, v, err.msg);

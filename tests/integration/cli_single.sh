@@ -49,4 +49,32 @@ contains "$TMP/out" "single"
 expect_ok "$SSS_STAT" "$TMP/p.sss" --query 3 --light 0,0,1 --view 0,1,-1 --json
 python3 -c 'import json,sys; t=json.load(open(sys.argv[1]))["terms"]; assert t["single_scattering"] == [0, 0, 0], t' \
   "$TMP/out" || fail "below the surface"
+# seed 002's Table 1 layers in a scene material reach the file (LAYR) and the
+# terms: the top of a 100 mm cube, with and without the layers over skin1
+expect_ok "$SSS_GENMESH" cube 8 "$TMP/c.ply" 100
+cat > "$TMP/s.json" <<'JSON'
+{"objects": [{"name": "plain", "mesh": "c.ply", "material": "skin1", "moving": true},
+             {"name": "layered", "mesh": "c.ply", "moving": true, "material": {"preset": "skin1", "layers": [
+    {"name": "dermis", "sigma_s": [2, 1, 1], "sigma_a": [0.6, 0.6, 0.6], "g": 0.25, "depth_mm": 0.3},
+    {"name": "blood", "sigma_s": [6, 3, 2], "sigma_a": [0.6, 0.6, 0.6], "g": 0.4, "depth_mm": 0.8}]}}],
+ "lights": [{"type": "directional", "direction": [0.4, 0.1, 0.9], "moving": true}],
+ "bake": {"dirs": 20}}
+JSON
+mkdir -p "$TMP/scene"
+expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/scene" -q
+for o in plain layered; do
+  # vertex 361 is the centre of the cube's top face (sss-genmesh's numbering)
+  expect_ok "$SSS_STAT" "$TMP/scene/$o.sss" --query 361 --light 0.4,0.1,0.9 --view -0.3,0.2,0.93 --json
+  cp "$TMP/out" "$TMP/$o.json"
+done
+python3 - "$TMP/plain.json" "$TMP/layered.json" <<'PY' || fail "layers: terms"
+import json, sys
+a, b = (json.load(open(p))["terms"] for p in sys.argv[1:3])
+assert a["single_scattering_in_effects"] and b["single_scattering_in_effects"]
+for c in range(3):  # the same dipole, a different single scattering
+    assert a["multiple_scattering"][c] == b["multiple_scattering"][c]
+    assert abs(a["single_scattering"][c] - b["single_scattering"][c]) > 0.05 * a["single_scattering"][c], c
+PY
+expect_ok "$SSS_STAT" "$TMP/scene/layered.sss"
+contains "$TMP/out" "LAYR"
 echo "cli_single: ok"

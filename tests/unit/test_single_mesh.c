@@ -63,7 +63,7 @@ static void deepBoxGivesTheHalfSpace(void **state)
     unit(view);
     double out[3];
     sss_error err = {{0}};
-    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, 3, b.top, light, view, NULL, out, &err), SSS_OK);
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, NULL, 3, b.top, light, view, NULL, out, &err), SSS_OK);
     const double n[3] = {0, 0, 1};
     sss_ss_geom g;
     assert_int_equal(sss_ss_geometry(n, light, view, 1.3, 1, &g), 1);
@@ -76,21 +76,21 @@ static void deepBoxGivesTheHalfSpace(void **state)
     /* on a flat top, refracting the light at the vertex or at K is the same */
     double outv[3];
     const sss_ss_mesh_opts vo = {.vertex_refraction = 1};
-    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, 3, b.top, light, view, &vo, outv, &err), SSS_OK);
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, NULL, 3, b.top, light, view, &vo, outv, &err), SSS_OK);
     for (uint32_t c = 0; c < 3; c++) assert_true(fabs(outv[c] - out[c]) < 1e-6 * out[c]);
     /* the same at another scale: 10 mm per unit of a box 10 times smaller */
     double out10[3];
     free_box(&b);
     make_box(&b, 40.0, 20.0, 4);
-    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 10.0, &seed_dermis, 3, b.top, light, view, NULL, out10, &err),
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 10.0, &seed_dermis, NULL, 3, b.top, light, view, NULL, out10, &err),
                      SSS_OK);
     for (uint32_t c = 0; c < 3; c++) assert_true(fabs(out10[c] - out[c]) < 1e-5 * out[c]);
     /* light or viewer below the tangent plane: nothing */
     const double below[3] = {0.0, 0.6, -0.8};
-    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 10.0, &seed_dermis, 3, b.top, below, view, NULL, out, &err),
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 10.0, &seed_dermis, NULL, 3, b.top, below, view, NULL, out, &err),
                      SSS_OK);
     assert_true(out[0] == 0.0 && out[1] == 0.0 && out[2] == 0.0);
-    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 10.0, &seed_dermis, 3, b.m.nv, light, view, NULL, out, &err),
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 10.0, &seed_dermis, NULL, 3, b.m.nv, light, view, NULL, out, &err),
                      SSS_ERR_ARG);
     assert_non_null(strstr(err.msg, "out of range"));
     free_box(&b);
@@ -118,7 +118,7 @@ static void thinBoxGivesTheSlabAndTheSeedMarchConverges(void **state)
     }
     double out[3], prev_err[3] = {INFINITY, INFINITY, INFINITY};
     sss_error err = {{0}};
-    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, 3, b.top, light, view, NULL, out, &err), SSS_OK);
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, NULL, 3, b.top, light, view, NULL, out, &err), SSS_OK);
     for (uint32_t c = 0; c < 3; c++) {
         const double want = sss_layers_closed(&st, c, &g);
         print_message("channel %u: mesh %.9g slab %.9g\n", c, out[c], want);
@@ -129,7 +129,7 @@ static void thinBoxGivesTheSlabAndTheSeedMarchConverges(void **state)
     /* seed 002's march: first order, error halving with the samples */
     for (uint32_t N = 16; N <= 256; N *= 4) {
         const sss_ss_mesh_opts o = {.samples = N, .seed_march = 1};
-        assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, 3, b.top, light, view, &o, out, &err),
+        assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, NULL, 3, b.top, light, view, &o, out, &err),
                          SSS_OK);
         for (uint32_t c = 0; c < 3; c++) {
             const double want = sss_layers_closed(&st, c, &g), e = fabs(out[c] - want) / want;
@@ -137,6 +137,47 @@ static void thinBoxGivesTheSlabAndTheSeedMarchConverges(void **state)
             if (isfinite(prev_err[c])) assert_true(e < 0.3 * prev_err[c]); /* ×4 samples: ÷4 error */
             prev_err[c] = e;
         }
+    }
+    free_box(&b);
+}
+
+/* Seed 002's Table 1 layers (dermis to 0.3 mm, blood to 0.8 mm) over the
+ * material, on the flat top of a deep box: the stack's closed form with the
+ * material as the half-space beneath. */
+static void layersOverTheMaterialGiveTheStacksClosedForm(void **state)
+{
+    (void)state;
+    box b;
+    make_box(&b, 400.0, 200.0, 4);
+    double light[3] = {0.3, -0.2, 0.9}, view[3] = {-0.4, 0.1, 0.9};
+    unit(light);
+    unit(view);
+    sss_layer_stack L;
+    memset(&L, 0, sizeof L);
+    L.n = 2;
+    const sss_layer t1[2] = {{{2.0, 1.0, 1.0}, {2.6, 1.6, 1.6}, 0.25, 0.3}, {{6.0, 3.0, 2.0}, {6.6, 3.6, 2.6}, 0.4, 0.8}};
+    memcpy(L.layer, t1, sizeof t1);
+    const sss_material organs = {"organs", {0.5, 0.5, 0.5}, {0.2, 0.2, 0.4}, 1.3, 0.8}; /* σs 1, 1, 2 */
+    double out[3], plain[3];
+    sss_error err = {{0}};
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &organs, &L, 3, b.top, light, view, NULL, out, &err), SSS_OK);
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &organs, NULL, 3, b.top, light, view, NULL, plain, &err), SSS_OK);
+    sss_layer_stack all = L;
+    all.n = 3;
+    all.layer[2].depth = INFINITY;
+    all.layer[2].g = 0.8;
+    for (int c = 0; c < 3; c++) {
+        all.layer[2].sigma_s[c] = sss_material_sigma_s(&organs, c);
+        all.layer[2].sigma_t[c] = all.layer[2].sigma_s[c] + organs.sigma_a[c];
+    }
+    const double n[3] = {0, 0, 1};
+    sss_ss_geom g;
+    assert_int_equal(sss_ss_geometry(n, light, view, 1.3, 1, &g), 1);
+    for (uint32_t c = 0; c < 3; c++) {
+        const double want = sss_layers_closed(&all, c, &g);
+        print_message("channel %u: layered mesh %.9g closed form %.9g (material alone %.9g)\n", c, out[c], want, plain[c]);
+        assert_true(fabs(out[c] - want) < 1e-5 * want);
+        assert_true(fabs(out[c] - plain[c]) > 0.1 * plain[c]); /* the layers matter */
     }
     free_box(&b);
 }
@@ -160,7 +201,7 @@ static void shadedEntryPointsGiveNothing(void **state)
     double light[3] = {0.1, 0.0, 1.0}, view[3] = {0.0, 0.3, 1.0}, out[3];
     unit(light);
     unit(view);
-    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, 3, b.top, light, view, NULL, out, &err), SSS_OK);
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, NULL, 3, b.top, light, view, NULL, out, &err), SSS_OK);
     for (int c = 0; c < 3; c++) assert_true(out[c] == 0.0);
     free_box(&b);
 }
@@ -170,6 +211,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(deepBoxGivesTheHalfSpace),
         cmocka_unit_test(thinBoxGivesTheSlabAndTheSeedMarchConverges),
+        cmocka_unit_test(layersOverTheMaterialGiveTheStacksClosedForm),
         cmocka_unit_test(shadedEntryPointsGiveNothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

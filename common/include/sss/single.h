@@ -111,7 +111,7 @@ typedef struct sss_layer {
  * nothing scatters or attenuates (the march ends there). */
 typedef struct sss_layer_stack {
     uint32_t n;
-    sss_layer layer[SSS_MAX_LAYERS];
+    sss_layer layer[SSS_MAX_LAYERS + 1]; /* + 1: room for the material beneath a file's layers */
     sss_phase_kind phase;
 } sss_layer_stack;
 
@@ -127,6 +127,12 @@ uint32_t sss_layers_find(const sss_layer_stack *st, double z);
  * paper's average of the two is the thickness itself). The clamp at 0 is
  * the one Eq. 12 lacks (docs/layers.md). Exact for flat layers. */
 double sss_layers_tau(const sss_layer_stack *st, uint32_t c, double z, double mu);
+
+/* The same for a path of known length km (mm) at cosine mu with the
+ * normal, |KM| = km in Eq. 12: where a ray cast, not the plane, gives the
+ * distance to the entry point (sss/single_mesh.h). sss_layers_tau is this
+ * with km = z/μ. */
+double sss_layers_tau_path(const sss_layer_stack *st, uint32_t c, double km, double mu);
 
 /* The stack's single scattering on a flat surface, closed form: the sum
  * over layers k of

@@ -13,7 +13,7 @@
  * the exit's are the vertex's (sss_ss_geometry). On a flat surface every K
  * shares the vertex's normal and the result is the half-space's or the
  * slab's closed form.
- * Homogeneous materials only for now (σs = σ′s / (1 − g), HG phase of g).
+ * The material is a half-space of σs = σ′s / (1 − g) with HG phase of g.
  */
 #ifndef SSS_SINGLE_MESH_H
 #define SSS_SINGLE_MESH_H
@@ -24,6 +24,7 @@
 #include "sss/dipole.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
+#include "sss/single.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -43,10 +44,13 @@ typedef struct sss_ss_mesh_opts {
  * directional light of unit irradiance across its beam from the unit
  * direction light, per channel c < channels into out[c] (1/sr). mm_per_unit
  * converts mesh units to mm. 0 where the light or the viewer is below the
- * vertex's tangent plane. SSS_ERR_ARG for an invalid material or vertex. */
+ * vertex's tangent plane. layers (NULL or n = 0: none) lie over the
+ * material, at depths below the vertex's tangent plane (seed 002's flat
+ * layers; Eq. 12 with the cast's |KM| for the light's share of each).
+ * SSS_ERR_ARG for an invalid material or vertex. */
 sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double mm_per_unit, const sss_material *m,
-                              uint32_t channels, uint32_t v, const double light[3], const double view[3],
-                              const sss_ss_mesh_opts *opts, double *out, sss_error *err);
+                              const sss_layer_stack *layers, uint32_t channels, uint32_t v, const double light[3],
+                              const double view[3], const sss_ss_mesh_opts *opts, double *out, sss_error *err);
 
 #ifdef __cplusplus
 }
