@@ -54,6 +54,59 @@ static void normal_at(const sss_mesh *m, uint32_t t, const double p[3], double n
     sss_normalize3(n);
 }
 
+/* The light refracted into the medium at surface point p of triangle t
+ * (its interpolated normal); 0 when p faces away from the light. */
+static int refract_at(const march_ctx *k, uint32_t t, const double p[3], double d[3])
+{
+    double nK[3];
+    normal_at(k->mesh, t, p, nK);
+    const double c = sss_dot3(nK, k->light);
+    if (!(c > 0.0)) return 0;
+    const double ct = sqrt(fmax(0.0, 1.0 - (1.0 - c * c) / (k->eta * k->eta)));
+    for (int a = 0; a < 3; a++) d[a] = -k->light[a] / k->eta + (c / k->eta - ct) * nK[a];
+    return 1;
+}
+
+/* How much a curved surface concentrates the refracted beam on its way from
+ * K to M: the cross-section (normal to the ray) of a small bundle entering
+ * around K over its cross-section at M, both of the rays refracted at
+ * their own interpolated normals (K and two points δ away on K's tangent
+ * plane). 1 on a flat surface, > 1 under a convex one (a lens of focal
+ * length ηR/(η − 1) for a sphere of radius R); clamped to [0.01, 100],
+ * which only caustics reach. */
+static double focusing(const march_ctx *k, uint32_t prim, const float M[3], double t, const float back[3],
+                       const double tK[3])
+{
+    double K0[3], nK[3], u[3], v[3], Kj[3][3], tj[3][3], P[3][3];
+    for (int a = 0; a < 3; a++) K0[a] = M[a] + t * back[a];
+    normal_at(k->mesh, prim, K0, nK);
+    /* a tangent basis at K */
+    const double h[3] = {fabs(nK[0]) < 0.9 ? 1.0 : 0.0, fabs(nK[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+    sss_cross3(nK, h, u);
+    sss_normalize3(u);
+    sss_cross3(nK, u, v);
+    const double delta = 1e-3 * t;
+    for (int j = 0; j < 3; j++) {
+        for (int a = 0; a < 3; a++) Kj[j][a] = K0[a] + (j == 1 ? delta * u[a] : j == 2 ? delta * v[a] : 0.0);
+        if (!refract_at(k, prim, Kj[j], tj[j])) return 1.0;
+        /* where it crosses the plane through M normal to tK */
+        double mk[3];
+        for (int a = 0; a < 3; a++) mk[a] = M[a] - Kj[j][a];
+        const double lam = sss_dot3(mk, tK) / sss_dot3(tj[j], tK);
+        for (int a = 0; a < 3; a++) P[j][a] = Kj[j][a] + lam * tj[j][a];
+    }
+    double e1[3], e2[3], cr[3], f1[3], f2[3], cf[3];
+    sss_sub3(e1, P[1], P[0]);
+    sss_sub3(e2, P[2], P[0]);
+    sss_cross3(e1, e2, cr);
+    sss_sub3(f1, Kj[1], Kj[0]);
+    sss_sub3(f2, Kj[2], Kj[0]);
+    sss_cross3(f1, f2, cf);
+    const double at_M = sqrt(sss_dot3(cr, cr)), at_K = fabs(sss_dot3(cf, tK));
+    if (!(at_M > 0.0) || !(at_K > 0.0)) return 1.0;
+    return fmin(100.0, fmax(0.01, at_K / at_M));
+}
+
 /* The light's path to the point s mm along the view ray: back along the
  * light's inside direction to the surface (K), and whether K sees the
  * light. A ray that finds no surface beyond the ray offset (a point within
@@ -85,8 +138,10 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
          * last K and casting back from M along the new direction. The
          * entry's F_t cos θ / μ′ and the phase angle are K's too; their ratio
          * to the vertex's weights the light (docs/layers.md §5). */
+        double tK[3] = {0, 0, 0};
+        int refracted = 0;
         for (int it = 0; it < 2; it++) {
-            double Kd[3], nK[3], tK[3];
+            double Kd[3], nK[3];
             for (int a = 0; a < 3; a++) Kd[a] = M[a] + t * back[a];
             normal_at(k->mesh, prim, Kd, nK);
             const double cK = sss_dot3(nK, k->light);
@@ -105,7 +160,9 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
             const double ph_v = sss_phase_eval(k->stack->phase, gl, k->cos_phase_v);
             weight = sss_ft(k->eta, cK) * cK / ct / k->entry_v * (ph_v > 0.0 ? ph / ph_v : 1.0);
             mu_path = fmax(1e-6, -sss_dot3(tK, k->n));
+            refracted = 1;
         }
+        if (refracted) weight *= focusing(k, prim, M, t, back, tK);
     }
     float K[3];
     const float L[3] = {(float)k->light[0], (float)k->light[1], (float)k->light[2]};
