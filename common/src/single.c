@@ -170,7 +170,11 @@ static void segment(const sss_layer_stack *st, uint32_t c, double cos_phase, uin
     const sss_layer *ly = &st->layer[k];
     const double len = b - a, dv = ly->sigma_t[c] * len;
     const double Ea = tau_a + *tau_view, Eb = tau_b + *tau_view + dv;
-    *L += ly->sigma_s[c] * sss_phase_eval(st->phase, ly->g, cos_phase) * len * exp(-Ea) * mean_exp(Eb - Ea);
+    /* ∫ e^{−E} over a linear E is symmetric in its ends: taken from the
+     * smaller, so that a large optical depth at either end (a shaded entry
+     * point) gives a finite answer */
+    *L += ly->sigma_s[c] * sss_phase_eval(st->phase, ly->g, cos_phase) * len * exp(-fmin(Ea, Eb)) *
+          mean_exp(fabs(Eb - Ea));
     *tau_view += dv;
 }
 

@@ -25,6 +25,9 @@ typedef struct march_ctx {
     const sss_layer_stack *stack;
     const sss_mesh *mesh;
     int refine;         /* refract the light at its entry point K, not at the vertex */
+    int planes;         /* seed 002's fitted planes instead of the cast (Eqs. 9, 10) */
+    double fit_n[3], fit_p[3]; /* the vertex's least-squares plane (Eqs. 7, 8): unit normal, point (mesh units) */
+    double s_max;       /* the march's end, mm (Eq. 9's |M M_max|) */
     double eta, entry_v, cos_phase_v; /* the vertex's entry factor F_t cos θ_i / μ_i and phase cosine */
 } march_ctx;
 
@@ -52,6 +55,71 @@ static void normal_at(const sss_mesh *m, uint32_t t, const double p[3], double n
         n[k] = w[0] * m->nrm[3 * (size_t)ix[0] + k] + w[1] * m->nrm[3 * (size_t)ix[1] + k] +
                w[2] * m->nrm[3 * (size_t)ix[2] + k];
     sss_normalize3(n);
+}
+
+/* Seed 002's per-vertex plane (Eqs. 7, 8): the least-squares plane of the
+ * vertices within radius r (mesh units) of vertex v: through their
+ * centroid, normal along the smallest eigenvector of their scatter matrix
+ * (Jacobi rotations), turned to the vertex normal's side. Fewer than three
+ * neighbours: the tangent plane. */
+static void fit_plane(const sss_mesh *m, uint32_t v, double r, double n[3], double p[3])
+{
+    const float *x = &m->pos[3 * (size_t)v];
+    double S[3][3] = {{0}}, c[3] = {0, 0, 0};
+    uint32_t cnt = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        for (uint32_t i = 0; i < m->nv; i++) {
+            const float *y = &m->pos[3 * (size_t)i];
+            const double d[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+            if (sss_dot3(d, d) > r * r) continue;
+            if (pass == 0) {
+                for (int a = 0; a < 3; a++) c[a] += y[a];
+                cnt++;
+            } else {
+                const double e[3] = {y[0] - c[0], y[1] - c[1], y[2] - c[2]};
+                for (int a = 0; a < 3; a++)
+                    for (int b = 0; b < 3; b++) S[a][b] += e[a] * e[b];
+            }
+        }
+        if (pass == 0 && cnt)
+            for (int a = 0; a < 3; a++) c[a] /= cnt;
+    }
+    for (int a = 0; a < 3; a++) n[a] = m->nrm[3 * (size_t)v + a], p[a] = x[a];
+    if (cnt < 3) return;
+    double V[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int sweep = 0; sweep < 50; sweep++) {
+        double off = fabs(S[0][1]) + fabs(S[0][2]) + fabs(S[1][2]);
+        if (off < 1e-30) break;
+        for (int a = 0; a < 2; a++)
+            for (int b = a + 1; b < 3; b++) {
+                if (fabs(S[a][b]) < 1e-300) continue;
+                const double th = 0.5 * atan2(2.0 * S[a][b], S[b][b] - S[a][a]);
+                const double cs = cos(th), sn = sin(th);
+                for (int k = 0; k < 3; k++) { /* S ← Jᵀ S J, V ← V J */
+                    const double ska = S[k][a], skb = S[k][b];
+                    S[k][a] = cs * ska - sn * skb;
+                    S[k][b] = sn * ska + cs * skb;
+                }
+                for (int k = 0; k < 3; k++) {
+                    const double sak = S[a][k], sbk = S[b][k];
+                    S[a][k] = cs * sak - sn * sbk;
+                    S[b][k] = sn * sak + cs * sbk;
+                }
+                for (int k = 0; k < 3; k++) {
+                    const double vka = V[k][a], vkb = V[k][b];
+                    V[k][a] = cs * vka - sn * vkb;
+                    V[k][b] = sn * vka + cs * vkb;
+                }
+            }
+    }
+    int lo = 0;
+    for (int a = 1; a < 3; a++)
+        if (S[a][a] < S[lo][lo]) lo = a;
+    double f[3] = {V[0][lo], V[1][lo], V[2][lo]};
+    if (sss_dot3(f, n) < 0.0)
+        for (int a = 0; a < 3; a++) f[a] = -f[a];
+    sss_normalize3(f);
+    for (int a = 0; a < 3; a++) n[a] = f[a], p[a] = c[a];
 }
 
 /* The light refracted into the medium at surface point p of triangle t
@@ -126,6 +194,24 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
     }
     /* hits closer than the ray offset are the surface the point lies on
      * (where the view ray leaves, at s_max), not where the light enters */
+    if (k->planes) {
+        /* Eq. 9: the plane for M blended from the tangent plane at P (the
+         * vertex) and the fitted plane by α = |M M_max|, β = |M P|; Eq. 10:
+         * the distance to it along the light. No shadow test: the paper has
+         * none, and its K may lie off the surface. */
+        const double beta = s, alpha = fmax(0.0, k->s_max - s), w = alpha + beta > 0.0 ? 1.0 / (alpha + beta) : 0.0;
+        double nM[3], pM[3], pm[3];
+        for (int a = 0; a < 3; a++) {
+            nM[a] = w * (alpha * k->n[a] + beta * k->fit_n[a]);
+            pM[a] = w * (alpha * k->x[a] + beta * k->fit_p[a]);
+            pm[a] = M[a] - pM[a];
+        }
+        sss_normalize3(nM);
+        const double cth = fabs(sss_dot3(nM, k->dir_i));
+        const double km = cth > 1e-6 ? fabs(sss_dot3(pm, nM)) / cth * k->mm_per_unit : 1e30;
+        out->tau_light = sss_layers_tau_path(k->stack, c, km, k->mu_i);
+        return;
+    }
     uint32_t prim = UINT32_MAX;
     double t = su > 0.0 ? (double)sss_bvh_nearest(k->bvh, M, back, k->delta, &prim) : 0.0;
     double weight = 1.0;    /* the entry at K against the vertex's (refine) */
@@ -227,6 +313,12 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
     memcpy(k.dir_o, g.dir_o, sizeof g.dir_o);
     memcpy(k.light, light, sizeof k.light);
 
+    if (opts && opts->fitted_planes) {
+        k.planes = 1;
+        double sigma_t_min = INFINITY;
+        for (uint32_t c = 0; c < channels; c++) sigma_t_min = fmin(sigma_t_min, st.layer[0].sigma_t[c]);
+        fit_plane(mesh, v, -log(0.01) / sigma_t_min / mm_per_unit, k.fit_n, k.fit_p);
+    }
     /* where the view ray leaves the object: the march ends there at most */
     float xo[3], d[3];
     for (int a = 0; a < 3; a++) xo[a] = (float)x[a], d[a] = (float)g.dir_o[a];
@@ -239,6 +331,7 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
         if (!(sigma_t > 0.0)) sigma_t = base->sigma_t[c];
         if (!(sigma_t > 0.0)) continue;
         const double s_max = fmin(s_exit, tau_max / sigma_t);
+        k.s_max = s_max;
         out[c] = opts && opts->seed_march ? sss_ss_march(&st, c, &g, s_max, N, locate_mesh, &k)
                                           : sss_ss_march_segments(&st, c, &g, s_max, N, locate_mesh, &k);
     }

@@ -338,6 +338,30 @@ static void tauClampsPathsAboveALayer(void **state)
     assert_int_equal(sss_layers_find(&st, 5.0), 2);
 }
 
+/* A locate that shades the light's entry for s < 0.5 mm (what the mesh
+ * march reports for a shaded K: a huge optical depth), lit beyond. */
+static void locate_half_shaded(void *user, uint32_t c, double s, sss_ss_point *out)
+{
+    sss_ss_locate_flat(user, c, s, out);
+    if (s < 0.5) out->tau_light = 1e30;
+}
+
+static void segmentMarchStaysFiniteAcrossAShadowEdge(void **state)
+{
+    (void)state;
+    const double depth[1] = {INFINITY};
+    const sss_layer_stack st = stack_of(table1, depth, 1, SSS_PHASE_HG);
+    const sss_ss_geom g = flat_geom(0.3, 0.2, 1.0);
+    sss_ss_flat f = {&st, g.mu_i, g.mu_o};
+    for (uint32_t n = 1; n <= 64; n *= 4) {
+        const double lit = sss_ss_march_segments(&st, 0, &g, 4.0, n, sss_ss_locate_flat, &f);
+        const double half = sss_ss_march_segments(&st, 0, &g, 4.0, n, locate_half_shaded, &f);
+        const double seed = sss_ss_march(&st, 0, &g, 4.0, n, locate_half_shaded, &f);
+        assert_true(isfinite(half) && half >= 0.0 && half < lit);
+        assert_true(isfinite(seed) && seed >= 0.0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -353,6 +377,7 @@ int main(void)
         cmocka_unit_test(halfspaceAtEtaOneIsTheSeedClosedForm),
         cmocka_unit_test(albedoAtEtaOneMatchesAnalyticIntegral),
         cmocka_unit_test(tauClampsPathsAboveALayer),
+        cmocka_unit_test(segmentMarchStaysFiniteAcrossAShadowEdge),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

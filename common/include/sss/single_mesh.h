@@ -37,6 +37,9 @@ typedef struct sss_ss_mesh_opts {
     int seed_march;    /* 1: seed 002's Algorithm 1 (left Riemann sum); 0: the per-segment closed form */
     int vertex_refraction; /* 1: the light refracted at the vertex for every sample (Jensen's local plane);
                               0: refracted at its own entry point K (two fixed-point steps) */
+    int fitted_planes; /* 1: seed 002's entry estimate instead of the ray cast: the distance to a plane
+                          blended between the vertex's tangent plane and the least-squares plane of
+                          the vertices within −ln(0.01)/σt (Eqs. 7–10), light refracted at the vertex */
 } sss_ss_mesh_opts;
 
 /* Single-scattered radiance leaving vertex v of mesh (built into bvh, which
