@@ -977,6 +977,12 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         printf("  material %s (eta %g), %g mm per unit\n", f->material.name, f->material.eta, f->mm_per_unit);
         if (f->material.g != 0.0) /* section PHAS (docs/layers.md §2) */
             printf("  phase function Henyey-Greenstein, g %g (sigma_s = sigma'_s / (1 - g))\n", f->material.g);
+        if (f->layers.n) { /* section LAYR (docs/layers.md §3) */
+            printf("  %u layer%s over the material (single scattering), lower boundaries at", f->layers.n,
+                   f->layers.n > 1 ? "s" : "");
+            for (uint32_t i = 0; i < f->layers.n; i++) printf(" %g", f->layers.layer[i].depth);
+            printf(" mm\n");
+        }
         if (f->near_terms && f->near_radius_mm > 0.0)
             printf("  near terms added at run time: every vertex within %g mm (sections OWNT, NRAD)\n",
                    f->near_radius_mm);

@@ -77,4 +77,5 @@ for c in range(3):  # the same dipole, a different single scattering
 PY
 expect_ok "$SSS_STAT" "$TMP/scene/layered.sss"
 contains "$TMP/out" "LAYR"
+contains "$TMP/out" "2 layers over the material (single scattering), lower boundaries at 0.3 0.8 mm"
 echo "cli_single: ok"
