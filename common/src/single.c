@@ -35,10 +35,7 @@ double sss_phase_eval(sss_phase_kind kind, double g, double cos_theta)
     return kind == SSS_PHASE_SCHLICK ? sss_phase_schlick(g, cos_theta) : sss_phase_hg(g, cos_theta);
 }
 
-/* The direction a ray from outside along −w continues in after crossing
- * into the medium at n (Snell's law, relative index eta), and the cosine of
- * that direction with −n. */
-static double refract_in(const double n[3], const double w[3], double eta, double t[3])
+double sss_ss_refract(const double n[3], const double w[3], double eta, double t[3])
 {
     const double c = sss_dot3(n, w);
     const double s2 = (1.0 - c * c) / (eta * eta);
@@ -55,8 +52,8 @@ int sss_ss_geometry(const double n[3], const double wi[3], const double wo[3], d
     if (!(ci > 0.0) || !(co > 0.0)) return 0;
     double ti[3], to[3];
     if (refract) {
-        g->mu_i = refract_in(n, wi, eta, ti);
-        g->mu_o = refract_in(n, wo, eta, to);
+        g->mu_i = sss_ss_refract(n, wi, eta, ti);
+        g->mu_o = sss_ss_refract(n, wo, eta, to);
         /* in: F_t of the irradiance over the refracted beam's cross-section;
          * out: F_t of the radiance, over η² (docs/reference.md §5.4) */
         g->boundary = sss_ft(eta, ci) * ci / g->mu_i * sss_ft(eta, co) / (eta * eta);

@@ -123,15 +123,18 @@ static void fit_plane(const sss_mesh *m, uint32_t v, double r, double n[3], doub
 }
 
 /* The light refracted into the medium at surface point p of triangle t
- * (its interpolated normal); 0 when p faces away from the light. */
-static int refract_at(const march_ctx *k, uint32_t t, const double p[3], double d[3])
+ * (its interpolated normal), and the cosines of the light outside (*c) and
+ * of the refracted direction (*ct) with that normal (NULL: not wanted); 0
+ * when p faces away from the light. */
+static int refract_at(const march_ctx *k, uint32_t t, const double p[3], double d[3], double *c, double *ct)
 {
     double nK[3];
     normal_at(k->mesh, t, p, nK);
-    const double c = sss_dot3(nK, k->light);
-    if (!(c > 0.0)) return 0;
-    const double ct = sqrt(fmax(0.0, 1.0 - (1.0 - c * c) / (k->eta * k->eta)));
-    for (int a = 0; a < 3; a++) d[a] = -k->light[a] / k->eta + (c / k->eta - ct) * nK[a];
+    const double ci = sss_dot3(nK, k->light);
+    if (!(ci > 0.0)) return 0;
+    const double co = sss_ss_refract(nK, k->light, k->eta, d);
+    if (c) *c = ci;
+    if (ct) *ct = co;
     return 1;
 }
 
@@ -156,7 +159,7 @@ static double focusing(const march_ctx *k, uint32_t prim, const float M[3], doub
     const double delta = 1e-3 * t;
     for (int j = 0; j < 3; j++) {
         for (int a = 0; a < 3; a++) Kj[j][a] = K0[a] + (j == 1 ? delta * u[a] : j == 2 ? delta * v[a] : 0.0);
-        if (!refract_at(k, prim, Kj[j], tj[j])) return 1.0;
+        if (!refract_at(k, prim, Kj[j], tj[j], NULL, NULL)) return 1.0;
         /* where it crosses the plane through M normal to tK */
         double mk[3];
         for (int a = 0; a < 3; a++) mk[a] = M[a] - Kj[j][a];
@@ -192,8 +195,6 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
         M[a] = (float)(k->x[a] + su * k->dir_o[a]);
         back[a] = (float)-k->dir_i[a];
     }
-    /* hits closer than the ray offset are the surface the point lies on
-     * (where the view ray leaves, at s_max), not where the light enters */
     if (k->planes) {
         /* Eq. 9: the plane for M blended from the tangent plane at P (the
          * vertex) and the fitted plane by α = |M M_max|, β = |M P|; Eq. 10:
@@ -212,6 +213,8 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
         out->tau_light = sss_layers_tau_path(k->stack, c, km, k->mu_i);
         return;
     }
+    /* hits closer than the ray offset are the surface the point lies on
+     * (where the view ray leaves, at s_max), not where the light enters */
     uint32_t prim = UINT32_MAX;
     double t = su > 0.0 ? (double)sss_bvh_nearest(k->bvh, M, back, k->delta, &prim) : 0.0;
     double weight = 1.0;    /* the entry at K against the vertex's (refine) */
@@ -227,13 +230,9 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
         double tK[3] = {0, 0, 0};
         int refracted = 0;
         for (int it = 0; it < 2; it++) {
-            double Kd[3], nK[3];
+            double Kd[3], cK, ct;
             for (int a = 0; a < 3; a++) Kd[a] = M[a] + t * back[a];
-            normal_at(k->mesh, prim, Kd, nK);
-            const double cK = sss_dot3(nK, k->light);
-            if (!(cK > 0.0)) break; /* K faces away from the light: keep the last path */
-            const double s2 = (1.0 - cK * cK) / (k->eta * k->eta), ct = sqrt(fmax(0.0, 1.0 - s2));
-            for (int a = 0; a < 3; a++) tK[a] = -k->light[a] / k->eta + (cK / k->eta - ct) * nK[a];
+            if (!refract_at(k, prim, Kd, tK, &cK, &ct)) break; /* K faces away from the light: keep the last path */
             float bk[3] = {(float)-tK[0], (float)-tK[1], (float)-tK[2]};
             uint32_t p2 = UINT32_MAX;
             const double t2 = (double)sss_bvh_nearest(k->bvh, M, bk, k->delta, &p2);

@@ -57,6 +57,12 @@ typedef struct sss_ss_geom {
     double dir_o[3];  /* the view ray's direction inside (unit, into the medium; the scattered light runs against it) */
 } sss_ss_geom;
 
+/* Snell's law: the direction t (unit) a ray arriving from outside along −w
+ * (w unit, n·w > 0, n the unit outward normal) continues in inside a medium
+ * of relative index eta; returns μ = −n·t, the cosine of t with the inward
+ * normal. */
+double sss_ss_refract(const double n[3], const double w[3], double eta, double t[3]);
+
 /* The geometry of a light from direction wi (unit, towards the light) seen
  * from direction wo (unit, towards the viewer) at a surface of outward unit
  * normal n. With refract = 1 both directions are refracted by Snell's law
