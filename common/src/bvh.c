@@ -346,19 +346,27 @@ static void cross_f(const float a[3], const float b[3], float c[3])
 
 static float dot_f(const float a[3], const float b[3]) { return fmaf(a[0], b[0], fmaf(a[1], b[1], a[2] * b[2])); }
 
-static int tri_hit(const float *t, const float o[3], const float d[3], float tnear)
+/* Embree's Möller–Trumbore test up to the distance: 1 when the line
+ * o + t d crosses the triangle, with t = *T / *abs_den. */
+static int tri_cross(const float *t, const float o[3], const float d[3], float *T, float *abs_den)
 {
     const float *v0 = t, *e1 = t + 3, *e2 = t + 6, *ng = t + 9;
     float C[3], R[3];
     for (int k = 0; k < 3; k++) C[k] = v0[k] - o[k];
     cross_f(C, d, R);
     const float den = dot_f(ng, d);
-    const float abs_den = fabsf(den);
+    *abs_den = fabsf(den);
     const float sg = signbit(den) ? -1.0f : 1.0f; /* Embree flips the sign bit: exact */
     const float U = sg * dot_f(R, e2), V = sg * dot_f(R, e1);
-    if (!(den != 0.0f && U >= 0.0f && V >= 0.0f && U + V <= abs_den)) return 0;
-    const float T = sg * dot_f(ng, C);
-    return abs_den * tnear < T;
+    if (!(den != 0.0f && U >= 0.0f && V >= 0.0f && U + V <= *abs_den)) return 0;
+    *T = sg * dot_f(ng, C);
+    return 1;
+}
+
+static int tri_hit(const float *t, const float o[3], const float d[3], float tnear)
+{
+    float T, abs_den;
+    return tri_cross(t, o, d, &T, &abs_den) && abs_den * tnear < T;
 }
 
 int sss_bvh_occluded(const sss_bvh *b, const float o[3], const float d[3], float tnear)
@@ -389,6 +397,47 @@ int sss_bvh_occluded(const sss_bvh *b, const float o[3], const float d[3], float
                 if (tri_hit(&b->tri[12 * (size_t)(nd->a + i)], o, d, tnear)) return 1;
         }
         if (sp == 0) return 0;
+        ni = stack[--sp];
+    }
+}
+
+float sss_bvh_nearest(const sss_bvh *b, const float o[3], const float d[3], float tnear, uint32_t *prim)
+{
+    float best = INFINITY;
+    if (!b->ntri) return best;
+    float inv[3];
+    for (int k = 0; k < 3; k++) inv[k] = fabsf(d[k]) > 1e-30f ? 1.0f / d[k] : 1e30f;
+    uint32_t stack[SSS_BVH_STACK];
+    int sp = 0;
+    uint32_t ni = 0;
+    for (;;) {
+        const sss_bvh_node *nd = &b->node[ni];
+        float tmin = 0.0f, tmax = best;
+        for (int k = 0; k < 3; k++) {
+            const float t0 = (nd->lo[k] - o[k]) * inv[k], t1 = (nd->hi[k] - o[k]) * inv[k];
+            tmin = fmaxf(tmin, fminf(t0, t1));
+            tmax = fminf(tmax, fmaxf(t0, t1));
+        }
+        if (tmin <= tmax) {
+            const uint32_t cnt = nd->b >> 2;
+            if (cnt == 0) {
+                const int far = d[nd->b & 3] < 0.0f;
+                stack[sp++] = nd->a + (uint32_t)!far;
+                ni = nd->a + (uint32_t)far;
+                continue;
+            }
+            for (uint32_t i = 0; i < cnt; i++) {
+                float T, abs_den;
+                if (!tri_cross(&b->tri[12 * (size_t)(nd->a + i)], o, d, &T, &abs_den) || !(abs_den * tnear < T))
+                    continue;
+                const float t = T / abs_den;
+                if (t < best) {
+                    best = t;
+                    if (prim) *prim = b->prim[nd->a + i];
+                }
+            }
+        }
+        if (sp == 0) return best;
         ni = stack[--sp];
     }
 }

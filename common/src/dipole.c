@@ -90,6 +90,8 @@ sss_result sss_material_check(const sss_material *m, uint32_t channels, sss_resu
     if (m->eta < SSS_ETA_MIN || m->eta > SSS_ETA_MAX)
         return sss_fail(err, code, "material '%s': eta %g is outside [%g, %g], where the diffuse Fresnel "
                         "fit F_dr stays below 1", n, m->eta, SSS_ETA_MIN, SSS_ETA_MAX);
+    if (!(fabs(m->g) <= SSS_G_MAX))
+        return sss_fail(err, code, "material '%s': g %g is outside [%g, %g]", n, m->g, -SSS_G_MAX, SSS_G_MAX);
     static const char rgb[] = "RGB";
     for (uint32_t c = 0; c < channels && c < 3; c++) {
         if (!isfinite(m->sigma_a[c]) || m->sigma_a[c] < 0.0)
@@ -121,6 +123,8 @@ double sss_fdr(double eta)
 
 /* Unpolarised Fresnel reflectance for light entering a medium of relative
  * index η at incidence cosine c (docs/physics.md §3); F_t = 1 − F_r. */
+double sss_material_sigma_s(const sss_material *m, int c) { return m->sigmap_s[c] / (1.0 - m->g); }
+
 double sss_ft(double eta, double c)
 {
     if (!(c > 0.0)) return 0.0; /* grazing or from behind: nothing enters */

@@ -194,6 +194,71 @@ static sss_result get_path(const ctx *c, const cJSON *obj, const char *jpath, co
     return SSS_OK;
 }
 
+/* The scattering of a material object: "sigmap_s" (σ′s, as before), or
+ * "sigma_s" with an optional "g" (σ′s = σs (1 − g), docs/physics.md §1);
+ * "g" alone keeps σ′s (a preset's, or "sigmap_s") and only sets the phase.
+ * `required`: one of the two coefficients must be given (no preset). */
+static sss_result parse_scattering(const ctx *c, const cJSON *m, const char *jpath, int required, sss_material *out)
+{
+    const int has_s = cJSON_GetObjectItemCaseSensitive(m, "sigma_s") != NULL;
+    char p[512];
+    join(p, sizeof p, jpath, "sigma_s");
+    if (has_s && cJSON_GetObjectItemCaseSensitive(m, "sigmap_s"))
+        return fail_at(c, p, "give either sigma_s (with g) or sigmap_s, not both");
+    sss_result r = get_number(c, m, jpath, "g", 0, -SSS_G_MAX, SSS_G_MAX, &out->g);
+    if (r != SSS_OK) return r;
+    if (!has_s) return get_vec3(c, m, jpath, "sigmap_s", required, 0.0, SSS_SIGMA_MAX, out->sigmap_s);
+    double s[3];
+    if ((r = get_vec3(c, m, jpath, "sigma_s", 1, 0.0, SSS_SIGMA_MAX, s)) != SSS_OK) return r;
+    for (int k = 0; k < 3; k++) out->sigmap_s[k] = s[k] * (1.0 - out->g);
+    return SSS_OK;
+}
+
+/* A material's "layers" (docs/layers.md §3): each {"name", "sigma_s",
+ * "sigma_a", "g", "depth_mm"}, depths non-decreasing (equal: a layer of no
+ * thickness). Depth maps ("map") and procedural depths ("procedural") are
+ * refused by name: not built yet (docs/layers.md §7). */
+static sss_result parse_layers(const ctx *c, const cJSON *a, const char *jpath, sss_layer_stack *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!a) return SSS_OK;
+    char p[512];
+    join(p, sizeof p, jpath, "layers");
+    const int n = cJSON_IsArray(a) ? cJSON_GetArraySize(a) : -1;
+    if (n < 1 || n > SSS_MAX_LAYERS)
+        return fail_at(c, p, "expected an array of 1 to %d layers", SSS_MAX_LAYERS);
+    static const char *const keys[] = {"name", "sigma_s", "sigma_a", "g", "depth_mm", NULL};
+    double top = 0.0;
+    for (int i = 0; i < n; i++) {
+        const cJSON *l = cJSON_GetArrayItem(a, i);
+        char pi[520], pd[540];
+        join_index(pi, sizeof pi, p, i);
+        if (!cJSON_IsObject(l)) return fail_at(c, pi, "expected an object {name, sigma_s, sigma_a, g, depth_mm}");
+        sss_result r = only_keys(c, l, pi, keys);
+        if (r != SSS_OK) return r;
+        sss_layer *ly = &out->layer[i];
+        double sa[3];
+        if ((r = get_vec3(c, l, pi, "sigma_s", 1, 0.0, SSS_SIGMA_MAX, ly->sigma_s)) != SSS_OK) return r;
+        if ((r = get_vec3(c, l, pi, "sigma_a", 1, 0.0, SSS_SIGMA_MAX, sa)) != SSS_OK) return r;
+        if ((r = get_number(c, l, pi, "g", 0, -SSS_G_MAX, SSS_G_MAX, &ly->g)) != SSS_OK) return r;
+        for (int k = 0; k < 3; k++) ly->sigma_t[k] = sa[k] + ly->sigma_s[k];
+        const cJSON *d = cJSON_GetObjectItemCaseSensitive(l, "depth_mm");
+        join(pd, sizeof pd, pi, "depth_mm");
+        if (cJSON_IsObject(d)) return fail_at(c, pd, "depth maps and procedural depths are not built yet (docs/layers.md 7): give a number");
+        if ((r = get_number(c, l, pi, "depth_mm", 1, 0.0, 1e6, &ly->depth)) != SSS_OK) return r;
+        if (ly->depth < top) return fail_at(c, pd, "%g is above the layer before it (%g mm)", ly->depth, top);
+        top = ly->depth;
+        const cJSON *nm = cJSON_GetObjectItemCaseSensitive(l, "name");
+        if (nm && !cJSON_IsString(nm)) {
+            join(pd, sizeof pd, pi, "name");
+            return fail_at(c, pd, "expected a string");
+        }
+    }
+    out->n = (uint32_t)n;
+    out->phase = SSS_PHASE_HG;
+    return SSS_OK;
+}
+
 static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath, sss_material *out)
 {
     sss_error e2 = {{0}};
@@ -204,7 +269,7 @@ static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath
         return SSS_OK;
     }
     if (!cJSON_IsObject(m)) return fail_at(c, jpath, "expected a preset name or an object");
-    static const char *const keys[] = {"preset", "sigma_a", "sigmap_s", "eta", NULL};
+    static const char *const keys[] = {"preset", "sigma_a", "sigmap_s", "eta", "sigma_s", "g", "layers", NULL};
     sss_result r = only_keys(c, m, jpath, keys);
     if (r != SSS_OK) return r;
     memset(out, 0, sizeof *out);
@@ -219,9 +284,10 @@ static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath
         out->eta = 1.3;
     }
     if ((r = get_vec3(c, m, jpath, "sigma_a", !pr, 0.0, SSS_SIGMA_MAX, out->sigma_a)) != SSS_OK) return r;
-    if ((r = get_vec3(c, m, jpath, "sigmap_s", !pr, 0.0, SSS_SIGMA_MAX, out->sigmap_s)) != SSS_OK) return r;
+    if ((r = parse_scattering(c, m, jpath, !pr, out)) != SSS_OK) return r;
     if ((r = get_number(c, m, jpath, "eta", 0, SSS_ETA_MIN, SSS_ETA_MAX, &out->eta)) != SSS_OK) return r;
-    if (pr && (cJSON_GetObjectItemCaseSensitive(m, "sigma_a") || cJSON_GetObjectItemCaseSensitive(m, "sigmap_s")))
+    if (pr && (cJSON_GetObjectItemCaseSensitive(m, "sigma_a") || cJSON_GetObjectItemCaseSensitive(m, "sigmap_s") ||
+               cJSON_GetObjectItemCaseSensitive(m, "sigma_s")))
         snprintf(out->name, sizeof out->name, "custom");
     if (sss_material_validate(out, &e2) != SSS_OK) return fail_at(c, jpath, "%s", e2.msg);
     return SSS_OK;
@@ -262,7 +328,7 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
 {
     if (!cJSON_IsObject(o)) return fail_at(c, jpath, "expected an object");
     static const char *const keys[] = {"name", "mesh", "material", "mm_per_unit", "transform", "moving", "deform",
-                                       NULL};
+                                       "single_scattering", NULL};
     sss_result r = only_keys(c, o, jpath, keys);
     if (r != SSS_OK) return r;
     memset(out, 0, sizeof *out);
@@ -290,6 +356,10 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
     join(p, sizeof p, jpath, "material");
     if ((r = parse_material(c, cJSON_GetObjectItemCaseSensitive(o, "material"), p, &out->material)) != SSS_OK)
         return r;
+    const cJSON *mo = cJSON_GetObjectItemCaseSensitive(o, "material");
+    if (cJSON_IsObject(mo) &&
+        (r = parse_layers(c, cJSON_GetObjectItemCaseSensitive(mo, "layers"), p, &out->layers)) != SSS_OK)
+        return r;
     if ((r = get_number(c, o, jpath, "mm_per_unit", 0, 1e-12, 1e12, &out->mm_per_unit)) != SSS_OK) return r;
     if (!(out->mm_per_unit > 0)) {
         join(p, sizeof p, jpath, "mm_per_unit");
@@ -300,6 +370,11 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
     if (df) {
         join(p, sizeof p, jpath, "deform");
         if ((r = parse_deform(c, df, p, &out->deform)) != SSS_OK) return r;
+    }
+    if (cJSON_GetObjectItemCaseSensitive(o, "single_scattering")) { /* forces the planner's rule (docs/layers.md §4) */
+        int on = 0;
+        if ((r = get_bool(c, o, jpath, "single_scattering", &on)) != SSS_OK) return r;
+        out->single_scattering = on ? 1 : -1;
     }
     const cJSON *t = cJSON_GetObjectItemCaseSensitive(o, "transform");
     if (t) {

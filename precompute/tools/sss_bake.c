@@ -44,7 +44,10 @@ static void usage(FILE *f)
         "  --material NAME      Jensen 2001 preset: apple chicken1 chicken2 cream ketchup\n"
         "                       marble potato skimmilk skin1 skin2 wholemilk (default marble)\n"
         "  --sigma-a R,G,B      custom absorption, 1/mm (with --sigma-s, --eta)\n"
-        "  --sigma-s R,G,B      custom *reduced* scattering sigma'_s = sigma_s (1-g), 1/mm\n"
+        "  --sigma-s R,G,B      custom *reduced* scattering sigma'_s = sigma_s (1-g), 1/mm;\n"
+        "                       with --g, the scattering sigma_s itself\n"
+        "  --g G                Henyey-Greenstein mean cosine in [-0.99, 0.99] (default 0;\n"
+        "                       single scattering: docs/layers.md)\n"
         "  --eta E              relative index of refraction (default 1.3)\n"
         "  --mm-per-unit S      millimetres per mesh unit (default 1)\n"
         "  --dirs N             number of light directions (default 200)\n"
@@ -108,8 +111,8 @@ static void usage(FILE *f)
 typedef struct bake_args {
     const char *mesh, *out, *scene;
     const char *material; /* --material; NULL: marble unless --sigma-a/-s */
-    double sigma_a[3], sigma_s[3], eta;
-    int have_sigma_a, have_sigma_s, have_eta;
+    double sigma_a[3], sigma_s[3], eta, g;
+    int have_sigma_a, have_sigma_s, have_eta, have_g;
     double mm_per_unit, eps, theta;
     uint32_t dirs;
     int dirs_given;
@@ -236,6 +239,7 @@ static int parse(int argc, char **argv, bake_args *a)
         {.name = "--sigma-a", .kind = SSS_CLI_TRIPLE, .dest = a->sigma_a, .given = &a->have_sigma_a},
         {.name = "--sigma-s", .kind = SSS_CLI_TRIPLE, .dest = a->sigma_s, .given = &a->have_sigma_s},
         {.name = "--eta", .kind = SSS_CLI_DOUBLE, .dest = &a->eta, .lo = 1e-3, .hi = 1e3, .given = &a->have_eta},
+        {.name = "--g", .kind = SSS_CLI_DOUBLE, .dest = &a->g, .lo = -SSS_G_MAX, .hi = SSS_G_MAX, .given = &a->have_g},
         {.name = "--mm-per-unit", .kind = SSS_CLI_DOUBLE, .dest = &a->mm_per_unit, .lo = 1e-12, .hi = 1e12},
         {.name = "--dirs", .kind = SSS_CLI_U32, .dest = &a->dirs, .lo = 1, .hi = 100000, .given = &a->dirs_given},
         {.name = "--preset", .kind = SSS_CLI_CHOICE, .dest = &a->bake_preset, .choices = bake_presets,
@@ -430,7 +434,7 @@ static int options(const bake_args *a, bake_setup *s)
         snprintf(mat->name, sizeof mat->name, "custom");
         for (int c = 0; c < 3; c++) {
             mat->sigma_a[c] = a->sigma_a[c];
-            mat->sigmap_s[c] = a->sigma_s[c];
+            mat->sigmap_s[c] = a->sigma_s[c] * (1.0 - a->g); /* --g makes --sigma-s σs (a->g is 0 without it) */
         }
         mat->eta = a->eta;
     } else if (sss_material_preset(a->material ? a->material : "marble", mat, &err) != SSS_OK) {
@@ -439,6 +443,7 @@ static int options(const bake_args *a, bake_setup *s)
     } else if (a->have_eta) {
         mat->eta = a->eta;
     }
+    mat->g = a->g; /* a preset keeps its σ′s and takes the phase */
     if (sss_material_validate(mat, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
         return 2;

@@ -28,13 +28,14 @@
 #include "sss/reference.h"
 #include "sss/bake_scene.h" /* sss_point_exact */
 #include "sss/effects.h"     /* sss_fx_point */
+#include "sss/single_mesh.h" /* --query --view: the single-scattering term */
 
 static const char *TOOL = "sss-stat";
 
 static void usage(FILE *f)
 {
     fprintf(f, "usage: sss-stat FILE.sss [--json]\n"
-               "       sss-stat FILE.sss --query VERTEX --light X,Y,Z [--json]\n"
+               "       sss-stat FILE.sss --query VERTEX --light X,Y,Z [--view X,Y,Z] [--json]\n"
                "       sss-stat FILE.sss --error [--views N] [--seed S] [--json] [--image-views N]\n"
                "                [--image-size N] [--exposure E] [--error-images DIR] [--no-image]\n"
                "                [--image-visibility viewer|rays|map[:N]] [--backlit]\n"
@@ -54,6 +55,11 @@ static void usage(FILE *f)
                "the value reconstructed from the stored data (interpolated between the three\n"
                "nearest direction samples, decoded from any storage form), and their difference\n"
                "(reconstructed - exact). Builds the neighbourhoods of the whole mesh first.\n"
+               "With --view X,Y,Z (towards the viewer) also every term of the radiance leaving the\n"
+               "vertex that way, per unit irradiance (1/sr): multiple scattering as the viewer\n"
+               "shows it (q F_t(eta, n.w_o)), single scattering (marched through the mesh with the\n"
+               "file's g; docs/layers.md) and their total, and the surface's Fresnel reflectance\n"
+               "(sent into the mirror direction only).\n"
                "\n"
                "--scene S.json --error [--time T]: for each deforming object of the scene (docs/deformable.md),\n"
                "the per-vertex error of the q sss-view draws for its pose at T (default 0; the per-frame\n"
@@ -160,8 +166,49 @@ static int parse_light(const char *path, const char *s, double l[3])
     return 1;
 }
 
-/* --query: the exact evaluator against the stored data at one vertex. */
-static int query(const char *path, const sss_bake_file *f, const char *vs, const char *ls, int json)
+/* The terms of the radiance leaving vertex v towards view (unit) for a
+ * light of unit irradiance from d (unit), per channel (docs/layers.md §5):
+ * multiple scattering as the viewer shows it, L = E q F_t(η, n·ω_o) with
+ * the reconstructed q; single scattering (sss/single_mesh.h, 64 segments);
+ * and the share of the light the surface reflects, which a directional
+ * light sends into the mirror direction only. 0 when it cannot build the
+ * mesh's hierarchy. */
+typedef struct query_terms {
+    double ms[SSS_MAX_CHANNELS], ss[SSS_MAX_CHANNELS];
+    double fresnel_r, mirror_deg;
+} query_terms;
+
+static int query_terms_eval(const char *path, const sss_bake_file *f, uint32_t v, const double d[3],
+                            const double view[3], const float *rec, query_terms *t)
+{
+    memset(t, 0, sizeof *t);
+    const float *nf = &f->mesh.nrm[3 * (size_t)v];
+    const double n[3] = {nf[0], nf[1], nf[2]};
+    const double ci = n[0] * d[0] + n[1] * d[1] + n[2] * d[2], co = n[0] * view[0] + n[1] * view[1] + n[2] * view[2];
+    const double ft_o = sss_ft(f->material.eta, co);
+    for (uint32_t c = 0; c < f->channels; c++) t->ms[c] = (double)rec[c] * ft_o;
+    t->fresnel_r = ci > 0.0 ? 1.0 - sss_ft(f->material.eta, ci) : 0.0;
+    double mirror[3], cm = 0.0;
+    for (int k = 0; k < 3; k++) mirror[k] = 2.0 * ci * n[k] - d[k];
+    for (int k = 0; k < 3; k++) cm += mirror[k] * view[k];
+    t->mirror_deg = acos(fmin(1.0, fmax(-1.0, cm))) * 180.0 / 3.14159265358979323846;
+    sss_bvh bvh;
+    sss_error err = {{0}};
+    if (sss_bvh_build(f->mesh.pos, f->mesh.nv, f->mesh.tri, f->mesh.nf, &bvh, &err) != SSS_OK ||
+        sss_ss_mesh_vertex(&f->mesh, &bvh, f->mm_per_unit, &f->material, &f->layers, f->channels, v, d, view, NULL, t->ss, &err) !=
+            SSS_OK) {
+        sss_bvh_free(&bvh);
+        sss_cli_printf(stderr, "%s: %s: single scattering at vertex %u: %s\n", TOOL, path, v, err.msg);
+        return 0;
+    }
+    sss_bvh_free(&bvh);
+    return 1;
+}
+
+/* --query: the exact evaluator against the stored data at one vertex; with
+ * --view, every term of the radiance towards the viewer too. */
+static int query(const char *path, const sss_bake_file *f, const char *vs, const char *ls, const double *view_in,
+                 int json)
 {
     uint32_t v;
     double light[3];
@@ -205,6 +252,16 @@ static int query(const char *path, const sss_bake_file *f, const char *vs, const
         maxdiff = fmax(maxdiff, fabs(diff[c]));
     }
     static const char *const rgb[3] = {"R", "G", "B"};
+    query_terms qt;
+    double view[3] = {0.0, 0.0, 0.0};
+    if (view_in) {
+        const double vl = sqrt(view_in[0] * view_in[0] + view_in[1] * view_in[1] + view_in[2] * view_in[2]);
+        for (int k = 0; k < 3; k++) view[k] = view_in[k] / vl;
+        if (!query_terms_eval(path, f, v, d, view, rec, &qt)) {
+            sss_exact_destroy(e);
+            return 1;
+        }
+    }
     if (json) {
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "file", path);
@@ -230,6 +287,21 @@ static int query(const char *path, const sss_bake_file *f, const char *vs, const
             cJSON_AddItemToArray(rr, ex[c] != 0.0f ? cJSON_CreateNumber(diff[c] / ex[c]) : cJSON_CreateNull());
         }
         cJSON_AddNumberToObject(o, "max_abs_difference", maxdiff);
+        if (view_in) { /* radiance per unit irradiance across the light's beam, 1/sr (docs/layers.md §5) */
+            cJSON *tt = cJSON_AddObjectToObject(o, "terms");
+            cJSON_AddItemToObject(tt, "view", cJSON_CreateDoubleArray(view, 3));
+            cJSON *ms = cJSON_AddArrayToObject(tt, "multiple_scattering"), *ss = cJSON_AddArrayToObject(tt, "single_scattering"),
+                  *tot = cJSON_AddArrayToObject(tt, "total");
+            for (uint32_t c = 0; c < C; c++) {
+                cJSON_AddItemToArray(ms, cJSON_CreateNumber(qt.ms[c]));
+                cJSON_AddItemToArray(ss, cJSON_CreateNumber(qt.ss[c]));
+                cJSON_AddItemToArray(tot, cJSON_CreateNumber(qt.ms[c] + qt.ss[c]));
+            }
+            cJSON_AddNumberToObject(tt, "surface_reflectance", qt.fresnel_r);
+            cJSON_AddNumberToObject(tt, "mirror_angle_deg", qt.mirror_deg);
+            cJSON_AddNumberToObject(tt, "g", f->material.g);
+            cJSON_AddBoolToObject(tt, "single_scattering_in_effects", (f->fx.mask & SSS_FX_SINGLE) != 0);
+        }
         sss_json_utf8(o); /* valid JSON whatever the bytes of a file name (sss/jsontext.h) */
         char *s = cJSON_PrintUnformatted(o);
         puts(s);
@@ -249,6 +321,14 @@ static int query(const char *path, const sss_bake_file *f, const char *vs, const
                    diff[c], rel);
         }
         printf("  max |difference| %.6g\n", maxdiff);
+        if (view_in) {
+            printf("  towards view (%g, %g, %g), per unit irradiance (1/sr):\n", view[0], view[1], view[2]);
+            printf("  %-8s %15s %15s %15s\n", "channel", "multiple", "single", "total");
+            for (uint32_t c = 0; c < C; c++)
+                printf("  %-8s %15.9g %15.9g %15.9g\n", C == 1 ? "grey" : rgb[c], qt.ms[c], qt.ss[c], qt.ms[c] + qt.ss[c]);
+            printf("  surface reflectance %.6g into the mirror direction, %.4g deg from the view\n", qt.fresnel_r,
+                   qt.mirror_deg);
+        }
     }
     sss_exact_destroy(e);
     return 0;
@@ -901,6 +981,14 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         printf("  vertices %u, triangles %u, channels %u, directions %u, storage %s\n", f->mesh.nv, f->mesh.nf,
                f->channels, f->dirs.n, quant);
         printf("  material %s (eta %g), %g mm per unit\n", f->material.name, f->material.eta, f->mm_per_unit);
+        if (f->material.g != 0.0) /* section PHAS (docs/layers.md §2) */
+            printf("  phase function Henyey-Greenstein, g %g (sigma_s = sigma'_s / (1 - g))\n", f->material.g);
+        if (f->layers.n) { /* section LAYR (docs/layers.md §3) */
+            printf("  %u layer%s over the material (single scattering), lower boundaries at", f->layers.n,
+                   f->layers.n > 1 ? "s" : "");
+            for (uint32_t i = 0; i < f->layers.n; i++) printf(" %g", f->layers.layer[i].depth);
+            printf(" mm\n");
+        }
         if (f->near_terms && f->near_radius_mm > 0.0)
             printf("  near terms added at run time: every vertex within %g mm (sections OWNT, NRAD)\n",
                    f->near_radius_mm);
@@ -1072,8 +1160,8 @@ static int combinations_ok(const stat_args *a)
         sss_cli_printf(stderr, "%s: --model-error and --error exclude each other\n", TOOL);
         return 0;
     }
-    if ((a->have_view || a->model_opt) && !a->want_model) {
-        sss_cli_printf(stderr, "%s: --view, --vertices, --paths and --exit go with --model-error\n", TOOL);
+    if (((a->have_view && !a->qvertex) || a->model_opt) && !a->want_model) {
+        sss_cli_printf(stderr, "%s: --view, --vertices, --paths and --exit go with --model-error (--view also with --query)\n", TOOL);
         return 0;
     }
     if (a->want_model && (!a->qlight || !a->have_view)) {
@@ -1129,7 +1217,7 @@ int main(int argc, char **argv)
     else if (a.want_model) {
         a.ma.seed = a.seed;
         rc = model_error_report(a.path, &f, a.qvertex, a.qlight, &a.ma, a.json);
-    } else if (a.qvertex) rc = query(a.path, &f, a.qvertex, a.qlight, a.json);
+    } else if (a.qvertex) rc = query(a.path, &f, a.qvertex, a.qlight, a.have_view ? a.ma.view : NULL, a.json);
     else if (a.want_error) {
         a.ea.views = a.views;
         a.ea.seed = a.seed;

@@ -20,7 +20,7 @@ T=sss-bake
 B=(m.ply -o x.sss)
 
 # a value missing at the end of the line
-for o in -o --out --material --sigma-a --sigma-s --eta --mm-per-unit --dirs --eps --quant --compress --sh-order \
+for o in -o --out --material --sigma-a --sigma-s --g --eta --mm-per-unit --dirs --eps --quant --compress --sh-order \
          --refs --sh-quant --weight-bits --illum-refs --gather --own-term --rings --near-fraction --preset --theta --threads --scene; do
   expect_arg_error "$T: $o needs a value" "$SSS_BAKE" m.ply $o
 done
@@ -55,6 +55,8 @@ expect_arg_error "$T: --near-fraction: '0.3' must be a number in [0.5, 0.999]" "
 expect_arg_error "$T: --near-fraction: '1' must be a number in [0.5, 0.999]" "$SSS_BAKE" "${B[@]}" --own-term runtime --near-fraction 1
 expect_arg_error "$T: --sigma-a: '1,2' must be three numbers X,Y,Z" "$SSS_BAKE" "${B[@]}" --sigma-a 1,2
 expect_arg_error "$T: --sigma-s: 'inf,1,1' must be three numbers X,Y,Z" "$SSS_BAKE" "${B[@]}" --sigma-s inf,1,1
+expect_arg_error "$T: --g: '1' must be a number in [-0.99, 0.99]" "$SSS_BAKE" "${B[@]}" --g 1
+expect_arg_error "$T: --g: '-0.995' must be a number in [-0.99, 0.99]" "$SSS_BAKE" "${B[@]}" --g -0.995
 
 # choices
 expect_arg_error "$T: --quant: 'bf16' must be float or lloyd8" "$SSS_BAKE" "${B[@]}" --quant bf16
@@ -129,4 +131,14 @@ done
 expect_arg_error "$T: unknown option '--frobnicate' (see --help)" "$SSS_BAKE" --frobnicate -h
 expect_arg_error "$T: --dirs: '0' must be an integer in [1, 100000]" "$SSS_BAKE" "${B[@]}" --dirs 0 -h
 expect_arg_error "$T: missing MESH (see --help)" "$SSS_BAKE" -o -h
+# --g makes --sigma-s the scattering sigma_s: sigma'_s = sigma_s (1 - g) feeds
+# the dipole, g goes to section PHAS and the file is 1.8 (docs/layers.md §2)
+expect_ok "$SSS_BAKE" "${B[@]}" --sigma-a 0.1,0.1,0.1 --sigma-s 2,2,4 --g 0.5 --dirs 20 -q
+expect_ok "$SSS_STAT" x.sss --json
+contains "$TMP/out" '"format_version":"1.8"'
+contains "$TMP/out" '"sigmap_s":\[1,1,2\],"eta":1.3,"g":0.5}'
+expect_ok "$SSS_BAKE" "${B[@]}" --material marble --dirs 20 -q
+expect_ok "$SSS_STAT" x.sss --json
+! grep -q '"format_version":"1.8"' "$TMP/out" || fail "an isotropic bake is not 1.8"
+rm -f x.sss
 echo "cli_bake_args: ok"

@@ -116,6 +116,6 @@ expect_rc 2 "must be jensen or normalised" "$SSS_STAT" "$TMP/b.sss" --model-erro
 expect_ok "$SSS_STAT" "$TMP/b.sss" --model-error --light 0,0.3,1 --view 0,0,1 --query 5 --paths 64
 contains "$TMP/out" "model ratio"
 expect_rc 2 "needs --light" "$SSS_STAT" "$TMP/b.sss" --model-error --view 0,0,1
-expect_rc 2 "go with --model-error" "$SSS_STAT" "$TMP/b.sss" --query 5 --light 0,0,1 --view 0,0,1
+expect_rc 2 "go with --model-error" "$SSS_STAT" "$TMP/b.sss" --query 5 --light 0,0,1 --paths 64
 expect_rc 2 "exclude each other" "$SSS_STAT" "$TMP/b.sss" --model-error --error --light 0,0,1 --view 0,0,1
 echo "cli_reference: ok"

@@ -307,7 +307,7 @@ static void slabQIsTheBrightestChannelsFlatSurface(void **state)
 static void materialWithVanishingExtinctionRefused(void **state)
 {
     (void)state;
-    sss_material m = {"custom", {0, 0, 0}, {1e-160, 1e-160, 1e-160}, 1.3};
+    sss_material m = {"custom", {0, 0, 0}, {1e-160, 1e-160, 1e-160}, 1.3, 0.0};
     sss_error err = {{0}};
     assert_int_equal(sss_material_validate(&m, &err), SSS_ERR_ARG);
     assert_non_null(strstr(err.msg, "channel R has sigma'_t = sigma_a + sigma'_s = 1e-160 /mm, below 1e-12"));
@@ -317,7 +317,7 @@ static void materialWithVanishingExtinctionRefused(void **state)
     assert_non_null(strstr(err.msg, "channel G"));
     m.sigmap_s[1] = 1e-12;
     assert_int_equal(sss_material_validate(&m, &err), SSS_OK);
-    sss_material z = {"custom", {0.1, 0.1, 0.1}, {0, 0, 0}, 1.3}; /* σ′s = 0: q = 0, valid */
+    sss_material z = {"custom", {0.1, 0.1, 0.1}, {0, 0, 0}, 1.3, 0.0}; /* σ′s = 0: q = 0, valid */
     assert_int_equal(sss_material_validate(&z, &err), SSS_OK);
 }
 

@@ -481,7 +481,7 @@ static void greyMaterialOneChannel(void **state)
     sss_mesh m;
     sss_error err = {{0}};
     if (sss_gen_sphere(&m, 1.0, 2, &err) != SSS_OK) fail_msg("%s", err.msg);
-    sss_material mat = {"custom", {0.05, 0.05, 0.05}, {1.0, 1.0, 1.0}, 1.3};
+    sss_material mat = {"custom", {0.05, 0.05, 0.05}, {1.0, 1.0, 1.0}, 1.3, 0.0};
     sss_bake_options opt;
     memset(&opt, 0, sizeof opt);
     opt.mm_per_unit = 10.0;

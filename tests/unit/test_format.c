@@ -1283,6 +1283,142 @@ static void filesWithoutNbhdStillReadAndKeepTheirVersion(void **state)
     free(b);
 }
 
+/* ---- PHAS: the material's phase function (1.8) ---- */
+
+static void phasRoundTripsGAndMakesTheFile1_8(void **state)
+{
+    (void)state;
+    sss_bake_file a, b;
+    make_file(&a, 12, 3, SSS_QUANT_FLOAT);
+    a.material.g = 0.4;
+    size_t len;
+    uint8_t *buf = encode(&a, &len);
+    assert_int_equal(buf[10] | buf[11] << 8, 8);
+    tfile t;
+    t_split(buf, len, &t);
+    const tsec *ph = t_find(&t, "PHAS");
+    assert_non_null(ph);
+    /* optional: a reader without it shows the dipole of MATL's σ′s as before */
+    assert_int_equal(ph->flags, 0);
+    assert_int_equal(ph->size, 8);
+    assert_int_equal(ph->count, 1);
+    t_free(&t);
+    expect_accept(buf, len, &b);
+    assert_same_file(&a, &b);
+    assert_true(b.material.g == 0.4);
+    assert_int_equal(b.version_minor, 8);
+    size_t len2;
+    uint8_t *buf2 = encode(&b, &len2);
+    assert_int_equal(len, len2);
+    assert_memory_equal(buf, buf2, len);
+    free(buf);
+    free(buf2);
+    sss_file_free(&a);
+    sss_file_free(&b);
+}
+
+static void isotropicFilesHaveNoPhasAndReadGZero(void **state)
+{
+    (void)state;
+    sss_bake_file a, b;
+    make_file(&a, 12, 3, SSS_QUANT_FLOAT);
+    size_t len;
+    uint8_t *buf = encode(&a, &len);
+    assert_int_equal(buf[10], 0); /* the minor of its other sections */
+    tfile t;
+    t_split(buf, len, &t);
+    for (uint32_t i = 0; i < t.n; i++) assert_memory_not_equal(t.s[i].tag, "PHAS", 4);
+    t_free(&t);
+    expect_accept(buf, len, &b);
+    assert_true(b.material.g == 0.0);
+    free(buf);
+    sss_file_free(&a);
+    sss_file_free(&b);
+    /* the golden file, written before 1.8, reads with g = 0 */
+    sss_bake_file gf;
+    sss_error err = {{0}};
+    assert_int_equal(sss_file_read(GOLDEN_PATH, &gf, &err), SSS_OK);
+    assert_true(gf.material.g == 0.0);
+    sss_file_free(&gf);
+}
+
+static void decodeRejectsPhasOutOfRangeOrWrongSize(void **state)
+{
+    (void)state;
+    sss_bake_file a;
+    make_file(&a, 12, 3, SSS_QUANT_FLOAT);
+    a.material.g = -0.3;
+    size_t len;
+    uint8_t *buf = encode(&a, &len);
+    reject_edit_f64(buf, len, "PHAS", 0, 0.995, "section PHAS: g 0.995 is outside");
+    reject_edit_f64(buf, len, "PHAS", 0, NAN, "section PHAS: g nan is outside");
+    tfile t;
+    t_split(buf, len, &t);
+    t_find(&t, "PHAS")->size = 4;
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "section PHAS: 4 bytes");
+    t_free(&t);
+    /* the writer refuses what the reader would */
+    a.material.g = 1.0;
+    uint8_t *bad = NULL;
+    sss_error err = {{0}};
+    assert_int_not_equal(sss_file_encode(&a, &bad, &len, &err), SSS_OK);
+    assert_non_null(strstr(err.msg, "g 1 is outside"));
+    free(buf);
+    sss_file_free(&a);
+}
+
+/* ---- LAYR: seed 002's layers (1.8) ---- */
+
+static void make_layers(sss_bake_file *f)
+{
+    const sss_layer t1[2] = {{{2.0, 1.0, 1.0}, {2.6, 1.6, 1.6}, 0.25, 0.3}, {{6.0, 3.0, 2.0}, {6.6, 3.6, 2.6}, 0.4, 0.8}};
+    f->layers.n = 2;
+    f->layers.phase = SSS_PHASE_SCHLICK;
+    memcpy(f->layers.layer, t1, sizeof t1);
+}
+
+static void layrRoundTripsAndRejectsDisorder(void **state)
+{
+    (void)state;
+    sss_bake_file a, b;
+    make_file(&a, 12, 3, SSS_QUANT_FLOAT);
+    make_layers(&a);
+    size_t len;
+    uint8_t *buf = encode(&a, &len);
+    assert_int_equal(buf[10] | buf[11] << 8, 8);
+    expect_accept(buf, len, &b);
+    assert_same_file(&a, &b);
+    assert_memory_equal(&a.layers, &b.layers, sizeof a.layers);
+    tfile t;
+    t_split(buf, len, &t);
+    const tsec *ly = t_find(&t, "LAYR");
+    assert_int_equal(ly->flags, 0);
+    assert_int_equal(ly->size, 8 + 64 * 2);
+    assert_int_equal(ly->count, 2);
+    t_free(&t);
+    /* the second layer's depth (offset 8 + 64 + 56) above the first's */
+    reject_edit_f64(buf, len, "LAYR", 8 + 64 + 56, 0.1, "section LAYR: layer 1: depth 0.1 mm is above the layer before it");
+    /* sigma_s above sigma_t */
+    reject_edit_f64(buf, len, "LAYR", 8, 3.0, "section LAYR: layer 0 channel 0: sigma_s 3, sigma_t 2.6");
+    reject_edit_f64(buf, len, "LAYR", 8 + 48, 1.5, "section LAYR: layer 0: g 1.5 is outside");
+    t_split(buf, len, &t);
+    t_find(&t, "LAYR")->size = 8 + 64;
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "section LAYR: 72 bytes, count 2 for 2 layers");
+    t_free(&t);
+    free(buf);
+    sss_file_free(&a);
+    sss_file_free(&b);
+    /* without layers: no LAYR, and n = 0 read back */
+    make_file(&a, 12, 3, SSS_QUANT_FLOAT);
+    buf = encode(&a, &len);
+    expect_accept(buf, len, &b);
+    assert_int_equal(b.layers.n, 0);
+    assert_int_equal(buf[10], 0);
+    free(buf);
+    sss_file_free(&a);
+    sss_file_free(&b);
+}
+
 /* ---- QUAD and NRAD: the weight rule and the near terms' radius (1.5) ---- */
 
 /* make_file's content with ε, the hat-function weights and, when radius > 0,
@@ -1818,6 +1954,10 @@ int main(void)
         cmocka_unit_test(decodeSampleReturnsStoredValues),
         cmocka_unit_test(decodeAllIsExactAtEveryDirectionSample),
         cmocka_unit_test(decodeAllInterpolatesWithLookupWeights),
+        cmocka_unit_test(phasRoundTripsGAndMakesTheFile1_8),
+        cmocka_unit_test(isotropicFilesHaveNoPhasAndReadGZero),
+        cmocka_unit_test(decodeRejectsPhasOutOfRangeOrWrongSize),
+        cmocka_unit_test(layrRoundTripsAndRejectsDisorder),
         cmocka_unit_test(writeGoldenFileWhenRequested),
         cmocka_unit_test(goldenFileDecodesWithKnownValues),
         cmocka_unit_test(goldenFileReencodesToSameBytes),

@@ -36,6 +36,7 @@
 #include "genmesh.h"
 #include "sss/dipole.h"
 #include "sss/reference.h"
+#include "sss/single.h"
 #include "sss/vec3.h"
 
 /* ---- Chandrasekhar's H-function for isotropic scattering ----
@@ -210,10 +211,6 @@ static void halfSpaceRadianceMatchesChandrasekhar(void **state)
  *     L⁽¹⁾ = ω p F_t(μ₀) F_t(μ) μ₀ / (η² (μ′₀ + μ′)),
  * which at η = 1 is ω p μ₀ / (μ₀ + μ) (Jensen et al. 2001, eq. 4–5, for a
  * flat surface; docs/reference.md §5.4). */
-static double hg_phase(double g, double cos_theta)
-{
-    return (1.0 - g * g) / (4.0 * SSS_PI * pow(1.0 + g * g - 2.0 * g * cos_theta, 1.5));
-}
 
 /* D = 0: the directional light; D > 0: a point light at distance D along
  * it with intensity D² (unit irradiance), whose answer tends to the same. */
@@ -231,9 +228,14 @@ static void single_scattering_case(double eta, double g, double mu0, double mu, 
     const double mu0p = sqrt(1.0 - s0 * s0), mup = sqrt(1.0 - s1 * s1);
     /* the light propagates along (−s0 cos 0, −s0 sin 0, −μ′₀); the scattered
      * light towards the eye along (s1 cos az, s1 sin az, μ′) */
-    const double p = hg_phase(g, -s0 * s1 * cos(az) - mu0p * mup);
+    const double p = sss_phase_hg(g, -s0 * s1 * cos(az) - mu0p * mup);
+    /* libsss's single scattering (sss/single.h) is the same closed form */
+    const double nz[3] = {0.0, 0.0, 1.0};
+    sss_ss_geom geo;
+    assert_int_equal(sss_ss_geometry(nz, l, v, eta, 1, &geo), 1);
     for (int c = 0; c < 3; c++) {
         const double L = k_omega[c] * p * sss_ft(eta, mu0) * sss_ft(eta, mu) * mu0 / (eta * eta * (mu0p + mup));
+        assert_true(fabs(sss_ss_halfspace(k_omega[c], 1.0, g, &geo) - L) < 1e-12 * L);
         char what[96];
         snprintf(what, sizeof what, D > 0 ? "far point light, eta %.1f g %.1f omega %.2f" : "single scattering eta %.1f g %.1f omega %.2f",
                  eta, g, k_omega[c]);
@@ -278,7 +280,7 @@ static void pointLightNearHalfSpaceMatchesSingleScatteringIntegral(void **state)
             sss_sub3(d, z, P); /* the light's travel */
             const double r = sqrt(sss_dot3(d, d)), depth = 100.0 - z[2], tl = depth * r / (P[2] - z[2]);
             const double ct = sss_dot3(d, v) / r;
-            sum += ss * hg_phase(g, ct) * exp(-st * (sd + tl)) * I / (r * r);
+            sum += ss * sss_phase_hg(g, ct) * exp(-st * (sd + tl)) * I / (r * r);
         }
         char what[96];
         snprintf(what, sizeof what, "near point light, single scattering, omega %.2f", k_omega[c]);

@@ -110,6 +110,64 @@ static void invalidScenesNameFileAndJsonPath(void **state)
     sss_scene_free(&s);
 }
 
+/* A material's phase (docs/layers.md §2): "sigma_s" with "g" gives
+ * σ′s = σs (1 − g); "g" alone keeps a preset's σ′s; bad combinations and
+ * ranges are refused naming the key. */
+static void materialTakesSigmaSAndG(void **state)
+{
+    (void)state;
+    sss_scene s;
+    sss_error err = {{0}};
+    assert_int_equal(sss_scene_parse("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"sigma_a\":[0.1,0.2,0.3],"
+                                     "\"sigma_s\":[2,1,1],\"g\":0.25}},{\"mesh\":\"b.ply\",\"material\":{"
+                                     "\"preset\":\"skin1\",\"g\":0.5}}]}",
+                                     "scene.json", &s, &err), SSS_OK);
+    const sss_material *m = &s.objects[0].material;
+    assert_true(m->g == 0.25);
+    assert_true(m->sigmap_s[0] == 1.5 && m->sigmap_s[1] == 0.75 && m->sigmap_s[2] == 0.75);
+    assert_true(fabs(sss_material_sigma_s(m, 0) - 2.0) < 1e-15);
+    const sss_material *p = &s.objects[1].material;
+    assert_true(p->g == 0.5 && p->sigmap_s[0] == 0.74);
+    assert_string_equal(p->name, "skin1");
+    sss_scene_free(&s);
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"sigma_a\":[1,1,1],\"sigma_s\":[1,1,1],"
+                 "\"sigmap_s\":[1,1,1]}}]}",
+                 "/objects/0/material/sigma_s: give either sigma_s (with g) or sigmap_s, not both");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"g\":1}}]}",
+                 "/objects/0/material/g: 1 is out of range [-0.99, 0.99]");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"sigma_a\":[1,1,1],\"sigma_s\":[1,-1,1]}}]}",
+                 "/objects/0/material/sigma_s/1: -1 is out of range");
+}
+
+/* A material's layers (docs/layers.md §3), seed 002's Table 1: σt = σa + σs,
+ * depths in order; depth maps and procedural depths refused as not built. */
+static void materialTakesLayers(void **state)
+{
+    (void)state;
+    sss_scene s;
+    sss_error err = {{0}};
+    assert_int_equal(sss_scene_parse("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":["
+                                     "{\"name\":\"dermis\",\"sigma_s\":[2,1,1],\"sigma_a\":[0.6,0.6,0.6],\"g\":0.25,\"depth_mm\":0.3},"
+                                     "{\"name\":\"blood\",\"sigma_s\":[6,3,2],\"sigma_a\":[0.6,0.6,0.6],\"g\":0.4,\"depth_mm\":0.8},"
+                                     "{\"name\":\"organs\",\"sigma_s\":[1,1,2],\"sigma_a\":[0.5,0.5,0.5],\"g\":0.8,\"depth_mm\":3}]}}]}",
+                                     "scene.json", &s, &err), SSS_OK);
+    const sss_layer_stack *L = &s.objects[0].layers;
+    assert_int_equal(L->n, 3);
+    assert_true(L->layer[1].sigma_t[0] == 6.6 && L->layer[2].sigma_t[2] == 2.5 && L->layer[0].g == 0.25);
+    assert_true(L->layer[0].depth == 0.3 && L->layer[2].depth == 3.0);
+    assert_string_equal(s.objects[0].material.name, "skin1"); /* the layers lie over the material */
+    sss_scene_free(&s);
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":["
+                 "{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],\"depth_mm\":0.5},{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],"
+                 "\"depth_mm\":0.2}]}}]}",
+                 "/objects/0/material/layers/1/depth_mm: 0.2 is above the layer before it (0.5 mm)");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":["
+                 "{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],\"depth_mm\":{\"map\":\"veins.png\",\"scale_mm\":2}}]}}]}",
+                 "/objects/0/material/layers/0/depth_mm: depth maps and procedural depths are not built yet");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":[]}}]}",
+                 "/objects/0/material/layers: expected an array of 1 to 8 layers");
+}
+
 /* Silent misreadings refused, naming the JSON path (docs/robustness.md
  * item 9): a key given twice (cJSON keeps both and a lookup finds the
  * first, so the second was ignored), a string holding \u0000 (the name was
@@ -192,7 +250,12 @@ static void bake(const baked *b, uint32_t obj, sss_bake_file *f, sss_bake_stats 
     if (sss_file_decode(buf, len, "mem.sss", &g, &err) != SSS_OK) fail_msg("%s", err.msg);
     /* 1.2 sections and ε (NBHD, 1.4); the hat weights (QUAD, the default)
      * 1.5; compact rows' float32 directions (DIRC) 1.6 */
-    assert_int_equal(g.version_minor, f->dirs_f32 ? 6 : f->weights == SSS_WEIGHTS_HAT ? 5 : 4);
+    /* and the material's phase or layers (PHAS, LAYR) 1.8 */
+    assert_int_equal(g.version_minor, f->layers.n || f->material.g != 0.0 ? 8
+                                      : f->dirs_f32                         ? 6
+                                      : f->weights == SSS_WEIGHTS_HAT       ? 5
+                                                                            : 4);
+    assert_memory_equal(&g.layers, &f->layers, sizeof g.layers);
     assert_int_equal(g.dirs_f32, f->dirs_f32);
     if (f->quant == SSS_QUANT_REFS || f->quant == SSS_QUANT_SH) assert_true(g.dirs_f32);
     assert_int_equal(g.weights, f->weights);
@@ -276,6 +339,70 @@ static const sss_decision *decision(const sss_object_plan *p, const char *effect
         if (!strcmp(p->decisions[d].effect, effect)) return &p->decisions[d];
     fail_msg("no decision '%s'", effect);
     return NULL;
+}
+
+/* Single scattering (docs/layers.md §4): on where its share of the
+ * reflectance reaches the threshold (skin1: 0.28 in blue), off where it does
+ * not (marble: 0.085 at most), forced either way by the scene, and the
+ * choice is the file's effect bit. */
+static void plannerChoosesSingleScatteringByItsShare(void **state)
+{
+    (void)state;
+    make_sphere("sphere.ply", 1.0, 1);
+    static const char *const mats[] = {"\"skin1\"", "\"marble\"", "\"marble\",\"single_scattering\":true",
+                                       "\"skin1\",\"single_scattering\":false"};
+    static const int want[] = {1, 0, 1, 0};
+    for (int i = 0; i < 4; i++) {
+        char json[512];
+        snprintf(json, sizeof json, "{\"objects\":[{\"mesh\":\"sphere.ply\",\"material\":%s}],\"lights\":"
+                 "[{\"type\":\"directional\",\"direction\":[0,0,1]}]}", mats[i]);
+        baked b = {0};
+        load(&b, json);
+        const sss_object_plan *p = &b.plan.obj[0];
+        const sss_decision *d = decision(p, "single-scattering");
+        assert_non_null(d);
+        assert_string_equal(d->choice, want[i] ? "on" : "off");
+        assert_int_equal(!!(p->effects & SSS_FX_SINGLE), want[i]);
+        if (i < 2) assert_non_null(strstr(d->reason, want[i] ? "at least 0.10" : "below 0.10"));
+        else assert_non_null(strstr(d->reason, "the scene sets \"single_scattering\""));
+        if (i == 0) {
+            sss_bake_file f;
+            sss_bake_stats st;
+            bake(&b, 0, &f, &st);
+            assert_true(f.fx.mask & SSS_FX_SINGLE);
+            sss_file_free(&f);
+        }
+        unload(&b);
+    }
+    /* layers turn it on whatever the share (marble's is below) */
+    {
+        baked b = {0};
+        load(&b, "{\"objects\":[{\"mesh\":\"sphere.ply\",\"material\":{\"preset\":\"marble\",\"layers\":[{"
+                 "\"sigma_s\":[2,1,1],\"sigma_a\":[0.6,0.6,0.6],\"depth_mm\":0.3}]}}],\"lights\":[{\"type\":"
+                 "\"directional\",\"direction\":[0,0,1]}]}");
+        assert_true(b.plan.obj[0].effects & SSS_FX_SINGLE);
+        assert_non_null(strstr(decision(&b.plan.obj[0], "single-scattering")->reason, "1 layer over it"));
+        sss_bake_file f;
+        sss_bake_stats st;
+        bake(&b, 0, &f, &st); /* the layers reach the file (LAYR) and read back */
+        assert_int_equal(f.layers.n, 1);
+        assert_true(f.layers.layer[0].sigma_t[0] == 2.6);
+        sss_file_free(&f);
+        unload(&b);
+    }
+    /* forward scattering lowers the share: the seed's dermis (Table 1) with
+     * g = 0.75 falls below the threshold in red */
+    sss_material m = {"dermis", {0.6, 0.6, 0.6}, {0.5, 0.25, 0.25}, 1.3, 0.75};
+    uint32_t c = 9;
+    const double s75 = sss_single_share(&m, 1, &c);
+    m.g = 0.0;
+    m.sigmap_s[0] = 2.0;
+    const double s0 = sss_single_share(&m, 1, &c);
+    assert_int_equal(c, 0);
+    assert_true(s75 < 0.10 && s0 > 0.2);
+    /* a scene key of the wrong type names it */
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":\"skin1\",\"single_scattering\":1}]}",
+                 "/objects/0/single_scattering: expected true or false");
 }
 
 /* The storage rule (planner.c, docs/scenes.md "Rows, weights and near
@@ -739,6 +866,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(invalidScenesNameFileAndJsonPath),
         cmocka_unit_test(sceneRefusesDuplicateKeysNulAndDotNames),
+        cmocka_unit_test(materialTakesSigmaSAndG),
+        cmocka_unit_test(materialTakesLayers),
+        cmocka_unit_test(plannerChoosesSingleScatteringByItsShare),
         cmocka_unit_test(greyMaterialBakesOneChannel),
         cmocka_unit_test(convexObjectAloneTracesNoRaysAndMatchesVisibilityOn),
         cmocka_unit_test(directionSetHasThePlainBakesWeightsAndThePlanSaysWhy),

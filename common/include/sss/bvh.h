@@ -72,6 +72,13 @@ void sss_bvh_free(sss_bvh *b);
  * only: any number of threads may trace one hierarchy at once. */
 int sss_bvh_occluded(const sss_bvh *b, const float o[3], const float d[3], float tnear);
 
+/* The nearest hit of the ray o + t d beyond t = tnear (the same triangle
+ * test as sss_bvh_occluded): its t in units of d (INFINITY when the ray
+ * leaves the mesh without a hit) and, when prim is not NULL, its mesh
+ * triangle. Where single scattering's light enters and its view ray leaves
+ * (sss/single_mesh.h). Reads b only. */
+float sss_bvh_nearest(const sss_bvh *b, const float o[3], const float d[3], float tnear, uint32_t *prim);
+
 /* V(x_v, ω) of vertex v of `mesh` (the mesh b was built from) by the bake's
  * ray (visibility.c): 0 where n_v·ω ≤ 0 (in double, float n and double ω,
  * left to right); else the ray from x_v + δ n_v (float, product and sum

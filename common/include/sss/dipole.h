@@ -15,12 +15,16 @@ extern "C" {
 #define SSS_MAX_CHANNELS 3
 
 /* A homogeneous material: per channel σa and reduced scattering σ′s (1/mm),
- * one relative index of refraction η = n_inside / n_outside. */
+ * one relative index of refraction η = n_inside / n_outside, and the
+ * Henyey–Greenstein mean cosine g of its phase function (0: isotropic, the
+ * presets' and every older file's). The dipole sees σ′s only; single
+ * scattering (sss/single.h) needs σs = σ′s / (1 − g) and g itself. */
 typedef struct sss_material {
     char name[32];                      /* preset name or "custom" */
     double sigma_a[SSS_MAX_CHANNELS];   /* absorption, 1/mm */
     double sigmap_s[SSS_MAX_CHANNELS];  /* reduced scattering σ′s = σs(1−g), 1/mm */
     double eta;                         /* relative index of refraction */
+    double g;                           /* HG mean cosine, |g| ≤ SSS_G_MAX; > 0 scatters forwards */
 } sss_material;
 
 /* Derived dipole quantities for one channel (docs/physics.md §1). */
@@ -53,8 +57,14 @@ sss_result sss_material_preset(const char *name, sss_material *out, sss_error *e
  * docs/robustness.md, "Materials"). */
 #define SSS_SIGMA_T_MIN 1e-12
 
+/* The largest |g| accepted: at 0.99 σs = 100 σ′s and HG's forward peak is
+ * 4·10⁴ times its mean; beyond, σs leaves the coefficients' range for
+ * ordinary σ′s and the peak needs more than float precision. */
+#define SSS_G_MAX 0.99
+
 /* Checks a material: finite, 0 ≤ σa, σ′s ≤ SSS_SIGMA_MAX, σ′t ≥
- * SSS_SIGMA_T_MIN per channel, SSS_ETA_MIN ≤ η ≤ SSS_ETA_MAX. */
+ * SSS_SIGMA_T_MIN per channel, SSS_ETA_MIN ≤ η ≤ SSS_ETA_MAX, |g| ≤
+ * SSS_G_MAX. */
 sss_result sss_material_validate(const sss_material *m, sss_error *err);
 
 /* The same checks for the first `channels` channels only (a file's MATL
@@ -65,6 +75,10 @@ sss_result sss_material_check(const sss_material *m, uint32_t channels, sss_resu
  * and B (one dipole profile serves all three, and a grey material pays for
  * one channel only), else 3. */
 uint32_t sss_material_channels(const sss_material *m);
+
+/* The scattering coefficient σs = σ′s / (1 − g) of channel c (1/mm),
+ * docs/physics.md §1: what single scattering sees. */
+double sss_material_sigma_s(const sss_material *m, int c);
 
 /* Diffuse Fresnel reflectance F_dr(η), Jensen's fit (Egan–Hilgeman for η<1);
  * exactly 0 at η = 1, where the fit's 0.0016 is an artefact. */

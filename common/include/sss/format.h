@@ -16,13 +16,14 @@
 #include "sss/mesh.h"
 #include "sss/dipole.h"
 #include "sss/dirset.h"
+#include "sss/single.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 #define SSS_FORMAT_MAJOR 1
-#define SSS_FORMAT_MINOR 7
+#define SSS_FORMAT_MINOR 8
 /* The minor version plain bakes record in PARM ("format"), kept at 1 so
  * that their bytes do not change with 1.2, which only scene bakes use. */
 #define SSS_FORMAT_MINOR_PLAIN 1
@@ -121,8 +122,9 @@ typedef struct sss_refcode {
 #define SSS_FX_DIR_SET      (1u << 4) /* moving directional light: DIRS + QFLT / QL8 / SHC (§3.2) */
 #define SSS_FX_POINT_SHELLS (1u << 5) /* near point light: DIRS x distance shells (PSHL, §3.3) */
 #define SSS_FX_ENV_SH       (1u << 6) /* environment: SH transfer (ENVT) */
-#define SSS_FX_KNOWN        0x7Fu
-#define SSS_FX_COUNT        7
+#define SSS_FX_SINGLE       (1u << 7) /* (1.8) single scattering added at run time from MATL, PHAS and GEOM (docs/layers.md) */
+#define SSS_FX_KNOWN        0xFFu
+#define SSS_FX_COUNT        8
 
 typedef struct sss_effects {
     uint32_t mask;           /* SSS_FX_* */
@@ -161,6 +163,7 @@ typedef struct sss_bake_file {
     uint16_t version_major, version_minor;  /* set by the reader */
     sss_mesh mesh;            /* pos, nrm, tri (area is not stored: NULL after reading) */
     sss_material material;
+    sss_layer_stack layers;   /* (1.8, LAYR) seed 002's flat layers over the material; n = 0: none */
     double mm_per_unit;       /* millimetres per mesh unit */
     uint32_t channels;        /* 1 (grey) or 3 (RGB) */
     sss_dirset dirs;          /* directions ω_j and their triangulation */

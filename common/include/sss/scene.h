@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include "sss/deform.h"
 #include "sss/dipole.h"
+#include "sss/single.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
 #include "sss/vec3.h"
@@ -66,6 +67,12 @@ typedef struct sss_scene_object {
      * first clip moves; such an object deforms as one with "deform" does
      * (docs/deformable.md §5) */
     int animated;
+    int single_scattering;          /* "single_scattering": 1 true, -1 false, 0 absent (the planner decides) */
+    /* The material's "layers" (seed 002; docs/layers.md §3): flat layers of
+     * the given lower-boundary depths below the surface, over the material
+     * itself; n = 0: none. Single scattering only: the dipole sees the
+     * material. */
+    sss_layer_stack layers;
 } sss_scene_object;
 
 typedef struct sss_scene_camera {

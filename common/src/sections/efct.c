@@ -12,7 +12,8 @@
 #define CORRUPT SSS_ERR_CORRUPT
 
 static const char *const fx_names[SSS_FX_COUNT] = {"rgb",           "self-shadow", "scene-shadow",  "directional-exact",
-                                                   "direction-set", "point-shells", "environment-sh"};
+                                                   "direction-set", "point-shells", "environment-sh",
+                                                   "single-scattering"};
 
 const char *sss_effect_name(uint32_t bit) { return bit < SSS_FX_COUNT ? fx_names[bit] : "?"; }
 

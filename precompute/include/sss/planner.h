@@ -102,6 +102,24 @@ static inline int sss_plan_same_direction(const double a[3], const double b[3])
  * centre. */
 void sss_plan_exact_direction(const sss_object_plan *p, const sss_scene_light *L, double d[3]);
 
+/* Single scattering's planner rule (precompute/src/effects/single.c,
+ * docs/layers.md §4): not an effect unit, since it claims no light and
+ * bakes nothing; its choice is the effect bit SSS_FX_SINGLE. The share is the largest over
+ * the first `channels` channels of R_ss / (R_ss + R_ms), both exitances
+ * per unit irradiance of the material's half-space lit head-on: R_ss its
+ * single-scattering albedo (sss_ss_albedo), R_ms the dipole's
+ * F_t(η, 1) R_d,total c(η); *channel (may be NULL) gets the channel. The
+ * threshold is the dipole's own error on a flat half-space lit head-on,
+ * 6–10 % in marble against the path-traced reference (docs/accuracy.md,
+ * "What the truth shows"): a term smaller than that is not worth a
+ * per-pixel march. */
+#define SSS_SINGLE_SHARE_MIN 0.10
+double sss_single_share(const sss_material *m, uint32_t channels, uint32_t *channel);
+/* Whether the object gets single scattering: force > 0 on, < 0 off (the
+ * scene's "single_scattering"), 0 the share against SSS_SINGLE_SHARE_MIN;
+ * the reason, with the share, into reason[0 … n). */
+int sss_single_rule(const sss_material *m, uint32_t channels, int force, char *reason, size_t n);
+
 void sss_plan_free(sss_plan *p);
 
 /* Whether a closed mesh is convex: every edge shared by two triangles

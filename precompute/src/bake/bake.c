@@ -58,15 +58,18 @@ static char *params_json(const char *mesh_name, const sss_material *m, const sss
         else esc[k++] = (char)ch;
     }
     esc[k] = 0;
+    /* format 1.8, section PHAS: the material's phase (an isotropic bake's text is unchanged) */
+    char phase[40] = "";
+    if (m->g != 0.0) snprintf(phase, sizeof phase, ",\"g\":%.17g", m->g);
     snprintf(buf, sizeof buf,
              "{\"generator\":\"sss-bake 0.1.0\",\"format\":\"%d.%d\",\"mesh\":\"%s\","
-             "\"material\":{\"name\":\"%s\",\"sigma_a\":[%.17g,%.17g,%.17g],\"sigmap_s\":[%.17g,%.17g,%.17g],\"eta\":%.17g},"
+             "\"material\":{\"name\":\"%s\",\"sigma_a\":[%.17g,%.17g,%.17g],\"sigmap_s\":[%.17g,%.17g,%.17g],\"eta\":%.17g%s},"
              "\"mm_per_unit\":%.17g,\"dirs\":%u,\"direction_set\":\"spherical-fibonacci\",\"eps\":%.17g,"
              "\"channels\":%u,\"quant\":\"%s\",\"radius_mm\":[%.9g,%.9g,%.9g],\"search_radius_mm\":%.9g,"
              "\"normalisation\":\"q = sum F_t(eta,n_i.w) (1/pi) R_d(r) max(0,n_i.w) V dA; self term (1/pi) disk integral\","
              "\"visibility\":\"embree occlusion rays, origin offset 1e-5 of bbox diagonal along the normal\"}",
              SSS_FORMAT_MAJOR, SSS_FORMAT_MINOR_PLAIN, esc, m->name, m->sigma_a[0], m->sigma_a[1], m->sigma_a[2],
-             m->sigmap_s[0], m->sigmap_s[1], m->sigmap_s[2], m->eta, o->mm_per_unit, o->n_dirs, o->eps, channels,
+             m->sigmap_s[0], m->sigmap_s[1], m->sigmap_s[2], m->eta, phase, o->mm_per_unit, o->n_dirs, o->eps, channels,
              o->quant == SSS_QUANT_LLOYD8 ? "lloyd8" : "float", radius[0], radius[1], radius[2], search);
     if (o->gather == SSS_GATHER_TREE) { /* docs/benchmarks.md, "Bake at scale": which gather made q (the direct bake's text is unchanged) */
         const size_t L = strlen(buf);

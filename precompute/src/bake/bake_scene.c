@@ -116,6 +116,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     if (r != SSS_OK) return r;
     c.mesh = &out->mesh;
     out->material = ob->material;
+    out->layers = ob->layers;
     out->mm_per_unit = sss_scene_object_mm_per_world_unit(ob);
     out->channels = c.C;
     out->quant = SSS_QUANT_FLOAT;

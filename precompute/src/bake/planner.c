@@ -429,7 +429,27 @@ static sss_result check_probes(const sss_scene *s, uint64_t memory_limit, sss_er
 }
 
 typedef void (*rule_fn)(const plan_in *, sss_object_plan *);
-static const rule_fn rules[] = {rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights, rule_storage};
+/* Single scattering (effects/single.c, docs/layers.md §4): on when its share
+ * of the material's reflectance reaches SSS_SINGLE_SHARE_MIN, or as the
+ * scene forces it. */
+static void rule_single(const plan_in *in, sss_object_plan *p)
+{
+    const sss_scene_object *o = &in->scene->objects[p->object];
+    char why[sizeof p->decisions[0].reason];
+    int on;
+    if (o->layers.n && !o->single_scattering) { /* layers show only through single scattering */
+        on = 1;
+        snprintf(why, sizeof why, "the material has %u layer%s over it, which only single scattering shows "
+                 "(docs/layers.md 3)", o->layers.n, o->layers.n > 1 ? "s" : "");
+    } else {
+        on = sss_single_rule(&o->material, p->channels, o->single_scattering, why, sizeof why);
+    }
+    if (on) p->effects |= SSS_FX_SINGLE;
+    decide(p, "single-scattering", on ? "on" : "off", "%s", why);
+}
+
+static const rule_fn rules[] = {rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights, rule_storage,
+                                rule_single};
 /* the rules of a deforming object */
 static const rule_fn rules_per_frame[] = {rule_channels, rule_per_frame};
 

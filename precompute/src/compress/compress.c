@@ -95,6 +95,7 @@ static int copy_base(const sss_bake_file *s, sss_bake_file *d)
     memset(d, 0, sizeof *d);
     if (sss_mesh_copy(&s->mesh, &d->mesh, NULL) != SSS_OK) return 0;
     d->material = s->material;
+    d->layers = s->layers; /* section LAYR: the single scattering's layers */
     d->mm_per_unit = s->mm_per_unit;
     d->eps = s->eps;
     d->channels = s->channels;

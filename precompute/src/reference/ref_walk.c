@@ -18,6 +18,7 @@
 
 #include "sss/dipole.h"
 #include "sss/random.h"
+#include "sss/single.h" /* sss_phase_hg */
 #include "sss/vec3.h"
 
 void ref_medium_init(const sss_ref_medium *m, ref_medium *out)
@@ -81,15 +82,6 @@ static int refract_to(const double d[3], const double n[3], double ratio, double
     for (int k = 0; k < 3; k++) t[k] = ratio * d[k] + (ct - ratio * c) * n[k];
     sss_normalize3(t);
     return 1;
-}
-
-/* Henyey–Greenstein phase function of the angle between the propagation
- * directions before and after scattering (docs/reference.md §2; g > 0
- * scatters forwards), per steradian. */
-static double hg_eval(double g, double cos_theta)
-{
-    const double den = 1.0 + g * g - 2.0 * g * cos_theta;
-    return (1.0 - g * g) / (4.0 * SSS_PI * den * sqrt(den));
 }
 
 /* A direction about u whose angle follows Henyey–Greenstein exactly
@@ -482,7 +474,7 @@ static void nee_light(const ref_ctx *c, const double z[3], const double u[3], co
     const double J = fabs(sss_dot3(cr, w0)) * (point ? r * r : 1.0); /* |dω′/dω|, or r² |de/dω| */
     if (!(J > 0.0) || !isfinite(J)) return;
     const double E = point ? c->I : 1.0;
-    const double w = scale * E * hg_eval(m->g, sss_dot3(v, u)) * eta * eta * sss_ft(eta, sss_dot3(h.ns, wl)) / J;
+    const double w = scale * E * sss_phase_hg(m->g, sss_dot3(v, u)) * eta * eta * sss_ft(eta, sss_dot3(h.ns, wl)) / J;
     double beta[3];
     tp_weights(tp, beta);
     for (uint32_t ch = 0; ch < m->C; ch++) L[ch] += beta[ch] * w * exp(-m->sigma_t[ch] * h.t);
