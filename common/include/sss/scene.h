@@ -12,6 +12,7 @@
 
 #include <stdint.h>
 #include "sss/dipole.h"
+#include "sss/field.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
 
@@ -55,6 +56,13 @@ typedef struct sss_scene_object {
      * dipole distances isotropic. */
     double translate[3], rotate_deg[3], scale;
     int moving;                     /* 1: moves relative to the others (cannot cast baked shadows) */
+    /* "material": {"field": ..., "inside": ...} (docs/heterogeneous.md §1):
+     * kind SSS_FIELD_NONE for a homogeneous object; xf is filled by the
+     * parser from mm_per_unit and the transform (world → rest-frame mm).
+     * A grid field's samples are owned (sss_scene_free). */
+    sss_hetero hetero;
+    char field_path[SSS_SCENE_PATH_MAX]; /* a "vdb" field: the resolved file, read by the bake (else "") */
+    char field_grid[SSS_SCENE_NAME_MAX]; /* its grid's name */
 } sss_scene_object;
 
 typedef struct sss_scene_camera {
