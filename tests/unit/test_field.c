@@ -373,9 +373,16 @@ static void absorbingInclusionNeverBrightensAndDarkensWhatIsBehindIt(void **stat
     bake_scene(scene_text("ball.ply", "{\"procedural\":\"sphere\",\"centre_mm\":[0,0,0],\"radius_mm\":5,"
                           "\"edge_mm\":1}", "0,0,1", NULL), &f);
     assert_int_equal(f.hetero.field.kind, SSS_FIELD_SPHERE);
-    /* the file alone gives the bake's q back (section FELD) */
+    /* the file alone gives the bake's q back (section FELD): the exact
+     * evaluator marches every pair, the bake its far pairs through the
+     * cells' cache (docs/heterogeneous.md §4.3), whose error this is */
     float *q = exact_q(&f, L);
-    for (size_t k = 0; k < f.mesh.nv; k++) assert_true(q[k] == f.fx.exact_q[k]);
+    double qmax = 0.0, dmax = 0.0;
+    for (size_t k = 0; k < f.mesh.nv; k++) qmax = fmax(qmax, q[k]);
+    for (size_t k = 0; k < f.mesh.nv; k++) dmax = fmax(dmax, fabs((double)q[k] - f.fx.exact_q[k]));
+    print_message("inclusion: bake vs exact evaluator: max |dq| %.3g of max q %.3g (%.3g %%)\n", dmax, qmax,
+                  100 * dmax / qmax);
+    assert_true(dmax <= 0.01 * qmax);
     free(q);
     uint32_t behind = 0;
     double worst_ratio = 0.0, max_behind = 0.0;

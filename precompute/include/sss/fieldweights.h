@@ -24,6 +24,9 @@ extern "C" {
 /* The march along a pair's segment takes at most this many steps: the
  * step is sss_field_step_mm, lengthened on long pairs (§4.2). */
 #define SSS_FIELD_MARCH_MAX 64
+/* The far pairs' cache of a bake holds at most this many occupied cells
+ * (their pairs' table: 1024² × 3 doubles, 24 MiB at most). */
+#define SSS_FIELD_FAR_CELLS 1024
 
 typedef struct sss_field_kernel {
     const sss_hetero *h;     /* borrowed: the field, the inside material, the rest frame */
@@ -38,6 +41,14 @@ typedef struct sss_field_kernel {
     sss_dipole dip_ref[SSS_MAX_CHANNELS];
     double radius_mm;        /* the search radius: the larger of the radius rule at f_min and at f_max */
     double step_mm;          /* 0: nothing to march (a constant) */
+    /* The far pairs' cache (sss_field_kernel_far, §4.3): vertices binned
+     * into cubic cells; a pair farther apart than far_mm takes the mean
+     * excess σtr(x) − σtr_ref marched once between its cells' centroids. */
+    uint32_t ncells;         /* 0: no cache, every pair marched */
+    uint32_t *cell;          /* cell of every vertex (nv) */
+    double far_mm, cell_mm;
+    double *excess;          /* ncells × ncells × C, 1/mm */
+    double sigma_tr_ref[SSS_MAX_CHANNELS];
 } sss_field_kernel;
 
 /* Evaluates the field at every vertex of mesh (world units; h->xf maps to
@@ -49,6 +60,13 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double mm_per_unit, con
                                    sss_field_kernel *k, sss_error *err);
 
 void sss_field_kernel_free(sss_field_kernel *k);
+
+/* Builds the far pairs' cache (§4.3) for a bake: at most max_cells occupied
+ * cells of edge at least 4 march steps; pairs farther than 4 cell edges
+ * then cost no march. The exact evaluator does not call it: it marches
+ * every pair, and the difference is the cache's error (docs/heterogeneous.md
+ * §7). */
+sss_result sss_field_kernel_far(sss_field_kernel *k, const sss_mesh *mesh, uint32_t max_cells, sss_error *err);
 
 /* κ_c(o, i) for the pair (o, i), per channel (§4.1):
  *   κ = sqrt(P_o(r) P_i(r)) / P_ref(r) · τ(o, i),

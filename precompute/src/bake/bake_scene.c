@@ -170,6 +170,8 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
         if (r == SSS_OK)
             r = sss_field_kernel_create(c.mesh, out->mm_per_unit, &p->material, &out->hetero, c.C, eps,
                                         ob->field_path[0] ? ob->field_path : name, &fk, err);
+        /* far pairs through the cells' cache (docs/heterogeneous.md §4.3) */
+        if (r == SSS_OK) r = sss_field_kernel_far(&fk, c.mesh, SSS_FIELD_FAR_CELLS, err);
         if (r != SSS_OK) {
             sss_file_free(out);
             return r;

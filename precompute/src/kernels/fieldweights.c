@@ -40,6 +40,8 @@ void sss_field_kernel_free(sss_field_kernel *k)
     free(k->f);
     free(k->sigma_tr);
     free(k->dip);
+    free(k->cell);
+    free(k->excess);
     memset(k, 0, sizeof *k);
 }
 
@@ -110,6 +112,111 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_mat
     const double r1 = k->f_max > k->f_min ? sss_cutoff_radius_mm(mesh, s, dmax, C, eps, NULL) : r0;
     k->radius_mm = r0 > r1 ? r0 : r1;
     k->step_mm = sss_field_step_mm(&h->field);
+    for (uint32_t c = 0; c < C; c++) k->sigma_tr_ref[c] = sss_material_sigma_tr(base, &h->inside, k->f_min, c);
+    return SSS_OK;
+}
+
+/* ∫ (σtr(x) − σtr_ref) dξ / L along the segment a → b (world units): the
+ * midpoint rule with the kernel's step, at most SSS_FIELD_MARCH_MAX steps. */
+static void mean_excess(const sss_field_kernel *k, const double a[3], const double b[3], double L_mm, double *out)
+{
+    double n = ceil(L_mm / k->step_mm);
+    n = n < 1.0 ? 1.0 : n > SSS_FIELD_MARCH_MAX ? SSS_FIELD_MARCH_MAX : n;
+    for (uint32_t c = 0; c < k->C; c++) out[c] = 0.0;
+    for (int j = 0; j < (int)n; j++) {
+        const double t = (j + 0.5) / n;
+        const double p[3] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
+        double x[3];
+        sss_hetero_to_rest(k->h, p, x);
+        const double f = sss_field_eval(&k->h->field, x);
+        for (uint32_t c = 0; c < k->C; c++)
+            out[c] += sss_material_sigma_tr(&k->base, &k->h->inside, f, c) - k->sigma_tr_ref[c];
+    }
+    for (uint32_t c = 0; c < k->C; c++) out[c] /= n;
+}
+
+sss_result sss_field_kernel_far(sss_field_kernel *k, const sss_mesh *mesh, uint32_t max_cells, sss_error *err)
+{
+    if (!(k->step_mm > 0.0) || max_cells < 8) return SSS_OK; /* a constant: nothing to march anyway */
+    /* cells in the rest frame, so that they move with the object and a
+     * rigid motion leaves every pair's cells as they were */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double *rest = malloc((size_t)mesh->nv * 3 * sizeof *rest);
+    uint32_t *cell = malloc((size_t)mesh->nv * sizeof *cell);
+    if (!cell || !rest) {
+        free(cell), free(rest);
+        return sss_fail(err, SSS_ERR_NOMEM, "field: out of memory for the far pairs' cells");
+    }
+    for (uint32_t v = 0; v < mesh->nv; v++) {
+        rest_of(k->h, mesh, v, &rest[3 * (size_t)v]);
+        for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], rest[3 * (size_t)v + a]), hi[a] = fmax(hi[a], rest[3 * (size_t)v + a]);
+    }
+    const double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                             (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    /* the smallest cells (at least 4 march steps) whose occupied count fits */
+    double edge = fmax(4.0 * k->step_mm, diag / 64.0);
+    double lo0[3];
+    memcpy(lo0, lo, sizeof lo0);
+    uint32_t K = 0;
+    for (int tries = 0; tries < 40; tries++, edge *= 1.25) {
+        uint32_t n[3];
+        /* the grid shifted off the box by an irrational share of a cell:
+         * a symmetric mesh's vertices then do not sit on cell faces, where
+         * the last bit of a moved position would pick the cell */
+        for (int a = 0; a < 3; a++) lo[a] = lo0[a] - 0.38196601125 * edge;
+        for (int a = 0; a < 3; a++) n[a] = (uint32_t)fmin(1024.0, floor((hi[a] - lo[a]) / edge) + 1.0);
+        const size_t total = (size_t)n[0] * n[1] * n[2];
+        uint32_t *id = malloc(total * sizeof *id);
+        if (!id) break;
+        memset(id, 0xff, total * sizeof *id);
+        K = 0;
+        for (uint32_t v = 0; v < mesh->nv && K <= max_cells; v++) {
+            size_t g = 0;
+            for (int a = 2; a >= 0; a--) {
+                uint32_t ia = (uint32_t)((rest[3 * (size_t)v + a] - lo[a]) / edge);
+                g = g * n[a] + (ia < n[a] ? ia : n[a] - 1);
+            }
+            if (id[g] == UINT32_MAX) id[g] = K++; /* numbered in vertex order: deterministic */
+            cell[v] = id[g];
+        }
+        free(id);
+        if (K <= max_cells) break;
+    }
+    free(rest);
+    if (K == 0 || K > max_cells) {
+        free(cell);
+        return SSS_OK; /* no cache: every pair is marched */
+    }
+    double *cen = calloc((size_t)K * 4, sizeof *cen);
+    double *ex = malloc((size_t)K * K * k->C * sizeof *ex);
+    if (!cen || !ex) {
+        free(cell), free(cen), free(ex);
+        return sss_fail(err, SSS_ERR_NOMEM, "field: out of memory for %u x %u cell pairs", K, K);
+    }
+    for (uint32_t v = 0; v < mesh->nv; v++) {
+        for (int a = 0; a < 3; a++) cen[4 * (size_t)cell[v] + a] += mesh->pos[3 * (size_t)v + a];
+        cen[4 * (size_t)cell[v] + 3] += 1.0;
+    }
+    for (uint32_t c = 0; c < K; c++)
+        for (int a = 0; a < 3; a++) cen[4 * (size_t)c + a] /= cen[4 * (size_t)c + 3];
+    const uint32_t C = k->C;
+#pragma omp parallel for schedule(dynamic, 8)
+    for (int64_t a = 0; a < (int64_t)K; a++)
+        for (uint32_t b = (uint32_t)a; b < K; b++) {
+            const double *pa = &cen[4 * (size_t)a], *pb = &cen[4 * (size_t)b];
+            double d2 = 0.0;
+            for (int x = 0; x < 3; x++) d2 += (pb[x] - pa[x]) * (pb[x] - pa[x]);
+            double m[SSS_MAX_CHANNELS];
+            mean_excess(k, pa, pb, sqrt(d2) * k->s, m);
+            for (uint32_t c = 0; c < C; c++)
+                ex[((size_t)a * K + b) * C + c] = ex[((size_t)b * K + a) * C + c] = m[c];
+        }
+    free(cen);
+    k->ncells = K;
+    k->cell = cell;
+    k->excess = ex;
+    k->cell_mm = edge;
+    k->far_mm = 4.0 * edge * sqrt(3.0); /* endpoints within a cell diagonal of the centroids' segment, 1/4 of it */
     return SSS_OK;
 }
 
@@ -139,7 +246,14 @@ void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o
     const double r = sqrt(d2);
     const double rho_o = sqrt(mesh->area[o] * k->s * k->s / SSS_PI), rho_i = sqrt(mesh->area[i] * k->s * k->s / SSS_PI);
     double tau_exp[SSS_MAX_CHANNELS] = {0};
-    if (k->step_mm > 0.0 && r > 0.0) {
+    if (k->ncells && r > k->far_mm) {
+        /* far pair (§4.3): the cells' mean excess over σtr_ref, relative to
+         * the endpoints' mean; exactly 0 when the field is constant */
+        const double *m = &k->excess[((size_t)k->cell[a] * k->ncells + k->cell[b]) * C];
+        for (uint32_t c = 0; c < C; c++)
+            tau_exp[c] = r * (m[c] + (k->sigma_tr_ref[c] -
+                                      0.5 * (k->sigma_tr[(size_t)a * C + c] + k->sigma_tr[(size_t)b * C + c])));
+    } else if (k->step_mm > 0.0 && r > 0.0) {
         /* midpoint rule over n equal steps (docs/heterogeneous.md §4.2) */
         double n = ceil(r / k->step_mm);
         n = n < 1.0 ? 1.0 : n > SSS_FIELD_MARCH_MAX ? SSS_FIELD_MARCH_MAX : n;
