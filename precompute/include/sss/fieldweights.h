@@ -24,6 +24,8 @@ extern "C" {
 /* The march along a pair's segment takes at most this many steps: the
  * step is sss_field_step_mm, lengthened on long pairs (§4.2). */
 #define SSS_FIELD_MARCH_MAX 64
+/* The march grid of a procedural field has at most this many nodes per side. */
+#define SSS_FIELD_MARCH_NODES 160
 /* The far pairs' cache of a bake holds at most this many occupied cells
  * (their pairs' table: 1024² × 3 doubles, 24 MiB at most). */
 #define SSS_FIELD_FAR_CELLS 1024
@@ -41,6 +43,11 @@ typedef struct sss_field_kernel {
     sss_dipole dip_ref[SSS_MAX_CHANNELS];
     double radius_mm;        /* the search radius: the larger of the radius rule at f_min and at f_max */
     double step_mm;          /* 0: nothing to march (a constant) */
+    /* What the march reads (§4.2): a procedural field sampled once on a
+     * grid over the object's rest-frame box at the step (at most
+     * SSS_FIELD_MARCH_NODES per side), trilinear between nodes; a grid
+     * field is read as it is. Owned; kind none when unused. */
+    sss_field march;
     /* The far pairs' cache (sss_field_kernel_far, §4.3): vertices binned
      * into cubic cells; a pair farther apart than far_mm takes the mean
      * excess σtr(x) − σtr_ref marched once between its cells' centroids. */

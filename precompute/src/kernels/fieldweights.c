@@ -42,6 +42,7 @@ void sss_field_kernel_free(sss_field_kernel *k)
     free(k->dip);
     free(k->cell);
     free(k->excess);
+    sss_field_free(&k->march);
     memset(k, 0, sizeof *k);
 }
 
@@ -113,7 +114,26 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_mat
     k->radius_mm = r0 > r1 ? r0 : r1;
     k->step_mm = sss_field_step_mm(&h->field);
     for (uint32_t c = 0; c < C; c++) k->sigma_tr_ref[c] = sss_material_sigma_tr(base, &h->inside, k->f_min, c);
+    /* A procedural field costs up to five octaves of noise per sample; the
+     * march reads it from a grid sampled once at the step over the rest
+     * box (every segment between two vertices lies inside it). */
+    if (k->step_mm > 0.0 && h->field.kind != SSS_FIELD_GRID) {
+        double ext = 0.0;
+        for (int a = 0; a < 3; a++) ext = fmax(ext, hi[a] - lo[a]);
+        const double nodes = fmin((double)SSS_FIELD_MARCH_NODES, fmax(2.0, ceil(ext / k->step_mm) + 1.0));
+        r = sss_field_sample(&h->field, lo, hi, (uint32_t)nodes, &k->march, err);
+        if (r != SSS_OK) {
+            sss_field_kernel_free(k);
+            return r;
+        }
+    }
     return SSS_OK;
+}
+
+/* The field the march reads (§4.2). */
+static const sss_field *march_field(const sss_field_kernel *k)
+{
+    return k->march.kind ? &k->march : &k->h->field;
 }
 
 /* ∫ (σtr(x) − σtr_ref) dξ / L along the segment a → b (world units): the
@@ -128,7 +148,7 @@ static void mean_excess(const sss_field_kernel *k, const double a[3], const doub
         const double p[3] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
         double x[3];
         sss_hetero_to_rest(k->h, p, x);
-        const double f = sss_field_eval(&k->h->field, x);
+        const double f = sss_field_eval(march_field(k), x);
         for (uint32_t c = 0; c < k->C; c++)
             out[c] += sss_material_sigma_tr(&k->base, &k->h->inside, f, c) - k->sigma_tr_ref[c];
     }
@@ -266,7 +286,7 @@ void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o
             const double p[3] = {pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1]), pa[2] + t * (pb[2] - pa[2])};
             double x[3];
             sss_hetero_to_rest(k->h, p, x);
-            const double f = sss_field_eval(&k->h->field, x);
+            const double f = sss_field_eval(march_field(k), x);
             for (uint32_t c = 0; c < C; c++)
                 tau_exp[c] += sss_material_sigma_tr(&k->base, &k->h->inside, f, c) - mean[c];
         }
