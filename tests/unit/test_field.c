@@ -400,6 +400,18 @@ static void absorbingInclusionNeverBrightensAndDarkensWhatIsBehindIt(void **stat
                   max_behind, behind);
     assert_true(behind > 10);
     sss_file_free(&f);
+    /* a stone that breaks the surface: the vertices inside it take the
+     * stone's own profile (σa = 0.2 σ′s here, where the dipole's R_d(r)
+     * still falls with σa at every r: docs/heterogeneous.md §4.4) */
+    bake_scene(scene_text("ball.ply", "{\"procedural\":\"sphere\",\"centre_mm\":[0,0,10],\"radius_mm\":3,"
+                          "\"edge_mm\":0.5}", "0,0,1", NULL), &f);
+    uint32_t inside = 0;
+    for (uint32_t v = 0; v < f.mesh.nv; v++) {
+        assert_true(f.fx.exact_q[v] <= hom.fx.exact_q[v]);
+        inside += f.mesh.pos[3 * (size_t)v + 2] > 9.6f;
+    }
+    assert_true(inside > 3);
+    sss_file_free(&f);
     sss_file_free(&hom);
 }
 

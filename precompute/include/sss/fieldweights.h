@@ -77,7 +77,7 @@ sss_result sss_field_kernel_far(sss_field_kernel *k, const sss_mesh *mesh, uint3
 
 /* κ_c(o, i) for the pair (o, i), per channel (§4.1):
  *   κ = sqrt(P_o(r) P_i(r)) / P_ref(r) · τ(o, i),
- *   τ = exp(−∫ (σtr(x) − (σtr(x_o) + σtr(x_i))/2) dξ) along the segment,
+ *   τ = exp(−∫ max(0, σtr(x) − (σtr(x_o) + σtr(x_i))/2) dξ) along the segment,
  * P the profile the row's weight used (R_d, or its disk integrals near
  * r = 0). 1 exactly when the field is constant. Symmetric in o, i. */
 void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa);
