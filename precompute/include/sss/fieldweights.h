@@ -69,7 +69,7 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double mm_per_unit, con
 void sss_field_kernel_free(sss_field_kernel *k);
 
 /* Builds the far pairs' cache (§4.3) for a bake: at most max_cells occupied
- * cells of edge at least 4 march steps; pairs farther than 4 cell edges
+ * cells of edge at least 4 march steps; pairs farther than 3 cell diagonals
  * then cost no march. The exact evaluator does not call it: it marches
  * every pair, and the difference is the cache's error (docs/heterogeneous.md
  * §7). */

@@ -238,7 +238,7 @@ sss_result sss_field_kernel_far(sss_field_kernel *k, const sss_mesh *mesh, uint3
     k->cell = cell;
     k->excess = ex;
     k->cell_mm = edge;
-    k->far_mm = 4.0 * edge * sqrt(3.0); /* endpoints within a cell diagonal of the centroids' segment, 1/4 of it */
+    k->far_mm = 3.0 * edge * sqrt(3.0); /* endpoints within a cell diagonal of the centroids' segment, 1/3 of it */
     return SSS_OK;
 }
 
@@ -267,15 +267,22 @@ void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o
     }
     const double r = sqrt(d2);
     const double rho_o = sqrt(mesh->area[o] * k->s * k->s / SSS_PI), rho_i = sqrt(mesh->area[i] * k->s * k->s / SSS_PI);
-    double tau_exp[SSS_MAX_CHANNELS] = {0};
+    double tau_exp[SSS_MAX_CHANNELS] = {0}, cached[SSS_MAX_CHANNELS] = {0};
+    /* far pairs (§4.3): the cells' mean excess over σtr_ref, relative to
+     * the endpoints' mean (exactly 0 when the field is constant); between
+     * far_mm and 1.5 far_mm blended with the march, so that q does not jump
+     * where a pair's length crosses the threshold (a rigid motion moves
+     * lengths by rounding) */
+    double wc = 0.0;
     if (k->ncells && r > k->far_mm) {
-        /* far pair (§4.3): the cells' mean excess over σtr_ref, relative to
-         * the endpoints' mean; exactly 0 when the field is constant */
+        const double u = (r - k->far_mm) / (0.5 * k->far_mm);
+        wc = u >= 1.0 ? 1.0 : u * u * (3.0 - 2.0 * u);
         const double *m = &k->excess[((size_t)k->cell[a] * k->ncells + k->cell[b]) * C];
         for (uint32_t c = 0; c < C; c++)
-            tau_exp[c] = r * fmax(0.0, m[c] + (k->sigma_tr_ref[c] -
-                                               0.5 * (k->sigma_tr[(size_t)a * C + c] + k->sigma_tr[(size_t)b * C + c])));
-    } else if (k->step_mm > 0.0 && r > 0.0) {
+            cached[c] = r * fmax(0.0, m[c] + (k->sigma_tr_ref[c] -
+                                              0.5 * (k->sigma_tr[(size_t)a * C + c] + k->sigma_tr[(size_t)b * C + c])));
+    }
+    if (wc < 1.0 && k->step_mm > 0.0 && r > 0.0) {
         /* midpoint rule over n equal steps (docs/heterogeneous.md §4.2) */
         double n = ceil(r / k->step_mm);
         n = n < 1.0 ? 1.0 : n > SSS_FIELD_MARCH_MAX ? SSS_FIELD_MARCH_MAX : n;
@@ -294,9 +301,19 @@ void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o
         }
         for (uint32_t c = 0; c < C; c++) tau_exp[c] *= r / n;
     }
+    if (wc > 0.0)
+        for (uint32_t c = 0; c < C; c++) tau_exp[c] = wc >= 1.0 ? cached[c] : (1.0 - wc) * tau_exp[c] + wc * cached[c];
+    /* Both endpoints at the reference's f (most of a surface that an
+     * inclusion or a stratum does not reach): the profile ratio is 1, as
+     * sqrt(P²)/P computes it, without three profiles per channel. */
+    const int ref_ends = k->f[o] == k->f_min && k->f[i] == k->f_min;
     for (uint32_t c = 0; c < C; c++) {
+        if (ref_ends) {
+            kappa[c] = exp(-tau_exp[c]);
+            continue;
+        }
         const double po = profile(&k->dip[(size_t)o * C + c], r, rho_o, rho_i);
-        const double pi = profile(&k->dip[(size_t)i * C + c], r, rho_o, rho_i);
+        const double pi = k->f[i] == k->f[o] ? po : profile(&k->dip[(size_t)i * C + c], r, rho_o, rho_i);
         const double pr = profile(&k->dip_ref[c], r, rho_o, rho_i);
         kappa[c] = pr > 0.0 ? sqrt(po * pi) / pr * exp(-tau_exp[c]) : 0.0;
     }
