@@ -613,6 +613,27 @@ static void fieldSectionRoundTripsAndRefusesABadGrid(void **state)
     assert_memory_equal(r.hetero.field.data, g.data, (size_t)g.n[0] * g.n[1] * g.n[2] * sizeof(float));
     assert_memory_equal(r.hetero.xf, f.hetero.xf, sizeof f.hetero.xf);
     sss_file_free(&r);
+    /* a hostile node count behind valid checksums: refused before any
+     * allocation, naming the section (docs/format.md §2.2, §5.20) */
+    const uint32_t nsec = (uint32_t)(buf[12] | buf[13] << 8 | buf[14] << 16 | (uint32_t)buf[15] << 24);
+    int found = 0;
+    for (uint32_t k = 0; k < nsec; k++) {
+        uint8_t *e = buf + 24 + 40 * (size_t)k;
+        if (memcmp(e, "FELD", 4)) continue;
+        found = 1;
+        uint64_t off = 0, size = 0;
+        for (int b = 7; b >= 0; b--) off = off << 8 | e[8 + b], size = size << 8 | e[16 + b];
+        uint8_t *sec = buf + off;
+        for (int b = 0; b < 4; b++) sec[264 + b] = 0xff; /* n[0] = 2³² − 1 */
+        const uint32_t crc = sss_crc32(0, sec, (size_t)size);
+        for (int b = 0; b < 4; b++) e[32 + b] = (uint8_t)(crc >> 8 * b);
+    }
+    assert_true(found);
+    const uint32_t hcrc = sss_crc32(0, buf, 24 + 40 * (size_t)nsec);
+    for (int b = 0; b < 4; b++) buf[24 + 40 * (size_t)nsec + b] = (uint8_t)(hcrc >> 8 * b);
+    assert_int_not_equal(sss_file_decode(buf, len, "hostile.sss", &r, &err), SSS_OK);
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "hostile.sss: section FELD: a grid of 4294967295 x"));
     free(buf);
     /* a value out of range is refused by the writer, naming the section */
     g.data[3] = 2.0f;
