@@ -43,11 +43,13 @@ typedef struct sss_field_kernel {
     sss_dipole dip_ref[SSS_MAX_CHANNELS];
     double radius_mm;        /* the search radius: the larger of the radius rule at f_min and at f_max */
     double step_mm;          /* 0: nothing to march (a constant) */
-    /* What the march reads (§4.2): a procedural field sampled once on a
-     * grid over the object's rest-frame box at the step (at most
-     * SSS_FIELD_MARCH_NODES per side), trilinear between nodes; a grid
-     * field is read as it is. Owned; kind none when unused. */
-    sss_field march;
+    /* What the march reads (§4.2): σtr of every channel sampled once on a
+     * grid of nodes over the object's rest-frame box at the step (at most
+     * SSS_FIELD_MARCH_NODES per side), trilinear between nodes. Owned;
+     * NULL for a constant. */
+    double *tr;              /* tn[0]·tn[1]·tn[2] × C, node (i, j, k) at ((k·tn1 + j)·tn0 + i)·C */
+    uint32_t tn[3];
+    double t_origin[3], t_voxel;
     /* The far pairs' cache (sss_field_kernel_far, §4.3): vertices binned
      * into cubic cells; a pair farther apart than far_mm takes the mean
      * excess σtr(x) − σtr_ref marched once between its cells' centroids. */

@@ -44,7 +44,7 @@ void sss_field_kernel_free(sss_field_kernel *k)
     free(k->dip);
     free(k->cell);
     free(k->excess);
-    sss_field_free(&k->march);
+    free(k->tr);
     memset(k, 0, sizeof *k);
 }
 
@@ -116,44 +116,96 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_mat
     k->radius_mm = r0 > r1 ? r0 : r1;
     k->step_mm = sss_field_step_mm(&h->field);
     for (uint32_t c = 0; c < C; c++) k->sigma_tr_ref[c] = sss_material_sigma_tr(base, &h->inside, k->f_min, c);
-    /* A procedural field costs up to five octaves of noise per sample; the
-     * march reads it from a grid sampled once at the step over the rest
-     * box (every segment between two vertices lies inside it). */
-    if (k->step_mm > 0.0 && h->field.kind != SSS_FIELD_GRID) {
+    /* The march reads σtr from a grid sampled once at the step over the
+     * rest box (every segment between two vertices lies inside it): a
+     * procedural field costs up to five octaves of noise per sample, and
+     * σtr a square root per channel. */
+    if (k->step_mm > 0.0) {
         double ext = 0.0;
         for (int a = 0; a < 3; a++) ext = fmax(ext, hi[a] - lo[a]);
         const double nodes = fmin((double)SSS_FIELD_MARCH_NODES, fmax(2.0, ceil(ext / k->step_mm) + 1.0));
-        r = sss_field_sample(&h->field, lo, hi, (uint32_t)nodes, &k->march, err);
-        if (r != SSS_OK) {
+        k->t_voxel = ext > 0.0 ? ext / (nodes - 1.0) : 1.0;
+        for (int a = 0; a < 3; a++) {
+            k->t_origin[a] = lo[a];
+            k->tn[a] = (uint32_t)fmin(nodes, ceil((hi[a] - lo[a]) / k->t_voxel - 1e-9) + 1.0);
+            if (k->tn[a] < 1) k->tn[a] = 1;
+        }
+        const size_t nn = (size_t)k->tn[0] * k->tn[1] * k->tn[2];
+        if (!(k->tr = malloc(nn * C * sizeof *k->tr))) {
             sss_field_kernel_free(k);
-            return r;
+            return sss_fail(err, SSS_ERR_NOMEM, "%s: field: out of memory for the march grid (%zu nodes)", name, nn);
+        }
+#pragma omp parallel for schedule(static)
+        for (int64_t q = 0; q < (int64_t)nn; q++) {
+            const size_t i = (size_t)q % k->tn[0], j = (size_t)q / k->tn[0] % k->tn[1],
+                         l = (size_t)q / ((size_t)k->tn[0] * k->tn[1]);
+            const double x[3] = {lo[0] + k->t_voxel * i, lo[1] + k->t_voxel * j, lo[2] + k->t_voxel * l};
+            const double f = sss_field_eval(&h->field, x);
+            for (uint32_t c = 0; c < C; c++) k->tr[(size_t)q * C + c] = sss_material_sigma_tr(base, &h->inside, f, c);
         }
     }
     return SSS_OK;
 }
 
-/* The field the march reads (§4.2). */
-static const sss_field *march_field(const sss_field_kernel *k)
+/* Sums over the n midpoints of the segment a → b (world units) of σtr from
+ * the march grid (trilinear): with mean, Σ max(0, σtr − mean_c); without,
+ * Σ (σtr − σtr_ref). The points advance by a constant step in grid
+ * coordinates, so each costs one trilinear read of the C channels. */
+static void march_sum(const sss_field_kernel *k, const double a[3], const double b[3], int n, const double *mean,
+                      double *out)
 {
-    return k->march.kind ? &k->march : &k->h->field;
+    const uint32_t C = k->C;
+    double ua[3], ub[3], g0[3], dg[3];
+    sss_hetero_to_rest(k->h, a, ua);
+    sss_hetero_to_rest(k->h, b, ub);
+    const double inv = 1.0 / k->t_voxel;
+    for (int x = 0; x < 3; x++) {
+        g0[x] = (ua[x] - k->t_origin[x]) * inv;
+        dg[x] = (ub[x] - ua[x]) * inv;
+    }
+    for (uint32_t c = 0; c < C; c++) out[c] = 0.0;
+    const size_t s0 = C, s1 = (size_t)k->tn[0] * C, s2 = (size_t)k->tn[0] * k->tn[1] * C;
+    for (int j = 0; j < n; j++) {
+        const double t = (j + 0.5) / n;
+        size_t base = 0;
+        double w[3];
+        size_t st[3] = {k->tn[0] > 1 ? s0 : 0, k->tn[1] > 1 ? s1 : 0, k->tn[2] > 1 ? s2 : 0};
+        const size_t stride[3] = {s0, s1, s2};
+        for (int x = 0; x < 3; x++) {
+            const double top = (double)(k->tn[x] - 1);
+            double u = g0[x] + t * dg[x];
+            u = u < 0.0 ? 0.0 : u > top ? top : u;
+            double fl = floor(u);
+            if (fl >= top && k->tn[x] > 1) fl = top - 1.0;
+            w[x] = k->tn[x] > 1 ? u - fl : 0.0;
+            base += (size_t)fl * stride[x];
+        }
+        const double *p = k->tr + base;
+        for (uint32_t c = 0; c < C; c++) {
+            const double *q = p + c;
+            const double c00 = q[0] + w[0] * (q[st[0]] - q[0]);
+            const double c01 = q[st[1]] + w[0] * (q[st[1] + st[0]] - q[st[1]]);
+            const double c10 = q[st[2]] + w[0] * (q[st[2] + st[0]] - q[st[2]]);
+            const double c11 = q[st[2] + st[1]] + w[0] * (q[st[2] + st[1] + st[0]] - q[st[2] + st[1]]);
+            const double e0 = c00 + w[1] * (c01 - c00), e1 = c10 + w[1] * (c11 - c10);
+            const double v = e0 + w[2] * (e1 - e0);
+            out[c] += mean ? fmax(0.0, v - mean[c]) : v - k->sigma_tr_ref[c];
+        }
+    }
 }
 
-/* ∫ (σtr(x) − σtr_ref) dξ / L along the segment a → b (world units): the
- * midpoint rule with the kernel's step, at most SSS_FIELD_MARCH_MAX steps. */
-static void mean_excess(const sss_field_kernel *k, const double a[3], const double b[3], double L_mm, double *out)
+static int march_steps(const sss_field_kernel *k, double L_mm)
 {
     double n = ceil(L_mm / k->step_mm);
     n = n < 1.0 ? 1.0 : n > SSS_FIELD_MARCH_MAX ? SSS_FIELD_MARCH_MAX : n;
-    for (uint32_t c = 0; c < k->C; c++) out[c] = 0.0;
-    for (int j = 0; j < (int)n; j++) {
-        const double t = (j + 0.5) / n;
-        const double p[3] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
-        double x[3];
-        sss_hetero_to_rest(k->h, p, x);
-        const double f = sss_field_eval(march_field(k), x);
-        for (uint32_t c = 0; c < k->C; c++)
-            out[c] += sss_material_sigma_tr(&k->base, &k->h->inside, f, c) - k->sigma_tr_ref[c];
-    }
+    return (int)n;
+}
+
+/* ∫ (σtr(x) − σtr_ref) dξ / L along the segment a → b (world units). */
+static void mean_excess(const sss_field_kernel *k, const double a[3], const double b[3], double L_mm, double *out)
+{
+    const int n = march_steps(k, L_mm);
+    march_sum(k, a, b, n, NULL, out);
     for (uint32_t c = 0; c < k->C; c++) out[c] /= n;
 }
 
@@ -284,21 +336,11 @@ void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o
     }
     if (wc < 1.0 && k->step_mm > 0.0 && r > 0.0) {
         /* midpoint rule over n equal steps (docs/heterogeneous.md §4.2) */
-        double n = ceil(r / k->step_mm);
-        n = n < 1.0 ? 1.0 : n > SSS_FIELD_MARCH_MAX ? SSS_FIELD_MARCH_MAX : n;
-        const int steps = (int)n;
-        double mean[SSS_MAX_CHANNELS];
+        const int n = march_steps(k, r);
+        double mean[SSS_MAX_CHANNELS] = {0};
         for (uint32_t c = 0; c < C; c++)
             mean[c] = 0.5 * (k->sigma_tr[(size_t)a * C + c] + k->sigma_tr[(size_t)b * C + c]);
-        for (int j = 0; j < steps; j++) {
-            const double t = (j + 0.5) / n;
-            const double p[3] = {pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1]), pa[2] + t * (pb[2] - pa[2])};
-            double x[3];
-            sss_hetero_to_rest(k->h, p, x);
-            const double f = sss_field_eval(march_field(k), x);
-            for (uint32_t c = 0; c < C; c++)
-                tau_exp[c] += fmax(0.0, sss_material_sigma_tr(&k->base, &k->h->inside, f, c) - mean[c]);
-        }
+        march_sum(k, pa, pb, n, mean, tau_exp);
         for (uint32_t c = 0; c < C; c++) tau_exp[c] *= r / n;
     }
     if (wc > 0.0)
