@@ -11,6 +11,7 @@ PKGS=(build-essential cmake pkg-config git ca-certificates
       glslang-tools  # glslangValidator: every shader variant is validated at build time
       libimgui-dev  # Dear ImGui and its GLFW + OpenGL 3 backends: sss-view's panel (runtime/src/view/panel.cpp)
       libassimp-dev  # Assimp's glTF 2.0 reader: .gltf/.glb bake input (docs/robustness.md, "glTF")
+      libopenvdb-dev libboost-iostreams-dev  # OpenVDB (its CMake module needs Boost.Iostreams): material fields as .vdb (docs/heterogeneous.md §6)
       xvfb xauth xdotool clang libomp-dev
       libopenblas-dev openmpi-bin libopenmpi-dev  # sgemm reference benchmarks, mpirun -np K sss-bake (docs/benchmarks.md)
       gnuplot-nox jq  # gnuplot-nox, jq: tests/bench/accuracy_study.sh (plots, JSON fields)

@@ -259,7 +259,13 @@ static sss_result parse_layers(const ctx *c, const cJSON *a, const char *jpath, 
     return SSS_OK;
 }
 
-static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath, sss_material *out)
+static sss_result parse_field(const ctx *c, const cJSON *fj, const char *jpath, sss_scene_object *obj);
+
+/* obj: the object whose material this is, which may then carry a field and
+ * an inside material (docs/heterogeneous.md §1); NULL for the inside
+ * material itself. */
+static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath, sss_material *out,
+                                 sss_scene_object *obj)
 {
     sss_error e2 = {{0}};
     if (!m) return fail_at(c, jpath, "missing (expected a preset name or {sigma_a, sigmap_s, eta})");
@@ -269,8 +275,10 @@ static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath
         return SSS_OK;
     }
     if (!cJSON_IsObject(m)) return fail_at(c, jpath, "expected a preset name or an object");
-    static const char *const keys[] = {"preset", "sigma_a", "sigmap_s", "eta", "sigma_s", "g", "layers", NULL};
-    sss_result r = only_keys(c, m, jpath, keys);
+    static const char *const keys[] = {"preset", "sigma_a", "sigmap_s", "eta", "sigma_s", "g", "layers",
+                                       "transport", "field", "inside", NULL};
+    static const char *const inside_keys[] = {"preset", "sigma_a", "sigmap_s", "transport", NULL};
+    sss_result r = only_keys(c, m, jpath, obj ? keys : inside_keys);
     if (r != SSS_OK) return r;
     memset(out, 0, sizeof *out);
     const cJSON *pr = cJSON_GetObjectItemCaseSensitive(m, "preset");
@@ -283,13 +291,45 @@ static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath
         snprintf(out->name, sizeof out->name, "custom");
         out->eta = 1.3;
     }
-    if ((r = get_vec3(c, m, jpath, "sigma_a", !pr, 0.0, SSS_SIGMA_MAX, out->sigma_a)) != SSS_OK) return r;
+    const cJSON *tr = cJSON_GetObjectItemCaseSensitive(m, "transport");
+    if (tr && cJSON_GetObjectItemCaseSensitive(m, "sigma_a")) {
+        char p[512];
+        join(p, sizeof p, jpath, "transport");
+        return fail_at(c, p, "give sigma_a or transport, not both (the transport colour sets sigma_a)");
+    }
+    if ((r = get_vec3(c, m, jpath, "sigma_a", !pr && !tr, 0.0, SSS_SIGMA_MAX, out->sigma_a)) != SSS_OK) return r;
     if ((r = parse_scattering(c, m, jpath, !pr, out)) != SSS_OK) return r;
     if ((r = get_number(c, m, jpath, "eta", 0, SSS_ETA_MIN, SSS_ETA_MAX, &out->eta)) != SSS_OK) return r;
+    if (tr) { /* Shopf 2007 §4.3.3: σa from the transport colour and distance, with this σ′s */
+        char p[512];
+        join(p, sizeof p, jpath, "transport");
+        if (!cJSON_IsObject(tr)) return fail_at(c, p, "expected an object {colour, distance_mm}");
+        static const char *const tk[] = {"colour", "distance_mm", NULL};
+        if ((r = only_keys(c, tr, p, tk)) != SSS_OK) return r;
+        double col[3], dist = 0.0;
+        if ((r = get_vec3(c, tr, p, "colour", 1, 0.0, 1.0, col)) != SSS_OK) return r;
+        if ((r = get_number(c, tr, p, "distance_mm", 1, 0.0, 1e9, &dist)) != SSS_OK) return r;
+        if (sss_transport_sigma_a(col, dist, out->sigmap_s, out->sigma_a, &e2) != SSS_OK)
+            return fail_at(c, p, "%s", e2.msg);
+    }
     if (pr && (cJSON_GetObjectItemCaseSensitive(m, "sigma_a") || cJSON_GetObjectItemCaseSensitive(m, "sigmap_s") ||
-               cJSON_GetObjectItemCaseSensitive(m, "sigma_s")))
+               cJSON_GetObjectItemCaseSensitive(m, "sigma_s") || tr))
         snprintf(out->name, sizeof out->name, "custom");
     if (sss_material_validate(out, &e2) != SSS_OK) return fail_at(c, jpath, "%s", e2.msg);
+    const cJSON *fj = obj ? cJSON_GetObjectItemCaseSensitive(m, "field") : NULL;
+    const cJSON *in = obj ? cJSON_GetObjectItemCaseSensitive(m, "inside") : NULL;
+    char p[512];
+    if (!fj != !in) {
+        join(p, sizeof p, jpath, fj ? "inside" : "field");
+        return fail_at(c, p, "missing (a field blends the material with an inside material: give both)");
+    }
+    if (fj) {
+        join(p, sizeof p, jpath, "inside");
+        if ((r = parse_material(c, in, p, &obj->hetero.inside, NULL)) != SSS_OK) return r;
+        obj->hetero.inside.eta = out->eta; /* one surface, one η */
+        join(p, sizeof p, jpath, "field");
+        if ((r = parse_field(c, fj, p, obj)) != SSS_OK) return r;
+    }
     return SSS_OK;
 }
 
@@ -324,6 +364,98 @@ static sss_result parse_deform(const ctx *c, const cJSON *d, const char *jpath, 
     return SSS_OK;
 }
 
+/* "field" (docs/heterogeneous.md §1): {"constant": c}, {"procedural":
+ * KIND, ...} or {"vdb": FILE, "grid": NAME}. */
+static sss_result parse_field(const ctx *c, const cJSON *fj, const char *jpath, sss_scene_object *obj)
+{
+    sss_field *f = &obj->hetero.field;
+    if (!cJSON_IsObject(fj)) return fail_at(c, jpath, "expected an object {constant}, {procedural, ...} or {vdb, grid}");
+    sss_result r;
+    char p[512];
+    if (cJSON_GetObjectItemCaseSensitive(fj, "constant")) {
+        static const char *const k[] = {"constant", NULL};
+        if ((r = only_keys(c, fj, jpath, k)) != SSS_OK) return r;
+        f->kind = SSS_FIELD_CONSTANT;
+        return get_number(c, fj, jpath, "constant", 1, 0.0, 1.0, &f->value);
+    }
+    if (cJSON_GetObjectItemCaseSensitive(fj, "vdb")) {
+        static const char *const k[] = {"vdb", "grid", NULL};
+        if ((r = only_keys(c, fj, jpath, k)) != SSS_OK) return r;
+        if ((r = get_path(c, fj, jpath, "vdb", obj->field_path)) != SSS_OK) return r;
+        const cJSON *g = cJSON_GetObjectItemCaseSensitive(fj, "grid");
+        join(p, sizeof p, jpath, "grid");
+        if (!g) return fail_at(c, p, "missing (expected the name of a float grid)");
+        if (!cJSON_IsString(g) || !g->valuestring[0] || strlen(g->valuestring) >= SSS_SCENE_NAME_MAX)
+            return fail_at(c, p, "expected a grid name of 1 to %d characters", SSS_SCENE_NAME_MAX - 1);
+        snprintf(obj->field_grid, sizeof obj->field_grid, "%s", g->valuestring);
+        f->kind = SSS_FIELD_GRID; /* the samples are read by the bake (precompute/src/input/vdb_read.cpp) */
+        return SSS_OK;
+    }
+    static const char *const kinds[] = {"veins", "inclusions", "box", "sphere", "layers", NULL};
+    uint32_t kind = 0;
+    join(p, sizeof p, jpath, "procedural");
+    if (!cJSON_GetObjectItemCaseSensitive(fj, "procedural"))
+        return fail_at(c, jpath, "expected one of the keys constant, procedural or vdb");
+    if ((r = get_choice(c, fj, jpath, "procedural", kinds, &kind)) != SSS_OK) return r;
+    static const uint32_t kind_of[] = {0, SSS_FIELD_VEINS, SSS_FIELD_INCLUSIONS, SSS_FIELD_BOX, SSS_FIELD_SPHERE,
+                                       SSS_FIELD_LAYERS};
+    f->kind = kind_of[kind];
+    static const char *const kv[] = {"procedural", "seed", "scale_mm", NULL};
+    static const char *const ki[] = {"procedural", "seed", "scale_mm", "radius_mm", "edge_mm", NULL};
+    static const char *const kb[] = {"procedural", "centre_mm", "half_mm", "edge_mm", NULL};
+    static const char *const ks[] = {"procedural", "centre_mm", "radius_mm", "edge_mm", NULL};
+    static const char *const kl[] = {"procedural", "normal", "thickness_mm", "period_mm", "offset_mm", "edge_mm", NULL};
+    static const char *const *const keys[] = {NULL, kv, ki, kb, ks, kl};
+    if ((r = only_keys(c, fj, jpath, keys[kind])) != SSS_OK) return r;
+    uint32_t seed = 0;
+    if ((r = get_u32(c, fj, jpath, "seed", 0, UINT32_MAX, &seed)) != SSS_OK) return r;
+    f->seed = seed;
+    if ((r = get_number(c, fj, jpath, "edge_mm", 0, 0.0, 1e9, &f->edge_mm)) != SSS_OK) return r;
+    switch (f->kind) {
+    case SSS_FIELD_VEINS:
+    case SSS_FIELD_INCLUSIONS:
+        if ((r = get_number(c, fj, jpath, "scale_mm", 1, 1e-9, 1e9, &f->scale_mm)) != SSS_OK) return r;
+        f->thickness_mm = 0.3 * f->scale_mm;
+        if ((r = get_number(c, fj, jpath, "radius_mm", 0, 1e-9, 1e9, &f->thickness_mm)) != SSS_OK) return r;
+        break;
+    case SSS_FIELD_BOX:
+        if ((r = get_vec3(c, fj, jpath, "centre_mm", 1, -1e9, 1e9, f->centre_mm)) != SSS_OK) return r;
+        if ((r = get_vec3(c, fj, jpath, "half_mm", 1, 1e-9, 1e9, f->half_mm)) != SSS_OK) return r;
+        break;
+    case SSS_FIELD_SPHERE:
+        if ((r = get_vec3(c, fj, jpath, "centre_mm", 1, -1e9, 1e9, f->centre_mm)) != SSS_OK) return r;
+        if ((r = get_number(c, fj, jpath, "radius_mm", 1, 1e-9, 1e9, &f->half_mm[0])) != SSS_OK) return r;
+        break;
+    case SSS_FIELD_LAYERS: {
+        if ((r = get_vec3(c, fj, jpath, "normal", 1, -1e9, 1e9, f->normal)) != SSS_OK) return r;
+        const double n = sqrt(f->normal[0] * f->normal[0] + f->normal[1] * f->normal[1] + f->normal[2] * f->normal[2]);
+        join(p, sizeof p, jpath, "normal");
+        if (!(n > 1e-12)) return fail_at(c, p, "must be a non-zero vector");
+        for (int a = 0; a < 3; a++) f->normal[a] /= n;
+        if ((r = get_number(c, fj, jpath, "thickness_mm", 1, 1e-9, 1e9, &f->thickness_mm)) != SSS_OK) return r;
+        if ((r = get_number(c, fj, jpath, "period_mm", 0, 0.0, 1e9, &f->scale_mm)) != SSS_OK) return r;
+        if ((r = get_number(c, fj, jpath, "offset_mm", 0, -1e9, 1e9, &f->offset_mm)) != SSS_OK) return r;
+        break;
+    }
+    default: break;
+    }
+    sss_error e2 = {{0}};
+    if (sss_field_check(f, &e2) != SSS_OK) return fail_at(c, jpath, "%s", e2.msg);
+    return SSS_OK;
+}
+
+/* R = Rz · Ry · Rx (x first) of the transform's angles in degrees. */
+static void rotation(const double deg[3], double R[9])
+{
+    double a[3];
+    for (int k = 0; k < 3; k++) a[k] = deg[k] * (SSS_PI / 180.0);
+    const double cx = cos(a[0]), sx = sin(a[0]), cy = cos(a[1]), sy = sin(a[1]), cz = cos(a[2]), sz = sin(a[2]);
+    const double m[9] = {cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx,
+                         sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx,
+                         -sy,     cy * sx,                cy * cx};
+    memcpy(R, m, sizeof m);
+}
+
 static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, int index, sss_scene_object *out)
 {
     if (!cJSON_IsObject(o)) return fail_at(c, jpath, "expected an object");
@@ -354,7 +486,7 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
     if ((r = get_path(c, o, jpath, "mesh", out->mesh)) != SSS_OK) return r;
     char p[512];
     join(p, sizeof p, jpath, "material");
-    if ((r = parse_material(c, cJSON_GetObjectItemCaseSensitive(o, "material"), p, &out->material)) != SSS_OK)
+    if ((r = parse_material(c, cJSON_GetObjectItemCaseSensitive(o, "material"), p, &out->material, out)) != SSS_OK)
         return r;
     const cJSON *mo = cJSON_GetObjectItemCaseSensitive(o, "material");
     if (cJSON_IsObject(mo) &&
@@ -393,6 +525,22 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
             join(ps, sizeof ps, p, "scale");
             return fail_at(c, ps, "mm_per_unit / scale = %g mm per world unit is outside [%g, %g]", mpw,
                            SSS_MM_PER_UNIT_MIN, SSS_MM_PER_UNIT_MAX);
+        }
+    }
+    /* The field lives in the rest frame (docs/heterogeneous.md §3): world
+     * x_w = s R x + t, so rest-frame mm = mm_per_unit · x = (mm_per_unit /
+     * s) Rᵀ (x_w − t). */
+    if (out->hetero.field.kind != SSS_FIELD_NONE) {
+        double R[9];
+        rotation(out->rotate_deg, R);
+        const double k = out->mm_per_unit / out->scale;
+        for (int a = 0; a < 3; a++) {
+            double t = 0.0;
+            for (int b = 0; b < 3; b++) {
+                out->hetero.xf[4 * a + b] = k * R[3 * b + a];
+                t -= R[3 * b + a] * out->translate[b];
+            }
+            out->hetero.xf[4 * a + 3] = k * t;
         }
     }
     return SSS_OK;
@@ -597,6 +745,7 @@ sss_result sss_scene_load(const char *path, sss_scene *out, sss_error *err)
 void sss_scene_free(sss_scene *s)
 {
     if (!s) return;
+    for (uint32_t i = 0; s->objects && i < s->nobjects; i++) sss_field_free(&s->objects[i].hetero.field);
     free(s->objects);
     free(s->lights);
     memset(s, 0, sizeof *s);
@@ -610,12 +759,8 @@ sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mes
     sss_result r = sss_mesh_copy(&geom, out, err);
     if (r != SSS_OK) return r;
     /* R = Rz · Ry · Rx (x first), in double, rounded once per coordinate */
-    double a[3];
-    for (int k = 0; k < 3; k++) a[k] = o->rotate_deg[k] * (SSS_PI / 180.0);
-    const double cx = cos(a[0]), sx = sin(a[0]), cy = cos(a[1]), sy = sin(a[1]), cz = cos(a[2]), sz = sin(a[2]);
-    const double R[9] = {cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx,
-                         sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx,
-                         -sy,     cy * sx,                cy * cx};
+    double R[9];
+    rotation(o->rotate_deg, R);
     const int identity = o->rotate_deg[0] == 0 && o->rotate_deg[1] == 0 && o->rotate_deg[2] == 0 && o->scale == 1.0 &&
                          o->translate[0] == 0 && o->translate[1] == 0 && o->translate[2] == 0;
     if (!identity)

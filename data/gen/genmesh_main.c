@@ -1,7 +1,8 @@
 /* sss-genmesh: writes a procedural test mesh as binary PLY, or as glTF 2.0
  * when OUT ends in .gltf or .glb (gltf_write.h).
  * Usage: sss-genmesh KIND RES OUT.ply|OUT.gltf|OUT.glb [SIZE [SCENE]]
- *        sss-genmesh subdivide N IN OUT.ply (sss_gen_subdivide) */
+ *        sss-genmesh subdivide N IN OUT.ply (sss_gen_subdivide)
+ *        sss-genmesh field KIND RES OUT.vdb [SIZE [SEED]] (a procedural material field as .vdb) */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -10,6 +11,8 @@
 #include "genmesh.h"
 #include "gltf_write.h"
 #include "sss/cli.h"
+#include "sss/field.h"
+#include "sss/fieldio.h"
 #include "sss/fileio.h"
 #include "sss/import.h"
 
@@ -26,7 +29,10 @@ static void usage(FILE *f)
                "  with JOINTS_0, WEIGHTS_0 and a clip 'bend': sss-genmesh tube 8 tube.gltf 0.25 skin)\n"
                "       sss-genmesh subdivide N IN OUT.ply|OUT.gltf|OUT.glb\n"
                "  every triangle of the mesh IN (any format sss-bake reads) cut into N x N, each edge into N\n"
-               "  equal segments: the midpoint subdivision for N = 2, the shape unchanged\n");
+               "  equal segments: the midpoint subdivision for N = 2, the shape unchanged\n"
+               "       sss-genmesh field veins|inclusions|sphere|box|layers RES OUT.vdb [SIZE [SEED]]\n"
+               "  a procedural material field (docs/heterogeneous.md sec. 2) sampled on RES nodes per side over\n"
+               "  the cube [-SIZE/2, SIZE/2]^3 mm (SIZE default 20), written as the float grid 'density'\n");
 }
 
 /* The command line, as the positional rows fill it. */
@@ -110,9 +116,58 @@ static int subdivide_main(int argc, char **argv)
     return 0;
 }
 
+/* sss-genmesh field KIND RES OUT.vdb [SIZE [SEED]]: test fields for
+ * scenes, without downloads; the parameters scale with SIZE
+ * (docs/heterogeneous.md §6). */
+static int field_main(int argc, char **argv)
+{
+    int res = 0, seed = 0;
+    double size = 20.0;
+    const char *out = NULL, *tool = NULL, *kind = NULL;
+    const sss_cli_opt pos[] = {
+        {.name = "field", .kind = SSS_CLI_STRING, .dest = &tool},
+        {.name = "KIND", .kind = SSS_CLI_STRING, .dest = &kind},
+        {.name = "RES", .kind = SSS_CLI_INT, .dest = &res, .lo = 2, .hi = 512},
+        {.name = "OUT.vdb", .kind = SSS_CLI_STRING, .dest = &out},
+        {.name = "SIZE", .kind = SSS_CLI_DOUBLE, .dest = &size, .lo = 1e-6, .hi = 1e9},
+        {.name = "SEED", .kind = SSS_CLI_INT, .dest = &seed, .lo = 0, .hi = 2147483647},
+    };
+    const sss_cli cli = {.tool = TOOL, .pos = pos, .npos = SSS_CLI_COUNT(pos), .min_pos = 4, .usage = usage,
+                         .flags = SSS_CLI_NO_OPTIONS};
+    int rc = sss_cli_parse(&cli, argc, argv);
+    if (rc != SSS_CLI_RUN) return rc;
+    sss_field f = {.seed = (uint32_t)seed};
+    if (!strcmp(kind, "veins")) f.kind = SSS_FIELD_VEINS, f.scale_mm = size / 3;
+    else if (!strcmp(kind, "inclusions")) f.kind = SSS_FIELD_INCLUSIONS, f.scale_mm = size / 4, f.thickness_mm = size / 16;
+    else if (!strcmp(kind, "sphere")) f.kind = SSS_FIELD_SPHERE, f.half_mm[0] = size / 4, f.edge_mm = size / 40;
+    else if (!strcmp(kind, "box"))
+        f.kind = SSS_FIELD_BOX, f.half_mm[0] = f.half_mm[1] = f.half_mm[2] = size / 5, f.edge_mm = size / 40;
+    else if (!strcmp(kind, "layers"))
+        f.kind = SSS_FIELD_LAYERS, f.normal[2] = 1.0, f.thickness_mm = size / 10, f.scale_mm = size / 4,
+        f.edge_mm = size / 40;
+    else {
+        sss_cli_printf(stderr, "%s: field kind '%s' is not veins, inclusions, sphere, box or layers\n", TOOL, kind);
+        return 2;
+    }
+    const double lo[3] = {-size / 2, -size / 2, -size / 2}, hi[3] = {size / 2, size / 2, size / 2};
+    sss_field g;
+    sss_error err = {{0}};
+    if (sss_field_sample(&f, lo, hi, (uint32_t)res, &g, &err) != SSS_OK ||
+        sss_field_write_vdb(out, "density", &g, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
+        sss_field_free(&g);
+        return 1;
+    }
+    sss_cli_printf(stderr, "%s: %s: grid 'density', %u x %u x %u nodes, voxel %g mm (%s)\n", TOOL, out, g.n[0], g.n[1],
+                   g.n[2], g.voxel_mm, kind);
+    sss_field_free(&g);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1 && !strcmp(argv[1], "subdivide")) return subdivide_main(argc, argv);
+    if (argc > 1 && !strcmp(argv[1], "field")) return field_main(argc, argv);
     genmesh_args a;
     int rc = parse_args(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;

@@ -931,6 +931,9 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         else cJSON_AddNullToObject(o, "near_radius_mm");
         /* the weight rule (section QUAD; docs/physics.md §4, §9) */
         cJSON_AddStringToObject(o, "weights", f->weights == SSS_WEIGHTS_HAT ? "hat" : "point");
+        /* a heterogeneous object's field (section FELD, docs/heterogeneous.md): its kind, or null */
+        if (f->hetero.field.kind) cJSON_AddStringToObject(o, "field", sss_field_kind_name(f->hetero.field.kind));
+        else cJSON_AddNullToObject(o, "field");
         cJSON_AddNumberToObject(o, "file_bytes", (double)f->file_size);
         cJSON_AddNumberToObject(o, "bytes_per_vertex", (double)f->file_size / nv);
         cJSON_AddNumberToObject(o, "bytes_apart_geometry", (double)apart);
@@ -998,6 +1001,11 @@ static int summary(const char *path, const sss_bake_file *f, int json)
         printf("  weights: %s\n", f->weights == SSS_WEIGHTS_HAT
                                       ? "integrals over the vertices' hat functions (section QUAD, docs/physics.md 9)"
                                       : "point samples (Hao-Varshney 2004 3.1)");
+        if (f->hetero.field.kind)
+            printf("  field: %s, inside sigma_a %g/%g/%g, sigma'_s %g/%g/%g (section FELD, docs/heterogeneous.md)\n",
+                   sss_field_kind_name(f->hetero.field.kind), f->hetero.inside.sigma_a[0], f->hetero.inside.sigma_a[1],
+                   f->hetero.inside.sigma_a[2], f->hetero.inside.sigmap_s[0], f->hetero.inside.sigmap_s[1],
+                   f->hetero.inside.sigmap_s[2]);
         printf("  %-6s %14s %12s %14s\n", "section", "bytes", "bytes/vertex", "count");
         for (uint32_t s = 0; s < f->nsections; s++)
             printf("  %-6s %14llu %12.2f %14llu\n", f->sections[s].tag, (unsigned long long)f->sections[s].size,

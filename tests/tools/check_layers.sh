@@ -13,8 +13,8 @@ complain() { echo "check_layers: $*"; bad=1; }
 
 # the stage of a precompute public header, by name
 declare -A hstage=(
-  [import]=input [probe]=input
-  [nbhd]=kernels [visibility]=kernels [transfer]=kernels [lloyd]=kernels
+  [import]=input [probe]=input [fieldio]=input
+  [nbhd]=kernels [fieldweights]=kernels [visibility]=kernels [transfer]=kernels [lloyd]=kernels
   [gather]=gather
   [refs]=compress [compress]=compress
   [bake]=bake [planner]=bake [bake_scene]=bake [perframe]=bake

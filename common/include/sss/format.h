@@ -17,6 +17,7 @@
 #include "sss/dipole.h"
 #include "sss/dirset.h"
 #include "sss/single.h"
+#include "sss/field.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -204,6 +205,10 @@ typedef struct sss_bake_file {
                                * terms must use too */
     double near_radius_mm;    /* (1.5) with near_terms: > 0 when the near terms are every vertex within this
                                * distance, connected or not (section NRAD), rather than near_rings rings */
+    /* (1.8) Section FELD: a heterogeneous object's field, inside material and
+     * rest frame (docs/heterogeneous.md; field.kind SSS_FIELD_NONE: none);
+     * material above is the base (f = 0). Owned (the grid's samples). */
+    sss_hetero hetero;
     /* Filled by the reader (ignored by the writer): */
     uint64_t file_size;
     uint32_t nsections;

@@ -15,6 +15,7 @@
 #include "sss/deform.h"
 #include "sss/dipole.h"
 #include "sss/single.h"
+#include "sss/field.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
 #include "sss/vec3.h"
@@ -73,6 +74,13 @@ typedef struct sss_scene_object {
      * itself; n = 0: none. Single scattering only: the dipole sees the
      * material. */
     sss_layer_stack layers;
+    /* "material": {"field": ..., "inside": ...} (docs/heterogeneous.md §1):
+     * kind SSS_FIELD_NONE for a homogeneous object; xf is filled by the
+     * parser from mm_per_unit and the transform (world → rest-frame mm).
+     * A grid field's samples are owned (sss_scene_free). */
+    sss_hetero hetero;
+    char field_path[SSS_SCENE_PATH_MAX]; /* a "vdb" field: the resolved file, read by the bake (else "") */
+    char field_grid[SSS_SCENE_NAME_MAX]; /* its grid's name */
 } sss_scene_object;
 
 typedef struct sss_scene_camera {

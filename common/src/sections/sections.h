@@ -120,6 +120,7 @@
     X(NBHD, "NBHD", SSS_SEC_REQUIRED,                                           4, nbhd)       \
     X(QUAD, "QUAD", SSS_SEC_REQUIRED,                                           5, quad)       \
     X(NRAD, "NRAD", SSS_SEC_REQUIRED,                                           5, nrad)       \
+    X(FELD, "FELD", SSS_SEC_REQUIRED,                                           8, feld)       \
     X(PARM, "PARM", SSS_SEC_EVERY_FILE | SSS_SEC_MAY_BE_EMPTY,                  0, parm)
 
 #define SSS_SEC_ENUM(id, tag, flags, since, codec) SSS_SEC_##id,

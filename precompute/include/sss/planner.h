@@ -65,9 +65,17 @@ typedef struct sss_object_plan {
      * docs/deformable.md §4); effects and passes are then 0 and light_pass
      * is UINT32_MAX for every light */
     int per_frame;
+    /* A material field (rule_field, docs/heterogeneous.md §5): none, folded
+     * into the homogeneous blend of a constant, or baked with the spatially
+     * varying kernel. material is what the bake takes as the object's
+     * (base) material: the scene's, or the constant's blend. */
+    int field;
+    sss_material material;
     uint32_t ndecisions;
     sss_decision decisions[SSS_PLAN_MAX_DECISIONS];
 } sss_object_plan;
+
+enum { SSS_PLAN_FIELD_NONE = 0, SSS_PLAN_FIELD_FOLDED = 1, SSS_PLAN_FIELD_BAKED = 2 };
 
 typedef struct sss_plan {
     uint32_t nobjects;

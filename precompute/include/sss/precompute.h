@@ -10,6 +10,7 @@
 #include "sss/import.h"
 #include "sss/probe.h"
 
+#include "sss/fieldweights.h"
 #include "sss/nbhd.h"
 #include "sss/visibility.h"
 #include "sss/transfer.h"

@@ -29,6 +29,8 @@
 #include "kernels/progress.h"
 #include "kernels/transfer.h"
 #include "sss/compress.h"
+#include "sss/fieldweights.h"
+#include "sss/fieldio.h"
 #include "sss/hatweights.h"
 #include "sss/memory.h"
 #include "sss/nearterms.h"
@@ -59,6 +61,9 @@ static char *params(const sss_scene *s, const sss_object_plan *p, const sss_pass
     cJSON_AddStringToObject(o, "object", ob->name);
     cJSON_AddStringToObject(o, "mesh", ob->mesh);
     cJSON_AddStringToObject(o, "material", ob->material.name);
+    if (p->field) /* docs/heterogeneous.md §5 */
+        cJSON_AddStringToObject(o, "field", p->field == SSS_PLAN_FIELD_BAKED ? sss_field_kind_name(ob->hetero.field.kind)
+                                                                             : "constant (folded)");
     cJSON_AddNumberToObject(o, "eps", eps);
     cJSON_AddNumberToObject(o, "mm_per_unit", c->out->mm_per_unit);
     cJSON_AddItemToObject(o, "radius_mm", cJSON_CreateDoubleArray(radius, (int)c->C));
@@ -115,8 +120,8 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     sss_result r = sss_mesh_copy(&world[obj], &out->mesh, err);
     if (r != SSS_OK) return r;
     c.mesh = &out->mesh;
-    out->material = ob->material;
     out->layers = ob->layers;
+    out->material = p->material; /* a constant field folded into its blend (planner.c rule_field) */
     out->mm_per_unit = sss_scene_object_mm_per_world_unit(ob);
     out->channels = c.C;
     out->quant = SSS_QUANT_FLOAT;
@@ -147,10 +152,34 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     const uint64_t nb_max = avail ? (avail - need) / 10 * 9 : 0;
 
     sss_dipole dip[SSS_MAX_CHANNELS];
-    for (uint32_t k = 0; k < c.C; k++) sss_dipole_init(&dip[k], ob->material.sigma_a[k], ob->material.sigmap_s[k], c.eta);
+    for (uint32_t k = 0; k < c.C; k++) sss_dipole_init(&dip[k], p->material.sigma_a[k], p->material.sigmap_s[k], c.eta);
     /* the radius rule of bake.c, so the exact evaluator (which recomputes
      * it from the file) finds the same neighbourhoods */
     st.search_radius_mm = sss_nbhd_radii(c.mesh, out->mm_per_unit, dip, c.C, eps, st.radius_mm);
+    /* A baked field (docs/heterogeneous.md §4): the rows are built for the
+     * kernel's reference material and radius, then scaled pair by pair;
+     * the field goes into the file (section FELD) for the exact evaluator. */
+    sss_field_kernel fk;
+    memset(&fk, 0, sizeof fk);
+    if (p->field == SSS_PLAN_FIELD_BAKED) {
+        char name[SSS_SCENE_PATH_MAX + 80];
+        snprintf(name, sizeof name, "%s: /objects/%u/material/field", scene->path, obj);
+        out->hetero = ob->hetero;
+        memset(&out->hetero.field, 0, sizeof out->hetero.field);
+        r = ob->field_path[0] ? sss_field_load(ob->field_path, ob->field_grid, &out->hetero.field, err)
+                              : sss_field_copy(&ob->hetero.field, &out->hetero.field, err);
+        if (r == SSS_OK)
+            r = sss_field_kernel_create(c.mesh, out->mm_per_unit, &p->material, &out->hetero, c.C, eps,
+                                        ob->field_path[0] ? ob->field_path : name, &fk, err);
+        /* far pairs through the cells' cache (docs/heterogeneous.md §4.3) */
+        if (r == SSS_OK) r = sss_field_kernel_far(&fk, c.mesh, SSS_FIELD_FAR_CELLS, err);
+        if (r != SSS_OK) {
+            sss_file_free(out);
+            return r;
+        }
+        memcpy(dip, fk.dip_ref, sizeof dip);
+        st.search_radius_mm = fk.radius_mm;
+    }
     sss_weights nb = {0}, hat = {0};
     sss_vis *vis = NULL;
     const sss_mesh **occ = NULL;
@@ -189,6 +218,13 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     if (avail) { /* what is left for the probes (env_sh.c reads them) */
         const uint64_t nbb = st.neighbours_total * (4u + 4u * c.C) + hat_bytes;
         c.memory_left = avail - need > nbb ? avail - need - nbb : 1;
+    }
+    if (fk.f) {
+        t = sss_now();
+        r = sss_field_weights_apply(&fk, c.mesh, &nb, opt->cancel, err);
+        if (r == SSS_OK && hat.nrows) r = sss_field_weights_apply(&fk, c.mesh, &hat, opt->cancel, err);
+        if (r != SSS_OK) goto done;
+        st.t_neighbourhoods += sss_now() - t;
     }
     c.nb = &nb;
     t = sss_now();
@@ -232,9 +268,9 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
         no.cancel = opt->cancel;
         no.near_terms = SSS_NEAR_TERMS_RUNTIME;
         no.near_fraction = sss_near_fraction_default(c.C);
-        no.near_radius_mm = sss_near_radius_bake(c.mesh, out->mm_per_unit, &ob->material, c.C, no.near_fraction,
+        no.near_radius_mm = sss_near_radius_bake(c.mesh, out->mm_per_unit, &p->material, c.C, no.near_fraction,
                                                  st.search_radius_mm, &st.near_capped, &st.near_fraction_held);
-        r = sss_near_terms_split(c.mesh, &ob->material, &no, c.C, &out->dirs, c.hat, p->self_shadow, out->q, &st.rays,
+        r = sss_near_terms_split(c.mesh, &p->material, &no, c.C, &out->dirs, c.hat, p->self_shadow, out->q, &st.rays,
                                  &st.near_entries, err);
         if (r != SSS_OK) goto done;
         out->near_terms = SSS_NEAR_TERMS_RUNTIME;
@@ -257,6 +293,8 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
         if (r != SSS_OK) goto done;
         cf.fx = out->fx;
         memset(&out->fx, 0, sizeof out->fx);
+        cf.hetero = out->hetero; /* the field moves over with the effects' data */
+        memset(&out->hetero, 0, sizeof out->hetero);
         sss_file_free(out);
         *out = cf;
         c.mesh = &out->mesh;
@@ -268,6 +306,7 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto done; }
     if (st_out) *st_out = st;
 done:
+    sss_field_kernel_free(&fk);
     sss_vis_destroy(vis);
     free(occ);
     sss_weights_free(&nb);

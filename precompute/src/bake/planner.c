@@ -124,8 +124,11 @@ int sss_mesh_is_convex(const sss_mesh *m)
  * (Hao–Varshney 2004 §3.1 bakes per channel). */
 static void rule_channels(const plan_in *in, sss_object_plan *p)
 {
-    const sss_material *m = &in->scene->objects[p->object].material;
-    const int grey = sss_material_channels(m) == 1;
+    const sss_material *m = &p->material;
+    const sss_scene_object *ob = &in->scene->objects[p->object];
+    /* a baked field blends with the inside material: grey only if both are */
+    const int grey = sss_material_channels(m) == 1 &&
+                     (p->field != SSS_PLAN_FIELD_BAKED || sss_material_channels(&ob->hetero.inside) == 1);
     p->channels = grey ? 1 : 3;
     if (!grey) p->effects |= SSS_FX_RGB;
     if (grey)
@@ -135,6 +138,33 @@ static void rule_channels(const plan_in *in, sss_object_plan *p)
         decide(p, "channels", "3 channels", "material '%s' differs across channels (sigma_a %g/%g/%g, sigma'_s "
                "%g/%g/%g)", m->name, m->sigma_a[0], m->sigma_a[1], m->sigma_a[2], m->sigmap_s[0], m->sigmap_s[1],
                m->sigmap_s[2]);
+}
+
+/* A material field (docs/heterogeneous.md §5): a constant is the
+ * homogeneous blend at c (σa, σ′s linear in c), baked as any homogeneous
+ * object, without a field section; any other field on a static object
+ * takes the baked path, the spatially varying kernel of §4 on the shared
+ * rows. Runs first: the rules after it read p->material. */
+static void rule_field(const plan_in *in, sss_object_plan *p)
+{
+    const sss_scene_object *ob = &in->scene->objects[p->object];
+    const sss_field *f = &ob->hetero.field;
+    p->material = ob->material;
+    if (f->kind == SSS_FIELD_NONE) return;
+    if (f->kind == SSS_FIELD_CONSTANT) {
+        p->field = SSS_PLAN_FIELD_FOLDED;
+        sss_material_blend(&ob->material, &ob->hetero.inside, f->value, &p->material);
+        if (f->value != 0.0) snprintf(p->material.name, sizeof p->material.name, "custom");
+        decide(p, "field", "folded", "a constant field c = %g is one material everywhere: the blend (1-c) '%s' + c "
+               "inside (sigma_a %g/%g/%g, sigma'_s %g/%g/%g), baked as a homogeneous object", f->value,
+               ob->material.name, p->material.sigma_a[0], p->material.sigma_a[1], p->material.sigma_a[2],
+               p->material.sigmap_s[0], p->material.sigmap_s[1], p->material.sigmap_s[2]);
+        return;
+    }
+    p->field = SSS_PLAN_FIELD_BAKED;
+    decide(p, "field", "baked", "static object with a %s field: every pair's weight takes the geometric mean of its "
+           "endpoints' dipole profiles and the transmittance through the field between them (docs/heterogeneous.md "
+           "sec. 4), stored with the field (section FELD)", sss_field_kind_name(f->kind));
 }
 
 /* Self-shadowing: V(x_i, ω) of §3.1 is 1 whenever n_i·ω > 0 on a convex
@@ -291,8 +321,12 @@ static void rule_storage(const plan_in *in, sss_object_plan *p)
         decide(p, "weights", "point", "bake.weights asks for the paper's point weights, R_d at the vertex times its "
                "area (Hao-Varshney 2004 sec. 3.1)");
     const int dirset = p->pass_lights[SSS_PASS_DIR_SET] > 0;
-    p->near_runtime = dirset && b->near_terms != SSS_SCENE_NEAR_BAKED && p->noccluders == 0;
-    if (!dirset)
+    p->near_runtime = dirset && b->near_terms != SSS_SCENE_NEAR_BAKED && p->noccluders == 0 &&
+                      p->field != SSS_PLAN_FIELD_BAKED;
+    if (dirset && p->field == SSS_PLAN_FIELD_BAKED)
+        decide(p, "near terms", "baked", "the field's kernel varies pair by pair, and the run-time near terms weigh "
+               "with the homogeneous profile: every term stays in the rows");
+    else if (!dirset)
         decide(p, "near terms", "baked", "no direction set: a static light's row is exact for its one direction, and "
                "point shells and the SH transfer have no run-time near pass; every term stays in the rows");
     else if (p->near_runtime)
@@ -442,14 +476,14 @@ static void rule_single(const plan_in *in, sss_object_plan *p)
         snprintf(why, sizeof why, "the material has %u layer%s over it, which only single scattering shows "
                  "(docs/layers.md 3)", o->layers.n, o->layers.n > 1 ? "s" : "");
     } else {
-        on = sss_single_rule(&o->material, p->channels, o->single_scattering, why, sizeof why);
+        on = sss_single_rule(&p->material, p->channels, o->single_scattering, why, sizeof why);
     }
     if (on) p->effects |= SSS_FX_SINGLE;
     decide(p, "single-scattering", on ? "on" : "off", "%s", why);
 }
 
-static const rule_fn rules[] = {rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights, rule_storage,
-                                rule_single};
+static const rule_fn rules[] = {rule_field,   rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights,
+                                rule_storage, rule_single};
 /* the rules of a deforming object */
 static const rule_fn rules_per_frame[] = {rule_channels, rule_per_frame};
 
@@ -493,6 +527,13 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
         for (int k = 0; k < 3; k++) p->centre[k] = 0.5 * (lo[k] + hi[k]);
         p->convex = sss_mesh_is_convex(&world[i]);
         if (sss_scene_object_deforms(&scene->objects[i])) {
+            /* the per-frame path takes one homogeneous material (docs/deformable.md §3) */
+            if (scene->objects[i].hetero.field.kind != SSS_FIELD_NONE) {
+                sss_plan_free(out);
+                return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/material/field: a material field on a deforming "
+                                "object is not supported yet (docs/heterogeneous.md)", scene->path, i);
+            }
+            p->material = scene->objects[i].material;
             for (size_t r = 0; r < sizeof rules_per_frame / sizeof rules_per_frame[0]; r++) rules_per_frame[r](&in, p);
             uint32_t lit = 0;
             for (uint32_t l = 0; l < scene->nlights; l++) {

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sss/fieldweights.h"
 #include "sss/hatweights.h"
 #include "sss/memory.h"
 #include "sss/nbhd.h"
@@ -128,6 +129,22 @@ static sss_result create(const sss_bake_file *f, int plan, uint64_t memory_limit
      * the search uses the largest. Recomputed, not read from PARM, where it
      * is rounded to 9 digits: the membership test r ≤ radius must match. */
     e->search_radius_mm = sss_nbhd_radii(&e->mesh, f->mm_per_unit, dip, f->channels, eps, NULL);
+    /* A heterogeneous object (section FELD): the bake's rows for the
+     * reference material, scaled by the spatially varying kernel
+     * (sss/fieldweights.h, docs/heterogeneous.md §4), as the scene bake
+     * built them. */
+    sss_field_kernel fk;
+    memset(&fk, 0, sizeof fk);
+    if (f->hetero.field.kind != SSS_FIELD_NONE) {
+        r = sss_field_kernel_create(&e->mesh, f->mm_per_unit, &f->material, &f->hetero, f->channels, eps,
+                                    "section FELD", &fk, err);
+        if (r != SSS_OK) {
+            sss_exact_destroy(e);
+            return r;
+        }
+        memcpy(dip, fk.dip_ref, sizeof dip);
+        e->search_radius_mm = fk.radius_mm;
+    }
     /* The neighbourhood rows are counted before they are allocated and
      * refused, as the bake refuses them (bake.c), beyond 90 % of what is
      * left after the mesh copy and one row of G per vertex: for σa → 0 they
@@ -145,6 +162,9 @@ static sss_result create(const sss_bake_file *f, int plan, uint64_t memory_limit
     if (r == SSS_OK && f->weights == SSS_WEIGHTS_HAT)
         r = sss_hat_corrections(&e->mesh, f->mm_per_unit, dip, f->channels, e->search_radius_mm, NULL, 0, NULL,
                                 &e->hat, err);
+    if (r == SSS_OK && fk.f) r = sss_field_weights_apply(&fk, &e->mesh, &e->nb, NULL, err);
+    if (r == SSS_OK && fk.f && e->hat.nrows) r = sss_field_weights_apply(&fk, &e->mesh, &e->hat, NULL, err);
+    sss_field_kernel_free(&fk);
     if (r == SSS_OK) r = sss_vis_create(&e->mesh, &e->vis, err);
     if (r != SSS_OK) {
         sss_exact_destroy(e);

@@ -1,0 +1,95 @@
+/* sss/fieldweights.h: the spatially varying kernel of a heterogeneous
+ * object (docs/heterogeneous.md §4): the weights of the sum of
+ * Hao–Varshney 2004 §3.1 built for a reference material, then scaled pair
+ * by pair to the geometric mean of the endpoints' own profiles (seed 003's
+ * SubEdit model) times the transmittance through the field between them
+ * (seed 000's march). The bake's passes and the exact evaluator both scale
+ * their rows with it, so a file's q is recomputed from the file alone.
+ * Part of libsss_bake (kernels/fieldweights.c).
+ */
+#ifndef SSS_FIELDWEIGHTS_H
+#define SSS_FIELDWEIGHTS_H
+
+#include <stdint.h>
+#include "sss/dipole.h"
+#include "sss/field.h"
+#include "sss/mesh.h"
+#include "sss/result.h"
+#include "sss/weights.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The march along a pair's segment takes at most this many steps: the
+ * step is sss_field_step_mm, lengthened on long pairs (§4.2). */
+#define SSS_FIELD_MARCH_MAX 64
+/* The march grid of a procedural field has at most this many nodes per side. */
+#define SSS_FIELD_MARCH_NODES 160
+/* The far pairs' cache of a bake holds at most this many occupied cells
+ * (their pairs' table: 1024² × 3 doubles, 24 MiB at most). */
+#define SSS_FIELD_FAR_CELLS 1024
+
+typedef struct sss_field_kernel {
+    const sss_hetero *h;     /* borrowed: the field, the inside material, the rest frame */
+    sss_material base;       /* the material at f = 0 */
+    uint32_t nv, C;
+    double s;                /* mm per mesh unit */
+    double f_min, f_max;     /* f over the vertices */
+    double *f;               /* f at every vertex (nv) */
+    double *sigma_tr;        /* σtr of every vertex's blend, nv × C (1/mm) */
+    sss_dipole *dip;         /* every vertex's dipole, nv × C */
+    sss_material ref;        /* the blend at f_min: the material the rows are built for */
+    sss_dipole dip_ref[SSS_MAX_CHANNELS];
+    double radius_mm;        /* the search radius: the larger of the radius rule at f_min and at f_max */
+    double step_mm;          /* 0: nothing to march (a constant) */
+    /* What the march reads (§4.2): σtr of every channel sampled once on a
+     * grid of nodes over the object's rest-frame box at the step (at most
+     * SSS_FIELD_MARCH_NODES per side), trilinear between nodes. Owned;
+     * NULL for a constant. */
+    double *tr;              /* tn[0]·tn[1]·tn[2] × C, node (i, j, k) at ((k·tn1 + j)·tn0 + i)·C */
+    uint32_t tn[3];
+    double t_origin[3], t_voxel;
+    /* The far pairs' cache (sss_field_kernel_far, §4.3): vertices binned
+     * into cubic cells; a pair farther apart than far_mm takes the mean
+     * excess σtr(x) − σtr_ref marched once between its cells' centroids. */
+    uint32_t ncells;         /* 0: no cache, every pair marched */
+    uint32_t *cell;          /* cell of every vertex (nv) */
+    double far_mm, cell_mm;
+    double *excess;          /* ncells × ncells × C, 1/mm */
+    double sigma_tr_ref[SSS_MAX_CHANNELS];
+} sss_field_kernel;
+
+/* Evaluates the field at every vertex of mesh (world units; h->xf maps to
+ * the rest frame), checks that the field covers the mesh (`name` in the
+ * message), and derives the reference material and the search radius
+ * with the neighbourhoods' radius rule for cutoff eps. */
+sss_result sss_field_kernel_create(const sss_mesh *mesh, double mm_per_unit, const sss_material *base,
+                                   const sss_hetero *h, uint32_t C, double eps, const char *name,
+                                   sss_field_kernel *k, sss_error *err);
+
+void sss_field_kernel_free(sss_field_kernel *k);
+
+/* Builds the far pairs' cache (§4.3) for a bake: at most max_cells occupied
+ * cells of edge at least 4 march steps; pairs farther than 3 cell diagonals
+ * then cost no march. The exact evaluator does not call it: it marches
+ * every pair, and the difference is the cache's error (docs/heterogeneous.md
+ * §7). */
+sss_result sss_field_kernel_far(sss_field_kernel *k, const sss_mesh *mesh, uint32_t max_cells, sss_error *err);
+
+/* κ_c(o, i) for the pair (o, i), per channel (§4.1):
+ *   κ = sqrt(P_o(r) P_i(r)) / P_ref(r) · τ(o, i),
+ *   τ = exp(−∫ max(0, σtr(x) − (σtr(x_o) + σtr(x_i))/2) dξ) along the segment,
+ * P the profile the row's weight used (R_d, or its disk integrals near
+ * r = 0). 1 exactly when the field is constant. Symmetric in o, i. */
+void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa);
+
+/* Scales every entry of rows (built for k->dip_ref over the same mesh,
+ * row r = vertex r) by κ. Polls cancel. */
+sss_result sss_field_weights_apply(const sss_field_kernel *k, const sss_mesh *mesh, sss_weights *rows,
+                                   const sss_cancel_flag *cancel, sss_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

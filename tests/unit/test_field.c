@@ -1,0 +1,751 @@
+#define _POSIX_C_SOURCE 200809L
+/* Material fields and the spatially varying kernel (docs/heterogeneous.md):
+ * the field module, the scene keys, section FELD, the .vdb reader and
+ * writer, and the acceptance checks of the baked path: constant fields
+ * reduce to the homogeneous bakes, an absorbing inclusion never brightens,
+ * a back-lit slab follows Beer–Lambert through an absorbing layer, and a
+ * field moved rigidly with its object leaves q unchanged. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "genmesh.h"
+#include "sss/bake_scene.h"
+#include "sss/exact.h"
+#include "sss/field.h"
+#include "sss/fieldio.h"
+#include "sss/fieldweights.h"
+#include "sss/import.h"
+#include "sss/nbhd.h"
+#include "sss/transfer.h"
+#include "sss/vec3.h"
+
+static char tmpdir[256];
+
+static int setup(void **state)
+{
+    (void)state;
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/sss_test_field_XXXXXX");
+    return mkdtemp(tmpdir) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+/* ---- 1. the field module ---------------------------------------------------- */
+
+static void blendIsExactAtBothEndsAndLinearBetween(void **state)
+{
+    (void)state;
+    sss_material a, b, m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_material_preset("marble", &a, &err), SSS_OK);
+    assert_int_equal(sss_material_preset("ketchup", &b, &err), SSS_OK);
+    sss_material_blend(&a, &b, 0.0, &m);
+    assert_memory_equal(m.sigma_a, a.sigma_a, sizeof a.sigma_a);
+    assert_memory_equal(m.sigmap_s, a.sigmap_s, sizeof a.sigmap_s);
+    sss_material_blend(&a, &b, 1.0, &m);
+    assert_memory_equal(m.sigma_a, b.sigma_a, sizeof b.sigma_a);
+    assert_memory_equal(m.sigmap_s, b.sigmap_s, sizeof b.sigmap_s);
+    assert_true(m.eta == a.eta);
+    sss_material_blend(&a, &b, 0.25, &m);
+    for (int c = 0; c < 3; c++) {
+        assert_float_equal(m.sigma_a[c], 0.75 * a.sigma_a[c] + 0.25 * b.sigma_a[c], 1e-12);
+        const double str = sss_material_sigma_tr(&a, &b, 0.25, (uint32_t)c);
+        assert_float_equal(str, sqrt(3 * m.sigma_a[c] * (m.sigma_a[c] + m.sigmap_s[c])), 1e-12);
+    }
+}
+
+static void transportColourIsReachedAfterTheTransportDistance(void **state)
+{
+    (void)state;
+    const double colour[3] = {0.8, 0.4, 0.1}, sps[3] = {2.19, 2.62, 3.0};
+    double sa[3];
+    sss_error err = {{0}};
+    assert_int_equal(sss_transport_sigma_a(colour, 5.0, sps, sa, &err), SSS_OK);
+    for (int c = 0; c < 3; c++) {
+        /* exp(−σtr T_d) = T_c with σtr = sqrt(3 σa (σa + σ′s)) */
+        const double str = sqrt(3 * sa[c] * (sa[c] + sps[c]));
+        assert_float_equal(exp(-str * 5.0), colour[c], 1e-12);
+    }
+    assert_true(sa[0] < sa[1] && sa[1] < sa[2]); /* a redder colour absorbs less red */
+    const double bad[3] = {0.8, 1.0, 0.1};
+    assert_int_not_equal(sss_transport_sigma_a(bad, 5.0, sps, sa, &err), SSS_OK);
+    assert_non_null(strstr(err.msg, "colour 1"));
+}
+
+static void proceduralFieldsAreDeterministicBoundedAndSeeded(void **state)
+{
+    (void)state;
+    sss_field v = {.kind = SSS_FIELD_VEINS, .seed = 7, .scale_mm = 10.0};
+    sss_field w = v;
+    w.seed = 8;
+    sss_field in = {.kind = SSS_FIELD_INCLUSIONS, .seed = 3, .scale_mm = 5.0, .thickness_mm = 1.5, .edge_mm = 0.2};
+    sss_error err = {{0}};
+    assert_int_equal(sss_field_check(&v, &err), SSS_OK);
+    assert_int_equal(sss_field_check(&in, &err), SSS_OK);
+    double vmin = 1, vmax = 0, imin = 1, imax = 0, differ = 0;
+    for (int k = 0; k < 4000; k++) {
+        const double x[3] = {0.37 * k - 700.0, 0.11 * k, 25.0 - 0.05 * k};
+        const double a = sss_field_eval(&v, x), b = sss_field_eval(&in, x);
+        assert_true(a >= 0 && a <= 1 && b >= 0 && b <= 1);
+        assert_true(a == sss_field_eval(&v, x)); /* a pure function */
+        differ = fmax(differ, fabs(a - sss_field_eval(&w, x)));
+        vmin = fmin(vmin, a), vmax = fmax(vmax, a), imin = fmin(imin, b), imax = fmax(imax, b);
+    }
+    assert_true(vmin < 0.01 && vmax > 0.9); /* veins and the matrix between them */
+    assert_true(imin == 0.0 && imax == 1.0); /* inside and outside the balls */
+    assert_true(differ > 0.5);                /* the seed changes the pattern */
+    /* a fixed value, so that a change of the noise shows here first */
+    const double x0[3] = {1.25, -3.5, 7.0};
+    print_message("veins(1.25, -3.5, 7) = %.9f\n", sss_field_eval(&v, x0));
+}
+
+static void shapesFollowTheirSignedDistanceWithASmoothEdge(void **state)
+{
+    (void)state;
+    sss_field s = {.kind = SSS_FIELD_SPHERE, .centre_mm = {1, 2, 3}, .half_mm = {4}, .edge_mm = 1.0};
+    const double c[3] = {1, 2, 3}, on[3] = {5, 2, 3}, in[3] = {4.5, 2, 3}, out[3] = {5.5, 2, 3};
+    assert_true(sss_field_eval(&s, c) == 1.0);
+    assert_float_equal(sss_field_eval(&s, on), 0.5, 1e-12);
+    assert_true(sss_field_eval(&s, in) == 1.0 && sss_field_eval(&s, out) == 0.0);
+    sss_field b = {.kind = SSS_FIELD_BOX, .centre_mm = {0, 0, 0}, .half_mm = {1, 2, 3}};
+    const double bi[3] = {0.9, -1.9, 2.9}, bo[3] = {1.1, 0, 0};
+    assert_true(sss_field_eval(&b, bi) == 1.0 && sss_field_eval(&b, bo) == 0.0);
+    sss_field l = {.kind = SSS_FIELD_LAYERS, .normal = {0, 0, 1}, .thickness_mm = 1.0, .offset_mm = 2.0,
+                   .scale_mm = 5.0};
+    for (int k = -3; k <= 3; k++) {
+        const double a[3] = {9, 9, 2.5 + 5.0 * k}, o[3] = {9, 9, 4.5 + 5.0 * k};
+        assert_true(sss_field_eval(&l, a) == 1.0); /* every period's stratum */
+        assert_true(sss_field_eval(&l, o) == 0.0);
+    }
+    sss_error err = {{0}};
+    sss_field bad = l;
+    bad.scale_mm = 0.5; /* a period thinner than the stratum */
+    assert_int_not_equal(sss_field_check(&bad, &err), SSS_OK);
+    assert_non_null(strstr(err.msg, "period_mm"));
+}
+
+static void gridIsTrilinearAndSamplingReproducesALinearField(void **state)
+{
+    (void)state;
+    /* f linear in x, y, z: trilinear interpolation of its samples is exact */
+    float data[4 * 3 * 2];
+    sss_field g = {.kind = SSS_FIELD_GRID, .n = {4, 3, 2}, .origin_mm = {-1, 0, 2}, .voxel_mm = 0.5, .data = data};
+    for (int k = 0; k < 2; k++)
+        for (int j = 0; j < 3; j++)
+            for (int i = 0; i < 4; i++) data[(k * 3 + j) * 4 + i] = (float)(0.1 * i + 0.2 * j + 0.15 * k);
+    sss_error err = {{0}};
+    assert_int_equal(sss_field_check(&g, &err), SSS_OK);
+    const double x[3] = {-1 + 0.5 * 1.3, 0.5 * 0.7, 2 + 0.5 * 0.4};
+    assert_float_equal(sss_field_eval(&g, x), 0.1 * 1.3 + 0.2 * 0.7 + 0.15 * 0.4, 1e-7);
+    const double lo[3] = {-1, 0, 2}, hi[3] = {0.5, 1, 2.5}, far[3] = {0.5, 1, 9};
+    char why[300];
+    assert_true(sss_field_covers(&g, lo, hi, why, sizeof why));
+    assert_false(sss_field_covers(&g, lo, far, why, sizeof why));
+    assert_non_null(strstr(why, "does not cover"));
+    data[5] = 1.5f; /* outside [0, 1] */
+    assert_int_not_equal(sss_field_check(&g, &err), SSS_OK);
+}
+
+/* ---- 2. scene keys ------------------------------------------------------------- */
+
+static void expect_error(const char *json, const char *want)
+{
+    sss_scene s;
+    sss_error err = {{0}};
+    assert_int_not_equal(sss_scene_parse(json, "scene.json", &s, &err), SSS_OK);
+    if (!strstr(err.msg, want)) fail_msg("message '%s' lacks '%s'", err.msg, want);
+    assert_null(strchr(err.msg, '\n'));
+}
+
+static void sceneReadsFieldInsideAndTransportAndNamesErrors(void **state)
+{
+    (void)state;
+    sss_scene s;
+    sss_error err = {{0}};
+    const char *ok = "{\"objects\":[{\"mesh\":\"a.ply\",\"mm_per_unit\":2,\"transform\":{\"translate\":[1,2,3],"
+                     "\"rotate_deg\":[0,0,90],\"scale\":2},\"material\":{\"preset\":\"marble\",\"field\":{"
+                     "\"procedural\":\"sphere\",\"centre_mm\":[0,0,0],\"radius_mm\":3,\"edge_mm\":0.5},"
+                     "\"inside\":{\"preset\":\"marble\",\"transport\":{\"colour\":[0.9,0.5,0.2],\"distance_mm\":4}}}}]}";
+    if (sss_scene_parse(ok, "scene.json", &s, &err) != SSS_OK) fail_msg("%s", err.msg);
+    const sss_scene_object *o = &s.objects[0];
+    assert_int_equal(o->hetero.field.kind, SSS_FIELD_SPHERE);
+    assert_true(o->hetero.field.half_mm[0] == 3.0);
+    assert_true(o->hetero.inside.sigma_a[0] < o->hetero.inside.sigma_a[2]);
+    assert_true(o->hetero.inside.eta == o->material.eta);
+    /* the world point of object point (1, 0, 0): 2·Rz(90)·(1,0,0) + t = (1, 4, 3); rest frame 2 mm */
+    const double pw[3] = {1, 4, 3};
+    double x[3];
+    sss_hetero_to_rest(&o->hetero, pw, x);
+    assert_float_equal(x[0], 2.0, 1e-12);
+    assert_float_equal(x[1], 0.0, 1e-12);
+    assert_float_equal(x[2], 0.0, 1e-12);
+    sss_scene_free(&s);
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"field\":{\"constant\":0.5}}}]}",
+                 "scene.json: /objects/0/material/inside: missing");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"inside\":\"ketchup\","
+                 "\"field\":{\"constant\":1.5}}}]}",
+                 "scene.json: /objects/0/material/field/constant: 1.5 is out of range [0, 1]");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"inside\":\"ketchup\","
+                 "\"field\":{\"procedural\":\"clouds\"}}}]}",
+                 "scene.json: /objects/0/material/field/procedural: 'clouds' is not");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"inside\":\"ketchup\","
+                 "\"field\":{\"procedural\":\"box\",\"centre_mm\":[0,0,0]}}}]}",
+                 "scene.json: /objects/0/material/field/half_mm: missing");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"inside\":{\"sigma_a\":[1,1,1],"
+                 "\"sigmap_s\":[1,1,1],\"field\":{\"constant\":1}},\"field\":{\"constant\":1}}}]}",
+                 "scene.json: /objects/0/material/inside/field: unknown key");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"sigma_a\":[1,1,1],"
+                 "\"transport\":{\"colour\":[0.5,0.5,0.5],\"distance_mm\":1}}}]}",
+                 "scene.json: /objects/0/material/transport: give sigma_a or transport, not both");
+}
+
+/* ---- 3. baking ---------------------------------------------------------------- */
+
+typedef struct baked {
+    sss_scene sc;
+    sss_mesh *world;
+    sss_plan plan;
+} baked;
+
+static sss_result load(baked *b, const char *json, sss_error *err)
+{
+    char path[400];
+    snprintf(path, sizeof path, "%s/scene.json", tmpdir);
+    memset(b, 0, sizeof *b);
+    sss_result r = sss_scene_parse(json, path, &b->sc, err);
+    if (r != SSS_OK) return r;
+    b->world = calloc(b->sc.nobjects, sizeof *b->world);
+    for (uint32_t i = 0; i < b->sc.nobjects; i++) {
+        sss_mesh m;
+        if ((r = sss_import_mesh(b->sc.objects[i].mesh, &m, NULL, err)) != SSS_OK) return r;
+        r = sss_scene_object_world(&b->sc.objects[i], &m, &b->world[i], err);
+        sss_mesh_free(&m);
+        if (r != SSS_OK) return r;
+    }
+    return sss_plan_scene(&b->sc, b->world, &b->plan, err);
+}
+
+static void unload(baked *b)
+{
+    for (uint32_t i = 0; b->world && i < b->sc.nobjects; i++) sss_mesh_free(&b->world[i]);
+    free(b->world);
+    sss_plan_free(&b->plan);
+    sss_scene_free(&b->sc);
+}
+
+/* Bakes object 0 of the scene text; the file goes through encode/decode,
+ * so what is checked is what a reader gets. */
+static void bake_scene(const char *json, sss_bake_file *f)
+{
+    baked b;
+    sss_error err = {{0}};
+    if (load(&b, json, &err) != SSS_OK) fail_msg("%s", err.msg);
+    sss_bake_options o;
+    memset(&o, 0, sizeof o);
+    sss_bake_file g;
+    if (sss_bake_object(&b.sc, &b.plan, b.world, 0, &o, &g, NULL, &err) != SSS_OK) fail_msg("%s", err.msg);
+    uint8_t *buf;
+    size_t len;
+    if (sss_file_encode(&g, &buf, &len, &err) != SSS_OK) fail_msg("%s", err.msg);
+    if (sss_file_decode(buf, len, "mem.sss", f, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_int_equal(f->version_minor, g.hetero.field.kind ? 8 : g.weights == SSS_WEIGHTS_HAT ? 5 : 4);
+    free(buf);
+    sss_file_free(&g);
+    unload(&b);
+}
+
+static void write_mesh(const char *name, const sss_mesh *m)
+{
+    char p[400];
+    snprintf(p, sizeof p, "%s/%s", tmpdir, name);
+    sss_error err = {{0}};
+    assert_int_equal(sss_export_ply(p, m, &err), SSS_OK);
+}
+
+static void make_meshes(void)
+{
+    static int done;
+    if (done) return;
+    done = 1;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 10.0, 3, &err), SSS_OK);
+    write_mesh("ball.ply", &m);
+    sss_mesh_free(&m);
+    assert_int_equal(sss_gen_box(&m, 30.0, 30.0, 6.0, 20, 0, &err), SSS_OK);
+    write_mesh("slab.ply", &m);
+    sss_mesh_free(&m);
+}
+
+#define BASE "\"sigma_a\":[0.01,0.01,0.01],\"sigmap_s\":[1,1,1]"
+#define INSIDE "{\"sigma_a\":[0.2,0.2,0.2],\"sigmap_s\":[1,1,1]}"
+
+static char *scene_text(const char *mesh, const char *field, const char *light, const char *transform)
+{
+    static char buf[2000];
+    if (field)
+        snprintf(buf, sizeof buf, "{\"objects\":[{\"mesh\":\"%s\",\"material\":{" BASE ",\"inside\":" INSIDE
+                 ",\"field\":%s}%s}],\"lights\":[{\"type\":\"directional\",\"direction\":[%s]}]}",
+                 mesh, field, transform ? transform : "", light);
+    else
+        snprintf(buf, sizeof buf, "{\"objects\":[{\"mesh\":\"%s\",\"material\":{" BASE "}%s}],"
+                 "\"lights\":[{\"type\":\"directional\",\"direction\":[%s]}]}", mesh, transform ? transform : "",
+                 light);
+    return buf;
+}
+
+static void same_q(const sss_bake_file *a, const sss_bake_file *b)
+{
+    assert_int_equal(a->fx.nexact, 1);
+    assert_int_equal(b->fx.nexact, 1);
+    assert_int_equal(a->mesh.nv, b->mesh.nv);
+    assert_int_equal(a->channels, b->channels);
+    assert_memory_equal(a->fx.exact_q, b->fx.exact_q, (size_t)a->mesh.nv * a->channels * sizeof(float));
+}
+
+static void constantFieldsReduceToTheHomogeneousBakes(void **state)
+{
+    (void)state;
+    make_meshes();
+    sss_bake_file hom, in_hom, f;
+    bake_scene(scene_text("ball.ply", NULL, "0.3,0.2,0.9", NULL), &hom);
+    bake_scene("{\"objects\":[{\"mesh\":\"ball.ply\",\"material\":" INSIDE "}],"
+               "\"lights\":[{\"type\":\"directional\",\"direction\":[0.3,0.2,0.9]}]}", &in_hom);
+    /* c = 0 and c = 1 as constants: folded by the planner, no section FELD */
+    bake_scene(scene_text("ball.ply", "{\"constant\":0}", "0.3,0.2,0.9", NULL), &f);
+    assert_int_equal(f.hetero.field.kind, SSS_FIELD_NONE);
+    same_q(&f, &hom);
+    sss_file_free(&f);
+    bake_scene(scene_text("ball.ply", "{\"constant\":1}", "0.3,0.2,0.9", NULL), &f);
+    same_q(&f, &in_hom);
+    sss_file_free(&f);
+    /* the same fields through the kernel (a box holding the whole ball is
+     * f = 1 everywhere, a stratum far away f = 0): bit for bit too */
+    bake_scene(scene_text("ball.ply", "{\"procedural\":\"box\",\"centre_mm\":[0,0,0],\"half_mm\":[50,50,50]}",
+                          "0.3,0.2,0.9", NULL), &f);
+    assert_int_equal(f.hetero.field.kind, SSS_FIELD_BOX);
+    same_q(&f, &in_hom);
+    sss_file_free(&f);
+    bake_scene(scene_text("ball.ply", "{\"procedural\":\"layers\",\"normal\":[0,0,1],\"thickness_mm\":1,"
+                          "\"offset_mm\":500}", "0.3,0.2,0.9", NULL), &f);
+    assert_int_equal(f.hetero.field.kind, SSS_FIELD_LAYERS);
+    same_q(&f, &hom);
+    sss_file_free(&f);
+    sss_file_free(&hom);
+    sss_file_free(&in_hom);
+}
+
+/* q of the file recomputed by the exact evaluator from the file alone */
+static float *exact_q(const sss_bake_file *f, const double light[3])
+{
+    sss_error err = {{0}};
+    sss_exact *ex;
+    if (sss_exact_create(f, &ex, &err) != SSS_OK) fail_msg("%s", err.msg);
+    float *q = malloc((size_t)f->mesh.nv * f->channels * sizeof *q);
+    sss_exact_eval(ex, light, q);
+    sss_exact_destroy(ex);
+    return q;
+}
+
+static void absorbingInclusionNeverBrightensAndDarkensWhatIsBehindIt(void **state)
+{
+    (void)state;
+    make_meshes();
+    const double L[3] = {0, 0, 1};
+    sss_bake_file hom, f;
+    bake_scene(scene_text("ball.ply", NULL, "0,0,1", NULL), &hom);
+    /* σ′s equal, σa 20x: a ball of radius 5 mm inside the 10 mm ball */
+    bake_scene(scene_text("ball.ply", "{\"procedural\":\"sphere\",\"centre_mm\":[0,0,0],\"radius_mm\":5,"
+                          "\"edge_mm\":1}", "0,0,1", NULL), &f);
+    assert_int_equal(f.hetero.field.kind, SSS_FIELD_SPHERE);
+    /* the file alone gives the bake's q back (section FELD): the exact
+     * evaluator marches every pair, the bake its far pairs through the
+     * cells' cache (docs/heterogeneous.md §4.3), whose error this is */
+    float *q = exact_q(&f, L);
+    double qmax = 0.0, dmax = 0.0;
+    for (size_t k = 0; k < f.mesh.nv; k++) qmax = fmax(qmax, q[k]);
+    for (size_t k = 0; k < f.mesh.nv; k++) dmax = fmax(dmax, fabs((double)q[k] - f.fx.exact_q[k]));
+    print_message("inclusion: bake vs exact evaluator: max |dq| %.3g of max q %.3g (%.3g %%)\n", dmax, qmax,
+                  100 * dmax / qmax);
+    assert_true(dmax <= 0.01 * qmax);
+    free(q);
+    uint32_t behind = 0;
+    double worst_ratio = 0.0, max_behind = 0.0;
+    for (uint32_t v = 0; v < f.mesh.nv; v++) {
+        const float a = f.fx.exact_q[v], h = hom.fx.exact_q[v];
+        assert_true(a <= h);
+        worst_ratio = fmax(worst_ratio, h > 0 ? a / h : 0.0);
+        if (f.mesh.pos[3 * (size_t)v + 2] < -8.0f) { /* the far side: its light crossed the inclusion */
+            behind++;
+            assert_true(a < 0.9f * h);
+            max_behind = fmax(max_behind, a / h);
+        }
+    }
+    print_message("inclusion: q / q_homogeneous at most %.6f; behind it at most %.4f (%u vertices)\n", worst_ratio,
+                  max_behind, behind);
+    assert_true(behind > 10);
+    sss_file_free(&f);
+    /* a stone that breaks the surface: the vertices inside it take the
+     * stone's own profile (σa = 0.2 σ′s here, where the dipole's R_d(r)
+     * still falls with σa at every r: docs/heterogeneous.md §4.4) */
+    bake_scene(scene_text("ball.ply", "{\"procedural\":\"sphere\",\"centre_mm\":[0,0,10],\"radius_mm\":3,"
+                          "\"edge_mm\":0.5}", "0,0,1", NULL), &f);
+    uint32_t inside = 0;
+    for (uint32_t v = 0; v < f.mesh.nv; v++) {
+        assert_true(f.fx.exact_q[v] <= hom.fx.exact_q[v]);
+        inside += f.mesh.pos[3 * (size_t)v + 2] > 9.6f;
+    }
+    assert_true(inside > 3);
+    sss_file_free(&f);
+    sss_file_free(&hom);
+}
+
+/* Mean q over the top face's centre (|x|, |y| < 5 mm) of the back-lit slab. */
+static double top_centre(const sss_bake_file *f)
+{
+    double s = 0.0;
+    int n = 0;
+    for (uint32_t v = 0; v < f->mesh.nv; v++) {
+        const float *p = &f->mesh.pos[3 * (size_t)v];
+        if (p[2] > 2.9f && fabsf(p[0]) < 5.0f && fabsf(p[1]) < 5.0f) s += f->fx.exact_q[v], n++;
+    }
+    assert_true(n >= 9);
+    return s / n;
+}
+
+/* Beer–Lambert's prediction for the slab's top centre: each pair (o, i)
+ * crosses the stratum of thickness t (1 mm smooth edges) along a segment
+ * of length r with a height |Δz| = 6 mm, so the light pays
+ * exp(−r/|Δz| ∫ Δσtr dz); the homogeneous weights and transfer average
+ * that over the pairs. */
+static double beer_lambert_ratio(double t)
+{
+    /* ∫ (σtr(f(z)) − σtr(0)) dz across the stratum with its smooth edges
+     * (σtr is not linear in f), by the midpoint rule on 60000 cells */
+    const sss_field layer = {.kind = SSS_FIELD_LAYERS, .normal = {0, 0, 1}, .thickness_mm = t, .offset_mm = -t / 2,
+                             .edge_mm = 0.5};
+    const sss_material base = {.sigma_a = {0.01, 0.01, 0.01}, .sigmap_s = {1, 1, 1}, .eta = 1.3},
+                       in = {.sigma_a = {0.2, 0.2, 0.2}, .sigmap_s = {1, 1, 1}, .eta = 1.3};
+    double dstr_t = 0.0;
+    for (int k = 0; k < 60000; k++) {
+        const double x[3] = {0, 0, -3.0 + 6.0 * (k + 0.5) / 60000};
+        dstr_t += (sss_material_sigma_tr(&base, &in, sss_field_eval(&layer, x), 0) - sss_material_sigma_tr(&base, &in, 0.0, 0)) * 1e-4;
+    }
+    baked b;
+    sss_error err = {{0}};
+    if (load(&b, scene_text("slab.ply", NULL, "0,0,-1", NULL), &err) != SSS_OK) fail_msg("%s", err.msg);
+    const sss_mesh *m = &b.world[0];
+    sss_dipole d;
+    assert_int_equal(sss_dipole_init(&d, 0.01, 1.0, 1.3), SSS_OK);
+    const double R = sss_nbhd_radii(m, 1.0, &d, 1, 1e-3, NULL);
+    uint32_t top[64], nt = 0;
+    for (uint32_t v = 0; v < m->nv && nt < 64; v++) {
+        const float *p = &m->pos[3 * (size_t)v];
+        if (p[2] > 2.9f && fabsf(p[0]) < 5.0f && fabsf(p[1]) < 5.0f) top[nt++] = v;
+    }
+    sss_weights w;
+    assert_int_equal(sss_nbhd_build(m, 1.0, &d, 1, R, top, nt, 0, NULL, &w, &err), SSS_OK);
+    const double down[3] = {0, 0, -1};
+    float *G = malloc(m->nv * sizeof *G);
+    assert_int_equal(sss_transfer_compute(m, NULL, down, 1, 1.3, NULL, G, NULL, NULL, &err), SSS_OK);
+    double with = 0.0, without = 0.0;
+    for (uint32_t k = 0; k < nt; k++)
+        for (uint64_t e = w.start[k]; e < w.start[k + 1]; e++) {
+            const uint32_t i = w.idx[e];
+            if (G[i] == 0.0f) continue;
+            double r2 = 0.0;
+            for (int a = 0; a < 3; a++) {
+                const double dx = (double)m->pos[3 * (size_t)i + a] - m->pos[3 * (size_t)top[k] + a];
+                r2 += dx * dx;
+            }
+            const double dz = fabs((double)m->pos[3 * (size_t)i + 2] - m->pos[3 * (size_t)top[k] + 2]);
+            const double c = (double)w.w[e] * G[i];
+            without += c;
+            with += c * exp(-dstr_t * sqrt(r2) / dz); /* every bottom-to-top pair crosses the stratum */
+        }
+    free(G);
+    sss_weights_free(&w);
+    unload(&b);
+    return with / without;
+}
+
+/* The scene text with the paper's point weights, as beer_lambert_ratio sums. */
+static const char *point_weights(const char *json)
+{
+    static char buf[2100];
+    snprintf(buf, sizeof buf, "%.*s,\"bake\":{\"weights\":\"point\"}}", (int)strlen(json) - 1, json);
+    return buf;
+}
+
+static void backLitSlabFollowsBeerLambertThroughAnAbsorbingLayer(void **state)
+{
+    (void)state;
+    make_meshes();
+    sss_bake_file hom, l1, l2;
+    bake_scene(point_weights(scene_text("slab.ply", NULL, "0,0,-1", NULL)), &hom);
+    /* strata of 1 and 2 mm across the middle of the 6 mm slab, lit from below */
+    bake_scene(point_weights(scene_text("slab.ply", "{\"procedural\":\"layers\",\"normal\":[0,0,1],"
+                                        "\"thickness_mm\":1,\"offset_mm\":-0.5,\"edge_mm\":0.5}", "0,0,-1", NULL)), &l1);
+    bake_scene(point_weights(scene_text("slab.ply", "{\"procedural\":\"layers\",\"normal\":[0,0,1],"
+                                        "\"thickness_mm\":2,\"offset_mm\":-1,\"edge_mm\":0.5}", "0,0,-1", NULL)), &l2);
+    const double dstr = sqrt(3 * 0.2 * 1.2) - sqrt(3 * 0.01 * 1.01); /* σtr inside − σtr base, 1/mm */
+    const double q0 = top_centre(&hom), r1 = top_centre(&l1) / q0, r2 = top_centre(&l2) / q0;
+    const double p1 = beer_lambert_ratio(1.0), p2 = beer_lambert_ratio(2.0);
+    print_message("Beer-Lambert: 1 mm: q/q0 = %.4f, predicted %.4f (straight through %.4f); 2 mm: %.4f, predicted "
+                  "%.4f (%.4f)\n", r1, p1, exp(-dstr), r2, p2, exp(-2 * dstr));
+    /* no pair crosses the stratum on less than its thickness */
+    assert_true(r1 < exp(-dstr) && r2 < exp(-2 * dstr));
+    /* the march against the closed form, pair by pair, averaged over the
+     * same point weights: within 2 % (the midpoint rule over steps of a
+     * quarter of the edge) */
+    assert_float_equal(r1 / p1, 1.0, 0.02);
+    assert_float_equal(r2 / p2, 1.0, 0.02);
+    sss_file_free(&hom);
+    sss_file_free(&l1);
+    sss_file_free(&l2);
+}
+
+static void fieldMovedRigidlyWithItsObjectLeavesQUnchanged(void **state)
+{
+    (void)state;
+    make_meshes();
+    const char *field = "{\"procedural\":\"sphere\",\"centre_mm\":[4,1,0],\"radius_mm\":4,\"edge_mm\":1}";
+    sss_bake_file a, b;
+    bake_scene(scene_text("ball.ply", field, "0.3,0.2,0.9", NULL), &a);
+    /* rotated 40° about z and moved: the light turns with it */
+    const double t = 40.0 * SSS_PI / 180.0;
+    char light[200];
+    snprintf(light, sizeof light, "%.17g,%.17g,0.9", 0.3 * cos(t) - 0.2 * sin(t), 0.3 * sin(t) + 0.2 * cos(t));
+    bake_scene(scene_text("ball.ply", field, light, ",\"transform\":{\"rotate_deg\":[0,0,40],\"translate\":[5,-3,2]}"),
+               &b);
+    double worst = 0.0, top = 0.0;
+    for (uint32_t v = 0; v < a.mesh.nv; v++) top = fmax(top, a.fx.exact_q[v]);
+    for (uint32_t v = 0; v < a.mesh.nv; v++) worst = fmax(worst, fabs((double)a.fx.exact_q[v] - b.fx.exact_q[v]));
+    print_message("rigid motion: max |dq| %.3g of max q %.3g\n", worst, top);
+    assert_true(worst <= 1e-4 * top);
+    /* and the field mattered: without it q differs by far more */
+    sss_bake_file h;
+    bake_scene(scene_text("ball.ply", NULL, "0.3,0.2,0.9", NULL), &h);
+    double d = 0.0;
+    for (uint32_t v = 0; v < a.mesh.nv; v++) d = fmax(d, fabs((double)a.fx.exact_q[v] - h.fx.exact_q[v]));
+    assert_true(d > 100 * worst);
+    sss_file_free(&a);
+    sss_file_free(&b);
+    sss_file_free(&h);
+}
+
+static void kernelIsSymmetricInItsEndpoints(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 10.0, 2, &err), SSS_OK);
+    sss_hetero h;
+    memset(&h, 0, sizeof h);
+    h.field = (sss_field){.kind = SSS_FIELD_VEINS, .seed = 1, .scale_mm = 6.0};
+    h.xf[0] = h.xf[5] = h.xf[10] = 1.0;
+    sss_material base = {.name = "b", .sigma_a = {0.01, 0.02, 0.03}, .sigmap_s = {1, 1.2, 1.4}, .eta = 1.3};
+    h.inside = base;
+    for (int c = 0; c < 3; c++) h.inside.sigma_a[c] = 0.3;
+    sss_field_kernel k;
+    if (sss_field_kernel_create(&m, 1.0, &base, &h, 3, 1e-3, "ball", &k, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_true(k.f_min < k.f_max);
+    double worst = 0.0;
+    for (uint32_t o = 0; o < m.nv; o += 7)
+        for (uint32_t i = 0; i < m.nv; i += 5) {
+            double a[3], b[3];
+            sss_field_kappa(&k, &m, o, i, a);
+            sss_field_kappa(&k, &m, i, o, b);
+            for (int c = 0; c < 3; c++) {
+                /* the profile ratio and τ are symmetric; the weights then
+                 * differ only by ΔA_i vs ΔA_o, as the homogeneous ones do */
+                if (fabs(m.area[o] - m.area[i]) == 0.0) assert_true(a[c] == b[c]);
+                worst = fmax(worst, fabs(a[c] - b[c]) / fmax(a[c], 1e-300));
+                assert_true(a[c] >= 0.0 && isfinite(a[c]));
+            }
+        }
+    print_message("kappa(o,i) vs kappa(i,o): max relative difference %.3g\n", worst);
+    sss_field_kernel_free(&k);
+    sss_mesh_free(&m);
+}
+
+/* ---- 4. the file and .vdb ---------------------------------------------------- */
+
+static void fieldSectionRoundTripsAndRefusesABadGrid(void **state)
+{
+    (void)state;
+    make_meshes();
+    sss_bake_file f;
+    bake_scene(scene_text("ball.ply", "{\"procedural\":\"inclusions\",\"seed\":4,\"scale_mm\":6,\"radius_mm\":2}",
+                          "0,0,1", NULL), &f);
+    assert_int_equal(f.hetero.field.kind, SSS_FIELD_INCLUSIONS);
+    assert_int_equal(f.hetero.field.seed, 4);
+    assert_true(f.hetero.inside.sigma_a[0] == 0.2);
+    /* a grid field: samples survive bit for bit */
+    sss_error err = {{0}};
+    sss_field g;
+    const double lo[3] = {-11, -11, -11}, hi[3] = {11, 11, 11};
+    assert_int_equal(sss_field_sample(&f.hetero.field, lo, hi, 17, &g, &err), SSS_OK);
+    sss_field_free(&f.hetero.field);
+    f.hetero.field = g;
+    uint8_t *buf;
+    size_t len;
+    assert_int_equal(sss_file_encode(&f, &buf, &len, &err), SSS_OK);
+    sss_bake_file r;
+    if (sss_file_decode(buf, len, "mem.sss", &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_int_equal(r.hetero.field.kind, SSS_FIELD_GRID);
+    assert_memory_equal(r.hetero.field.n, g.n, sizeof g.n);
+    assert_memory_equal(r.hetero.field.data, g.data, (size_t)g.n[0] * g.n[1] * g.n[2] * sizeof(float));
+    assert_memory_equal(r.hetero.xf, f.hetero.xf, sizeof f.hetero.xf);
+    sss_file_free(&r);
+    /* a hostile node count behind valid checksums: refused before any
+     * allocation, naming the section (docs/format.md §2.2, §5.22) */
+    const uint32_t nsec = (uint32_t)(buf[12] | buf[13] << 8 | buf[14] << 16 | (uint32_t)buf[15] << 24);
+    int found = 0;
+    for (uint32_t k = 0; k < nsec; k++) {
+        uint8_t *e = buf + 24 + 40 * (size_t)k;
+        if (memcmp(e, "FELD", 4)) continue;
+        found = 1;
+        uint64_t off = 0, size = 0;
+        for (int b = 7; b >= 0; b--) off = off << 8 | e[8 + b], size = size << 8 | e[16 + b];
+        uint8_t *sec = buf + off;
+        for (int b = 0; b < 4; b++) sec[264 + b] = 0xff; /* n[0] = 2³² − 1 */
+        const uint32_t crc = sss_crc32(0, sec, (size_t)size);
+        for (int b = 0; b < 4; b++) e[32 + b] = (uint8_t)(crc >> 8 * b);
+    }
+    assert_true(found);
+    const uint32_t hcrc = sss_crc32(0, buf, 24 + 40 * (size_t)nsec);
+    for (int b = 0; b < 4; b++) buf[24 + 40 * (size_t)nsec + b] = (uint8_t)(hcrc >> 8 * b);
+    assert_int_not_equal(sss_file_decode(buf, len, "hostile.sss", &r, &err), SSS_OK);
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "hostile.sss: section FELD: a grid of 4294967295 x"));
+    free(buf);
+    /* a value out of range is refused by the writer, naming the section */
+    g.data[3] = 2.0f;
+    assert_int_not_equal(sss_file_encode(&f, &buf, &len, &err), SSS_OK);
+    assert_non_null(strstr(err.msg, "section FELD"));
+    sss_file_free(&f);
+}
+
+static void vdbWrittenAndReadBackGivesTheSameField(void **state)
+{
+    (void)state;
+    sss_field veins = {.kind = SSS_FIELD_VEINS, .seed = 2, .scale_mm = 8.0}, g, back;
+    const double lo[3] = {-12, -10, -9}, hi[3] = {12, 10, 9};
+    sss_error err = {{0}};
+    assert_int_equal(sss_field_sample(&veins, lo, hi, 25, &g, &err), SSS_OK);
+    char path[400];
+    snprintf(path, sizeof path, "%s/veins.vdb", tmpdir);
+    if (sss_field_write_vdb(path, "density", &g, &err) != SSS_OK) fail_msg("%s", err.msg);
+    if (sss_field_load(path, "density", &back, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_memory_equal(back.n, g.n, sizeof g.n);
+    for (int a = 0; a < 3; a++) assert_float_equal(back.origin_mm[a], g.origin_mm[a], 1e-9);
+    assert_float_equal(back.voxel_mm, g.voxel_mm, 1e-12);
+    assert_memory_equal(back.data, g.data, (size_t)g.n[0] * g.n[1] * g.n[2] * sizeof(float));
+    /* and evaluates as the field it sampled at the nodes */
+    const double x[3] = {g.origin_mm[0] + 3 * g.voxel_mm, g.origin_mm[1] + 5 * g.voxel_mm, g.origin_mm[2]};
+    assert_float_equal(sss_field_eval(&back, x), sss_field_eval(&veins, x), 1e-6);
+    sss_field_free(&back);
+    /* a grid name that is not there, and a file that is not a .vdb */
+    assert_int_not_equal(sss_field_load(path, "temperature", &back, &err), SSS_OK);
+    assert_non_null(strstr(err.msg, "veins.vdb: grid 'temperature' not found (the file holds: density)"));
+    char bad[400];
+    snprintf(bad, sizeof bad, "%s/bad.vdb", tmpdir);
+    FILE *fp = fopen(bad, "wb");
+    fputs("this is not a volume", fp);
+    fclose(fp);
+    assert_int_not_equal(sss_field_load(bad, "density", &back, &err), SSS_OK);
+    assert_non_null(strstr(err.msg, "bad.vdb: not a readable OpenVDB file"));
+    assert_null(strchr(err.msg, '\n'));
+    /* a truncated one */
+    snprintf(bad, sizeof bad, "%s/cut.vdb", tmpdir);
+    char cmd[1000];
+    snprintf(cmd, sizeof cmd, "head -c 300 '%s' > '%s'", path, bad);
+    assert_int_equal(system(cmd), 0);
+    assert_int_not_equal(sss_field_load(bad, "density", &back, &err), SSS_OK);
+    assert_non_null(strstr(err.msg, "cut.vdb: "));
+    assert_null(strchr(err.msg, '\n'));
+    sss_field_free(&g);
+}
+
+static void fieldOutsideTheMeshOrABadVdbFailsTheBakeNamingTheFile(void **state)
+{
+    (void)state;
+    make_meshes();
+    baked b;
+    sss_error err = {{0}};
+    sss_bake_options o;
+    memset(&o, 0, sizeof o);
+    sss_bake_file f;
+    /* a sphere field far from the ball */
+    if (load(&b, scene_text("ball.ply", "{\"procedural\":\"sphere\",\"centre_mm\":[100,0,0],\"radius_mm\":5}",
+                            "0,0,1", NULL), &err) != SSS_OK)
+        fail_msg("%s", err.msg);
+    assert_int_not_equal(sss_bake_object(&b.sc, &b.plan, b.world, 0, &o, &f, NULL, &err), SSS_OK);
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "scene.json: /objects/0/material/field: field: the sphere"));
+    assert_non_null(strstr(err.msg, "lies outside the object"));
+    unload(&b);
+    /* a .vdb whose grid does not cover the ball */
+    sss_field small = {.kind = SSS_FIELD_CONSTANT, .value = 0.5}, g;
+    const double lo[3] = {-2, -2, -2}, hi[3] = {2, 2, 2};
+    assert_int_equal(sss_field_sample(&small, lo, hi, 5, &g, &err), SSS_OK);
+    char path[400];
+    snprintf(path, sizeof path, "%s/small.vdb", tmpdir);
+    assert_int_equal(sss_field_write_vdb(path, "density", &g, &err), SSS_OK);
+    sss_field_free(&g);
+    if (load(&b, scene_text("ball.ply", "{\"vdb\":\"small.vdb\",\"grid\":\"density\"}", "0,0,1", NULL), &err) !=
+        SSS_OK)
+        fail_msg("%s", err.msg);
+    assert_int_not_equal(sss_bake_object(&b.sc, &b.plan, b.world, 0, &o, &f, NULL, &err), SSS_OK);
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "small.vdb: field: the grid spans"));
+    unload(&b);
+    /* a .vdb that is not one */
+    snprintf(path, sizeof path, "%s/junk.vdb", tmpdir);
+    FILE *fp = fopen(path, "wb");
+    fputs("junk", fp);
+    fclose(fp);
+    if (load(&b, scene_text("ball.ply", "{\"vdb\":\"junk.vdb\",\"grid\":\"density\"}", "0,0,1", NULL), &err) !=
+        SSS_OK)
+        fail_msg("%s", err.msg);
+    assert_int_not_equal(sss_bake_object(&b.sc, &b.plan, b.world, 0, &o, &f, NULL, &err), SSS_OK);
+    assert_non_null(strstr(err.msg, "junk.vdb: not a readable OpenVDB file"));
+    unload(&b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(blendIsExactAtBothEndsAndLinearBetween),
+        cmocka_unit_test(transportColourIsReachedAfterTheTransportDistance),
+        cmocka_unit_test(proceduralFieldsAreDeterministicBoundedAndSeeded),
+        cmocka_unit_test(shapesFollowTheirSignedDistanceWithASmoothEdge),
+        cmocka_unit_test(gridIsTrilinearAndSamplingReproducesALinearField),
+        cmocka_unit_test(sceneReadsFieldInsideAndTransportAndNamesErrors),
+        cmocka_unit_test(constantFieldsReduceToTheHomogeneousBakes),
+        cmocka_unit_test(absorbingInclusionNeverBrightensAndDarkensWhatIsBehindIt),
+        cmocka_unit_test(backLitSlabFollowsBeerLambertThroughAnAbsorbingLayer),
+        cmocka_unit_test(fieldMovedRigidlyWithItsObjectLeavesQUnchanged),
+        cmocka_unit_test(kernelIsSymmetricInItsEndpoints),
+        cmocka_unit_test(fieldSectionRoundTripsAndRefusesABadGrid),
+        cmocka_unit_test(vdbWrittenAndReadBackGivesTheSameField),
+        cmocka_unit_test(fieldOutsideTheMeshOrABadVdbFailsTheBakeNamingTheFile),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
