@@ -17,7 +17,8 @@ expect_fail "^sss-view: $TMP/plain.sss: not baked for near point lights (no dist
 # the bake with point lights: the planner's point-shells pass and the direction set in one file
 expect_ok "$SSS_BAKE" "$TMP/blob.ply" -o "$TMP/pt.sss" --material skin1 --mm-per-unit 10 --dirs 40 \
   --point-light 0,0,2 --point-light 1,1,1,3 --json -q
-contains "$TMP/out" '"direction-set","point-shells"]'
+# (skin1 also takes single scattering by the planner's rule, docs/layers.md §4)
+contains "$TMP/out" '"direction-set","point-shells","single-scattering"]'
 expect_ok VIEW "$TMP/pt.sss" --point-light 0,0,2 $IMG --out "$TMP/point.exr"
 contains "$TMP/err" 'lights of the command line: point-shells$'
 expect_ok VIEW "$TMP/pt.sss" --light 0,0,1 $IMG --out "$TMP/dir.exr"
