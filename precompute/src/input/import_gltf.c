@@ -683,6 +683,13 @@ static sss_result pose_nodes(gltf *g)
             long long ni = cJSON_IsObject(tg) && cJSON_GetObjectItemCaseSensitive(tg, "node")
                                ? get_index(g, tg, "node", nn, 0, what, "node")
                                : -1;
+            /* get_index has named the fault when it returned -1 for a
+             * member that is there; a missing object or node is named here */
+            if (!cJSON_IsObject(c)) { r = bad(g, "%s: not an object", what); break; }
+            if (!cJSON_IsObject(tg) || !cJSON_GetObjectItemCaseSensitive(tg, "node")) {
+                r = bad(g, "%s: no target node", what);
+                break;
+            }
             if (si < 0 || ni < 0 || !cJSON_IsString(path)) {
                 r = si < 0 || ni < 0 ? SSS_ERR_FORMAT : bad(g, "%s: no target path", what);
                 break;
