@@ -1118,7 +1118,18 @@ static int parse_args(int argc, char **argv, stat_args *a)
         .extra_msg = "%s: unexpected argument '%s'\n",
         .missing_msg = "%s: missing FILE.sss (see --help)\n",
     };
-    return sss_cli_parse(&cli, argc, argv);
+    const int rc = sss_cli_parse(&cli, argc, argv);
+    if (rc != SSS_CLI_RUN) return rc;
+    /* FILE.sss, or a deforming scene without a file (docs/deformable.md §4) */
+    if (a->path && (a->scene || a->time_given)) {
+        sss_cli_printf(stderr, "%s: --scene and --time measure a deforming scene without FILE.sss\n", TOOL);
+        return 2;
+    }
+    if (!a->path && !a->scene) {
+        sss_cli_printf(stderr, "%s: missing FILE.sss (see --help)\n", TOOL);
+        return 2;
+    }
+    return rc;
 }
 
 /* --query and --error measure the stored direction set (Hao–Varshney 2004
@@ -1188,15 +1199,6 @@ int main(int argc, char **argv)
     stat_args a;
     int rc = parse_args(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;
-    /* a deforming scene without a file (docs/deformable.md §4) */
-    if (a.path && (a.scene || a.time_given)) {
-        sss_cli_printf(stderr, "%s: --scene and --time measure a deforming scene without FILE.sss\n", TOOL);
-        return 2;
-    }
-    if (!a.path && !a.scene) {
-        sss_cli_printf(stderr, "%s: missing FILE.sss (see --help)\n", TOOL);
-        return 2;
-    }
     if (!a.path) {
         if (!a.want_error || a.qvertex || a.qlight || a.want_model || a.image_opt || a.interp || a.no_vector) {
             sss_cli_printf(stderr, "%s: --scene S.json takes --error [--time T] [--views N] [--seed S] [--json] "

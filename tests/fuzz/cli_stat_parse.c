@@ -10,7 +10,7 @@ int fuzz_cli_stat(int argc, char **argv)
     stat_args a;
     int rc = parse_args(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;
-    if (!a.path) abort();
+    if (!a.path == !a.scene) abort(); /* a file, or a deforming scene without one */
     if (a.views < 1 || a.views > 100000) abort();
     if (a.ea.exposure != 0 && !(a.ea.exposure > 0 && a.ea.exposure <= SSS_VIEW_GAIN_MAX)) abort();
     if (a.ea.image_size != 0 && (a.ea.image_size < 16 || a.ea.image_size > 4096)) abort();
