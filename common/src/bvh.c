@@ -369,23 +369,38 @@ static int tri_hit(const float *t, const float o[3], const float d[3], float tne
     return tri_cross(t, o, d, &T, &abs_den) && abs_den * tnear < T;
 }
 
+/* 1/d per axis, a huge finite value for an axis the ray does not move
+ * along (the slab test then keeps or rejects that axis whole). */
+static void ray_inverse(const float d[3], float inv[3])
+{
+    for (int k = 0; k < 3; k++) inv[k] = fabsf(d[k]) > 1e-30f ? 1.0f / d[k] : 1e30f;
+}
+
+/* The slab test: the ray o + t d meets node nd's box for some t in
+ * [0, tmax]. Both traversals use it, and near_vis.comp.glsl replays it
+ * operation for operation. */
+static int node_hit(const sss_bvh_node *nd, const float o[3], const float inv[3], float tmax)
+{
+    float tmin = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        const float t0 = (nd->lo[k] - o[k]) * inv[k], t1 = (nd->hi[k] - o[k]) * inv[k];
+        tmin = fmaxf(tmin, fminf(t0, t1));
+        tmax = fminf(tmax, fmaxf(t0, t1));
+    }
+    return tmin <= tmax;
+}
+
 int sss_bvh_occluded(const sss_bvh *b, const float o[3], const float d[3], float tnear)
 {
     if (!b->ntri) return 0;
     float inv[3];
-    for (int k = 0; k < 3; k++) inv[k] = fabsf(d[k]) > 1e-30f ? 1.0f / d[k] : 1e30f;
+    ray_inverse(d, inv);
     uint32_t stack[SSS_BVH_STACK];
     int sp = 0;
     uint32_t ni = 0;
     for (;;) {
         const sss_bvh_node *nd = &b->node[ni];
-        float tmin = 0.0f, tmax = INFINITY;
-        for (int k = 0; k < 3; k++) {
-            const float t0 = (nd->lo[k] - o[k]) * inv[k], t1 = (nd->hi[k] - o[k]) * inv[k];
-            tmin = fmaxf(tmin, fminf(t0, t1));
-            tmax = fminf(tmax, fmaxf(t0, t1));
-        }
-        if (tmin <= tmax) {
+        if (node_hit(nd, o, inv, INFINITY)) {
             const uint32_t cnt = nd->b >> 2;
             if (cnt == 0) {
                 const int far = d[nd->b & 3] < 0.0f; /* right child first when the ray runs downwards */
@@ -406,19 +421,13 @@ float sss_bvh_nearest(const sss_bvh *b, const float o[3], const float d[3], floa
     float best = INFINITY;
     if (!b->ntri) return best;
     float inv[3];
-    for (int k = 0; k < 3; k++) inv[k] = fabsf(d[k]) > 1e-30f ? 1.0f / d[k] : 1e30f;
+    ray_inverse(d, inv);
     uint32_t stack[SSS_BVH_STACK];
     int sp = 0;
     uint32_t ni = 0;
     for (;;) {
         const sss_bvh_node *nd = &b->node[ni];
-        float tmin = 0.0f, tmax = best;
-        for (int k = 0; k < 3; k++) {
-            const float t0 = (nd->lo[k] - o[k]) * inv[k], t1 = (nd->hi[k] - o[k]) * inv[k];
-            tmin = fmaxf(tmin, fminf(t0, t1));
-            tmax = fminf(tmax, fmaxf(t0, t1));
-        }
-        if (tmin <= tmax) {
+        if (node_hit(nd, o, inv, best)) {
             const uint32_t cnt = nd->b >> 2;
             if (cnt == 0) {
                 const int far = d[nd->b & 3] < 0.0f;
