@@ -172,3 +172,73 @@ sss_result sss_mesh_compute_normals_areas(sss_mesh *m, const char *name, sss_err
     m->area = area;
     return SSS_OK;
 }
+
+/* Any unit vector orthogonal to n (n unit or zero): the axis least aligned
+ * with n, made orthogonal to it. */
+static void any_orthogonal(const double n[3], double t[3])
+{
+    const double ax = fabs(n[0]), ay = fabs(n[1]), az = fabs(n[2]);
+    double e[3] = {0, 0, 0};
+    e[ax <= ay && ax <= az ? 0 : ay <= az ? 1 : 2] = 1.0;
+    const double d = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
+    for (int k = 0; k < 3; k++) t[k] = e[k] - d * n[k];
+    const double l = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (int k = 0; k < 3; k++) t[k] /= l;
+}
+
+sss_result sss_mesh_tangents(const sss_mesh *m, float *tangent, const char *name, sss_error *err)
+{
+    if (!m || !tangent || !m->uv || !m->nrm)
+        return sss_fail(err, SSS_ERR_ARG, "%s: tangent frames need texture coordinates and normals",
+                        name ? name : "mesh");
+    /* per vertex: Σ ∂p/∂u and Σ ∂p/∂v over its triangles, each the
+     * solution of e1 = Δu1 T + Δv1 B, e2 = Δu2 T + Δv2 B times |det|, so a
+     * triangle weighs by its size (Lengyel's construction) */
+    double *acc = calloc((size_t)m->nv * 6 + 1, sizeof(double));
+    if (!acc) return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for tangent frames", name ? name : "mesh");
+    for (uint32_t f = 0; f < m->nf; f++) {
+        const uint32_t *t = &m->tri[3 * (size_t)f];
+        const float *p0 = &m->pos[3 * (size_t)t[0]], *p1 = &m->pos[3 * (size_t)t[1]], *p2 = &m->pos[3 * (size_t)t[2]];
+        const float *w0 = &m->uv[2 * (size_t)t[0]], *w1 = &m->uv[2 * (size_t)t[1]], *w2 = &m->uv[2 * (size_t)t[2]];
+        const double du1 = (double)w1[0] - w0[0], dv1 = (double)w1[1] - w0[1];
+        const double du2 = (double)w2[0] - w0[0], dv2 = (double)w2[1] - w0[1];
+        const double det = du1 * dv2 - du2 * dv1;
+        if (!(fabs(det) > 0.0) || !isfinite(det)) continue; /* (u, v) collinear: no direction */
+        /* a span over 1/2 is the periodic seam of a welded mesh (u from
+         * about 1 back to 0): its differences are not the surface's */
+        if (fabs(du1) > 0.5 || fabs(du2) > 0.5 || fabs(dv1) > 0.5 || fabs(dv2) > 0.5) continue;
+        const double s = det > 0 ? 1.0 : -1.0;
+        double e1[3], e2[3], T[3], B[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = (double)p1[k] - p0[k];
+            e2[k] = (double)p2[k] - p0[k];
+            T[k] = s * (dv2 * e1[k] - dv1 * e2[k]); /* ∂p/∂u · |det| */
+            B[k] = s * (du1 * e2[k] - du2 * e1[k]); /* ∂p/∂v · |det| */
+        }
+        for (int c = 0; c < 3; c++)
+            for (int k = 0; k < 3; k++) {
+                acc[6 * (size_t)t[c] + (size_t)k] += T[k];
+                acc[6 * (size_t)t[c] + 3 + (size_t)k] += B[k];
+            }
+    }
+    for (uint32_t v = 0; v < m->nv; v++) {
+        const double n[3] = {m->nrm[3 * (size_t)v], m->nrm[3 * (size_t)v + 1], m->nrm[3 * (size_t)v + 2]};
+        const double *T = &acc[6 * (size_t)v], *B = T + 3;
+        const double tn = T[0] * n[0] + T[1] * n[1] + T[2] * n[2];
+        double t[3] = {T[0] - tn * n[0], T[1] - tn * n[1], T[2] - tn * n[2]};
+        const double l = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+        const double nl = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+        double w = 1.0;
+        if (l > 1e-12 * sqrt(T[0] * T[0] + T[1] * T[1] + T[2] * T[2]) && l > 0.0 && nl > 0.5) {
+            for (int k = 0; k < 3; k++) t[k] /= l;
+            const double c[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
+            w = c[0] * B[0] + c[1] * B[1] + c[2] * B[2] < 0.0 ? -1.0 : 1.0;
+        } else {
+            any_orthogonal(n, t);
+        }
+        for (int k = 0; k < 3; k++) tangent[4 * (size_t)v + (size_t)k] = (float)t[k];
+        tangent[4 * (size_t)v + 3] = (float)w;
+    }
+    free(acc);
+    return SSS_OK;
+}

@@ -9,6 +9,7 @@
 /* Growable mesh builder with a vertex-weld table keyed by exact position. */
 typedef struct builder {
     float *pos; uint32_t nv, cap_v;
+    float *uv;  /* 2 * cap_v texture coordinates, or NULL (the mesh has none) */
     uint32_t *tri; uint32_t nf, cap_f;
     int failed;
 } builder;
@@ -19,12 +20,28 @@ static uint32_t b_vertex(builder *b, double x, double y, double z)
         uint32_t cap = b->cap_v ? 2 * b->cap_v : 1024;
         float *p = realloc(b->pos, (size_t)cap * 3 * sizeof(float));
         if (!p) { b->failed = 1; return 0; }
-        b->pos = p; b->cap_v = cap;
+        b->pos = p;
+        if (b->uv) {
+            float *t = realloc(b->uv, (size_t)cap * 2 * sizeof(float));
+            if (!t) { b->failed = 1; return 0; }
+            b->uv = t;
+        }
+        b->cap_v = cap;
     }
     b->pos[3 * (size_t)b->nv + 0] = (float)x;
     b->pos[3 * (size_t)b->nv + 1] = (float)y;
     b->pos[3 * (size_t)b->nv + 2] = (float)z;
     return b->nv++;
+}
+
+/* Texture coordinates (u, v) of vertex i (docs/layers.md §3: what a depth
+ * map is read at); the first call gives the mesh texture coordinates. */
+static void b_uv(builder *b, uint32_t i, double u, double v)
+{
+    if (b->failed) return;
+    if (!b->uv && !(b->uv = calloc((size_t)b->cap_v * 2 + 2, sizeof(float)))) { b->failed = 1; return; }
+    b->uv[2 * (size_t)i] = (float)u;
+    b->uv[2 * (size_t)i + 1] = (float)v;
 }
 
 static void b_tri(builder *b, uint32_t i, uint32_t j, uint32_t k)
@@ -45,10 +62,11 @@ static sss_result b_finish(builder *b, sss_mesh *m, const char *name, sss_error 
 {
     memset(m, 0, sizeof *m);
     if (b->failed) {
-        free(b->pos); free(b->tri);
+        free(b->pos); free(b->tri); free(b->uv);
         return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", name);
     }
     m->pos = b->pos; m->nv = b->nv;
+    m->uv = b->uv;
     m->tri = b->tri; m->nf = b->nf;
     sss_result r = sss_mesh_compute_normals_areas(m, name, err);
     if (r != SSS_OK) sss_mesh_free(m);
@@ -113,6 +131,14 @@ sss_result sss_gen_sphere(sss_mesh *m, double radius, unsigned subdiv, sss_error
         }
         free(old); free(em.key); free(em.val);
     }
+    /* spherical coordinates about z: u the longitude over 2π from −x, v the
+     * latitude from the south pole (vertices are welded, so the triangles
+     * across u = 0 ≡ 1 span the seam) */
+    for (uint32_t i = 0; i < b.nv && !b.failed; i++) {
+        const double x = b.pos[3 * (size_t)i], y = b.pos[3 * (size_t)i + 1], z = b.pos[3 * (size_t)i + 2];
+        const double zr = fmax(-1.0, fmin(1.0, z / sqrt(x * x + y * y + z * z)));
+        b_uv(&b, i, 0.5 + atan2(y, x) / (2 * SSS_PI), 0.5 + asin(zr) / SSS_PI);
+    }
     return b_finish(&b, m, "sphere", err);
 }
 
@@ -123,7 +149,8 @@ sss_result sss_gen_plane(sss_mesh *m, double sx, double sy, unsigned nx, unsigne
     builder b = {0};
     for (unsigned j = 0; j <= ny; j++)
         for (unsigned i = 0; i <= nx; i++)
-            b_vertex(&b, sx * ((double)i / nx - 0.5), sy * ((double)j / ny - 0.5), 0.0);
+            b_uv(&b, b_vertex(&b, sx * ((double)i / nx - 0.5), sy * ((double)j / ny - 0.5), 0.0), (double)i / nx,
+                 (double)j / ny);
     for (unsigned j = 0; j < ny; j++)
         for (unsigned i = 0; i < nx; i++) {
             uint32_t v00 = j * (nx + 1) + i, v10 = v00 + 1, v01 = v00 + nx + 1, v11 = v01 + 1;
@@ -179,7 +206,8 @@ sss_result sss_gen_torus(sss_mesh *m, double R, double r, unsigned nu, unsigned 
     for (unsigned i = 0; i < nu; i++)
         for (unsigned j = 0; j < nv; j++) {
             double u = 2 * SSS_PI * i / nu, v = 2 * SSS_PI * j / nv;
-            b_vertex(&b, (R + r * cos(v)) * cos(u), (R + r * cos(v)) * sin(u), r * sin(v));
+            b_uv(&b, b_vertex(&b, (R + r * cos(v)) * cos(u), (R + r * cos(v)) * sin(u), r * sin(v)), (double)i / nu,
+                 (double)j / nv);
         }
     for (unsigned i = 0; i < nu; i++)
         for (unsigned j = 0; j < nv; j++) {
@@ -200,11 +228,12 @@ sss_result sss_gen_tube(sss_mesh *m, double radius, double length, unsigned nrin
     for (unsigned i = 0; i <= nseg; i++)
         for (unsigned j = 0; j < nring; j++) {
             const double u = 2 * SSS_PI * j / nring;
-            b_vertex(&b, radius * cos(u), radius * sin(u), length * ((double)i / nseg - 0.5));
+            b_uv(&b, b_vertex(&b, radius * cos(u), radius * sin(u), length * ((double)i / nseg - 0.5)), (double)j / nring,
+                 (double)i / nseg);
         }
     const uint32_t bottom = (nseg + 1) * nring, top = bottom + 1;
-    b_vertex(&b, 0.0, 0.0, -0.5 * length);
-    b_vertex(&b, 0.0, 0.0, 0.5 * length);
+    b_uv(&b, b_vertex(&b, 0.0, 0.0, -0.5 * length), 0.5, 0.0); /* the caps' centres: v at their ring's */
+    b_uv(&b, b_vertex(&b, 0.0, 0.0, 0.5 * length), 0.5, 1.0);
     for (unsigned i = 0; i < nseg; i++)
         for (unsigned j = 0; j < nring; j++) { /* side quads, outward: (around) × (along z) is radial */
             const uint32_t a = i * nring + j, c = i * nring + (j + 1) % nring, d = (i + 1) * nring + (j + 1) % nring,

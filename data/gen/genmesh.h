@@ -1,6 +1,15 @@
 /* genmesh.h: procedural test meshes at any resolution, outward-facing,
  * counter-clockwise, with shared (welded) vertices. Normals and areas are
  * computed (sss_mesh_compute_normals_areas). Sizes are in mesh units.
+ *
+ * Texture coordinates (sss_mesh.uv, what a layer's depth map is read at,
+ * docs/layers.md §3): the plane (i/nx, j/ny), the sphere and the blob
+ * made from it (u = 1/2 + atan2(y, x)/2π, v = 1/2 + asin(z/|p|)/π), the
+ * torus (i/nu, j/nv: around z, around the tube) and the tube's side
+ * (around, along z; each cap's centre at u = 1/2 and its ring's v). The
+ * vertices stay welded, so the triangles that close a periodic direction
+ * span u (or v) from about 1 back to 0 (sss_mesh_tangents skips them).
+ * The box, slab, pair and subdivided meshes have none.
  */
 #ifndef SSS_GENMESH_H
 #define SSS_GENMESH_H

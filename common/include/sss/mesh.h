@@ -64,6 +64,20 @@ sss_result sss_mesh_compute_normals_areas(sss_mesh *m, const char *name, sss_err
  * one read from a file). Indices must already be valid. */
 void sss_mesh_vertex_areas(const sss_mesh *m, double *area);
 
+/* Per-vertex tangent frames from the texture coordinates (the frame
+ * seed 002 §2.3 marches texture coordinates in): tangent[4 v .. 4 v + 3]
+ * = (T, w), T the unit direction of ∂p/∂u at vertex v made orthogonal to
+ * its normal (Gram–Schmidt), w = ±1 the handedness, so that the bitangent
+ * is B = w (N × T) and points along ∂p/∂v. ∂p/∂u of each triangle comes
+ * from its edges and their (u, v) differences, weighted by the triangle's
+ * area (unnormalised cross products) and summed in triangle order, so the
+ * result is deterministic. A triangle whose (u, v) are collinear, or
+ * whose u or v differences exceed 1/2 (the periodic seam of a welded mesh,
+ * as sss-genmesh's sphere, torus and tube have), adds nothing; a vertex left with no usable direction (or no normal) gets the
+ * unit vector least aligned with its normal, made orthogonal, and w = 1.
+ * Needs m->uv and m->nrm; SSS_ERR_ARG (naming `name`) otherwise. */
+sss_result sss_mesh_tangents(const sss_mesh *m, float *tangent, const char *name, sss_error *err);
+
 /* Whether m lies in the range above: every coordinate finite and at most
  * SSS_COORD_MAX in magnitude and, when mm_per_unit is not 0, mm_per_unit in
  * [SSS_MM_PER_UNIT_MIN, SSS_MM_PER_UNIT_MAX] and the bounding-box diagonal

@@ -107,8 +107,9 @@ void sss_import_print_repairs(const sss_import_report *rep, const char *prefix, 
  * when the repairs are not (sss-bake -q). */
 void sss_import_print_warnings(const sss_import_report *rep, const char *prefix, void *stream);
 
-/* Writes m as a binary little-endian PLY (float x y z; uchar-count int
- * vertex_indices). Used by the data tools and tests. */
+/* Writes m as a binary little-endian PLY (float x y z, and float u v when
+ * m->uv is not NULL; uchar-count int vertex_indices). Used by the data
+ * tools and tests. */
 sss_result sss_export_ply(const char *path, const sss_mesh *m, sss_error *err);
 
 #ifdef __cplusplus

@@ -29,19 +29,22 @@ sss_result sss_export_ply(const char *path, const sss_mesh *m, sss_error *err)
     sss_atomic a;
     sss_result r = sss_atomic_begin(&a, path, NULL, err);
     if (r != SSS_OK) return r;
-    char hdr[256];
+    /* texture coordinates, where the mesh has them, as the properties u
+     * and v (the names the importer reads first, import_ply.c) */
+    const int tex = m->uv != NULL;
+    char hdr[320];
     const int hn = snprintf(hdr, sizeof hdr,
                             "ply\nformat binary_little_endian 1.0\nelement vertex %u\nproperty float x\nproperty float y\n"
-                            "property float z\nelement face %u\nproperty list uchar int vertex_indices\nend_header\n",
-                            m->nv, m->nf);
+                            "property float z\n%selement face %u\nproperty list uchar int vertex_indices\nend_header\n",
+                            m->nv, tex ? "property float u\nproperty float v\n" : "", m->nf);
     r = sss_atomic_write(&a, hdr, (size_t)hn, err);
     unsigned char buf[65536];
     size_t used = 0;
     for (uint32_t v = 0; r == SSS_OK && v < m->nv; v++) {
-        if (used + 12 > sizeof buf) { r = sss_atomic_write(&a, buf, used, err); used = 0; }
-        for (int k = 0; k < 3; k++) {
+        if (used + 20 > sizeof buf) { r = sss_atomic_write(&a, buf, used, err); used = 0; }
+        for (int k = 0; k < 3 + 2 * tex; k++) {
             uint32_t u;
-            memcpy(&u, &m->pos[3 * (size_t)v + k], 4);
+            memcpy(&u, k < 3 ? &m->pos[3 * (size_t)v + k] : &m->uv[2 * (size_t)v + (k - 3)], 4);
             put_u32le(buf + used, u);
             used += 4;
         }
