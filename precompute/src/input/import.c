@@ -144,6 +144,12 @@ static sss_result import_mesh(const char *path, int pose, double t, sss_mesh *ou
             r = sss_fail(err, SSS_ERR_FORMAT, "%s: the reader delivered %llu faces, expected %llu", path, (ull)soup.nf,
                          ex.nf != ULLONG_MAX ? ex.nf : ex.nf_max);
     }
+    if (r == SSS_OK && ex.uv && !soup.uv && soup.nv == ex.nv) {
+        /* the scan's texture coordinates (PLY, OBJ), in the reader's vertex
+         * order as the positions are; the repair carries them through */
+        soup.uv = ex.uv;
+        ex.uv = NULL;
+    }
     if (r == SSS_OK) {
         /* STL: the reader merges equal corners and drops the triangles that
          * then use a vertex twice. */
@@ -159,6 +165,7 @@ static sss_result import_mesh(const char *path, int pose, double t, sss_mesh *ou
     sss_om_soup_free(&soup);
     free(ex.drop);
     free(ex.dpos);
+    free(ex.uv);
     free(ex.own);
     sss_src_close(&s);
     if (r != SSS_OK) sss_mesh_free(out);

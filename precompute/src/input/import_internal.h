@@ -131,6 +131,10 @@ typedef struct expect {
      * far-off mesh be recentred before the float conversion
      * (docs/robustness.md B6). */
     double *dpos;
+    /* PLY (properties u v, s t or texture_u texture_v) and OBJ (vt, the
+     * first corner's of each vertex): 2 per vertex in the reader's vertex
+     * order, or NULL; handed to the soup (sss_om_soup.uv) after the read */
+    float *uv;
     /* OBJ: statements the specification does not know (sss_import_report) */
     ull unknown;
     char first_unknown[36];

@@ -19,6 +19,87 @@ static int known_statement(tok kw)
     return 0;
 }
 
+/* The texture coordinates of an OBJ file: each vertex takes the vt of the
+ * first face corner that names one ("f v/vt ..."; a vertex on a seam,
+ * whose corners name different vt, keeps its first). They are kept only
+ * when every vertex that a face uses has one and every vt named is a pair
+ * of finite numbers (a missing v is 0, as the specification says):
+ * otherwise the mesh has none, as before. */
+typedef struct obj_uv {
+    float *vt;        /* 2 per vt statement */
+    ull nvt, cap;
+    sll *first;       /* per vertex: the 1-based vt of its first corner, 0 no corner, -1 none or a bad one */
+    int bad;          /* a vt statement that is not numbers */
+} obj_uv;
+
+static sss_result obj_vt(obj_uv *tx, char **q, char *e)
+{
+    if (tx->nvt == tx->cap) {
+        ull cap = tx->cap ? 2 * tx->cap : 1024;
+        float *n = realloc(tx->vt, (size_t)cap * 2 * sizeof(float));
+        if (!n) return SSS_ERR_NOMEM;
+        tx->vt = n;
+        tx->cap = cap;
+    }
+    float *w = &tx->vt[2 * tx->nvt++];
+    w[0] = w[1] = 0.0f;
+    tok t;
+    for (int k = 0; k < 2; k++) {
+        if (!sss_scan_token(q, e, &t)) {
+            if (k == 0) tx->bad = 1; /* a vt needs its u */
+            break;
+        }
+        if (sss_scan_float(t) != NUM_OK) {
+            tx->bad = 1;
+            break;
+        }
+        w[k] = (float)tok_double(t);
+    }
+    return SSS_OK;
+}
+
+/* A face corner of vertex v (1-based, resolved): [p, end) after its first
+ * slash ("v/vt[/vn]"), or p NULL for a corner without one. Only the first
+ * corner of each vertex counts. */
+static sss_result obj_corner_uv(obj_uv *tx, sll v, ull nv, char *p, char *end)
+{
+    if (v < 1 || (ull)v > nv) return SSS_OK; /* the face's own check refuses it */
+    if (!tx->first && !(tx->first = calloc((size_t)nv + 1, sizeof *tx->first))) return SSS_ERR_NOMEM;
+    if (tx->first[v - 1]) return SSS_OK;
+    char *q = p;
+    while (q && q < end && *q != '/') q++;
+    sll vt;
+    tok t = {p, p ? (size_t)(q - p) : 0};
+    if (t.n == 0) { /* "v" or "v//vn": a corner without a texture coordinate */
+        tx->first[v - 1] = -1;
+        return SSS_OK;
+    }
+    if (!sss_scan_int(t, &vt) || vt == 0) vt = -1;
+    else if (vt < 0) vt = (sll)tx->nvt + vt + 1 >= 1 ? (sll)tx->nvt + vt + 1 : -1;
+    tx->first[v - 1] = vt;
+    return SSS_OK;
+}
+
+static sss_result obj_vertex_uv(const obj_uv *tx, ull nv, float **out, const char *name, sss_error *err)
+{
+    *out = NULL;
+    if (!tx->nvt || !tx->first || tx->bad) return SSS_OK;
+    for (ull v = 0; v < nv; v++)
+        if (tx->first[v] < 0 || (ull)tx->first[v] > tx->nvt) return SSS_OK;
+    float *uv = malloc((size_t)nv * 2 * sizeof(float) + 1);
+    if (!uv) return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for texture coordinates", name);
+    for (ull v = 0; v < nv; v++) {
+        /* a vertex no face uses: (0, 0), and the repair drops it */
+        if (!tx->first[v]) {
+            uv[2 * v] = uv[2 * v + 1] = 0.0f;
+            continue;
+        }
+        memcpy(&uv[2 * v], &tx->vt[2 * (ull)(tx->first[v] - 1)], 2 * sizeof(float));
+    }
+    *out = uv;
+    return SSS_OK;
+}
+
 sss_result sss_scan_obj(src *s, expect *ex, sss_error *err)
 {
     sss_result r = sss_src_read_all(s, err);
@@ -49,6 +130,9 @@ sss_result sss_scan_obj(src *s, expect *ex, sss_error *err)
         return sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", s->name);
     }
     ull nv_seen = 0, nfaces = 0, added = 0;
+    /* texture coordinates: the vt statements in order, and per vertex the
+     * vt of the first face corner that names one (obj_vertex_uv) */
+    obj_uv tx = {0};
     it = (line_it){base, end, 0};
     r = SSS_OK;
     while (r == SSS_OK && sss_scan_line(&it, &b, &e)) {
@@ -86,6 +170,11 @@ sss_result sss_scan_obj(src *s, expect *ex, sss_error *err)
                                  nfaces, TOKA(t), it.no);
                     break;
                 }
+                if (obj_corner_uv(&tx, v < 0 ? (sll)nv_seen + v + 1 : v, nv_total, slash ? slash + 1 : NULL, t.s + t.n) !=
+                    SSS_OK) {
+                    r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", s->name);
+                    break;
+                }
                 sll resolved = v < 0 ? (sll)nv_seen + v + 1 : v;
                 if (v == 0 || resolved < 1 || (ull)resolved > nv_total) {
                     r = sss_fail(err, SSS_ERR_MESH, "%s: face %llu: vertex index " TOKF " out of range (line %llu; %llu vertices, "
@@ -119,7 +208,11 @@ sss_result sss_scan_obj(src *s, expect *ex, sss_error *err)
              * repeats; the policy drops it, after the read. */
             drop[added++] = d != n;
         } else {
-            /* vt, vn, mtllib, usemtl, g, o, s, l, ...: nothing the bake needs,
+            if (tok_is(kw, "vt") && obj_vt(&tx, &q, e) != SSS_OK) {
+                r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory", s->name);
+                break;
+            }
+            /* vt (read above), vn, mtllib, usemtl, g, o, s, l, ...: nothing the bake needs,
              * and the reader fails on a one-number vt or opens material files.
              * A keyword the format does not have is counted and warned about:
              * a damaged "v" among them shifts every later index. */
@@ -139,6 +232,9 @@ sss_result sss_scan_obj(src *s, expect *ex, sss_error *err)
         }
     }
     free(ids);
+    if (r == SSS_OK) r = obj_vertex_uv(&tx, nv_total, &ex->uv, s->name, err);
+    free(tx.vt);
+    free(tx.first);
     if (r != SSS_OK) {
         free(drop);
         return r;

@@ -72,6 +72,7 @@ typedef struct ply_prop {
     ptype type;        /* scalar type, or list entry type */
     ptype count_type;  /* PT_NONE for scalars */
     int role;
+    int tex;           /* vertex texture coordinate: 1 u, 2 v, 0 neither (role stays ROLE_OTHER) */
     char name[48];
 } ply_prop;
 
@@ -88,7 +89,25 @@ typedef struct ply_header {
     int nelems;
     int iv, ifc;       /* index of element vertex / face */
     size_t data_off;   /* first byte after the end_header line */
+    int tex_prop[2];   /* the vertex properties read as u and v (float or double), or -1 (ply_tex_props) */
 } ply_header;
+
+/* Which vertex properties hold texture coordinates: the first float or
+ * double one named as u and the first named as v; both or neither. */
+static void ply_tex_props(ply_header *h)
+{
+    h->tex_prop[0] = h->tex_prop[1] = -1;
+    const ply_elem *ev = &h->elems[h->iv];
+    for (int i = 0; i < ev->nprops; i++) {
+        const ply_prop *pr = &ev->props[i];
+        if (pr->tex && !pr->count_type && (pr->type == PT_F32 || pr->type == PT_F64) && h->tex_prop[pr->tex - 1] < 0)
+            h->tex_prop[pr->tex - 1] = i;
+    }
+    if (h->tex_prop[0] < 0 || h->tex_prop[1] < 0) h->tex_prop[0] = h->tex_prop[1] = -1;
+}
+
+/* Which of u (0) and v (1) property i of the vertex element is, or -1. */
+static int ply_tex_slot(const ply_header *h, int i) { return i == h->tex_prop[0] ? 0 : i == h->tex_prop[1] ? 1 : -1; }
 
 static void ply_free(ply_header *h)
 {
@@ -212,6 +231,10 @@ static sss_result ply_parse_header(src *s, size_t n, ply_header *h, sss_error *e
                 if (tok_is(pname, "x")) pr.role = ROLE_X;
                 else if (tok_is(pname, "y")) pr.role = ROLE_Y;
                 else if (tok_is(pname, "z")) pr.role = ROLE_Z;
+                /* the names the common writers use for texture coordinates;
+                 * the float and double ones are read (ply_tex_props) */
+                else if (tok_is(pname, "u") || tok_is(pname, "s") || tok_is(pname, "texture_u")) pr.tex = 1;
+                else if (tok_is(pname, "v") || tok_is(pname, "t") || tok_is(pname, "texture_v")) pr.tex = 2;
             }
             if (ef && pr.count_type && (tok_is(pname, "vertex_indices") || tok_is(pname, "vertex_index"))) {
                 int have = 0;
@@ -329,7 +352,7 @@ static int face_has_extras(const ply_header *h)
 /* Binary body: checks every record fits (list lengths included), and when the
  * face element has properties besides vertex_indices, compacts each face
  * record to just that list in place. *end receives the end of the face data. */
-static sss_result ply_scan_binary(src *s, const ply_header *h, char **endp, double *dpos, sss_error *err)
+static sss_result ply_scan_binary(src *s, const ply_header *h, char **endp, double *dpos, float *uv, sss_error *err)
 {
     int be = h->format == PLY_BE;
     char *p = s->data + h->data_off, *end = s->data + s->size;
@@ -342,7 +365,7 @@ static sss_result ply_scan_binary(src *s, const ply_header *h, char **endp, doub
             if (sat_mul(el->count, rec) > avail)
                 return sss_fail(err, SSS_ERR_CORRUPT, "%s: element %s: file ends inside record %llu of %llu (truncated)",
                                 s->name, el->name, rec ? avail / rec : 0, el->count);
-            if (e == h->iv && dpos) {
+            if (e == h->iv && (dpos || uv)) {
                 /* coordinates in double (float ones widen exactly) */
                 for (ull r = 0; r < el->count; r++) {
                     size_t off = 0;
@@ -350,7 +373,8 @@ static sss_result ply_scan_binary(src *s, const ply_header *h, char **endp, doub
                         const ply_prop *pr = &el->props[i];
                         const unsigned char *b = (const unsigned char *)p + r * rec + off;
                         off += ptype_size(pr->type);
-                        if (pr->role < ROLE_X || pr->role > ROLE_Z) continue;
+                        const int slot = uv ? ply_tex_slot(h, i) : -1;
+                        if (slot < 0 && (!dpos || pr->role < ROLE_X || pr->role > ROLE_Z)) continue;
                         double v;
                         if (pr->type == PT_F64) {
                             uint64_t u = rd_uint(b, 8, be);
@@ -360,6 +384,13 @@ static sss_result ply_scan_binary(src *s, const ply_header *h, char **endp, doub
                             float f;
                             memcpy(&f, &u, 4);
                             v = f;
+                        }
+                        if (slot >= 0) {
+                            if (!isfinite(v))
+                                return sss_fail(err, SSS_ERR_MESH, "%s: vertex %llu: texture coordinate %s is not finite",
+                                                s->name, r, pr->name);
+                            uv[2 * r + (ull)slot] = (float)v;
+                            continue;
                         }
                         dpos[3 * r + (ull)(pr->role - ROLE_X)] = v;
                     }
@@ -408,7 +439,7 @@ static sss_result ply_scan_binary(src *s, const ply_header *h, char **endp, doub
  * reader parses numbers, list lengths that fit, finite coordinates, face
  * indices in range. Compacts face records to "n i1 .. in" like the binary
  * scan. */
-static sss_result ply_scan_ascii(src *s, const ply_header *h, char **endp, double *dpos, sss_error *err)
+static sss_result ply_scan_ascii(src *s, const ply_header *h, char **endp, double *dpos, float *uv, sss_error *err)
 {
     char *base = s->data, *p = s->data + h->data_off, *end = s->data + s->size;
     ull nv = h->elems[h->iv].count;
@@ -425,6 +456,15 @@ static sss_result ply_scan_ascii(src *s, const ply_header *h, char **endp, doubl
                 const ply_prop *pr = &el->props[i];
                 if (!sss_scan_token(&p, end, &t)) goto truncated;
                 if (!pr->count_type) {
+                    const int slot = is_v && uv ? ply_tex_slot(h, i) : -1;
+                    if (slot >= 0) {
+                        num_check c = sss_scan_float(t);
+                        if (c != NUM_OK)
+                            return sss_fail(err, SSS_ERR_MESH, "%s: vertex %llu: texture coordinate %s '" TOKF "' is not "
+                                            "a finite number (line %llu)", s->name, r, pr->name, TOKA(t),
+                                            sss_scan_line_of(base, t.s));
+                        uv[2 * r + (ull)slot] = (float)tok_double(t);
+                    }
                     if (is_v && pr->role != ROLE_OTHER) {
                         num_check c = sss_scan_float(t);
                         if (c == NUM_NONFINITE)
@@ -531,10 +571,16 @@ sss_result sss_scan_ply(src *s, expect *ex, sss_error *err)
         for (int i = 0; i < h->elems[h->iv].nprops; i++)
             wide |= h->elems[h->iv].props[i].role != ROLE_OTHER && h->elems[h->iv].props[i].type == PT_F64;
         if (wide && !(ex->dpos = sss_src_alloc_dpos(s, h->elems[h->iv].count, err))) r = SSS_ERR_NOMEM;
+        ply_tex_props(h);
+        /* the file's size bounds the count (ply_check_sizes) */
+        if (r == SSS_OK && h->tex_prop[0] >= 0 &&
+            !(ex->uv = malloc((size_t)h->elems[h->iv].count * 2 * sizeof(float) + 1)))
+            r = sss_fail(err, SSS_ERR_NOMEM, "%s: out of memory for texture coordinates", s->name);
     }
     char *end = NULL, *start = NULL;
     if (r == SSS_OK)
-        r = h->format == PLY_ASCII ? ply_scan_ascii(s, h, &end, ex->dpos, err) : ply_scan_binary(s, h, &end, ex->dpos, err);
+        r = h->format == PLY_ASCII ? ply_scan_ascii(s, h, &end, ex->dpos, ex->uv, err)
+                                   : ply_scan_binary(s, h, &end, ex->dpos, ex->uv, err);
     if (r == SSS_OK) r = ply_canonical(s, h, &start, err);
     if (r == SSS_OK) {
         ex->fmt = SSS_OM_PLY;
