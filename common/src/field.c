@@ -67,6 +67,12 @@ static double value_noise(const double p[3], uint32_t seed)
     return e0 + w * (e1 - e0);
 }
 
+double sss_field_noise(const double x[3], double scale_mm, uint32_t seed)
+{
+    const double p[3] = {x[0] / scale_mm, x[1] / scale_mm, x[2] / scale_mm};
+    return value_noise(p, seed);
+}
+
 #define TURB_OCTAVES 5
 /* Turbulence T(p) = Σ_k 2^−k |2 n(2^k p) − 1| / Σ_k 2^−k ∈ [0, 1],
  * k = 0 … 4 (Perlin's turbulence, octaves seeded apart). */

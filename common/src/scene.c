@@ -214,13 +214,63 @@ static sss_result parse_scattering(const ctx *c, const cJSON *m, const char *jpa
     return SSS_OK;
 }
 
+/* A layer's "depth_mm" given as an object (docs/layers.md §3): {"map":
+ * FILE, "scale_mm": s} or {"procedural": "veins" | "blobs" | "bumps",
+ * "seed": N, "scale_mm": S, "depth_mm": [min, max]}. *lo, *hi: the least
+ * and the largest depth it can give (mm). The map is read by the bake. */
+static sss_result parse_depth_spec(const ctx *c, const cJSON *d, const char *jpath, sss_depth_spec *s, double *lo,
+                                   double *hi)
+{
+    sss_result r;
+    memset(s, 0, sizeof *s);
+    char p[600];
+    if (cJSON_GetObjectItemCaseSensitive(d, "map")) {
+        static const char *const keys[] = {"map", "scale_mm", NULL};
+        if ((r = only_keys(c, d, jpath, keys)) != SSS_OK) return r;
+        s->kind = SSS_DEPTH_MAP;
+        if ((r = get_path(c, d, jpath, "map", s->map)) != SSS_OK) return r;
+        if ((r = get_number(c, d, jpath, "scale_mm", 1, 1e-9, SSS_DEPTH_MAX_MM, &s->scale_mm)) != SSS_OK) return r;
+        *lo = 0.0;
+        *hi = s->scale_mm;
+        return SSS_OK;
+    }
+    if (!cJSON_GetObjectItemCaseSensitive(d, "procedural"))
+        return fail_at(c, jpath, "expected a number, {\"map\": FILE, \"scale_mm\": s} or {\"procedural\": ...}");
+    static const char *const keys[] = {"procedural", "seed", "scale_mm", "depth_mm", NULL};
+    if ((r = only_keys(c, d, jpath, keys)) != SSS_OK) return r;
+    static const char *const kinds[] = {"veins", "blobs", "bumps", NULL};
+    s->kind = SSS_DEPTH_PROCEDURAL;
+    if ((r = get_choice(c, d, jpath, "procedural", kinds, &s->pattern)) != SSS_OK) return r;
+    if ((r = get_u32(c, d, jpath, "seed", 0, UINT32_MAX, &s->seed)) != SSS_OK) return r;
+    if ((r = get_number(c, d, jpath, "scale_mm", 1, 1e-6, 1e9, &s->scale_mm)) != SSS_OK) return r;
+    const cJSON *rg = cJSON_GetObjectItemCaseSensitive(d, "depth_mm");
+    join(p, sizeof p, jpath, "depth_mm");
+    if (!cJSON_IsArray(rg) || cJSON_GetArraySize(rg) != 2) return fail_at(c, p, "expected [min, max] in mm");
+    for (int k = 0; k < 2; k++) {
+        const cJSON *e = cJSON_GetArrayItem(rg, k);
+        char pk[620];
+        join_index(pk, sizeof pk, p, k);
+        if (!cJSON_IsNumber(e) || !(e->valuedouble >= 0.0 && e->valuedouble <= SSS_DEPTH_MAX_MM))
+            return fail_at(c, pk, "expected a depth in [0, %g] mm", SSS_DEPTH_MAX_MM);
+        s->range_mm[k] = e->valuedouble;
+    }
+    if (s->range_mm[1] < s->range_mm[0]) return fail_at(c, p, "max %g is below min %g", s->range_mm[1], s->range_mm[0]);
+    *lo = s->range_mm[0];
+    *hi = s->range_mm[1];
+    return SSS_OK;
+}
+
 /* A material's "layers" (docs/layers.md §3): each {"name", "sigma_s",
- * "sigma_a", "g", "depth_mm"}, depths non-decreasing (equal: a layer of no
- * thickness). Depth maps ("map") and procedural depths ("procedural") are
- * refused by name: not built yet (docs/layers.md §7). */
-static sss_result parse_layers(const ctx *c, const cJSON *a, const char *jpath, sss_layer_stack *out)
+ * "sigma_a", "g", "depth_mm"}; a numeric depth not above the least depth
+ * of the layer before it (equal: a layer of no thickness). A depth map or
+ * a procedural depth (parse_depth_spec) goes to depth[k] and the stack
+ * holds the largest depth it can give; the bake evaluates the depths per
+ * vertex and replaces these by each layer's deepest (sss/depthmap.h). */
+static sss_result parse_layers(const ctx *c, const cJSON *a, const char *jpath, sss_layer_stack *out,
+                               sss_depth_spec *depth)
 {
     memset(out, 0, sizeof *out);
+    memset(depth, 0, SSS_MAX_LAYERS * sizeof *depth);
     if (!a) return SSS_OK;
     char p[512];
     join(p, sizeof p, jpath, "layers");
@@ -244,10 +294,16 @@ static sss_result parse_layers(const ctx *c, const cJSON *a, const char *jpath, 
         for (int k = 0; k < 3; k++) ly->sigma_t[k] = sa[k] + ly->sigma_s[k];
         const cJSON *d = cJSON_GetObjectItemCaseSensitive(l, "depth_mm");
         join(pd, sizeof pd, pi, "depth_mm");
-        if (cJSON_IsObject(d)) return fail_at(c, pd, "depth maps and procedural depths are not built yet (docs/layers.md 7): give a number");
-        if ((r = get_number(c, l, pi, "depth_mm", 1, 0.0, 1e6, &ly->depth)) != SSS_OK) return r;
-        if (ly->depth < top) return fail_at(c, pd, "%g is above the layer before it (%g mm)", ly->depth, top);
-        top = ly->depth;
+        if (cJSON_IsObject(d)) {
+            double lo = 0.0, hi = 0.0;
+            if ((r = parse_depth_spec(c, d, pd, &depth[i], &lo, &hi)) != SSS_OK) return r;
+            top = lo > top ? lo : top;
+            ly->depth = hi;
+        } else {
+            if ((r = get_number(c, l, pi, "depth_mm", 1, 0.0, SSS_DEPTH_MAX_MM, &ly->depth)) != SSS_OK) return r;
+            if (ly->depth < top) return fail_at(c, pd, "%g is above the layer before it (%g mm)", ly->depth, top);
+            top = ly->depth;
+        }
         const cJSON *nm = cJSON_GetObjectItemCaseSensitive(l, "name");
         if (nm && !cJSON_IsString(nm)) {
             join(pd, sizeof pd, pi, "name");
@@ -490,7 +546,7 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
         return r;
     const cJSON *mo = cJSON_GetObjectItemCaseSensitive(o, "material");
     if (cJSON_IsObject(mo) &&
-        (r = parse_layers(c, cJSON_GetObjectItemCaseSensitive(mo, "layers"), p, &out->layers)) != SSS_OK)
+        (r = parse_layers(c, cJSON_GetObjectItemCaseSensitive(mo, "layers"), p, &out->layers, out->layer_depth)) != SSS_OK)
         return r;
     if ((r = get_number(c, o, jpath, "mm_per_unit", 0, 1e-12, 1e12, &out->mm_per_unit)) != SSS_OK) return r;
     if (!(out->mm_per_unit > 0)) {
@@ -530,7 +586,8 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
     /* The field lives in the rest frame (docs/heterogeneous.md §3): world
      * x_w = s R x + t, so rest-frame mm = mm_per_unit · x = (mm_per_unit /
      * s) Rᵀ (x_w − t). */
-    if (out->hetero.field.kind != SSS_FIELD_NONE) {
+    /* (procedural layer depths live there too, docs/layers.md §3) */
+    if (out->hetero.field.kind != SSS_FIELD_NONE || out->layers.n) {
         double R[9];
         rotation(out->rotate_deg, R);
         const double k = out->mm_per_unit / out->scale;
@@ -755,7 +812,8 @@ double sss_scene_object_mm_per_world_unit(const sss_scene_object *o) { return o-
 
 sss_result sss_scene_object_world(const sss_scene_object *o, const sss_mesh *mesh, sss_mesh *out, sss_error *err)
 {
-    const sss_mesh geom = {.nv = mesh->nv, .nf = mesh->nf, .pos = mesh->pos, .tri = mesh->tri};
+    /* the texture coordinates stay: a layer's depth map is read at them (docs/layers.md §3) */
+    const sss_mesh geom = {.nv = mesh->nv, .nf = mesh->nf, .pos = mesh->pos, .tri = mesh->tri, .uv = mesh->uv};
     sss_result r = sss_mesh_copy(&geom, out, err);
     if (r != SSS_OK) return r;
     /* R = Rz · Ry · Rx (x first), in double, rounded once per coordinate */

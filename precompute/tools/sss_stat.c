@@ -29,6 +29,7 @@
 #include "sss/bake_scene.h" /* sss_point_exact */
 #include "sss/effects.h"     /* sss_fx_point */
 #include "sss/single_mesh.h" /* --query --view: the single-scattering term */
+#include "sss/layer_depth.h" /* and the vertex's layer depths */
 
 static const char *TOOL = "sss-stat";
 
@@ -194,8 +195,12 @@ static int query_terms_eval(const char *path, const sss_bake_file *f, uint32_t v
     t->mirror_deg = acos(fmin(1.0, fmax(-1.0, cm))) * 180.0 / 3.14159265358979323846;
     sss_bvh bvh;
     sss_error err = {{0}};
+    /* the vertex's own layer depths (section LDEP), constant along the
+     * march (docs/layers.md §3) */
+    sss_layer_stack layers;
+    sss_layer_stack_at(&f->layers, f->layer_depth, v, &layers);
     if (sss_bvh_build(f->mesh.pos, f->mesh.nv, f->mesh.tri, f->mesh.nf, &bvh, &err) != SSS_OK ||
-        sss_ss_mesh_vertex(&f->mesh, &bvh, f->mm_per_unit, &f->material, &f->layers, f->channels, v, d, view, NULL, t->ss, &err) !=
+        sss_ss_mesh_vertex(&f->mesh, &bvh, f->mm_per_unit, &f->material, &layers, f->channels, v, d, view, NULL, t->ss, &err) !=
             SSS_OK) {
         sss_bvh_free(&bvh);
         sss_cli_printf(stderr, "%s: %s: single scattering at vertex %u: %s\n", TOOL, path, v, err.msg);
@@ -990,7 +995,20 @@ static int summary(const char *path, const sss_bake_file *f, int json)
             printf("  %u layer%s over the material (single scattering), lower boundaries at", f->layers.n,
                    f->layers.n > 1 ? "s" : "");
             for (uint32_t i = 0; i < f->layers.n; i++) printf(" %g", f->layers.layer[i].depth);
-            printf(" mm\n");
+            printf(" mm%s\n", f->layer_depth ? " (the deepest of each)" : "");
+        }
+        if (f->layer_depth) { /* section LDEP (docs/layers.md §3) */
+            printf("  per-vertex layer depths (section LDEP):");
+            for (uint32_t k = 0; k < f->layers.n; k++) {
+                float lo = INFINITY, hi = 0.0f;
+                for (uint32_t v = 0; v < f->mesh.nv; v++) {
+                    const float x = f->layer_depth[(size_t)v * f->layers.n + k];
+                    lo = x < lo ? x : lo;
+                    hi = x > hi ? x : hi;
+                }
+                printf("%s layer %u %g to %g mm", k ? "," : "", k, (double)lo, (double)hi);
+            }
+            printf("\n");
         }
         if (f->near_terms && f->near_radius_mm > 0.0)
             printf("  near terms added at run time: every vertex within %g mm (sections OWNT, NRAD)\n",

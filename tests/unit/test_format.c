@@ -1419,6 +1419,73 @@ static void layrRoundTripsAndRejectsDisorder(void **state)
     sss_file_free(&b);
 }
 
+/* ---- LDEP: per-vertex layer depths (1.9) ---- */
+
+static void ldepRoundTripsAndRejectsBadDepths(void **state)
+{
+    (void)state;
+    sss_bake_file a, b;
+    make_file(&a, 12, 3, SSS_QUANT_FLOAT);
+    make_layers(&a);
+    /* the octahedron's 6 vertices, 2 layers each, non-decreasing */
+    a.layer_depth = malloc(6 * 2 * sizeof(float));
+    assert_non_null(a.layer_depth);
+    for (int v = 0; v < 6; v++) {
+        a.layer_depth[2 * v] = 0.05f * (float)v;
+        a.layer_depth[2 * v + 1] = 0.3f + 0.1f * (float)v;
+    }
+    size_t len;
+    uint8_t *buf = encode(&a, &len);
+    assert_int_equal(buf[10] | buf[11] << 8, 9);
+    expect_accept(buf, len, &b);
+    assert_same_file(&a, &b);
+    assert_non_null(b.layer_depth);
+    assert_memory_equal(a.layer_depth, b.layer_depth, 6 * 2 * sizeof(float));
+    tfile t;
+    t_split(buf, len, &t);
+    const tsec *ld = t_find(&t, "LDEP");
+    assert_int_equal(ld->flags, 0); /* optional: LAYR's depths stand in for it */
+    assert_int_equal(ld->size, 6 * 2 * 4);
+    assert_int_equal(ld->count, 6);
+    t_free(&t);
+    reject_edit_f32(buf, len, "LDEP", 4 * 3, NAN, "section LDEP: vertex 1 layer 1: depth nan mm is not in [0,");
+    reject_edit_f32(buf, len, "LDEP", 4 * 4, -0.5f, "section LDEP: vertex 2 layer 0: depth -0.5 mm is not in [0,");
+    reject_edit_f32(buf, len, "LDEP", 4 * 5, 0.01f, "section LDEP: vertex 2 layer 1: depth 0.01 mm is above the layer before it");
+    /* a count or size that does not match GEOM's vertices and LAYR's layers */
+    t_split(buf, len, &t);
+    t_find(&t, "LDEP")->count = 5;
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "section LDEP: 48 bytes, count 5 (expected 48 bytes and the 6 vertices");
+    t_find(&t, "LDEP")->count = 6;
+    t_find(&t, "LDEP")->size = 40;
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "section LDEP: 40 bytes, count 6");
+    t_free(&t);
+    /* depths without layers */
+    t_split(buf, len, &t);
+    t_remove(&t, "LAYR");
+    expect_reject_t(&t, SSS_ERR_CORRUPT, "section LDEP: per-vertex layer depths without section LAYR");
+    t_free(&t);
+    /* the writer refuses what the reader would */
+    a.layer_depth[3] = NAN;
+    uint8_t *bad = NULL;
+    size_t blen = 0;
+    sss_error err = {{0}};
+    assert_int_equal(sss_file_encode(&a, &bad, &blen, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "section LDEP: vertex 1 layer 1"));
+    free(buf);
+    sss_file_free(&a);
+    sss_file_free(&b);
+    /* flat layers: no LDEP, the minor stays 8 */
+    make_file(&a, 12, 3, SSS_QUANT_FLOAT);
+    make_layers(&a);
+    buf = encode(&a, &len);
+    assert_int_equal(buf[10] | buf[11] << 8, 8);
+    expect_accept(buf, len, &b);
+    assert_null(b.layer_depth);
+    free(buf);
+    sss_file_free(&a);
+    sss_file_free(&b);
+}
+
 /* ---- QUAD and NRAD: the weight rule and the near terms' radius (1.5) ---- */
 
 /* make_file's content with ε, the hat-function weights and, when radius > 0,
@@ -1958,6 +2025,7 @@ int main(void)
         cmocka_unit_test(isotropicFilesHaveNoPhasAndReadGZero),
         cmocka_unit_test(decodeRejectsPhasOutOfRangeOrWrongSize),
         cmocka_unit_test(layrRoundTripsAndRejectsDisorder),
+        cmocka_unit_test(ldepRoundTripsAndRejectsBadDepths),
         cmocka_unit_test(writeGoldenFileWhenRequested),
         cmocka_unit_test(goldenFileDecodesWithKnownValues),
         cmocka_unit_test(goldenFileReencodesToSameBytes),

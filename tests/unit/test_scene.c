@@ -153,6 +153,7 @@ static void materialTakesLayers(void **state)
                                      "scene.json", &s, &err), SSS_OK);
     const sss_layer_stack *L = &s.objects[0].layers;
     assert_int_equal(L->n, 3);
+    assert_int_equal(s.objects[0].layer_depth[0].kind, SSS_DEPTH_CONSTANT);
     assert_true(L->layer[1].sigma_t[0] == 6.6 && L->layer[2].sigma_t[2] == 2.5 && L->layer[0].g == 0.25);
     assert_true(L->layer[0].depth == 0.3 && L->layer[2].depth == 3.0);
     assert_string_equal(s.objects[0].material.name, "skin1"); /* the layers lie over the material */
@@ -161,9 +162,41 @@ static void materialTakesLayers(void **state)
                  "{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],\"depth_mm\":0.5},{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],"
                  "\"depth_mm\":0.2}]}}]}",
                  "/objects/0/material/layers/1/depth_mm: 0.2 is above the layer before it (0.5 mm)");
-    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":["
-                 "{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],\"depth_mm\":{\"map\":\"veins.png\",\"scale_mm\":2}}]}}]}",
-                 "/objects/0/material/layers/0/depth_mm: depth maps and procedural depths are not built yet");
+    /* a depth map and a procedural depth (docs/layers.md §3): the stack
+     * holds the deepest each can give (the bake replaces them) */
+    assert_int_equal(sss_scene_parse("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":["
+                                     "{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],\"depth_mm\":{\"map\":\"veins.png\",\"scale_mm\":2}},"
+                                     "{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],\"depth_mm\":{\"procedural\":\"veins\",\"seed\":7,"
+                                     "\"scale_mm\":5,\"depth_mm\":[0.5,1.5]}},"
+                                     "{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],\"depth_mm\":3}]}}]}",
+                                     "dir/scene.json", &s, &err), SSS_OK);
+    const sss_depth_spec *D = s.objects[0].layer_depth;
+    assert_int_equal(D[0].kind, SSS_DEPTH_MAP);
+    assert_string_equal(D[0].map, "dir/veins.png"); /* beside the scene file */
+    assert_true(D[0].scale_mm == 2.0);
+    assert_int_equal(D[1].kind, SSS_DEPTH_PROCEDURAL);
+    assert_int_equal(D[1].pattern, SSS_DEPTH_VEINS);
+    assert_int_equal(D[1].seed, 7);
+    assert_true(D[1].scale_mm == 5.0 && D[1].range_mm[0] == 0.5 && D[1].range_mm[1] == 1.5);
+    assert_int_equal(D[2].kind, SSS_DEPTH_CONSTANT);
+    L = &s.objects[0].layers;
+    assert_true(L->layer[0].depth == 2.0 && L->layer[1].depth == 1.5 && L->layer[2].depth == 3.0);
+    sss_scene_free(&s);
+#define LAYER0(D) "{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":[" \
+                  "{\"sigma_s\":[1,1,1],\"sigma_a\":[1,1,1],\"depth_mm\":" D "}]}}]}"
+    expect_error(LAYER0("{\"map\":\"veins.png\"}"), "/objects/0/material/layers/0/depth_mm/scale_mm: missing");
+    expect_error(LAYER0("{\"map\":\"veins.png\",\"scale_mm\":2,\"seed\":1}"),
+                 "/objects/0/material/layers/0/depth_mm/seed: unknown key");
+    expect_error(LAYER0("{\"procedural\":\"stripes\",\"scale_mm\":2,\"depth_mm\":[0,1]}"),
+                 "/objects/0/material/layers/0/depth_mm/procedural: 'stripes' is not \"veins\" or \"blobs\" or \"bumps\"");
+    expect_error(LAYER0("{\"procedural\":\"bumps\",\"scale_mm\":2,\"depth_mm\":[1,0.5]}"),
+                 "/objects/0/material/layers/0/depth_mm/depth_mm: max 0.5 is below min 1");
+    expect_error(LAYER0("{\"procedural\":\"bumps\",\"scale_mm\":2,\"depth_mm\":[-1,0.5]}"),
+                 "/objects/0/material/layers/0/depth_mm/depth_mm/0: expected a depth in [0,");
+    expect_error(LAYER0("{\"procedural\":\"blobs\",\"scale_mm\":2}"),
+                 "/objects/0/material/layers/0/depth_mm/depth_mm: expected [min, max] in mm");
+    expect_error(LAYER0("{\"scale_mm\":2}"), "/objects/0/material/layers/0/depth_mm: expected a number, {\"map\"");
+#undef LAYER0
     expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"skin1\",\"layers\":[]}}]}",
                  "/objects/0/material/layers: expected an array of 1 to 8 layers");
 }

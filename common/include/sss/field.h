@@ -73,6 +73,11 @@ sss_result sss_field_check(const sss_field *f, sss_error *err);
 /* f(x) ∈ [0, 1] at x (rest-frame mm). NONE gives 0. */
 double sss_field_eval(const sss_field *f, const double x_mm[3]);
 
+/* The smooth value noise the procedural kinds are built from
+ * (docs/heterogeneous.md §2.1), n(x / scale_mm) ∈ [0, 1) at x (mm): one
+ * octave, C¹, features about scale_mm apart. */
+double sss_field_noise(const double x_mm[3], double scale_mm, uint32_t seed);
+
 /* The step (mm) that resolves f along a segment: half the finest feature
  * (docs/heterogeneous.md §4.2); 0 for a constant (nothing to march). */
 double sss_field_step_mm(const sss_field *f);

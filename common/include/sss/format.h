@@ -24,7 +24,7 @@ extern "C" {
 #endif
 
 #define SSS_FORMAT_MAJOR 1
-#define SSS_FORMAT_MINOR 8
+#define SSS_FORMAT_MINOR 9
 /* The minor version plain bakes record in PARM ("format"), kept at 1 so
  * that their bytes do not change with 1.2, which only scene bakes use. */
 #define SSS_FORMAT_MINOR_PLAIN 1
@@ -165,6 +165,11 @@ typedef struct sss_bake_file {
     sss_mesh mesh;            /* pos, nrm, tri (area is not stored: NULL after reading) */
     sss_material material;
     sss_layer_stack layers;   /* (1.8, LAYR) seed 002's flat layers over the material; n = 0: none */
+    /* (1.9, LDEP) per-vertex layer depths: nv · layers.n float mm, layer k
+     * of vertex v at v · layers.n + k, each vertex's non-decreasing; NULL:
+     * the constant depths of LAYR apply (docs/layers.md §3,
+     * sss_layer_stack_at). Owned. */
+    float *layer_depth;
     double mm_per_unit;       /* millimetres per mesh unit */
     uint32_t channels;        /* 1 (grey) or 3 (RGB) */
     sss_dirset dirs;          /* directions ω_j and their triangulation */

@@ -16,6 +16,7 @@
 #include "sss/dipole.h"
 #include "sss/single.h"
 #include "sss/field.h"
+#include "sss/layer_depth.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
 #include "sss/vec3.h"
@@ -74,6 +75,13 @@ typedef struct sss_scene_object {
      * itself; n = 0: none. Single scattering only: the dipole sees the
      * material. */
     sss_layer_stack layers;
+    /* How each layer's depth is given (docs/layers.md §3): kind
+     * SSS_DEPTH_CONSTANT for a number (layers.layer[k].depth), else a map or
+     * a procedural pattern the bake evaluates per vertex (section LDEP);
+     * layers.layer[k].depth is then the largest depth it can give (so the
+     * stack may decrease until the bake, sss_layer_depths_eval, replaces
+     * it by each layer's deepest over the vertices) */
+    sss_depth_spec layer_depth[SSS_MAX_LAYERS];
     /* "material": {"field": ..., "inside": ...} (docs/heterogeneous.md §1):
      * kind SSS_FIELD_NONE for a homogeneous object; xf is filled by the
      * parser from mm_per_unit and the transform (world → rest-frame mm).

@@ -105,6 +105,7 @@
     X(MATL, "MATL", SSS_SEC_REQUIRED | SSS_SEC_EVERY_FILE,                      0, matl)       \
     X(PHAS, "PHAS", 0,                                                          8, phas)       \
     X(LAYR, "LAYR", 0,                                                          8, layr)       \
+    X(LDEP, "LDEP", 0,                                                          9, ldep)       \
     X(EFCT, "EFCT", SSS_SEC_REQUIRED | SSS_SEC_READ_FIRST | SSS_SEC_CHECK_LAST, 2, efct)       \
     X(DIRS, "DIRS", SSS_SEC_REQUIRED,                                           0, dirs)       \
     X(DIRC, "DIRC", SSS_SEC_REQUIRED,                                           6, dirc)       \

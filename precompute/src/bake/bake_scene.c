@@ -16,6 +16,7 @@
  * compressed when it says so (sss_compress, docs/compression.md).
  */
 #include "sss/bake_scene.h"
+#include "sss/depthmap.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -121,6 +122,12 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     if (r != SSS_OK) return r;
     c.mesh = &out->mesh;
     out->layers = ob->layers;
+    /* depth maps and procedural depths, per vertex (section LDEP,
+     * docs/layers.md §3); LAYR then holds each layer's largest */
+    if ((r = sss_layer_depths_eval(scene, obj, &world[obj], &out->layer_depth, &out->layers, err)) != SSS_OK) {
+        sss_file_free(out);
+        return r;
+    }
     out->material = p->material; /* a constant field folded into its blend (planner.c rule_field) */
     out->mm_per_unit = sss_scene_object_mm_per_world_unit(ob);
     out->channels = c.C;

@@ -96,6 +96,10 @@ static int copy_base(const sss_bake_file *s, sss_bake_file *d)
     if (sss_mesh_copy(&s->mesh, &d->mesh, NULL) != SSS_OK) return 0;
     d->material = s->material;
     d->layers = s->layers; /* section LAYR: the single scattering's layers */
+    /* and their per-vertex depths (section LDEP) */
+    if (s->layer_depth &&
+        !(d->layer_depth = dup_bytes(s->layer_depth, (size_t)s->mesh.nv * s->layers.n * sizeof(float))))
+        return 0;
     d->mm_per_unit = s->mm_per_unit;
     d->eps = s->eps;
     d->channels = s->channels;
