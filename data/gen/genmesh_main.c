@@ -2,7 +2,8 @@
  * when OUT ends in .gltf or .glb (gltf_write.h).
  * Usage: sss-genmesh KIND RES OUT.ply|OUT.gltf|OUT.glb [SIZE [SCENE]]
  *        sss-genmesh subdivide N IN OUT.ply (sss_gen_subdivide)
- *        sss-genmesh field KIND RES OUT.vdb [SIZE [SEED]] (a procedural material field as .vdb) */
+ *        sss-genmesh field KIND RES OUT.vdb [SIZE [SEED]] (a procedural material field as .vdb)
+ *        sss-genmesh depthmap KIND RES OUT.png [BITS] (a layer's depth map, docs/layers.md §3) */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -11,6 +12,7 @@
 #include "genmesh.h"
 #include "gltf_write.h"
 #include "sss/cli.h"
+#include "sss/depthmap.h"
 #include "sss/field.h"
 #include "sss/fieldio.h"
 #include "sss/fileio.h"
@@ -32,7 +34,11 @@ static void usage(FILE *f)
                "  equal segments: the midpoint subdivision for N = 2, the shape unchanged\n"
                "       sss-genmesh field veins|inclusions|sphere|box|layers RES OUT.vdb [SIZE [SEED]]\n"
                "  a procedural material field (docs/heterogeneous.md sec. 2) sampled on RES nodes per side over\n"
-               "  the cube [-SIZE/2, SIZE/2]^3 mm (SIZE default 20), written as the float grid 'density'\n");
+               "  the cube [-SIZE/2, SIZE/2]^3 mm (SIZE default 20), written as the float grid 'density'\n"
+               "       sss-genmesh depthmap constant|ramp|veins RES OUT.png [BITS]\n"
+               "  a layer's depth map (docs/layers.md sec. 3), RES x RES samples of BITS (8 or 16, default 16) as a\n"
+               "  grey PNG: constant 1, ramp u (0 at the left edge, 1 at the right), or veins (the procedural veins\n"
+               "  of scale 1/4 over the unit square of (u, v), seed 1)\n");
 }
 
 /* The command line, as the positional rows fill it. */
@@ -164,8 +170,59 @@ static int field_main(int argc, char **argv)
     return 0;
 }
 
+/* sss-genmesh depthmap KIND RES OUT.png [BITS]: the tests' and the
+ * examples' depth maps, made here rather than downloaded. */
+static int depthmap_main(int argc, char **argv)
+{
+    int res = 0, bits = 16;
+    const char *out = NULL, *tool = NULL, *kind = NULL;
+    const sss_cli_opt pos[] = {
+        {.name = "depthmap", .kind = SSS_CLI_STRING, .dest = &tool},
+        {.name = "KIND", .kind = SSS_CLI_STRING, .dest = &kind},
+        {.name = "RES", .kind = SSS_CLI_INT, .dest = &res, .lo = 1, .hi = 8192},
+        {.name = "OUT.png", .kind = SSS_CLI_STRING, .dest = &out},
+        {.name = "BITS", .kind = SSS_CLI_INT, .dest = &bits, .lo = 8, .hi = 16},
+    };
+    const sss_cli cli = {.tool = TOOL, .pos = pos, .npos = SSS_CLI_COUNT(pos), .min_pos = 4, .usage = usage,
+                         .flags = SSS_CLI_NO_OPTIONS};
+    int rc = sss_cli_parse(&cli, argc, argv);
+    if (rc != SSS_CLI_RUN) return rc;
+    if (bits != 8 && bits != 16) {
+        sss_cli_printf(stderr, "%s: BITS %d is not 8 or 16\n", TOOL, bits);
+        return 2;
+    }
+    int k = !strcmp(kind, "constant") ? 0 : !strcmp(kind, "ramp") ? 1 : !strcmp(kind, "veins") ? 2 : -1;
+    if (k < 0) {
+        sss_cli_printf(stderr, "%s: depth map kind '%s' is not constant, ramp or veins\n", TOOL, kind);
+        return 2;
+    }
+    sss_depth_image im = {(uint32_t)res, (uint32_t)res, malloc((size_t)res * (size_t)res * sizeof(float))};
+    if (!im.value) {
+        sss_cli_printf(stderr, "%s: out of memory\n", TOOL);
+        return 1;
+    }
+    const sss_depth_spec veins = {.kind = SSS_DEPTH_PROCEDURAL, .pattern = SSS_DEPTH_VEINS, .seed = 1, .scale_mm = 0.25,
+                                  .range_mm = {0.0, 1.0}};
+    for (int j = 0; j < res; j++)
+        for (int i = 0; i < res; i++) {
+            /* the texel's centre in (u, v), v upward from the bottom row */
+            const double x[3] = {(i + 0.5) / res, 1.0 - (j + 0.5) / res, 0.0};
+            im.value[(size_t)j * res + i] = (float)(k == 0 ? 1.0 : k == 1 ? x[0] : sss_depth_procedural(&veins, x));
+        }
+    sss_error err = {{0}};
+    const sss_result r = sss_depth_map_write(out, &im, bits, &err);
+    free(im.value);
+    if (r != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
+        return 1;
+    }
+    sss_cli_printf(stderr, "%s: %s: %d x %d %d-bit grey depth map (%s)\n", TOOL, out, res, res, bits, kind);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && !strcmp(argv[1], "depthmap")) return depthmap_main(argc, argv);
     if (argc > 1 && !strcmp(argv[1], "subdivide")) return subdivide_main(argc, argv);
     if (argc > 1 && !strcmp(argv[1], "field")) return field_main(argc, argv);
     genmesh_args a;
