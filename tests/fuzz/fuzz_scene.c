@@ -46,6 +46,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (!(o->scale > 0) || !isfinite(o->scale)) abort();
         if (!finite3(o->translate) || !finite3(o->rotate_deg)) abort();
         if (!memchr(o->name, 0, sizeof o->name) || !memchr(o->mesh, 0, sizeof o->mesh)) abort();
+        /* layer depths (docs/layers.md §3): a number, a map with a path and
+         * a positive scale, or a pattern with 0 <= min <= max */
+        for (uint32_t k = 0; k < o->layers.n; k++) {
+            const sss_depth_spec *d = &o->layer_depth[k];
+            if (!(o->layers.layer[k].depth >= 0) || !(o->layers.layer[k].depth <= SSS_DEPTH_MAX_MM)) abort();
+            if (d->kind == SSS_DEPTH_MAP && (!d->map[0] || !memchr(d->map, 0, sizeof d->map) || !(d->scale_mm > 0)))
+                abort();
+            if (d->kind == SSS_DEPTH_PROCEDURAL &&
+                (d->pattern < SSS_DEPTH_VEINS || d->pattern > SSS_DEPTH_BUMPS || !(d->scale_mm > 0) ||
+                 !(d->range_mm[0] >= 0) || !(d->range_mm[1] >= d->range_mm[0]) || !(d->range_mm[1] <= SSS_DEPTH_MAX_MM)))
+                abort();
+            if (d->kind > SSS_DEPTH_PROCEDURAL) abort();
+        }
     }
     for (uint32_t i = 0; i < sc.nlights; i++) {
         const sss_scene_light *l = &sc.lights[i];
