@@ -133,6 +133,9 @@ sss_result sss_asset_info(const sss_asset *a, sss_asset_desc *info, sss_error *e
         info->sigmap_s[c] = f->material.sigmap_s[c];
     }
     info->eta = f->material.eta;
+    info->g = f->material.g;
+    info->nlayers = f->layers.n;
+    info->layer_depths = f->layer_depth != NULL;
     return SSS_OK;
 }
 

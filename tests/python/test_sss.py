@@ -165,6 +165,20 @@ class Baked(unittest.TestCase):
         self.assertGreaterEqual(len(rows), 4)
         self.assertTrue(os.path.getsize(os.path.join(out, "error_vs_bytes.png")) > 1000)
 
+    def test_info_has_the_phase(self):
+        """g of section PHAS (docs/layers.md §2) and the layer counts."""
+        Files.make()
+        with sss.open(Files.default) as a:
+            i = a.info
+            self.assertEqual((i["g"], i["nlayers"], i["layer_depths"]), (0.0, 0, 0))
+        path = os.path.join(TMP, "phase.sss")
+        run(os.environ["SSS_BAKE"], Files.mesh, "-o", path, "--sigma-a", "0.6,0.6,0.6", "--sigma-s", "2,1,1",
+            "--g", "0.25", "--mm-per-unit", 20, "--dirs", 20, "-q")
+        with sss.open(path) as a:
+            self.assertEqual(a.info["g"], 0.25)
+            self.assertEqual(a.info["sigmap_s"][0], 1.5)  # sigma'_s = sigma_s (1 - g)
+            self.assertEqual(a.info["version_minor"], 8)
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)

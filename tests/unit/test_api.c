@@ -441,6 +441,37 @@ static void memoryEqualsPath(void **state)
     assert_int_equal(d.channels, 3);
     assert_true(d.eta == g[F_RING].f.material.eta && d.sigma_a[2] == g[F_RING].f.material.sigma_a[2]);
     assert_true(d.mm_per_unit == 20.0);
+    assert_true(d.g == 0.0); /* an isotropic file: no PHAS, no layers */
+    assert_int_equal(d.nlayers, 0);
+    assert_int_equal(d.layer_depths, 0);
+    {
+        /* the same file with a phase, two layers and their per-vertex depths
+         * (sections PHAS, LAYR, LDEP) */
+        sss_bake_file f = g[F_RING].f;
+        f.material.g = 0.4;
+        f.layers.n = 2;
+        f.layers.phase = SSS_PHASE_HG;
+        for (uint32_t k = 0; k < 2; k++)
+            f.layers.layer[k] = (sss_layer){{2, 1, 1}, {2.6, 1.6, 1.6}, 0.25, 0.3 * (k + 1)};
+        float *ld = calloc((size_t)f.mesh.nv * 2, sizeof(float));
+        assert_non_null(ld);
+        for (uint32_t v = 0; v < f.mesh.nv; v++) ld[2 * v] = 0.1f, ld[2 * v + 1] = 0.6f;
+        f.layer_depth = ld;
+        uint8_t *buf = NULL;
+        size_t len = 0;
+        sss_error err = {{0}};
+        assert_int_equal(sss_file_encode(&f, &buf, &len, &err), SSS_OK);
+        sss_asset *a = NULL;
+        assert_int_equal(sss_asset_open_memory(buf, len, "phase.sss", &a, &err), SSS_OK);
+        assert_int_equal(sss_asset_info(a, &d, NULL), SSS_OK);
+        assert_true(d.g == 0.4);
+        assert_int_equal(d.nlayers, 2);
+        assert_int_equal(d.layer_depths, 1);
+        assert_int_equal(d.version_minor, 9);
+        sss_asset_close(a);
+        free(buf);
+        free(ld);
+    }
     assert_int_equal(sss_asset_info(g[F_RADIUS].mem, &d, NULL), SSS_OK);
     assert_true(d.near_radius_mm > 0.0);
     assert_int_equal(sss_asset_info(g[F_SCENE].mem, &d, NULL), SSS_OK);

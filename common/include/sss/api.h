@@ -83,6 +83,11 @@ typedef struct sss_asset_desc {
     double sigma_a[3];           /* absorption σa per channel, 1/mm (the first `channels` are meaningful) */
     double sigmap_s[3];          /* reduced scattering σ′s per channel, 1/mm */
     double eta;                  /* relative index of refraction η (one for all channels) */
+    /* single scattering's material (docs/layers.md §2–§3), added after the
+     * fields above so that their offsets stay */
+    double g;                    /* Henyey–Greenstein mean cosine of the material (section PHAS; 0 without) */
+    uint32_t nlayers;            /* seed 002's layers over the material (section LAYR; 0 without) */
+    uint32_t layer_depths;       /* 1: per-vertex layer depths (section LDEP, format 1.9) */
 } sss_asset_desc;
 
 /* Opens the .sss file at `path` (a regular file; read whole, checked and

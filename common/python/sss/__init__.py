@@ -43,6 +43,7 @@ class _Desc(ctypes.Structure):  # sss_asset_desc (sss/api.h), field for field
         ("version_major", _u32), ("version_minor", _u32), ("file_bytes", _u64),
         ("integral_bytes_per_vertex", _f64), ("mm_per_unit", _f64),
         ("material_name", ctypes.c_char * 32), ("sigma_a", _f64 * 3), ("sigmap_s", _f64 * 3), ("eta", _f64),
+        ("g", _f64), ("nlayers", _u32), ("layer_depths", _u32),
     ]
 
 
