@@ -13,11 +13,11 @@ complain() { echo "check_layers: $*"; bad=1; }
 
 # the stage of a precompute public header, by name
 declare -A hstage=(
-  [import]=input [probe]=input [fieldio]=input
+  [import]=input [probe]=input [fieldio]=input [depthmap]=input
   [nbhd]=kernels [fieldweights]=kernels [visibility]=kernels [transfer]=kernels [lloyd]=kernels
   [gather]=gather
   [refs]=compress [compress]=compress
-  [bake]=bake [planner]=bake [bake_scene]=bake [perframe]=bake
+  [bake]=bake [planner]=bake [bake_scene]=bake [perframe]=bake [layer_depths]=bake
   [exact]=measure [reconstruct]=measure [vertex_error]=measure [env_error]=measure
   [reference]=reference
 )

@@ -21,6 +21,7 @@
 #include "sss/format.h"
 #include "sss/import.h"
 #include "sss/layer_depth.h"
+#include "sss/layer_depths.h"
 #include "sss/scene.h"
 #include "sss/single_mesh.h"
 

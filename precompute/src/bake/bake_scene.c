@@ -16,7 +16,7 @@
  * compressed when it says so (sss_compress, docs/compression.md).
  */
 #include "sss/bake_scene.h"
-#include "sss/depthmap.h"
+#include "sss/layer_depths.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>

@@ -1,10 +1,11 @@
 /* layer_depths.c: every layer's depth at every vertex of a scene object
- * (sss/depthmap.h; docs/layers.md §3), what section LDEP stores. */
-#include "sss/depthmap.h"
+ * (sss/layer_depths.h; docs/layers.md §3), what section LDEP stores. */
+#include "sss/layer_depths.h"
 
 #include <stdlib.h>
 #include <string.h>
 
+#include "sss/depthmap.h"
 #include "sss/field.h"
 
 sss_result sss_layer_depths_eval(const sss_scene *scene, uint32_t obj, const sss_mesh *world, float **layer_depth,
