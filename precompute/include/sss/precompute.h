@@ -9,6 +9,7 @@
 
 #include "sss/import.h"
 #include "sss/probe.h"
+#include "sss/depthmap.h"
 
 #include "sss/fieldweights.h"
 #include "sss/nbhd.h"
@@ -20,6 +21,7 @@
 #include "sss/bake.h"
 #include "sss/planner.h"
 #include "sss/bake_scene.h"
+#include "sss/layer_depths.h"
 #include "sss/perframe.h"
 
 #include "sss/refs.h"

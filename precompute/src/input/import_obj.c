@@ -22,18 +22,20 @@ static int known_statement(tok kw)
 /* The texture coordinates of an OBJ file: each vertex takes the vt of the
  * first face corner that names one ("f v/vt ..."; a vertex on a seam,
  * whose corners name different vt, keeps its first). They are kept only
- * when every vertex that a face uses has one and every vt named is a pair
- * of finite numbers (a missing v is 0, as the specification says):
- * otherwise the mesh has none, as before. */
+ * when every vertex that a face uses has one, every vt named is a pair
+ * of finite numbers (a missing v is 0, as the specification says) and no
+ * face comes before the first vt: otherwise the mesh has none, as before. */
 typedef struct obj_uv {
     float *vt;        /* 2 per vt statement */
     ull nvt, cap;
     sll *first;       /* per vertex: the 1-based vt of its first corner, 0 no corner, -1 none or a bad one */
-    int bad;          /* a vt statement that is not numbers */
+    int bad;          /* a vt statement that is not numbers, or a face before the first vt */
+    int faces;        /* a face was seen before any vt */
 } obj_uv;
 
 static sss_result obj_vt(obj_uv *tx, char **q, char *e)
 {
+    if (tx->faces) tx->bad = 1;
     if (tx->nvt == tx->cap) {
         ull cap = tx->cap ? 2 * tx->cap : 1024;
         float *n = realloc(tx->vt, (size_t)cap * 2 * sizeof(float));
@@ -64,6 +66,13 @@ static sss_result obj_vt(obj_uv *tx, char **q, char *e)
 static sss_result obj_corner_uv(obj_uv *tx, sll v, ull nv, char *p, char *end)
 {
     if (v < 1 || (ull)v > nv) return SSS_OK; /* the face's own check refuses it */
+    /* no vt yet: nothing to keep (a file without texture coordinates costs
+     * no per-vertex array); faces before the first vt leave the mesh
+     * without (obj_vt) */
+    if (!tx->nvt) {
+        tx->faces = 1;
+        return SSS_OK;
+    }
     if (!tx->first && !(tx->first = calloc((size_t)nv + 1, sizeof *tx->first))) return SSS_ERR_NOMEM;
     if (tx->first[v - 1]) return SSS_OK;
     char *q = p;
