@@ -15,8 +15,9 @@
 //              q image at level 0
 layout(local_size_x = 8, local_size_y = 8) in;
 // The gather walks its reach in shares of CHUNK x CHUNK coarse texels, one
-// dispatch each: llvmpipe ends any invocation after 65535 loop iterations
-// in all, and a share costs at most CHUNK^2 (1 + 4 + 16) of them.
+// dispatch each, at most CHUNK^2 (1 + 4 + 16) loop iterations: llvmpipe's
+// loop limiter cut a whole reach short, and shares of 32^2 too
+// (docs/deformable.md §9).
 #define CHUNK 16
 layout(std430, binding = 0) buffer LA { vec4 la[]; };   // light: position, flux
 layout(std430, binding = 1) buffer LB { vec4 lb[]; };   // light: z_min, z_max, n.L, covered share
