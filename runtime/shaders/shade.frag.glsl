@@ -14,19 +14,10 @@ uniform int u_surface_shadow; // 1: the surface terms are tested against the sha
 uniform int u_tonemap;    // 0 clamp, 1 Reinhard, -1 none (HDR readback)
 uniform int u_srgb;       // encode for an 8-bit display framebuffer
 uniform int u_flat;       // wireframe: constant colour
+uniform int u_qimage;    // 1: q per pixel from u_qtex (the splatting, splat_gpu.c), not per vertex
+layout(binding = 1) uniform sampler2D u_qtex;
 out vec4 o_color;
 const float PI = 3.14159265358979;
-// Unpolarised Fresnel reflectance entering a medium of relative index eta
-// (docs/physics.md §3); 1 under total internal reflection.
-float fresnel_r(float eta, float c) {
-    c = clamp(c, 0.0, 1.0);
-    float g2 = eta * eta - 1.0 + c * c;
-    if (g2 < 0.0 || c <= 0.0) return 1.0;
-    float g = sqrt(g2);
-    float a = (g - c) / (g + c);
-    float b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
-    return min(1.0, 0.5 * a * a * (1.0 + b * b));
-}
 void main() {
     if (u_flat != 0) { o_color = vec4(0.9, 0.9, 0.9, 1.0); return; }
     vec3 n = normalize(v_nrm);
@@ -35,7 +26,8 @@ void main() {
     vec3 L = vec3(0.0);
     // Subsurface term: L = E q F_t(eta, n.w_o) (Hao–Varshney 2004 §3.1),
     // divided by c(η) for the normalised exit
-    if (u_scatter != 0) L += u_light_rgb * v_q * ((1.0 - fresnel_r(u_eta, nv)) * u_exit_scale);
+    vec3 q = u_qimage != 0 ? texelFetch(u_qtex, ivec2(gl_FragCoord.xy), 0).rgb : v_q;
+    if (u_scatter != 0) L += u_light_rgb * q * ((1.0 - fresnel_r(u_eta, nv)) * u_exit_scale);
     // Direct surface light (Hao-Varshney 2004 3.2, "direct on-surface
     // reflected light (including shadow)"): of the irradiance E n.w_i the
     // boundary reflects F_r; the rest entered and is q's. A share rho_d of

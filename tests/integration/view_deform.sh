@@ -33,6 +33,17 @@ awk -v f="$F" 'BEGIN { exit !(f > 0.02) }' || fail "bending the tube changed onl
 expect_ok VIEW --scene "$TMP/d90.json" --time 0 --offscreen --out "$TMP/t0.png" --size 160x120
 F=$("$SSS_PNGSTATS" "$TMP/rest.png" "$TMP/t0.png")
 awk -v f="$F" 'BEGIN { exit !(f == 0) }' || fail "t = 0 differs from the rest pose in $F of the pixels"
+# --splat: q per pixel by the GPU splatting (docs/deformable.md §9); its
+# picture's mean within a few per cent of the per-frame path's (point
+# weights here, a few per cent short of R_d's integral: docs/physics.md §9)
+expect_ok VIEW --scene "$TMP/d90.json" --time 1 --offscreen --out "$TMP/bent.exr" --size 160x120
+expect_ok VIEW --scene "$TMP/d90.json" --time 1 --offscreen --out "$TMP/splat.exr" --size 160x120 --splat
+contains "$TMP/err" "530 vertices, q per pixel by the GPU splatting (3 levels, adaptive selection"
+read -r D MA MB < <("$SSS_EXRSTATS" "$TMP/bent.exr" "$TMP/splat.exr")
+awk -v a="$MA" -v b="$MB" 'BEGIN { exit !(b > 0.97 * a && b < 1.08 * a) }' || fail "splatting's mean $MB against $MA"
+expect_fail "--splat draws a deforming object of --scene offscreen" VIEW --scene "$TMP/d90.json" --time 1 --splat
+expect_fail "--splat-levels and --splat-uniform set up --splat" \
+  VIEW --scene "$TMP/d90.json" --time 1 --offscreen --out "$TMP/x.png" --splat-levels 2
 # what it cannot draw
 expect_fail "static.json: /objects/0: 'tube' does not deform: bake it" \
   VIEW --scene "$TMP/static.json" --offscreen --out "$TMP/x.png"

@@ -1,10 +1,10 @@
 /* sss/splat.h: the CPU side of Chen et al. 2012's multiresolution
- * splatting (Chen et al. 2012 §4; docs/deformable.md §6): the required sampling
+ * splatting (Chen et al. 2012 §4; docs/deformable.md §8): the required sampling
  * rate M (Eq. 11), the sample selection test (Eq. 10), the mean normalised
  * scattering profile P̄ (Eqs. 15–16), the minimal effective rendering
  * radius R̄ (Eq. 14) and the levels' rendering ranges [R_min^k, R_max^k]
- * (Eq. 13). These are the tables and tests the GPU passes would use; the
- * buffers and the splatting itself are not built. No GL: part of libsss.
+ * (Eq. 13). These are the tables and tests the GPU passes use (sss_render's
+ * splat_gpu.c, sss/splat_gpu.h; docs/deformable.md §9). No GL: part of libsss.
  *
  * Symbols follow the paper: R_P the effective scattering range (the radius
  * holding 95 % of the profile's energy), R_w the diameter of the object's

@@ -61,8 +61,8 @@ double sss_view_bounds(const sss_mesh *m, double centre[3])
 sss_result sss_draw_create(sss_draw *d, sss_error *err)
 {
     GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vert, err);
-    const char *parts[3] = {"", sss_glsl_shadow_map, sss_glsl_shade_frag};
-    GLuint fs = vs ? sss_gl_compile_parts(GL_FRAGMENT_SHADER, parts, 3, err) : 0;
+    const char *parts[4] = {"", sss_glsl_shadow_map, sss_glsl_fresnel, sss_glsl_shade_frag};
+    GLuint fs = vs ? sss_gl_compile_parts(GL_FRAGMENT_SHADER, parts, 4, err) : 0;
     d->prog_shade = fs ? sss_gl_link(vs, fs, err) : 0;
     if (!d->prog_shade) {
         if (vs && !fs) glDeleteShader(vs);
@@ -120,10 +120,9 @@ static void mat4_mul(const double a[16], const double b[16], float out[16])
         }
 }
 
-/* The camera's matrix (column-major perspective × view) and eye for p, in
- * the frame of m's bounding sphere. */
-static void camera_mvp(const sss_gpu_mesh *m, const sss_view_params *p, int width, int height, double eye[3],
-                       float mvp[16])
+/* renderer.h */
+void sss_draw_camera_mvp(const sss_gpu_mesh *m, const sss_view_params *p, int width, int height, double eye[3],
+                         float mvp[16])
 {
     double right[3], up[3], fwd[3];
     camera(m, p, eye, right, up, fwd);
@@ -150,7 +149,7 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
 {
     double eye[3];
     float mvp[16];
-    camera_mvp(m, p, width, height, eye, mvp);
+    sss_draw_camera_mvp(m, p, width, height, eye, mvp);
     double l[3] = {p->light[0], p->light[1], p->light[2]};
     sss_normalize3(l);
     const float lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
@@ -194,6 +193,13 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m->qbuf);
     glBindVertexArray(m->vao);
     glUniform1i(glGetUniformLocation(pr, "u_flat"), 0);
+    /* q per pixel (the splatting, splat_gpu.c) instead of per vertex */
+    glUniform1i(glGetUniformLocation(pr, "u_qimage"), d->qtex != 0);
+    if (d->qtex) {
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, d->qtex);
+        glActiveTexture(GL_TEXTURE0);
+    }
     glDrawElements(GL_TRIANGLES, (GLsizei)(3 * m->nf), GL_UNSIGNED_INT, NULL);
     if (p->wireframe) {
         glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
@@ -264,8 +270,19 @@ static sss_result render_image(sss_renderer *r, const sss_view_params *p, const 
 {
     *rgb = NULL;
     if (hdr) *hdr = NULL;
-    if (width < 1 || height < 1 || width > 16384 || height > 16384)
-        return sss_fail(err, SSS_ERR_ARG, "image size %dx%d out of range [1, 16384]", width, height);
+    sss_result res = sss_renderer_bind_offscreen(r, width, height, err);
+    if (res != SSS_OK) return res;
+    if (q) sss_renderer_upload_q(r, q);
+    else sss_renderer_evaluate(r, p);
+    return sss_draw_read_image(r, p, width, height, rgb, hdr, err);
+}
+
+/* renderer.h */
+sss_result sss_draw_read_image(sss_renderer *r, const sss_view_params *p, int width, int height, float **rgb,
+                               float **hdr, sss_error *err)
+{
+    *rgb = NULL;
+    if (hdr) *hdr = NULL;
     sss_result res = sss_renderer_bind_offscreen(r, width, height, err);
     if (res != SSS_OK) return res;
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -278,8 +295,6 @@ static sss_result render_image(sss_renderer *r, const sss_view_params *p, const 
         return sss_fail(err, SSS_ERR_NOMEM, "out of memory for a %dx%d image", width, height);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, r->draw.fbo);
-    if (q) sss_renderer_upload_q(r, q);
-    else sss_renderer_evaluate(r, p);
     sss_renderer_draw(r, p, width, height);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, px);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

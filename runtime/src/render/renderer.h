@@ -64,6 +64,7 @@ typedef struct sss_draw {
     struct sss_shadow *shadow; /* the surface terms' shadow map, made on the first frame that asks for it */
     GLuint fbo, fbo_color, fbo_depth;
     int fbo_w, fbo_h;
+    GLuint qtex; /* non-zero: q per pixel from this RGBA32F texture of the frame's size (splat_gpu.c) */
 } sss_draw;
 
 sss_result sss_draw_create(sss_draw *d, sss_error *err);
@@ -71,6 +72,18 @@ void sss_draw_destroy(sss_draw *d);
 /* The shading draw of m's q into the bound framebuffer under `query`. */
 void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p, int width, int height,
                     GLuint query);
+
+/* The camera's matrix (column-major perspective × view) and eye for p in
+ * the frame of m's bounding sphere: the draw's, and the splatting's camera
+ * buffer (splat_gpu.c), which must cover the same pixels. */
+void sss_draw_camera_mvp(const sss_gpu_mesh *m, const sss_view_params *p, int width, int height, double eye[3],
+                         float mvp[16]);
+
+/* Draws r's frame into its float framebuffer (width × height) and reads
+ * it back as sss_renderer_render_image returns it, q as r holds it (per
+ * vertex, or per pixel from draw.qtex). */
+sss_result sss_draw_read_image(sss_renderer *r, const sss_view_params *p, int width, int height, float **rgb,
+                               float **hdr, sss_error *err);
 
 /* The capacity of the pass table (effects/table.c). */
 #define SSS_EFFECTS_MAX 8

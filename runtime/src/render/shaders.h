@@ -86,4 +86,16 @@
  * (common/src/effects.c, runtime/src/render/scene_view.c), so on an IEEE
  * GPU the two agree to the bit. */
 
+/* The multiresolution splatting (splat_gpu.c, docs/deformable.md §9):
+ *   fresnel.glsl            fresnel_r(η, cos θ), shared with shade.frag.glsl;
+ *   splat_raster.vert.glsl  the posed mesh under u_mvp, world position and
+ *                           normal passed on;
+ *   splat_raster.frag.glsl  "#define LIGHT 1": the irradiance buffer
+ *                           (position, flux F_t a_t; depth along ω, n·ω,
+ *                           covered), after fresnel.glsl; LIGHT 0: the
+ *                           splatting buffer (position, view depth; normal);
+ *   splat.comp.glsl         "#define PASS 1" … 7: the seven compute passes
+ *                           (buffers' levels, selection, gather, upsampling),
+ *                           listed at its top. */
+
 #endif

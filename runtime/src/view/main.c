@@ -79,6 +79,10 @@ static void usage(FILE *f)
         "                       and camera instead of --light/--view (docs/scenes.md)\n"
         "  --time T             without FILE.sss: the pose of the scene's deforming object at T seconds\n"
         "                       (the window starts there and plays), q evaluated on the CPU (docs/deformable.md)\n"
+        "  --splat              with --time --offscreen: q by the GPU's multiresolution splatting (Chen et al.\n"
+        "                       2012) instead of the object-space path (docs/deformable.md §9)\n"
+        "  --splat-levels N     the splatting's levels, 1 ... 3 (default 3)\n"
+        "  --splat-uniform      the splatting without the adaptive selection: every light texel a sample\n"
         "  -h, --help           this text\n\n"
         "window controls:\n%s",
         sss_app_controls_help);
@@ -96,6 +100,7 @@ typedef struct view_args {
     const char *scene; /* --scene S.json, or NULL */
     double time;       /* --time T: the pose of a deforming object (docs/deformable.md) */
     int time_given;
+    int splat, splat_levels, splat_uniform; /* --splat, --splat-levels, --splat-uniform */
     int offscreen;     /* --offscreen */
     int size[2];       /* --size W H */
     int nbench;        /* --bench N (0: none) */
@@ -169,6 +174,9 @@ static int parse(int argc, char **argv, view_args *a)
         {.name = "--bench", .kind = SSS_CLI_INT, .dest = &a->nbench, .lo = 1, .hi = 100000},
         {.name = "--scene", .kind = SSS_CLI_STRING, .dest = &a->scene},
         {.name = "--time", .kind = SSS_CLI_DOUBLE, .dest = &a->time, .lo = -1e9, .hi = 1e9, .given = &a->time_given},
+        {.name = "--splat", .kind = SSS_CLI_FLAG, .dest = &a->splat},
+        {.name = "--splat-levels", .kind = SSS_CLI_INT, .dest = &a->splat_levels, .lo = 1, .hi = 3},
+        {.name = "--splat-uniform", .kind = SSS_CLI_FLAG, .dest = &a->splat_uniform},
     };
     const sss_cli_opt pos[] = {{.name = "FILE.sss", .kind = SSS_CLI_STRING, .dest = &a->path}};
     const sss_cli cli = {.tool = TOOL, .opts = opts, .nopts = SSS_CLI_COUNT(opts), .pos = pos, .npos = 1,
@@ -185,6 +193,14 @@ static int parse(int argc, char **argv, view_args *a)
     if (!a->path && a->offscreen && (a->nbench || !a->out)) {
         sss_cli_printf(stderr, "%s: --scene without FILE.sss draws one pose offscreen with --out IMG.png (not "
                        "--bench)\n", TOOL);
+        return 2;
+    }
+    if ((a->splat_levels || a->splat_uniform) && !a->splat) {
+        sss_cli_printf(stderr, "%s: --splat-levels and --splat-uniform set up --splat\n", TOOL);
+        return 2;
+    }
+    if (a->splat && (a->path || !a->offscreen)) {
+        sss_cli_printf(stderr, "%s: --splat draws a deforming object of --scene offscreen, without FILE.sss\n", TOOL);
         return 2;
     }
     if (a->path && a->time_given) {
@@ -610,7 +626,8 @@ int main(int argc, char **argv)
             sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
             return 1;
         }
-        sss_pose_view pv = {TOOL, a.scene, a.time, a.out, a.shot, a.size[0], a.size[1], a.exposure_given, &a.inputs};
+        sss_pose_view pv = {TOOL, a.scene, a.time, a.out, a.shot, a.size[0], a.size[1], a.exposure_given, &a.inputs,
+                            a.splat, a.splat_levels, !a.splat_uniform};
         if (!a.offscreen) a.p.background[0] = a.p.background[1] = a.p.background[2] = 0.02f; /* as window() */
         return a.offscreen ? sss_pose_offscreen(&pv, &a.p) : sss_pose_window(&pv, &a.p);
     }

@@ -25,6 +25,7 @@
 #include "sss/import.h"
 #include "sss/perframe.h"
 #include "sss/scene.h"
+#include "sss/splat_gpu.h"
 #include "sss/vec3.h"
 
 /* The scene, its object's rest mesh, the file the renderer draws (its mesh
@@ -91,6 +92,11 @@ static int pose_frame(pose_state *s, double t)
     s->t_pose = t0 - tp0;
     const uint32_t nv = s->f.mesh.nv, C = s->C;
     memset(s->q, 0, (size_t)nv * C * sizeof *s->q);
+    if (s->v->splat) { /* the splatting computes q on the GPU from the pose itself */
+        s->t_q = 0;
+        s->shown_t = t;
+        return 0;
+    }
     const double mpw = sss_scene_object_mm_per_world_unit(o);
     for (uint32_t l = 0; l < s->sc.nlights; l++) {
         const sss_scene_light *L = &s->sc.lights[l];
@@ -192,6 +198,24 @@ static void view_params(pose_state *s, sss_view_params *p)
 
 static const char *weights_name(const pose_state *s) { return s->po.weights == SSS_WEIGHTS_HAT ? "hat" : "point"; }
 
+/* The scene's directional lights for the splatting, weighted as pose_frame
+ * weighs them (intensity × colour; a grey object: the mean); returns how
+ * many (at most SSS_SCENE_LIGHTS_MAX). */
+static uint32_t splat_lights(const pose_state *s, double (*dirs)[3], double (*w)[3], uint32_t max)
+{
+    uint32_t n = 0;
+    for (uint32_t l = 0; l < s->sc.nlights && n < max; l++) {
+        const sss_scene_light *L = &s->sc.lights[l];
+        if (L->kind != SSS_LIGHT_DIRECTIONAL || L->intensity == 0.0) continue;
+        for (int k = 0; k < 3; k++) dirs[n][k] = L->direction[k], w[n][k] = L->intensity * L->colour[k];
+        if (s->C == 1) w[n][0] = (w[n][0] + w[n][1] + w[n][2]) / 3.0;
+        n++;
+    }
+    return n;
+}
+
+#define POSE_SPLAT_LIGHTS 64
+
 int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
 {
     const char *T = v->tool;
@@ -205,24 +229,55 @@ int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
     sss_error err = {{0}};
     sss_offscreen *ctx = NULL;
     sss_renderer *r = NULL;
+    sss_splat_gpu *sp = NULL;
     float *rgb = NULL, *hdr = NULL;
     double td = 0;
     rc = 1;
-    if (sss_offscreen_create(&ctx, &err) != SSS_OK || sss_renderer_create(&s.f, &r, &err) != SSS_OK ||
-        (td = sss_now(), sss_renderer_render_q_image(r, p, s.q, v->width, v->height, &rgb, &hdr, &err)) != SSS_OK ||
-        (td = sss_now() - td, sss_write_image_with(v->out, rgb, hdr, v->width, v->height, v->inputs, &err)) != SSS_OK) {
+    sss_result res = sss_offscreen_create(&ctx, &err);
+    if (res == SSS_OK) res = sss_renderer_create(&s.f, &r, &err);
+    if (res == SSS_OK && v->splat) {
+        sss_splat_options so;
+        sss_splat_options_default(&so);
+        so.levels = v->splat_levels;
+        so.adaptive = v->splat_adaptive;
+        res = sss_splat_gpu_create(r, &so, &sp, &err);
+        if (res == SSS_OK) {
+            double dirs[POSE_SPLAT_LIGHTS][3], w[POSE_SPLAT_LIGHTS][3];
+            const uint32_t n = splat_lights(&s, dirs, w, POSE_SPLAT_LIGHTS);
+            td = sss_now();
+            res = sss_splat_gpu_render_image(sp, p, (const double(*)[3])dirs, (const double(*)[3])w, n, v->width,
+                                             v->height, &rgb, &hdr, &err);
+            td = sss_now() - td;
+        }
+    } else if (res == SSS_OK) {
+        td = sss_now();
+        res = sss_renderer_render_q_image(r, p, s.q, v->width, v->height, &rgb, &hdr, &err);
+        td = sss_now() - td;
+    }
+    if (res == SSS_OK) res = sss_write_image_with(v->out, rgb, hdr, v->width, v->height, v->inputs, &err);
+    if (res != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s\n", T, err.msg);
     } else {
-        char motion[96];
+        char motion[96], how[192];
         sss_scene_object_motion(&s.sc.objects[0], v->time, motion, sizeof motion);
-        sss_cli_printf(stderr, "%s: %s: %dx%d, %s, '%s' at t = %g s (%s), %u vertices, q per frame on the CPU (tree "
-                       "gather, %s weights) in %.3f s; pose %.3f s, draw %.3f s\n", T, v->out, v->width, v->height,
-                       sss_gl_renderer_name(), s.sc.objects[0].name, v->time, motion, s.f.mesh.nv, weights_name(&s),
-                       s.t_q, s.t_pose, td);
+        if (sp) {
+            const sss_splat_times st = sss_splat_gpu_times(sp);
+            snprintf(how, sizeof how, "q per pixel by the GPU splatting (%d levels, %s selection; GPU ms: buffers "
+                     "%.1f, levels %.1f/%.1f/%.1f, accumulation %.1f)", v->splat_levels ? v->splat_levels : 3,
+                     v->splat_adaptive ? "adaptive" : "uniform", st.buffers_ms, st.level_ms[0], st.level_ms[1],
+                     st.level_ms[2], st.accum_ms);
+        } else {
+            snprintf(how, sizeof how, "q per frame on the CPU (tree gather, %s weights) in %.3f s", weights_name(&s),
+                     s.t_q);
+        }
+        sss_cli_printf(stderr, "%s: %s: %dx%d, %s, '%s' at t = %g s (%s), %u vertices, %s; pose %.3f s, draw %.3f s\n",
+                       T, v->out, v->width, v->height, sss_gl_renderer_name(), s.sc.objects[0].name, v->time, motion,
+                       s.f.mesh.nv, how, s.t_pose, td);
         rc = 0;
     }
     free(rgb);
     free(hdr);
+    sss_splat_gpu_destroy(sp);
     sss_renderer_destroy(r);
     sss_offscreen_destroy(ctx);
     state_free(&s);

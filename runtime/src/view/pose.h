@@ -18,6 +18,9 @@ typedef struct sss_pose_view {
     int width, height;
     int exposure_given;     /* else 1 / the material's flat-slab q */
     const sss_inputs *inputs;
+    int splat;              /* offscreen: q per pixel by the splatting (sss/splat_gpu.h), not per vertex */
+    int splat_levels;       /* its levels (0: 3) */
+    int splat_adaptive;     /* its adaptive selection */
 } sss_pose_view;
 
 /* Renders the scene's one object at time v->time into v->out with the
