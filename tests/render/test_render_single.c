@@ -286,11 +286,61 @@ static void offGivesTheOldImageAndTheBitDecides(void **state)
     scene_free(&s);
 }
 
+/* Seed 002's Table 1 dermis and blood (flat layers, LAYR) over ketchup on
+ * the box top: every pixel is the stack's closed form (sss_layers_closed),
+ * the per-vertex depth buffer carrying the constant depths. */
+static void layersOnTheBoxTopGiveTheStacksClosedForm(void **state)
+{
+    (void)state;
+    scene s;
+    scene_make(&s, 1, "ketchup", 100.0, 0.0);
+    const sss_layer dermis = {{2, 1, 1}, {2.6, 1.6, 1.6}, 0.25, 0.3}, blood = {{6, 3, 2}, {6.6, 3.6, 2.6}, 0.4, 0.8};
+    s.f.layers.n = 2;
+    s.f.layers.layer[0] = dermis;
+    s.f.layers.layer[1] = blood;
+    s.f.layers.phase = SSS_PHASE_HG;
+    sss_layer_stack st = s.f.layers;
+    sss_layer *base = &st.layer[st.n++];
+    base->g = s.f.material.g;
+    base->depth = INFINITY;
+    for (int c = 0; c < 3; c++) {
+        base->sigma_s[c] = sss_material_sigma_s(&s.f.material, c);
+        base->sigma_t[c] = base->sigma_s[c] + s.f.material.sigma_a[c];
+    }
+    sss_view_params p;
+    params(&p, 0.4, 0.1, 0.9);
+    p.view[0] = 0.2, p.view[1] = 0.6, p.view[2] = 1.0;
+    p.single_samples = 16;
+    float *img = render(s.r, &p);
+    double l[3] = {p.light[0], p.light[1], p.light[2]}, worst = 0.0;
+    sss_normalize3(l);
+    int cnt = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double P[3], n[3], v[3];
+            if (!pixel_point(s.r, &s.m, &s.bvh, &p, x, y, P, n, v)) continue;
+            if (!(n[2] > 0.999 && P[2] > 0.49 && fabs(P[0]) < 0.4 && fabs(P[1]) < 0.4)) continue;
+            sss_ss_geom g;
+            if (!sss_ss_geometry(n, l, v, s.f.material.eta, 1, &g)) continue;
+            for (uint32_t c = 0; c < 3; c++) {
+                const double want = sss_layers_closed(&st, c, &g);
+                worst = fmax(worst, fabs(img[3 * (y * W + x) + c] - want) / want);
+                cnt++;
+            }
+        }
+    print_message("layers on the box top: %d pixel channels, max rel. diff %.3g\n", cnt, worst);
+    assert_true(cnt > 800);
+    assert_true(worst < 1e-3);
+    free(img);
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(sphereMatchesThePointOracle),
         cmocka_unit_test(boxTopIsTheHalfSpace),
+        cmocka_unit_test(layersOnTheBoxTopGiveTheStacksClosedForm),
         cmocka_unit_test(seedMarchErrorFallsWithSamples),
         cmocka_unit_test(offGivesTheOldImageAndTheBitDecides),
     };
