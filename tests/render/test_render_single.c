@@ -16,6 +16,7 @@
 
 #include "genmesh.h"
 #include "gl_fixture.h"
+#include "single_pixels.h"
 #include "sss/bvh.h"
 #include "sss/single.h"
 #include "sss/single_mesh.h"
@@ -23,6 +24,7 @@
 
 #define W 96
 #define H 72
+
 
 /* The view of every test: only single scattering, linear, E = 1. */
 static void params(sss_view_params *p, double lx, double ly, double lz)
@@ -45,45 +47,6 @@ static float *render(sss_renderer *r, const sss_view_params *p)
     if (sss_renderer_render_image(r, p, W, H, &rgb, &hdr, &err) != SSS_OK) fail_msg("render: %s", err.msg);
     free(rgb);
     return hdr;
-}
-
-/* Pixel (x, y) of the image (row 0 at the bottom, as glReadPixels) seen by
- * the camera of p: the surface point, its interpolated normal and the
- * direction towards the eye; 0 where the ray misses the mesh. */
-static int pixel_point(const sss_renderer *r, const sss_mesh *m, const sss_bvh *bvh, const sss_view_params *p,
-                       int x, int y, double P[3], double n[3], double v[3])
-{
-    double eye[3], right[3], up[3], fwd[3];
-    sss_renderer_camera(r, p, eye, right, up, fwd);
-    const double fy = 1.0 / tan(0.5 * p->fov_deg * SSS_PI / 180.0), aspect = (double)W / H;
-    const double nx = 2.0 * (x + 0.5) / W - 1.0, ny = 2.0 * (y + 0.5) / H - 1.0;
-    double d[3];
-    for (int k = 0; k < 3; k++) d[k] = fwd[k] + nx * aspect / fy * right[k] + ny / fy * up[k];
-    sss_normalize3(d);
-    const float o[3] = {(float)eye[0], (float)eye[1], (float)eye[2]}, df[3] = {(float)d[0], (float)d[1], (float)d[2]};
-    uint32_t prim = UINT32_MAX;
-    const float t = sss_bvh_nearest(bvh, o, df, 0.0f, &prim);
-    if (!isfinite(t) || prim == UINT32_MAX) return 0;
-    for (int k = 0; k < 3; k++) P[k] = eye[k] + t * d[k], v[k] = -d[k];
-    /* the rasteriser's interpolation: barycentrics of P in the triangle */
-    const uint32_t *ix = &m->tri[3 * (size_t)prim];
-    double a[3], b[3], c[3], e1[3], e2[3], q[3];
-    for (int k = 0; k < 3; k++) {
-        a[k] = m->pos[3 * (size_t)ix[0] + k];
-        b[k] = m->pos[3 * (size_t)ix[1] + k];
-        c[k] = m->pos[3 * (size_t)ix[2] + k];
-    }
-    sss_sub3(e1, b, a);
-    sss_sub3(e2, c, a);
-    sss_sub3(q, P, a);
-    const double d11 = sss_dot3(e1, e1), d12 = sss_dot3(e1, e2), d22 = sss_dot3(e2, e2);
-    const double q1 = sss_dot3(q, e1), q2 = sss_dot3(q, e2), den = d11 * d22 - d12 * d12;
-    const double w1 = (d22 * q1 - d12 * q2) / den, w2 = (d11 * q2 - d12 * q1) / den, w0 = 1.0 - w1 - w2;
-    for (int k = 0; k < 3; k++)
-        n[k] = w0 * m->nrm[3 * (size_t)ix[0] + k] + w1 * m->nrm[3 * (size_t)ix[1] + k] +
-               w2 * m->nrm[3 * (size_t)ix[2] + k];
-    sss_normalize3(n);
-    return 1;
 }
 
 typedef struct scene {
@@ -129,7 +92,7 @@ static double compare(scene *s, const sss_view_params *p, const float *img, int 
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
             double P[3], n[3], v[3], want[3];
-            if (!pixel_point(s->r, &s->m, &s->bvh, p, x, y, P, n, v)) continue;
+            if (!pixel_point(s->r, &s->m, &s->bvh, p, W, H, x, y, P, n, v)) continue;
             if (box_closed) {
                 /* the top face, 60 mm from its edges: where neither ray meets a side face */
                 if (!(n[2] > 0.999 && P[2] > 0.49 && fabs(P[0]) < 0.4 && fabs(P[1]) < 0.4)) continue;
@@ -318,7 +281,7 @@ static void layersOnTheBoxTopGiveTheStacksClosedForm(void **state)
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
             double P[3], n[3], v[3];
-            if (!pixel_point(s.r, &s.m, &s.bvh, &p, x, y, P, n, v)) continue;
+            if (!pixel_point(s.r, &s.m, &s.bvh, &p, W, H, x, y, P, n, v)) continue;
             if (!(n[2] > 0.999 && P[2] > 0.49 && fabs(P[0]) < 0.4 && fabs(P[1]) < 0.4)) continue;
             sss_ss_geom g;
             if (!sss_ss_geometry(n, l, v, s.f.material.eta, 1, &g)) continue;
