@@ -4,7 +4,7 @@
 // point K from a light-space map of the surface nearest the light (its
 // position and normal per texel, effects/single.c) and the march's end
 // where the view ray leaves the object by a camera-space map of the
-// nearest back faces. The formulas are those of common/src/single.c and
+// nearest back faces (position and normal per pixel). The formulas are those of common/src/single.c and
 // common/src/single_mesh.c, which are the CPU oracle of this pass
 // (sss_ss_mesh_point): the same geometry (sss_ss_geometry), the same layer
 // rule (seed 002 Eq. 12, sss_layers_tau_path) and the same entry weight at
@@ -27,7 +27,8 @@ uniform sampler2D u_ss_kpos;     // light space: the nearest surface's position 
 uniform sampler2D u_ss_knrm;     // light space: its interpolated normal
 uniform mat4 u_ss_light;         // world -> (s, t, z) of the light map
 uniform int u_ss_size;           // the light map's texels per side
-uniform sampler2D u_ss_back;     // camera: window depth of the nearest back face (1: none)
+uniform sampler2D u_ss_bpos;     // camera: the nearest back face's position (w = 1 where there is one)
+uniform sampler2D u_ss_bnrm;     // camera: its interpolated normal
 uniform mat4 u_ss_mvp;           // the camera's matrix (as the vertex shader's u_mvp)
 in float v_ld[8];                // the layers' lower boundaries at this point, mm (the entry point P's)
 float fresnel_r(float eta, float c); // shade.frag.glsl
@@ -145,14 +146,16 @@ ss_pt ss_locate(float s, vec3 P, vec3 n, vec3 L, vec3 di, vec3 dop, float mu_i, 
     return o;
 }
 // Whether the point x (world) is outside the object as the camera sees it:
-// behind the nearest back face of its pixel, or in a pixel with none.
+// beyond the tangent plane of the nearest back face in its pixel, or in a
+// pixel with none.
 bool ss_outside(vec3 x) {
     vec4 c = u_ss_mvp * vec4(x, 1.0);
-    vec3 ndc = c.xyz / c.w;
-    ivec2 px = ivec2(floor((ndc.xy * 0.5 + 0.5) * vec2(textureSize(u_ss_back, 0))));
-    if (any(lessThan(px, ivec2(0))) || any(greaterThanEqual(px, textureSize(u_ss_back, 0)))) return true;
-    float b = texelFetch(u_ss_back, px, 0).r;
-    return b >= 1.0 || ndc.z * 0.5 + 0.5 > b;
+    vec2 ndc = c.xy / c.w;
+    ivec2 size = textureSize(u_ss_bpos, 0);
+    ivec2 px = ivec2(floor((ndc * 0.5 + 0.5) * vec2(size)));
+    if (any(lessThan(px, ivec2(0))) || any(greaterThanEqual(px, size))) return true;
+    vec4 b = texelFetch(u_ss_bpos, px, 0);
+    return b.w < 0.5 || dot(x - b.xyz, texelFetch(u_ss_bnrm, px, 0).xyz) > 0.0;
 }
 vec3 ss_mean_exp(vec3 x) { // (1 - e^-x)/x, 1 at 0 (single.c's mean_exp); a series where float cancels
     vec3 series = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x / 24.0));
@@ -176,7 +179,7 @@ vec3 single_scattering(vec3 P, vec3 n, vec3 v, vec3 L) {
     for (int j = 1; j <= N; j++) {
         if (ss_outside(P + (float(j) * step0 / u_ss_mm) * dop)) {
             float lo = float(j - 1) * step0, hi = float(j) * step0;
-            for (int b = 0; b < 12; b++) {
+            for (int b = 0; b < 20; b++) {
                 float mid = 0.5 * (lo + hi);
                 if (ss_outside(P + (mid / u_ss_mm) * dop)) hi = mid; else lo = mid;
             }

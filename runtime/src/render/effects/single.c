@@ -10,9 +10,12 @@
  * crosses that surface's tangent plane (single.glsl, ss_cast). The map is
  * redrawn only when the light turns.
  *
- * Where the view ray leaves the object: a depth texture of the nearest
- * back faces as the camera sees them (front faces culled), redrawn every
- * frame; a sample is outside when it lies behind it in its pixel.
+ * Where the view ray leaves the object: the nearest back faces as the
+ * camera sees them (front faces culled; position and normal per pixel, as
+ * the light map), redrawn every frame; a sample is outside when it lies
+ * beyond the back face's tangent plane in its pixel. A depth comparison
+ * alone is not enough: across one pixel an oblique back face spans more
+ * depth than a thin part is thick (docs/layers.md §8).
  */
 #include "single.h"
 
@@ -26,13 +29,13 @@
 #include "sss/format.h"
 
 struct sss_single {
-    GLuint prog_map, prog_back;
-    GLint map_mat, back_mat;
+    GLuint prog_map;                 /* single_map.*.glsl: position and normal per texel, for both maps */
+    GLint map_mat;
     GLuint fbo_map, tex_pos, tex_nrm, rb_depth;
     float dir[3];
     int valid;
     float clip[16], lookup[16];
-    GLuint fbo_back, tex_back;
+    GLuint fbo_back, tex_bpos, tex_bnrm, rb_back;
     int back_w, back_h;
     GLuint ld_buf;   /* per-vertex layer depths (fill_layer_depths) */
     uint32_t nd;     /* layers per vertex */
@@ -56,13 +59,14 @@ void sss_single_destroy(sss_single *s)
 {
     if (!s) return;
     if (s->prog_map) glDeleteProgram(s->prog_map);
-    if (s->prog_back) glDeleteProgram(s->prog_back);
     if (s->fbo_map) glDeleteFramebuffers(1, &s->fbo_map);
     if (s->tex_pos) glDeleteTextures(1, &s->tex_pos);
     if (s->tex_nrm) glDeleteTextures(1, &s->tex_nrm);
     if (s->rb_depth) glDeleteRenderbuffers(1, &s->rb_depth);
     if (s->fbo_back) glDeleteFramebuffers(1, &s->fbo_back);
-    if (s->tex_back) glDeleteTextures(1, &s->tex_back);
+    if (s->tex_bpos) glDeleteTextures(1, &s->tex_bpos);
+    if (s->tex_bnrm) glDeleteTextures(1, &s->tex_bnrm);
+    if (s->rb_back) glDeleteRenderbuffers(1, &s->rb_back);
     if (s->ld_buf) glDeleteBuffers(1, &s->ld_buf);
     free(s);
 }
@@ -88,37 +92,42 @@ static void texture(GLuint *t, GLenum fmt, int w, int h)
     glBindTexture(GL_TEXTURE_2D, 0);
 }
 
+/* A framebuffer of position (RGBA32F) and normal (RGBA16F) textures with a
+ * depth buffer, w × h: the light map and the camera's back faces. */
+static int surface_target(GLuint *fbo, GLuint *pos, GLuint *nrm, GLuint *depth, int w, int h)
+{
+    GLint prev_fb = 0;
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev_fb);
+    texture(pos, GL_RGBA32F, w, h);
+    texture(nrm, GL_RGBA16F, w, h);
+    glGenRenderbuffers(1, depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, *depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    glGenFramebuffers(1, fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, *fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, *pos, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, *nrm, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, *depth);
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, bufs);
+    const GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)prev_fb);
+    return st == GL_FRAMEBUFFER_COMPLETE;
+}
+
 int sss_single_ensure(sss_single **out, const sss_gpu_mesh *m)
 {
     if (*out) return 1;
     sss_single *s = calloc(1, sizeof *s);
     if (!s) return 0;
     s->prog_map = program(sss_glsl_single_map_vert, sss_glsl_single_map_frag);
-    s->prog_back = program(sss_glsl_shadow_vert, sss_glsl_shadow_frag); /* depth only */
-    if (!s->prog_map || !s->prog_back) {
+    if (!s->prog_map) {
         sss_single_destroy(s);
         return 0;
     }
     s->map_mat = glGetUniformLocation(s->prog_map, "u_mat");
-    s->back_mat = glGetUniformLocation(s->prog_back, "u_mat");
-    GLint prev_fb = 0;
-    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev_fb);
-    const int n = SSS_SINGLE_MAP_SIZE;
-    texture(&s->tex_pos, GL_RGBA32F, n, n);
-    texture(&s->tex_nrm, GL_RGBA16F, n, n);
-    glGenRenderbuffers(1, &s->rb_depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, s->rb_depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, n, n);
-    glGenFramebuffers(1, &s->fbo_map);
-    glBindFramebuffer(GL_FRAMEBUFFER, s->fbo_map);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->tex_pos, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, s->tex_nrm, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s->rb_depth);
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glDrawBuffers(2, bufs);
-    const GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)prev_fb);
-    if (st != GL_FRAMEBUFFER_COMPLETE) {
+    if (!surface_target(&s->fbo_map, &s->tex_pos, &s->tex_nrm, &s->rb_depth, SSS_SINGLE_MAP_SIZE,
+                        SSS_SINGLE_MAP_SIZE)) {
         sss_single_destroy(s);
         return 0;
     }
@@ -141,21 +150,17 @@ int sss_single_ensure(sss_single **out, const sss_gpu_mesh *m)
     return 1;
 }
 
-/* The camera's back-face depth texture at width × height. */
+/* The camera's back faces at width × height. */
 static int back_target(sss_single *s, int width, int height)
 {
     if (s->fbo_back && s->back_w == width && s->back_h == height) return 1;
     if (s->fbo_back) glDeleteFramebuffers(1, &s->fbo_back);
-    if (s->tex_back) glDeleteTextures(1, &s->tex_back);
-    texture(&s->tex_back, GL_DEPTH_COMPONENT32F, width, height);
-    glGenFramebuffers(1, &s->fbo_back);
-    glBindFramebuffer(GL_FRAMEBUFFER, s->fbo_back);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, s->tex_back, 0);
-    glDrawBuffer(GL_NONE);
-    glReadBuffer(GL_NONE);
+    if (s->tex_bpos) glDeleteTextures(1, &s->tex_bpos);
+    if (s->tex_bnrm) glDeleteTextures(1, &s->tex_bnrm);
+    if (s->rb_back) glDeleteRenderbuffers(1, &s->rb_back);
     s->back_w = width;
     s->back_h = height;
-    return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    return surface_target(&s->fbo_back, &s->tex_bpos, &s->tex_bnrm, &s->rb_back, width, height);
 }
 
 void sss_single_prepare(sss_single *s, const sss_gpu_mesh *m, const float mvp[16], const float l[3], int width,
@@ -191,12 +196,13 @@ void sss_single_prepare(sss_single *s, const sss_gpu_mesh *m, const float mvp[16
         /* the nearest back face: the first place a ray from the eye leaves the object */
         glBindFramebuffer(GL_FRAMEBUFFER, s->fbo_back);
         glViewport(0, 0, width, height);
+        glClearColor(0, 0, 0, 0);
         glClearDepth(1.0);
-        glClear(GL_DEPTH_BUFFER_BIT);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         glEnable(GL_CULL_FACE);
         glCullFace(GL_FRONT);
-        glUseProgram(s->prog_back);
-        glUniformMatrix4fv(s->back_mat, 1, GL_FALSE, mvp);
+        glUseProgram(s->prog_map);
+        glUniformMatrix4fv(s->map_mat, 1, GL_FALSE, mvp);
         glDrawElements(GL_TRIANGLES, (GLsizei)(3 * m->nf), GL_UNSIGNED_INT, NULL);
     }
     glBindVertexArray(0);
@@ -252,9 +258,9 @@ void sss_single_bind(const sss_single *s, GLuint pr, const sss_gpu_mesh *m, cons
     glUniform1i(glGetUniformLocation(pr, "u_ss_size"), SSS_SINGLE_MAP_SIZE);
     glUniformMatrix4fv(glGetUniformLocation(pr, "u_ss_mvp"), 1, GL_FALSE, mvp);
     glUniform1i(glGetUniformLocation(pr, "u_ss_nd"), (GLint)s->nd);
-    const GLuint tex[3] = {s->tex_pos, s->tex_nrm, s->tex_back};
-    const char *names[3] = {"u_ss_kpos", "u_ss_knrm", "u_ss_back"};
-    for (int i = 0; i < 3; i++) {
+    const GLuint tex[4] = {s->tex_pos, s->tex_nrm, s->tex_bpos, s->tex_bnrm};
+    const char *names[4] = {"u_ss_kpos", "u_ss_knrm", "u_ss_bpos", "u_ss_bnrm"};
+    for (int i = 0; i < 4; i++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)(unit + i));
         glBindTexture(GL_TEXTURE_2D, tex[i]);
         glUniform1i(glGetUniformLocation(pr, names[i]), unit + i);
@@ -265,7 +271,7 @@ void sss_single_bind(const sss_single *s, GLuint pr, const sss_gpu_mesh *m, cons
 
 void sss_single_unbind(int unit)
 {
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < 4; i++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)(unit + i));
         glBindTexture(GL_TEXTURE_2D, 0);
     }

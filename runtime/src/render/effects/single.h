@@ -39,7 +39,7 @@ void sss_single_prepare(sss_single *s, const sss_gpu_mesh *m, const float mvp[16
                         int height);
 
 /* Sets single.glsl's uniforms in program pr (current) and binds its
- * textures to units unit … unit + 2 and the layer depths to SSBO binding 6.
+ * textures to units unit … unit + 3 and the layer depths to SSBO binding 6.
  * The caller unbinds the textures (sss_single_unbind). */
 void sss_single_bind(const sss_single *s, GLuint pr, const sss_gpu_mesh *m, const sss_view_params *p,
                      const float mvp[16], int unit);
