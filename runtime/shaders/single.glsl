@@ -8,7 +8,7 @@
 // common/src/single_mesh.c, which are the CPU oracle of this pass
 // (sss_ss_mesh_point): the same geometry (sss_ss_geometry), the same layer
 // rule (seed 002 Eq. 12, sss_layers_tau_path) and the same entry weight at
-// K, without the focusing term (docs/layers.md §8 measures what it costs).
+// K and the focusing of the refracted beam by a curved surface.
 // Included in the shading fragment shader before shade.frag.glsl.
 #ifndef SS_CAST_STEPS
 #define SS_CAST_STEPS 4          // tangent-plane steps of a cast (docs/layers.md §8 measures them)
@@ -24,13 +24,18 @@ uniform float u_ss_g[SS_MAXL];
 uniform float u_ss_mm;           // mm per mesh unit
 uniform float u_ss_smax_cap;     // 16 / (smallest sigma_t): where the view ray's light is gone, mm
 uniform sampler2D u_ss_kpos;     // light space: the nearest surface's position (w = 1 where covered)
-uniform sampler2D u_ss_knrm;     // light space: its interpolated normal
+uniform sampler2D u_ss_knrm;     // light space: its interpolated normal, and w = its triangle + 1
 uniform mat4 u_ss_light;         // world -> (s, t, z) of the light map
 uniform int u_ss_size;           // the light map's texels per side
 uniform sampler2D u_ss_bpos;     // camera: the nearest back face's position (w = 1 where there is one)
 uniform sampler2D u_ss_bnrm;     // camera: its interpolated normal
 uniform mat4 u_ss_mvp;           // the camera's matrix (as the vertex shader's u_mvp)
 in float v_ld[8];                // the layers' lower boundaries at this point, mm (the entry point P's)
+// the mesh itself (the renderer's vertex and index buffers): a map texel
+// names its triangle, whose plane and interpolated normal are exact
+layout(std430, binding = 0) readonly buffer SSP { float ss_pos[]; };
+layout(std430, binding = 1) readonly buffer SSN { float ss_nrm[]; };
+layout(std430, binding = 2) readonly buffer SST { uint ss_tri[]; };
 float fresnel_r(float eta, float c); // shade.frag.glsl
 uniform float u_ss_eta;              // the material's relative index (as shade.frag.glsl's u_eta)
 const float PI_SS = 3.14159265358979;
@@ -66,48 +71,94 @@ vec3 ss_tau_path(float km, float mu) { // sss_layers_tau_path (seed 002 Eq. 12, 
     }
     return tau;
 }
-// The surface nearest the light in the texel holding x: its point and
-// normal; false outside the map or where no surface was drawn.
-bool ss_map(vec3 x, out vec3 K, out vec3 nK) {
+vec3 ss_vec(uint i, bool nrm) {
+    return nrm ? vec3(ss_nrm[3u * i], ss_nrm[3u * i + 1u], ss_nrm[3u * i + 2u])
+               : vec3(ss_pos[3u * i], ss_pos[3u * i + 1u], ss_pos[3u * i + 2u]);
+}
+// The interpolated unit normal of triangle t at p (barycentrics of its
+// projection, extrapolated off the triangle): single_mesh.c's normal_at.
+vec3 ss_normal_at(int t, vec3 p) {
+    uint i0 = ss_tri[3 * t], i1 = ss_tri[3 * t + 1], i2 = ss_tri[3 * t + 2];
+    vec3 a = ss_vec(i0, false), e1 = ss_vec(i1, false) - a, e2 = ss_vec(i2, false) - a, q = p - a;
+    float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2), q1 = dot(q, e1), q2 = dot(q, e2);
+    float den = d11 * d22 - d12 * d12;
+    float w1 = den != 0.0 ? (d22 * q1 - d12 * q2) / den : 1.0 / 3.0;
+    float w2 = den != 0.0 ? (d11 * q2 - d12 * q1) / den : 1.0 / 3.0;
+    return normalize((1.0 - w1 - w2) * ss_vec(i0, true) + w1 * ss_vec(i1, true) + w2 * ss_vec(i2, true));
+}
+// The surface nearest the light in the texel holding x: a point of it and
+// its triangle; false outside the map or where no surface was drawn.
+bool ss_map(vec3 x, out vec3 K, out int prim) {
     vec2 st = (u_ss_light * vec4(x, 1.0)).xy;
     ivec2 ix = ivec2(floor(st * float(u_ss_size)));
+    prim = -1;
     if (any(lessThan(ix, ivec2(0))) || any(greaterThanEqual(ix, ivec2(u_ss_size)))) return false;
     vec4 p = texelFetch(u_ss_kpos, ix, 0);
     K = p.xyz;
-    nK = normalize(texelFetch(u_ss_knrm, ix, 0).xyz);
-    return p.w > 0.5;
+    prim = int(texelFetch(u_ss_knrm, ix, 0).w + 0.5) - 1;
+    return p.w > 0.5 && prim >= 0;
 }
 // Whether x lies inside the object as the light sees it: behind the
-// surface nearest the light on its line (K, nK: that surface).
-bool ss_inside(vec3 x, vec3 L, out vec3 K, out vec3 nK) { return ss_map(x, K, nK) && dot(K - x, L) >= 0.0; }
-// Where the ray from M back along -d leaves the surface: Newton steps on
-// the tangent plane of the map's surface, first at the texel of M's line
-// along the light, then at the texel of each new estimate (the map is
-// drawn along the light; d is refracted). A step that lands outside the
-// object (beyond the silhouette the light sees, where a grazing tangent
-// plane sends it) is undone by bisection between M and it. Distance in
-// mesh units, and K's normal; < 0 when nothing is found.
-float ss_cast(vec3 M, vec3 d, vec3 L, out vec3 nK) {
-    vec3 K, K2, n2;
-    if (!ss_map(M, K, nK)) return -1.0;
+// surface nearest the light on its line.
+bool ss_inside(vec3 x, vec3 L) {
+    vec3 K;
+    int t;
+    return ss_map(x, K, t) && dot(K - x, L) >= 0.0;
+}
+// Where the ray from M back along -d leaves the surface (the CPU's cast,
+// sss_bvh_nearest): the plane of the triangle the map holds on M's line
+// along the light, then of the triangle at each new estimate's texel (the
+// map is drawn along the light; d is refracted) until the triangle repeats.
+// A step that lands outside the object (beyond the silhouette the light
+// sees) is undone by bisection between M and it. Distance in mesh units
+// and K's triangle; < 0 when nothing is found.
+float ss_cast(vec3 M, vec3 d, vec3 L, out int prim) {
+    vec3 K;
+    int p2;
+    if (!ss_map(M, K, prim)) return -1.0;
     float t = -1.0;
     for (int it = 0; it < SS_CAST_STEPS; it++) {
-        float den = dot(-d, nK);
-        if (!(den > 1e-6)) return -1.0;
-        float tn = dot(K - M, nK) / den;
+        uint i0 = ss_tri[3 * prim];
+        vec3 a = ss_vec(i0, false);
+        vec3 fn = cross(ss_vec(ss_tri[3 * prim + 1], false) - a, ss_vec(ss_tri[3 * prim + 2], false) - a);
+        float den = dot(-d, fn);
+        if (den == 0.0) return -1.0;
+        float tn = dot(a - M, fn) / den;
         if (!(tn > 0.0)) return -1.0;
         t = tn;
-        if (it + 1 == SS_CAST_STEPS) return t;
-        if (!ss_map(M - t * d, K2, n2)) break; /* outside: bisect below */
-        K = K2;
-        nK = n2;
+        if (!ss_map(M - t * d, K, p2)) break; /* outside: bisect below */
+        if (p2 == prim) return t;
+        prim = p2;
     }
+    if (ss_inside(M - t * d, L)) return t; /* the steps ran out inside: keep the last */
     float lo = 0.0, hi = t;
-    for (int b = 0; b < 16; b++) {
+    for (int b = 0; b < 20; b++) {
         float mid = 0.5 * (lo + hi);
-        if (ss_inside(M - mid * d, L, K2, n2)) lo = mid, nK = n2; else hi = mid;
+        if (ss_inside(M - mid * d, L)) lo = mid; else hi = mid;
     }
-    return 0.5 * (lo + hi);
+    return ss_map(M - lo * d, K, p2) ? (prim = p2, 0.5 * (lo + hi)) : -1.0;
+}
+// How much a curved surface concentrates the refracted beam from K to M
+// (single_mesh.c's focusing): the cross-section of a small bundle entering
+// at K and two points 1e-3 |KM| away on K's tangent plane, each refracted at
+// its own interpolated normal of triangle prim, at K over at M; clamped to
+// [0.01, 100]. Offsets from K, so that float keeps the small differences.
+float ss_focusing(int prim, vec3 M, float t, vec3 tK, vec3 L) {
+    vec3 K0 = M - t * tK, nK = ss_normal_at(prim, K0);
+    vec3 h = abs(nK.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    vec3 u = normalize(cross(nK, h)), v = cross(nK, u);
+    float delta = 1e-3 * t;
+    vec3 off[3] = vec3[3](vec3(0.0), delta * u, delta * v), P[3];
+    for (int j = 0; j < 3; j++) {
+        vec3 nj = ss_normal_at(prim, K0 + off[j]), tj;
+        if (!(dot(nj, L) > 0.0)) return 1.0;
+        ss_refract(nj, L, u_ss_eta, tj);
+        vec3 mk = t * tK - off[j]; // M - K_j
+        P[j] = off[j] + dot(mk, tK) / dot(tj, tK) * tj;
+    }
+    float at_M = length(cross(P[1] - P[0], P[2] - P[0])), at_K = abs(dot(cross(off[1], off[2]), tK));
+    if (!(at_M > 0.0) || !(at_K > 0.0)) return 1.0;
+    return clamp(at_K / at_M, 0.01, 100.0);
 }
 struct ss_pt { int layer; vec3 tau; };
 // What the march needs at s mm along the view ray (single_mesh.c's
@@ -120,27 +171,33 @@ ss_pt ss_locate(float s, vec3 P, vec3 n, vec3 L, vec3 di, vec3 dop, float mu_i, 
     float su = s / u_ss_mm;
     vec3 M = P + su * dop;
     float t = -1.0, weight = 1.0, mu_path = mu_i;
-    vec3 nK;
-    if (su > 0.0) t = ss_cast(M, di, L, nK);
+    int prim;
+    if (su > 0.0) t = ss_cast(M, di, L, prim);
     if (!(t > 0.0)) {
         t = su * mu_o / mu_i; // no surface found: P's tangent plane
     } else {
         // the light refracts at K's own normal: two fixed-point steps
+        vec3 tK;
+        bool refracted = false;
         for (int it = 0; it < 2; it++) {
+            vec3 nK = ss_normal_at(prim, M - t * (it == 0 ? di : tK));
             float cK = dot(nK, L);
             if (!(cK > 0.0)) break;
-            vec3 tK;
-            float ct = ss_refract(nK, L, u_ss_eta, tK);
-            vec3 n2;
-            float t2 = ss_cast(M, tK, L, n2);
+            vec3 tn;
+            float ct = ss_refract(nK, L, u_ss_eta, tn);
+            int p2;
+            float t2 = ss_cast(M, tn, L, p2);
             if (!(t2 > 0.0)) break;
             t = t2;
-            nK = n2;
+            prim = p2;
+            tK = tn;
             float gl = u_ss_g[o.layer < u_ss_nl ? o.layer : 0];
             float ph = ss_phase(gl, -dot(tK, dop)), phv = ss_phase(gl, cphase_v);
             weight = ss_ft(u_ss_eta, cK) * cK / ct / entry_v * (phv > 0.0 ? ph / phv : 1.0);
             mu_path = max(1e-6, -dot(tK, n));
+            refracted = true;
         }
+        if (refracted) weight *= ss_focusing(prim, M, t, tK, L);
     }
     o.tau = weight > 0.0 ? ss_tau_path(t * u_ss_mm, mu_path) - log(weight) : vec3(1e30);
     return o;

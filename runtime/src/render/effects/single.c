@@ -92,14 +92,14 @@ static void texture(GLuint *t, GLenum fmt, int w, int h)
     glBindTexture(GL_TEXTURE_2D, 0);
 }
 
-/* A framebuffer of position (RGBA32F) and normal (RGBA16F) textures with a
+/* A framebuffer of position and normal textures (RGBA32F) with a
  * depth buffer, w × h: the light map and the camera's back faces. */
 static int surface_target(GLuint *fbo, GLuint *pos, GLuint *nrm, GLuint *depth, int w, int h)
 {
     GLint prev_fb = 0;
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev_fb);
     texture(pos, GL_RGBA32F, w, h);
-    texture(nrm, GL_RGBA16F, w, h);
+    texture(nrm, GL_RGBA32F, w, h); /* w: the triangle, exact to 2^24 */
     glGenRenderbuffers(1, depth);
     glBindRenderbuffer(GL_RENDERBUFFER, *depth);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
@@ -267,6 +267,10 @@ void sss_single_bind(const sss_single *s, GLuint pr, const sss_gpu_mesh *m, cons
     }
     glActiveTexture(GL_TEXTURE0);
     if (s->ld_buf) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, s->ld_buf);
+    /* the mesh, for the triangles the maps name */
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m->vbo_pos);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m->vbo_nrm);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m->ebo);
 }
 
 void sss_single_unbind(int unit)
