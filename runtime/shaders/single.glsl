@@ -4,7 +4,7 @@
 // point K from a light-space map of the surface nearest the light (its
 // position and normal per texel, effects/single.c) and the march's end
 // where the view ray leaves the object by a camera-space map of the
-// nearest back faces (position and normal per pixel). The formulas are those of common/src/single.c and
+// nearest back faces (position and triangle per pixel). The formulas are those of common/src/single.c and
 // common/src/single_mesh.c, which are the CPU oracle of this pass
 // (sss_ss_mesh_point): the same geometry (sss_ss_geometry), the same layer
 // rule (seed 002 Eq. 12, sss_layers_tau_path) and the same entry weight at
@@ -23,12 +23,10 @@ uniform vec3 u_ss_sigma_s[SS_MAXL], u_ss_sigma_t[SS_MAXL]; // 1/mm, per channel
 uniform float u_ss_g[SS_MAXL];
 uniform float u_ss_mm;           // mm per mesh unit
 uniform float u_ss_smax_cap;     // 16 / (smallest sigma_t): where the view ray's light is gone, mm
-uniform sampler2D u_ss_kpos;     // light space: the nearest surface's position (w = 1 where covered)
-uniform sampler2D u_ss_knrm;     // light space: its interpolated normal, and w = its triangle + 1
+uniform sampler2D u_ss_kpos;     // light space: the nearest surface's position, w = its triangle + 1 (0: none)
 uniform mat4 u_ss_light;         // world -> (s, t, z) of the light map
 uniform int u_ss_size;           // the light map's texels per side
-uniform sampler2D u_ss_bpos;     // camera: the nearest back face's position (w = 1 where there is one)
-uniform sampler2D u_ss_bnrm;     // camera: its interpolated normal
+uniform sampler2D u_ss_bpos;     // camera: the nearest back face's position, w = its triangle + 1 (0: none)
 uniform mat4 u_ss_mvp;           // the camera's matrix (as the vertex shader's u_mvp)
 in float v_ld[8];                // the layers' lower boundaries at this point, mm (the entry point P's)
 // the mesh itself (the renderer's vertex and index buffers): a map texel
@@ -86,6 +84,11 @@ vec3 ss_normal_at(int t, vec3 p) {
     float w2 = den != 0.0 ? (d11 * q2 - d12 * q1) / den : 1.0 / 3.0;
     return normalize((1.0 - w1 - w2) * ss_vec(i0, true) + w1 * ss_vec(i1, true) + w2 * ss_vec(i2, true));
 }
+// The (unnormalised) normal of triangle t's plane, and a vertex of it.
+vec3 ss_face_normal(int t) {
+    vec3 a = ss_vec(ss_tri[3 * t], false);
+    return cross(ss_vec(ss_tri[3 * t + 1], false) - a, ss_vec(ss_tri[3 * t + 2], false) - a);
+}
 // The surface nearest the light in the texel holding x: a point of it and
 // its triangle; false outside the map or where no surface was drawn.
 bool ss_map(vec3 x, out vec3 K, out int prim) {
@@ -95,8 +98,8 @@ bool ss_map(vec3 x, out vec3 K, out int prim) {
     if (any(lessThan(ix, ivec2(0))) || any(greaterThanEqual(ix, ivec2(u_ss_size)))) return false;
     vec4 p = texelFetch(u_ss_kpos, ix, 0);
     K = p.xyz;
-    prim = int(texelFetch(u_ss_knrm, ix, 0).w + 0.5) - 1;
-    return p.w > 0.5 && prim >= 0;
+    prim = int(p.w + 0.5) - 1;
+    return prim >= 0;
 }
 // Whether x lies inside the object as the light sees it: behind the
 // surface nearest the light on its line.
@@ -118,9 +121,7 @@ float ss_cast(vec3 M, vec3 d, vec3 L, out int prim) {
     if (!ss_map(M, K, prim)) return -1.0;
     float t = -1.0;
     for (int it = 0; it < SS_CAST_STEPS; it++) {
-        uint i0 = ss_tri[3 * prim];
-        vec3 a = ss_vec(i0, false);
-        vec3 fn = cross(ss_vec(ss_tri[3 * prim + 1], false) - a, ss_vec(ss_tri[3 * prim + 2], false) - a);
+        vec3 a = ss_vec(ss_tri[3 * prim], false), fn = ss_face_normal(prim);
         float den = dot(-d, fn);
         if (den == 0.0) return -1.0;
         float tn = dot(a - M, fn) / den;
@@ -203,8 +204,8 @@ ss_pt ss_locate(float s, vec3 P, vec3 n, vec3 L, vec3 di, vec3 dop, float mu_i, 
     return o;
 }
 // Whether the point x (world) is outside the object as the camera sees it:
-// beyond the tangent plane of the nearest back face in its pixel, or in a
-// pixel with none.
+// beyond the plane of the nearest back face's triangle in its pixel
+// (outward: as its interpolated normal), or in a pixel with none.
 bool ss_outside(vec3 x) {
     vec4 c = u_ss_mvp * vec4(x, 1.0);
     vec2 ndc = c.xy / c.w;
@@ -212,7 +213,10 @@ bool ss_outside(vec3 x) {
     ivec2 px = ivec2(floor((ndc * 0.5 + 0.5) * vec2(size)));
     if (any(lessThan(px, ivec2(0))) || any(greaterThanEqual(px, size))) return true;
     vec4 b = texelFetch(u_ss_bpos, px, 0);
-    return b.w < 0.5 || dot(x - b.xyz, texelFetch(u_ss_bnrm, px, 0).xyz) > 0.0;
+    int t = int(b.w + 0.5) - 1;
+    if (t < 0) return true;
+    vec3 fn = ss_face_normal(t);
+    return dot(x - b.xyz, dot(fn, ss_normal_at(t, b.xyz)) < 0.0 ? -fn : fn) > 0.0;
 }
 vec3 ss_mean_exp(vec3 x) { // (1 - e^-x)/x, 1 at 0 (single.c's mean_exp); a series where float cancels
     vec3 series = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x / 24.0));

@@ -5,9 +5,9 @@
  * generator, front and grazing light, every pixel that shows the sphere:
  * the truth is sss_ss_mesh_point's default (exact ray casts, the light
  * refracted at K, the beam's focusing; within 0.7 % of the path tracer,
- * docs/layers.md §6) at N = 256. Against it: the GPU pass (light-space map)
+ * docs/layers.md §6) at N = 128. Against it: the GPU pass (light-space map)
  * at N = 10, 50, 100 with both marches, and the CPU's own alternatives at
- * N = 256 (seed 002's fitted planes, the light refracted at the vertex, no
+ * N = 128 (seed 002's fitted planes, the light refracted at the vertex, no
  * focusing). Then the flat box top against the half-space closed form.
  * RMS and largest relative error over the pixel channels whose truth is at
  * least 2 % of the image's largest. Prints markdown tables. */
@@ -98,7 +98,7 @@ int main(int argc, char **argv)
             double *truth = calloc((size_t)W * H * 3, sizeof *truth), peak = 0.0;
             double *pts = calloc((size_t)W * H * 9, sizeof *pts);
             unsigned char *hit = calloc((size_t)W * H, 1);
-            const sss_ss_mesh_opts ot = {.samples = 256};
+            const sss_ss_mesh_opts ot = {.samples = 128};
             for (int y = 0; y < H; y++)
                 for (int x = 0; x < W; x++) {
                     double *q = &pts[9 * (size_t)(y * W + x)];
@@ -118,9 +118,9 @@ int main(int argc, char **argv)
                     if (hit[i / 3] && truth[i] >= 0.02 * peak) add(&a[k], img[i], truth[i]);
                 free(img);
             }
-            const sss_ss_mesh_opts alt[4] = {{.samples = 256, .fitted_planes = 1},
-                                             {.samples = 256, .vertex_refraction = 1},
-                                             {.samples = 256, .no_focusing = 1},
+            const sss_ss_mesh_opts alt[4] = {{.samples = 128, .fitted_planes = 1},
+                                             {.samples = 128, .vertex_refraction = 1},
+                                             {.samples = 128, .no_focusing = 1},
                                              {.samples = 10}};
             for (int i = 0; i < W * H; i++) {
                 if (!hit[i]) continue;

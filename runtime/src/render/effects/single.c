@@ -5,15 +5,15 @@
  * CPU oracle (sss_ss_mesh_point) casts a ray through the mesh; here a
  * light-space map stands in for the cast: drawn along the light with the
  * shadow map's orthographic projection (shadow.h, sss_shadow_frame), each
- * texel keeps the position and interpolated normal of the surface nearest
- * the light. K is then where the ray from M back along the refracted light
+ * texel keeps the position and the triangle of the surface nearest the
+ * light. K is then where the ray from M back along the refracted light
  * crosses that surface's tangent plane (single.glsl, ss_cast). The map is
  * redrawn only when the light turns.
  *
  * Where the view ray leaves the object: the nearest back faces as the
- * camera sees them (front faces culled; position and normal per pixel, as
- * the light map), redrawn every frame; a sample is outside when it lies
- * beyond the back face's tangent plane in its pixel. A depth comparison
+ * camera sees them (front faces culled; position and triangle per pixel,
+ * as the light map), redrawn every frame; a sample is outside when it lies
+ * beyond the plane of the back face's triangle in its pixel. A depth comparison
  * alone is not enough: across one pixel an oblique back face spans more
  * depth than a thin part is thick (docs/layers.md §8).
  */
@@ -29,13 +29,13 @@
 #include "sss/format.h"
 
 struct sss_single {
-    GLuint prog_map;                 /* single_map.*.glsl: position and normal per texel, for both maps */
+    GLuint prog_map;                 /* single_map.*.glsl: position and triangle per texel, for both maps */
     GLint map_mat;
-    GLuint fbo_map, tex_pos, tex_nrm, rb_depth;
+    GLuint fbo_map, tex_pos, rb_depth;
     float dir[3];
     int valid;
     float clip[16], lookup[16];
-    GLuint fbo_back, tex_bpos, tex_bnrm, rb_back;
+    GLuint fbo_back, tex_bpos, rb_back;
     int back_w, back_h;
     GLuint ld_buf;   /* per-vertex layer depths (fill_layer_depths) */
     uint32_t nd;     /* layers per vertex */
@@ -61,11 +61,9 @@ void sss_single_destroy(sss_single *s)
     if (s->prog_map) glDeleteProgram(s->prog_map);
     if (s->fbo_map) glDeleteFramebuffers(1, &s->fbo_map);
     if (s->tex_pos) glDeleteTextures(1, &s->tex_pos);
-    if (s->tex_nrm) glDeleteTextures(1, &s->tex_nrm);
     if (s->rb_depth) glDeleteRenderbuffers(1, &s->rb_depth);
     if (s->fbo_back) glDeleteFramebuffers(1, &s->fbo_back);
     if (s->tex_bpos) glDeleteTextures(1, &s->tex_bpos);
-    if (s->tex_bnrm) glDeleteTextures(1, &s->tex_bnrm);
     if (s->rb_back) glDeleteRenderbuffers(1, &s->rb_back);
     if (s->ld_buf) glDeleteBuffers(1, &s->ld_buf);
     free(s);
@@ -92,24 +90,21 @@ static void texture(GLuint *t, GLenum fmt, int w, int h)
     glBindTexture(GL_TEXTURE_2D, 0);
 }
 
-/* A framebuffer of position and normal textures (RGBA32F) with a
- * depth buffer, w × h: the light map and the camera's back faces. */
-static int surface_target(GLuint *fbo, GLuint *pos, GLuint *nrm, GLuint *depth, int w, int h)
+/* A framebuffer of one RGBA32F texture (per texel the nearest surface's
+ * position and its triangle + 1, exact to 2^24; 0: none) with a depth
+ * buffer, w × h: the light map and the camera's back faces. */
+static int surface_target(GLuint *fbo, GLuint *pos, GLuint *depth, int w, int h)
 {
     GLint prev_fb = 0;
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev_fb);
     texture(pos, GL_RGBA32F, w, h);
-    texture(nrm, GL_RGBA32F, w, h); /* w: the triangle, exact to 2^24 */
     glGenRenderbuffers(1, depth);
     glBindRenderbuffer(GL_RENDERBUFFER, *depth);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
     glGenFramebuffers(1, fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, *fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, *pos, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, *nrm, 0);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, *depth);
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glDrawBuffers(2, bufs);
     const GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)prev_fb);
     return st == GL_FRAMEBUFFER_COMPLETE;
@@ -126,7 +121,7 @@ int sss_single_ensure(sss_single **out, const sss_gpu_mesh *m)
         return 0;
     }
     s->map_mat = glGetUniformLocation(s->prog_map, "u_mat");
-    if (!surface_target(&s->fbo_map, &s->tex_pos, &s->tex_nrm, &s->rb_depth, SSS_SINGLE_MAP_SIZE,
+    if (!surface_target(&s->fbo_map, &s->tex_pos, &s->rb_depth, SSS_SINGLE_MAP_SIZE,
                         SSS_SINGLE_MAP_SIZE)) {
         sss_single_destroy(s);
         return 0;
@@ -156,11 +151,10 @@ static int back_target(sss_single *s, int width, int height)
     if (s->fbo_back && s->back_w == width && s->back_h == height) return 1;
     if (s->fbo_back) glDeleteFramebuffers(1, &s->fbo_back);
     if (s->tex_bpos) glDeleteTextures(1, &s->tex_bpos);
-    if (s->tex_bnrm) glDeleteTextures(1, &s->tex_bnrm);
     if (s->rb_back) glDeleteRenderbuffers(1, &s->rb_back);
     s->back_w = width;
     s->back_h = height;
-    return surface_target(&s->fbo_back, &s->tex_bpos, &s->tex_bnrm, &s->rb_back, width, height);
+    return surface_target(&s->fbo_back, &s->tex_bpos, &s->rb_back, width, height);
 }
 
 void sss_single_prepare(sss_single *s, const sss_gpu_mesh *m, const float mvp[16], const float l[3], int width,
@@ -258,9 +252,9 @@ void sss_single_bind(const sss_single *s, GLuint pr, const sss_gpu_mesh *m, cons
     glUniform1i(glGetUniformLocation(pr, "u_ss_size"), SSS_SINGLE_MAP_SIZE);
     glUniformMatrix4fv(glGetUniformLocation(pr, "u_ss_mvp"), 1, GL_FALSE, mvp);
     glUniform1i(glGetUniformLocation(pr, "u_ss_nd"), (GLint)s->nd);
-    const GLuint tex[4] = {s->tex_pos, s->tex_nrm, s->tex_bpos, s->tex_bnrm};
-    const char *names[4] = {"u_ss_kpos", "u_ss_knrm", "u_ss_bpos", "u_ss_bnrm"};
-    for (int i = 0; i < 4; i++) {
+    const GLuint tex[2] = {s->tex_pos, s->tex_bpos};
+    const char *names[2] = {"u_ss_kpos", "u_ss_bpos"};
+    for (int i = 0; i < 2; i++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)(unit + i));
         glBindTexture(GL_TEXTURE_2D, tex[i]);
         glUniform1i(glGetUniformLocation(pr, names[i]), unit + i);
@@ -275,7 +269,7 @@ void sss_single_bind(const sss_single *s, GLuint pr, const sss_gpu_mesh *m, cons
 
 void sss_single_unbind(int unit)
 {
-    for (int i = 0; i < 4; i++) {
+    for (int i = 0; i < 2; i++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)(unit + i));
         glBindTexture(GL_TEXTURE_2D, 0);
     }

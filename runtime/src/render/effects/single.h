@@ -3,8 +3,8 @@
  * (effects.h): its term is per pixel, added by the shading fragment
  * shader (single.glsl), not a pass over q nor a scene light's row. This
  * module owns what the shader reads: the per-vertex layer depths, the
- * light-space map of the surface nearest the light (position and normal
- * per texel: the entry points K) and the camera's nearest back faces (where
+ * light-space map of the surface nearest the light (position and
+ * triangle per texel: the entry points K) and the camera's nearest back faces (where
  * the view ray leaves the object). */
 #ifndef SSS_EFFECT_SINGLE_H
 #define SSS_EFFECT_SINGLE_H
@@ -39,7 +39,7 @@ void sss_single_prepare(sss_single *s, const sss_gpu_mesh *m, const float mvp[16
                         int height);
 
 /* Sets single.glsl's uniforms in program pr (current) and binds its
- * textures to units unit … unit + 3 and the layer depths to SSBO binding 6.
+ * textures to units unit and unit + 1 and the layer depths to SSBO binding 6.
  * The caller unbinds the textures (sss_single_unbind). */
 void sss_single_bind(const sss_single *s, GLuint pr, const sss_gpu_mesh *m, const sss_view_params *p,
                      const float mvp[16], int unit);
