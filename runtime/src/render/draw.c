@@ -1,9 +1,10 @@
 /* draw.c: the view of a frame (renderer.h): view parameters and camera,
  * the shading draw
- *     L = E · q · F_t(η, n·ω_o)  +  V · (specular + diffuse surface terms)
+ *     L = E · q · F_t(η, n·ω_o)  [+ E · L⁽¹⁾]  +  V · (specular + diffuse surface terms)
  * per colour channel (Hao–Varshney 2004 §3.1's outgoing radiance; §3.2's
  * direct on-surface light including shadow, V from the shadow map of
- * shadow.c tested per fragment: docs/viewer.md, "Direct surface light"), exposure
+ * shadow.c tested per fragment: docs/viewer.md, "Direct surface light";
+ * L⁽¹⁾ single scattering per pixel: effects/single.h, docs/layers.md §8), exposure
  * and tone mapping, the float framebuffer, and whole offscreen images.
  */
 #include <math.h>
