@@ -15,9 +15,7 @@ J
 sed 's/"mm_per_unit": 100}/"mm_per_unit": 100, "deform": {"type": "bend", "angle_deg": 0}}/' "$TMP/static.json" > "$TMP/d0.json"
 sed 's/"mm_per_unit": 100}/"mm_per_unit": 100, "deform": {"type": "bend", "angle_deg": 90}}/' "$TMP/static.json" > "$TMP/d90.json"
 expect_ok "$SSS_BAKE" --scene "$TMP/static.json" -o "$TMP" -q
-# skin1's bake carries single scattering (docs/layers.md §4), which the
-# per-frame path does not draw (docs/layers.md §7): compared without it
-expect_ok VIEW "$TMP/tube.sss" --scene "$TMP/static.json" --offscreen --out "$TMP/baked.exr" --size 160x120 --single off
+expect_ok VIEW "$TMP/tube.sss" --scene "$TMP/static.json" --offscreen --out "$TMP/baked.exr" --size 160x120
 expect_ok VIEW --scene "$TMP/d0.json" --time 1 --offscreen --out "$TMP/rest.exr" --size 160x120
 contains "$TMP/err" "'tube' at t = 1 s (bend, theta 0 deg), 530 vertices, q per frame on the CPU (tree gather, point weights)"
 # the same pose drawn from the bake (direct sum) and per frame (tree

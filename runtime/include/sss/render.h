@@ -138,7 +138,7 @@ typedef struct sss_view_params {
                            * diffusely (Lambert) instead of in the specular lobe (default 0: all specular) */
     int single;           /* single scattering per pixel (docs/layers.md §8): 0 (default) when the file's
                            * effect set has single-scattering, 1 always, -1 never */
-    int single_samples;   /* its N, segments along the view ray (0: the default, 16) */
+    int single_samples;   /* its N, segments along the view ray (0: the default, 32) */
     int single_march;     /* SSS_SINGLE_MARCH_SEGMENTS (0, default: the per-segment closed form) or
                            * SSS_SINGLE_MARCH_SEED (seed 002's Algorithm 1) */
 } sss_view_params;

@@ -74,7 +74,7 @@ static void usage(FILE *f)
         "                       with the bake's rays at more vertices)\n"
         "  --single on|off      single scattering per pixel (docs/layers.md section 8); default: on when\n"
         "                       the file's effect set has single-scattering\n"
-        "  --single-samples N   its segments along the refracted view ray, 1 ... 1024 (default 16)\n"
+        "  --single-samples N   its segments along the refracted view ray, 1 ... 1024 (default 32)\n"
         "  --single-march segments|seed   the per-segment closed form (default) or seed 002's Algorithm 1\n"
         "  --wireframe          draw edges over the surface\n"
         "  --screenshot FILE    where the P key saves a PNG (window mode)\n"
@@ -455,6 +455,7 @@ static void scene_bench(const sss_bake_file *f, sss_scene_eval *ev, sss_fx_gpu *
     /* the sums hold the near terms: the draw adds none */
     sss_view_params dp = *p;
     dp.near_terms = 0;
+    dp.single = -1; /* as sss_scene_render_image: a sum of lights draws no single scattering */
     p = &dp;
     sss_scene_eval_frame(ev, 0.0, q);
     if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) == SSS_OK) { free(rgb); free(hdr); }

@@ -14,7 +14,7 @@
 /* The light map's texels per side, and the default N (segments of the
  * per-segment closed form; docs/layers.md §8 measures the choice). */
 #define SSS_SINGLE_MAP_SIZE 2048
-#define SSS_SINGLE_SAMPLES_DEFAULT 16
+#define SSS_SINGLE_SAMPLES_DEFAULT 32
 
 typedef struct sss_single sss_single;
 
