@@ -113,6 +113,8 @@ static int surface_target(GLuint *fbo, GLuint *pos, GLuint *depth, int w, int h)
 int sss_single_ensure(sss_single **out, const sss_gpu_mesh *m)
 {
     if (*out) return 1;
+    /* the maps name a triangle as a float (its index + 1): exact below 2^24 */
+    if (m->nf >= (1u << 24) - 1u) return 0;
     sss_single *s = calloc(1, sizeof *s);
     if (!s) return 0;
     s->prog_map = program(sss_glsl_single_map_vert, sss_glsl_single_map_frag);

@@ -28,7 +28,8 @@ int sss_single_wanted(const sss_bake_file *f, const sss_view_params *p);
 void fill_layer_depths(const sss_bake_file *f, float *out);
 
 /* Creates *s for m (its layer depths uploaded, the maps' programs built)
- * unless it exists; 0 when it cannot be had. */
+ * unless it exists; 0 when it cannot be had (GL refuses the maps, or the
+ * mesh has 2^24 − 1 triangles or more, which the maps cannot name). */
 int sss_single_ensure(sss_single **s, const sss_gpu_mesh *m);
 void sss_single_destroy(sss_single *s);
 
