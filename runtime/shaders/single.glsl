@@ -2,17 +2,16 @@
 // S(1) marched along the refracted view ray as seed 002 (Algorithm 1) does,
 // or with the per-segment closed form (docs/layers.md §3), the light's entry
 // point K from a light-space map of the surface nearest the light (its
-// position and normal per texel, effects/single.c) and the march's end
-// where the view ray leaves the object by a camera-space map of the
-// nearest back faces (position and triangle per pixel). The formulas are those of common/src/single.c and
-// common/src/single_mesh.c, which are the CPU oracle of this pass
-// (sss_ss_mesh_point): the same geometry (sss_ss_geometry), the same layer
-// rule (seed 002 Eq. 12, sss_layers_tau_path) and the same entry weight at
-// K and the focusing of the refracted beam by a curved surface.
+// position and triangle per texel, effects/single.c) and the march's end
+// where the view ray leaves the object from a camera-space map of the
+// nearest back faces (the same per pixel). The formulas are those of
+// common/src/single.c and common/src/single_mesh.c, which are the CPU
+// oracle of this pass (sss_ss_mesh_point): the same geometry
+// (sss_ss_geometry), the same layer rule (seed 002 Eq. 12,
+// sss_layers_tau_path), the same entry weight at K and the same focusing
+// of the refracted beam by a curved surface.
 // Included in the shading fragment shader before shade.frag.glsl.
-#ifndef SS_CAST_STEPS
-#define SS_CAST_STEPS 4          // tangent-plane steps of a cast (docs/layers.md §8 measures them)
-#endif
+#define SS_CAST_STEPS 4          // triangle planes a cast steps through before it bisects
 #define SS_MAXL 9                // 8 layers of a file + the material beneath
 uniform int u_ss_on;             // 0: no single scattering (the old image, bit for bit)
 uniform int u_ss_n;              // N: segments (or Algorithm 1's samples)
@@ -137,7 +136,9 @@ float ss_cast(vec3 M, vec3 d, vec3 L, out int prim) {
         float mid = 0.5 * (lo + hi);
         if (ss_inside(M - mid * d, L)) lo = mid; else hi = mid;
     }
-    return ss_map(M - lo * d, K, p2) ? (prim = p2, 0.5 * (lo + hi)) : -1.0;
+    if (!ss_map(M - lo * d, K, p2)) return -1.0;
+    prim = p2; /* the triangle on the inside end's line */
+    return 0.5 * (lo + hi);
 }
 // How much a curved surface concentrates the refracted beam from K to M
 // (single_mesh.c's focusing): the cross-section of a small bundle entering
