@@ -19,6 +19,10 @@
 #include "sss/dipole.h"
 #include "sss/vec3.h"
 
+/* single scattering's two maps (effects/single.h): texture units 2 and 3,
+ * clear of the shadow map's 0 and of unit 1 */
+#define SINGLE_UNIT 2
+
 void sss_view_params_default(sss_view_params *p)
 {
     memset(p, 0, sizeof *p);
@@ -194,7 +198,7 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     glUniform1i(glGetUniformLocation(pr, "u_surface_shadow"), shadowed);
     if (shadowed) sss_shadow_bind(d->shadow, pr, 0);
     if (single) {
-        sss_single_bind(d->single, pr, m, p, mvp, 1);
+        sss_single_bind(d->single, pr, m, p, mvp, SINGLE_UNIT);
     } else { /* the program keeps its uniforms: a frame without the term clears them */
         glUniform1i(glGetUniformLocation(pr, "u_ss_on"), 0);
         glUniform1i(glGetUniformLocation(pr, "u_ss_nd"), 0);
@@ -219,7 +223,7 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     }
     glBindVertexArray(0);
     if (shadowed) glBindTexture(GL_TEXTURE_2D, 0);
-    if (single) sss_single_unbind(1);
+    if (single) sss_single_unbind(SINGLE_UNIT);
     glEndQuery(GL_TIME_ELAPSED);
 }
 
