@@ -26,6 +26,7 @@ typedef struct march_ctx {
     const sss_mesh *mesh;
     int refine;         /* refract the light at its entry point K, not at the vertex */
     int planes;         /* seed 002's fitted planes instead of the cast (Eqs. 9, 10) */
+    int focus;          /* weigh the entry by the focusing of the refracted beam */
     double fit_n[3], fit_p[3]; /* the vertex's least-squares plane (Eqs. 7, 8): unit normal, point (mesh units) */
     double s_max;       /* the march's end, mm (Eq. 9's |M M_max|) */
     double eta, entry_v, cos_phase_v; /* the vertex's entry factor F_t cos θ_i / μ_i and phase cosine */
@@ -58,13 +59,12 @@ static void normal_at(const sss_mesh *m, uint32_t t, const double p[3], double n
 }
 
 /* Seed 002's per-vertex plane (Eqs. 7, 8): the least-squares plane of the
- * vertices within radius r (mesh units) of vertex v: through their
+ * vertices within radius r (mesh units) of the point x (normal nx): through their
  * centroid, normal along the smallest eigenvector of their scatter matrix
  * (Jacobi rotations), turned to the vertex normal's side. Fewer than three
  * neighbours: the tangent plane. */
-static void fit_plane(const sss_mesh *m, uint32_t v, double r, double n[3], double p[3])
+static void fit_plane(const sss_mesh *m, const double x[3], const double nx[3], double r, double n[3], double p[3])
 {
-    const float *x = &m->pos[3 * (size_t)v];
     double S[3][3] = {{0}}, c[3] = {0, 0, 0};
     uint32_t cnt = 0;
     for (int pass = 0; pass < 2; pass++) {
@@ -84,7 +84,7 @@ static void fit_plane(const sss_mesh *m, uint32_t v, double r, double n[3], doub
         if (pass == 0 && cnt)
             for (int a = 0; a < 3; a++) c[a] /= cnt;
     }
-    for (int a = 0; a < 3; a++) n[a] = m->nrm[3 * (size_t)v + a], p[a] = x[a];
+    for (int a = 0; a < 3; a++) n[a] = nx[a], p[a] = x[a];
     if (cnt < 3) return;
     double V[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     for (int sweep = 0; sweep < 50; sweep++) {
@@ -247,7 +247,7 @@ static void locate_mesh(void *user, uint32_t c, double s, sss_ss_point *out)
             mu_path = fmax(1e-6, -sss_dot3(tK, k->n));
             refracted = 1;
         }
-        if (refracted) weight *= focusing(k, prim, M, t, back, tK);
+        if (refracted && k->focus) weight *= focusing(k, prim, M, t, back, tK);
     }
     float K[3];
     const float L[3] = {(float)k->light[0], (float)k->light[1], (float)k->light[2]};
@@ -268,6 +268,20 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
     if (v >= mesh->nv || !mesh->nrm)
         return sss_fail(err, SSS_ERR_ARG, "single scattering: vertex %u out of range [0, %u) or no normals", v,
                         mesh->nv);
+    double n[3], x[3];
+    for (int a = 0; a < 3; a++) {
+        n[a] = mesh->nrm[3 * (size_t)v + a];
+        x[a] = mesh->pos[3 * (size_t)v + a];
+    }
+    return sss_ss_mesh_point(mesh, bvh, mm_per_unit, m, layers, channels, x, n, light, view, opts, out, err);
+}
+
+sss_result sss_ss_mesh_point(const sss_mesh *mesh, const sss_bvh *bvh, double mm_per_unit, const sss_material *m,
+                             const sss_layer_stack *layers, uint32_t channels, const double x[3], const double nrm[3],
+                             const double light[3], const double view[3], const sss_ss_mesh_opts *opts,
+                             double *out, sss_error *err)
+{
+    if (!mesh->nrm) return sss_fail(err, SSS_ERR_ARG, "single scattering: the mesh has no normals");
     if (!(mm_per_unit > 0.0) || !isfinite(mm_per_unit))
         return sss_fail(err, SSS_ERR_ARG, "single scattering: mm_per_unit %g must be > 0", mm_per_unit);
     sss_result r = sss_material_check(m, channels, SSS_ERR_ARG, err);
@@ -276,11 +290,7 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
     const double tau_max = opts && opts->tau_max > 0.0 ? opts->tau_max : 16.0;
     for (uint32_t c = 0; c < channels; c++) out[c] = 0.0;
 
-    double n[3], x[3];
-    for (int a = 0; a < 3; a++) {
-        n[a] = mesh->nrm[3 * (size_t)v + a];
-        x[a] = mesh->pos[3 * (size_t)v + a];
-    }
+    double n[3] = {nrm[0], nrm[1], nrm[2]};
     sss_normalize3(n);
     sss_ss_geom g;
     if (!sss_ss_geometry(n, light, view, m->eta, 1, &g)) return SSS_OK;
@@ -304,9 +314,10 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
     const double ci = sss_dot3(n, light);
     march_ctx k = {.bvh = bvh, .mu_i = g.mu_i, .mu_o = g.mu_o, .mm_per_unit = mm_per_unit,
                    .delta = sss_mesh_ray_offset(mesh), .stack = &st, .mesh = mesh,
-                   .refine = !(opts && opts->vertex_refraction), .eta = m->eta,
+                   .refine = !(opts && opts->vertex_refraction), .focus = !(opts && opts->no_focusing),
+                   .eta = m->eta,
                    .entry_v = sss_ft(m->eta, ci) * ci / g.mu_i, .cos_phase_v = g.cos_phase};
-    memcpy(k.x, x, sizeof x);
+    memcpy(k.x, x, sizeof k.x);
     memcpy(k.n, n, sizeof n);
     memcpy(k.dir_i, g.dir_i, sizeof g.dir_i);
     memcpy(k.dir_o, g.dir_o, sizeof g.dir_o);
@@ -316,7 +327,7 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
         k.planes = 1;
         double sigma_t_min = INFINITY;
         for (uint32_t c = 0; c < channels; c++) sigma_t_min = fmin(sigma_t_min, st.layer[0].sigma_t[c]);
-        fit_plane(mesh, v, -log(0.01) / sigma_t_min / mm_per_unit, k.fit_n, k.fit_p);
+        fit_plane(mesh, x, n, -log(0.01) / sigma_t_min / mm_per_unit, k.fit_n, k.fit_p);
     }
     /* where the view ray leaves the object: the march ends there at most */
     float xo[3], d[3];
@@ -326,7 +337,9 @@ sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double m
         /* the march ends at s_exit, or where even the least extinguishing
          * layer (none above counted) would have taken e^{−tau_max} */
         double sigma_t = INFINITY;
-        for (uint32_t i = 0; i < st.n; i++) sigma_t = fmin(sigma_t, st.layer[i].sigma_t[c]);
+        for (uint32_t i = 0; i < st.n; i++)
+            for (uint32_t cc = 0; cc < channels; cc++)
+                if (cc == c || (opts && opts->shared_end)) sigma_t = fmin(sigma_t, st.layer[i].sigma_t[cc]);
         if (!(sigma_t > 0.0)) sigma_t = base->sigma_t[c];
         if (!(sigma_t > 0.0)) continue;
         const double s_max = fmin(s_exit, tau_max / sigma_t);

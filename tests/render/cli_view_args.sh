@@ -53,6 +53,12 @@ expect_msg "sss-view: --tonemap: '' must be clamp or reinhard" "$F" --tonemap ''
 expect_msg "sss-view: --exit: 'normalized' must be jensen or normalised" "$F" --exit normalized
 expect_msg "sss-view: --near-visibility: 'maps' must be rays or map" "$F" --near-visibility maps
 expect_msg "sss-view: --interp: 'nearest' must be triangle or nearest4" "$F" --interp nearest
+# single scattering (docs/layers.md section 8)
+for o in --single --single-samples --single-march; do expect_msg "sss-view: $o needs a value" "$F" "$o"; done
+expect_msg "sss-view: --single: 'maybe' must be on or off" "$F" --single maybe
+expect_msg "sss-view: --single-samples: '0' must be an integer 1 ... 1024" "$F" --single-samples 0
+expect_msg "sss-view: --single-samples: '2000' must be an integer 1 ... 1024" "$F" --single-samples 2000
+expect_msg "sss-view: --single-march: 'x' must be segments or seed" "$F" --single-march x
 # --diffuse: a share of the reflected light, in [0, 1]
 for v in -0.1 1.01 nan x ''; do
   expect_msg "sss-view: --diffuse: '$v' must be a number in [0, 1]" "$F" --diffuse "$v"

@@ -205,6 +205,7 @@ static void view_params(sss_view_params *p, const double light[3], int near, sss
     p->specular = 0;
     p->near_terms = near;
     p->path = path;
+    p->single = -1; /* q's paths are compared; single scattering is per pixel (test_render_single) */
 }
 
 /* The reference picture of q: drawn as given. */

@@ -258,6 +258,46 @@ static void shadedEntryPointsGiveNothing(void **state)
     free_box(&b);
 }
 
+/* The point form (sss_ss_mesh_point) is what a pixel is checked against:
+ * at a vertex it is the vertex function exactly, and anywhere on the deep
+ * box's top (off the vertices) it is the half-space's closed form. */
+static void pointFormIsTheVertexFormAndTheHalfSpaceAnywhereOnTheTop(void **state)
+{
+    (void)state;
+    box b;
+    make_box(&b, 400.0, 200.0, 4);
+    double light[3] = {0.4, 0.1, 0.9}, view[3] = {-0.3, 0.2, 0.93};
+    unit(light);
+    unit(view);
+    sss_error err = {{0}};
+    double atv[3], atp[3];
+    double x[3], n[3];
+    for (int a = 0; a < 3; a++) x[a] = b.m.pos[3 * (size_t)b.top + a], n[a] = b.m.nrm[3 * (size_t)b.top + a];
+    assert_int_equal(sss_ss_mesh_vertex(&b.m, &b.bvh, 1.0, &seed_dermis, NULL, 3, b.top, light, view, NULL, atv, &err), SSS_OK);
+    assert_int_equal(sss_ss_mesh_point(&b.m, &b.bvh, 1.0, &seed_dermis, NULL, 3, x, n, light, view, NULL, atp, &err), SSS_OK);
+    for (int c = 0; c < 3; c++) assert_true(atv[c] == atp[c]);
+    sss_ss_geom g;
+    assert_int_equal(sss_ss_geometry(n, light, view, 1.3, 1, &g), 1);
+    const double pts[3][2] = {{13.7, -41.2}, {-77.1, 5.3}, {30.0, 60.5}};
+    for (int i = 0; i < 3; i++) {
+        const double p[3] = {pts[i][0], pts[i][1], x[2]};
+        const sss_ss_mesh_opts o = {.shared_end = 1, .no_focusing = i == 2};
+        assert_int_equal(sss_ss_mesh_point(&b.m, &b.bvh, 1.0, &seed_dermis, NULL, 3, p, n, light, view, &o, atp, &err), SSS_OK);
+        for (uint32_t c = 0; c < 3; c++) {
+            const double ss = sss_material_sigma_s(&seed_dermis, (int)c), st = ss + seed_dermis.sigma_a[c];
+            const double want = sss_ss_halfspace(ss, st, seed_dermis.g, &g);
+            assert_true(fabs(atp[c] - want) < 1e-5 * want);
+        }
+    }
+    /* a mesh without normals is refused by name */
+    float *keep = b.m.nrm;
+    b.m.nrm = NULL;
+    assert_int_equal(sss_ss_mesh_point(&b.m, &b.bvh, 1.0, &seed_dermis, NULL, 3, x, n, light, view, NULL, atp, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "normals"));
+    b.m.nrm = keep;
+    free_box(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -266,6 +306,7 @@ int main(void)
         cmocka_unit_test(layersOverTheMaterialGiveTheStacksClosedForm),
         cmocka_unit_test(sphereMatchesThePathTracersSingleScattering),
         cmocka_unit_test(shadedEntryPointsGiveNothing),
+        cmocka_unit_test(pointFormIsTheVertexFormAndTheHalfSpaceAnywhereOnTheTop),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -40,6 +40,9 @@ typedef struct sss_ss_mesh_opts {
     int fitted_planes; /* 1: seed 002's entry estimate instead of the ray cast: the distance to a plane
                           blended between the vertex's tangent plane and the least-squares plane of
                           the vertices within −ln(0.01)/σt (Eqs. 7–10), light refracted at the vertex */
+    int no_focusing;   /* 1: without the focusing of the refracted beam by a curved surface (the GPU pass has none) */
+    int shared_end;    /* 1: one march end for every channel, where the least extinguishing channel's light
+                          has gone (the GPU pass marches the three channels together) */
 } sss_ss_mesh_opts;
 
 /* Single-scattered radiance leaving vertex v of mesh (built into bvh, which
@@ -54,6 +57,16 @@ typedef struct sss_ss_mesh_opts {
 sss_result sss_ss_mesh_vertex(const sss_mesh *mesh, const sss_bvh *bvh, double mm_per_unit, const sss_material *m,
                               const sss_layer_stack *layers, uint32_t channels, uint32_t v, const double light[3],
                               const double view[3], const sss_ss_mesh_opts *opts, double *out, sss_error *err);
+
+/* The same at any surface point x (mesh units) of the mesh, with unit
+ * outward normal nrm (a pixel's interpolated normal): the vertex function
+ * is this at the vertex's position and normal. Seed 002's fitted plane
+ * (opts->fitted_planes) is then the one of the vertices around x.
+ * SSS_ERR_ARG for an invalid material or a mesh without normals. */
+sss_result sss_ss_mesh_point(const sss_mesh *mesh, const sss_bvh *bvh, double mm_per_unit, const sss_material *m,
+                             const sss_layer_stack *layers, uint32_t channels, const double x[3], const double nrm[3],
+                             const double light[3], const double view[3], const sss_ss_mesh_opts *opts,
+                             double *out, sss_error *err);
 
 #ifdef __cplusplus
 }

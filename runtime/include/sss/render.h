@@ -136,7 +136,15 @@ typedef struct sss_view_params {
                            * says the light is blocked (docs/viewer.md, "Direct surface light") */
     double diffuse;       /* ρ_d in [0, 1]: the share of the Fresnel-reflected light the surface reflects
                            * diffusely (Lambert) instead of in the specular lobe (default 0: all specular) */
+    int single;           /* single scattering per pixel (docs/layers.md §8): 0 (default) when the file's
+                           * effect set has single-scattering, 1 always, -1 never */
+    int single_samples;   /* its N, segments along the view ray (0: the default, 32) */
+    int single_march;     /* SSS_SINGLE_MARCH_SEGMENTS (0, default: the per-segment closed form) or
+                           * SSS_SINGLE_MARCH_SEED (seed 002's Algorithm 1) */
 } sss_view_params;
+
+#define SSS_SINGLE_MARCH_SEGMENTS 0
+#define SSS_SINGLE_MARCH_SEED 1
 
 /* Fills the defaults: light and view (0, 0, 1), light_rgb (1, 1, 1),
  * distance 3.6, fov 35°, exposure 1, scatter and specular on, clamp tone

@@ -1,9 +1,10 @@
 /* draw.c: the view of a frame (renderer.h): view parameters and camera,
  * the shading draw
- *     L = E · q · F_t(η, n·ω_o)  +  V · (specular + diffuse surface terms)
+ *     L = E · q · F_t(η, n·ω_o)  [+ E · L⁽¹⁾]  +  V · (specular + diffuse surface terms)
  * per colour channel (Hao–Varshney 2004 §3.1's outgoing radiance; §3.2's
  * direct on-surface light including shadow, V from the shadow map of
- * shadow.c tested per fragment: docs/viewer.md, "Direct surface light"), exposure
+ * shadow.c tested per fragment: docs/viewer.md, "Direct surface light";
+ * L⁽¹⁾ single scattering per pixel: effects/single.h, docs/layers.md §8), exposure
  * and tone mapping, the float framebuffer, and whole offscreen images.
  */
 #include <math.h>
@@ -14,8 +15,13 @@
 #include "renderer.h"
 #include "shaders.h"
 #include "shadow.h"
+#include "effects/single.h"
 #include "sss/dipole.h"
 #include "sss/vec3.h"
+
+/* single scattering's two maps (effects/single.h): texture units 2 and 3,
+ * clear of the shadow map's 0 and of unit 1 */
+#define SINGLE_UNIT 2
 
 void sss_view_params_default(sss_view_params *p)
 {
@@ -61,8 +67,8 @@ double sss_view_bounds(const sss_mesh *m, double centre[3])
 sss_result sss_draw_create(sss_draw *d, sss_error *err)
 {
     GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vert, err);
-    const char *parts[4] = {"", sss_glsl_shadow_map, sss_glsl_fresnel, sss_glsl_shade_frag};
-    GLuint fs = vs ? sss_gl_compile_parts(GL_FRAGMENT_SHADER, parts, 4, err) : 0;
+    const char *parts[5] = {"", sss_glsl_shadow_map, sss_glsl_fresnel, sss_glsl_single, sss_glsl_shade_frag};
+    GLuint fs = vs ? sss_gl_compile_parts(GL_FRAGMENT_SHADER, parts, 5, err) : 0;
     d->prog_shade = fs ? sss_gl_link(vs, fs, err) : 0;
     if (!d->prog_shade) {
         if (vs && !fs) glDeleteShader(vs);
@@ -75,6 +81,7 @@ void sss_draw_destroy(sss_draw *d)
 {
     if (d->prog_shade) glDeleteProgram(d->prog_shade);
     sss_shadow_destroy(d->shadow);
+    sss_single_destroy(d->single);
     if (d->fbo) {
         glDeleteFramebuffers(1, &d->fbo);
         glDeleteRenderbuffers(1, &d->fbo_color);
@@ -161,6 +168,10 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
                          lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2] > 0.5f &&
                          sss_shadow_ensure(&d->shadow, m->vao, m->nf, m->centre, m->radius, p->shadow_size);
     if (shadowed) sss_shadow_update(d->shadow, lf, 0);
+    /* single scattering's maps, before the draw and outside its timer as the shadow map */
+    const int single = sss_single_wanted(m->f, p) && lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2] > 0.5f &&
+                       sss_single_ensure(&d->single, m);
+    if (single) sss_single_prepare(d->single, m, mvp, lf, width, height);
 
     glViewport(0, 0, width, height);
     glClearColor(p->background[0], p->background[1], p->background[2], 1.0f);
@@ -185,6 +196,12 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     glUniform1f(glGetUniformLocation(pr, "u_diffuse"), (float)rho_d);
     glUniform1i(glGetUniformLocation(pr, "u_surface_shadow"), shadowed);
     if (shadowed) sss_shadow_bind(d->shadow, pr, 0);
+    if (single) {
+        sss_single_bind(d->single, pr, m, p, mvp, SINGLE_UNIT);
+    } else { /* the program keeps its uniforms: a frame without the term clears them */
+        glUniform1i(glGetUniformLocation(pr, "u_ss_on"), 0);
+        glUniform1i(glGetUniformLocation(pr, "u_ss_nd"), 0);
+    }
     GLint fb = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fb);
     int offscreen = fb != 0 && (GLuint)fb == d->fbo;
@@ -212,6 +229,7 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     }
     glBindVertexArray(0);
     if (shadowed) glBindTexture(GL_TEXTURE_2D, 0);
+    if (single) sss_single_unbind(SINGLE_UNIT);
     glEndQuery(GL_TIME_ELAPSED);
 }
 

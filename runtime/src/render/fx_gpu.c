@@ -215,6 +215,7 @@ sss_result sss_scene_render_image(sss_renderer *r, sss_scene_eval *ev, sss_fx_gp
     /* the sum holds every light's near terms already (sss_scene_eval_frame) */
     sss_view_params d = *p;
     d.near_terms = 0;
+    d.single = -1; /* drawn for one directional light only: a sum of lights has none (docs/layers.md §7) */
     sss_result res = sss_renderer_render_q_image(r, &d, q, width, height, rgb, hdr, err);
     free(q);
     return res;

@@ -62,6 +62,7 @@ void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], i
 typedef struct sss_draw {
     GLuint prog_shade;
     struct sss_shadow *shadow; /* the surface terms' shadow map, made on the first frame that asks for it */
+    struct sss_single *single; /* single scattering's maps (effects/single.h), made on the first frame that asks */
     GLuint fbo, fbo_color, fbo_depth;
     int fbo_w, fbo_h;
     GLuint qtex; /* non-zero: q per pixel from this RGBA32F texture of the frame's size (splat_gpu.c) */

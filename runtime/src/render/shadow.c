@@ -143,40 +143,45 @@ static void light_frame(const double w[3], double u[3], double v[3])
     v[2] = w[0] * u[1] - w[1] * u[0];
 }
 
+int sss_shadow_frame(const double c[3], double R, const float l[3], float clip[16], float lookup[16])
+{
+    double w[3] = {l[0], l[1], l[2]}, u[3], v[3];
+    const double n = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (!(n > 0.5)) return 0;
+    for (int k = 0; k < 3; k++) w[k] /= n;
+    light_frame(w, u, v);
+    /* rows of the clip matrix: x = u·(p − c)/R', y = v·(p − c)/R',
+     * z = −ω·(p − c)/R' (nearer the light → smaller depth), w = 1 */
+    const double *rows[3] = {u, v, w};
+    const double sign[3] = {1.0, 1.0, -1.0};
+    memset(clip, 0, 16 * sizeof *clip);
+    memset(lookup, 0, 16 * sizeof *lookup);
+    for (int r = 0; r < 3; r++) {
+        double off = 0;
+        for (int k = 0; k < 3; k++) {
+            const double m = sign[r] * rows[r][k] / R;
+            clip[k * 4 + r] = (float)m;
+            lookup[k * 4 + r] = (float)(0.5 * m);
+            off -= m * c[k];
+        }
+        clip[12 + r] = (float)off;
+        lookup[12 + r] = (float)(0.5 * off + 0.5);
+    }
+    clip[15] = 1.0f;
+    lookup[15] = 1.0f;
+    return 1;
+}
+
 int sss_shadow_update(sss_shadow *s, const float l[3], GLuint query)
 {
     if (s->valid && s->dir[0] == l[0] && s->dir[1] == l[1] && s->dir[2] == l[2]) {
         if (query) glBeginQuery(GL_TIME_ELAPSED, query);
         return 0;
     }
-    double w[3] = {l[0], l[1], l[2]}, u[3], v[3];
-    const double n = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-    if (!(n > 0.5)) { /* no direction: the caller adds nothing */
+    if (!sss_shadow_frame(s->centre, s->radius, l, s->clip, s->lookup)) { /* no direction: the caller adds nothing */
         if (query) glBeginQuery(GL_TIME_ELAPSED, query);
         return 0;
     }
-    for (int k = 0; k < 3; k++) w[k] /= n;
-    light_frame(w, u, v);
-    /* rows of the clip matrix: x = u·(p − c)/R', y = v·(p − c)/R',
-     * z = −ω·(p − c)/R' (nearer the light → smaller depth), w = 1 */
-    const double R = s->radius, *c = s->centre;
-    const double *rows[3] = {u, v, w};
-    const double sign[3] = {1.0, 1.0, -1.0};
-    memset(s->clip, 0, sizeof s->clip);
-    memset(s->lookup, 0, sizeof s->lookup);
-    for (int r = 0; r < 3; r++) {
-        double off = 0;
-        for (int k = 0; k < 3; k++) {
-            const double m = sign[r] * rows[r][k] / R;
-            s->clip[k * 4 + r] = (float)m;
-            s->lookup[k * 4 + r] = (float)(0.5 * m);
-            off -= m * c[k];
-        }
-        s->clip[12 + r] = (float)off;
-        s->lookup[12 + r] = (float)(0.5 * off + 0.5);
-    }
-    s->clip[15] = 1.0f;
-    s->lookup[15] = 1.0f;
 
     GLint prev_draw = 0, prev_read = 0, vp[4];
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prev_draw);

@@ -63,6 +63,13 @@ void sss_shadow_destroy(sss_shadow *s);
  * rendered. */
 int sss_shadow_update(sss_shadow *s, const float l[3], GLuint query);
 
+/* The projection above for the light direction l (need not be unit) about
+ * centre c and radius R' (the margin included): the world → clip matrix
+ * the rasteriser draws with and the world → (s, t, z) lookup, both
+ * column-major; 0 when l has no direction. The shadow map uses it, and
+ * single scattering's light-space map (effects/single.c). */
+int sss_shadow_frame(const double c[3], double R, const float l[3], float clip[16], float lookup[16]);
+
 /* Forgets the direction held, so that the next update renders. */
 void sss_shadow_invalidate(sss_shadow *s);
 

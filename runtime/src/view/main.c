@@ -72,6 +72,10 @@ static void usage(FILE *f)
         "  --shadow-size N      the shadow map's texels per side (near terms, surface terms), 256 ... 8192\n"
         "                       (default 2048; finer agrees\n"
         "                       with the bake's rays at more vertices)\n"
+        "  --single on|off      single scattering per pixel (docs/layers.md section 8); default: on when\n"
+        "                       the file's effect set has single-scattering\n"
+        "  --single-samples N   its segments along the refracted view ray, 1 ... 1024 (default 32)\n"
+        "  --single-march segments|seed   the per-segment closed form (default) or seed 002's Algorithm 1\n"
         "  --wireframe          draw edges over the surface\n"
         "  --screenshot FILE    where the P key saves a PNG (window mode)\n"
         "  --bench N            offscreen: time N frames and print JSON timings on stdout\n"
@@ -135,6 +139,10 @@ static int parse(int argc, char **argv, view_args *a)
     static const int interp_values[] = {SSS_INTERP_TRIANGLE, SSS_INTERP_NEAREST4};
     static const char *const exits[] = {"jensen", "normalised", NULL};
     static const int off[] = {0};
+    static const char *const onoff[] = {"on", "off", NULL};
+    static const int onoff_values[] = {1, -1};
+    static const char *const marches[] = {"segments", "seed", NULL};
+    static const int march_values[] = {SSS_SINGLE_MARCH_SEGMENTS, SSS_SINGLE_MARCH_SEED};
     /* sss-view's own wordings where they differ from the library's defaults */
     static const char *const positive = "%s: %s: '%s' must be a number > %g and <= %g\n";
     const sss_cli_opt opts[] = {
@@ -169,6 +177,11 @@ static int parse(int argc, char **argv, view_args *a)
          .choices = visibilities, .values = visibility_values},
         {.name = "--shadow-size", .kind = SSS_CLI_INT, .dest = &a->p.shadow_size, .lo = 256, .hi = 8192,
          .msg = "%s: %s: '%s' must be an integer %d ... %d\n"},
+        {.name = "--single", .kind = SSS_CLI_CHOICE, .dest = &a->p.single, .choices = onoff, .values = onoff_values},
+        {.name = "--single-samples", .kind = SSS_CLI_INT, .dest = &a->p.single_samples, .lo = 1, .hi = 1024,
+         .msg = "%s: %s: '%s' must be an integer %d ... %d\n"},
+        {.name = "--single-march", .kind = SSS_CLI_CHOICE, .dest = &a->p.single_march, .choices = marches,
+         .values = march_values},
         {.name = "--wireframe", .kind = SSS_CLI_FLAG, .dest = &a->p.wireframe},
         {.name = "--screenshot", .kind = SSS_CLI_STRING, .dest = &a->shot},
         {.name = "--bench", .kind = SSS_CLI_INT, .dest = &a->nbench, .lo = 1, .hi = 100000},
@@ -458,6 +471,7 @@ static void scene_bench(const sss_bake_file *f, sss_scene_eval *ev, sss_fx_gpu *
     /* the sums hold the near terms: the draw adds none */
     sss_view_params dp = *p;
     dp.near_terms = 0;
+    dp.single = -1; /* as sss_scene_render_image: a sum of lights draws no single scattering */
     p = &dp;
     sss_scene_eval_frame(ev, 0.0, q);
     if (sss_renderer_render_q_image(r, p, q, w, h, &rgb, &hdr, &err) == SSS_OK) { free(rgb); free(hdr); }
