@@ -524,15 +524,16 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
         if (a.panel) sss_panel_frame(a.panel, a.show_panel, &a.p, &pinfo);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         sss_view_params dp = a.p;
+        /* single scattering: the frame's one directional light only, never a
+         * scene's sum (docs/layers.md §7), whichever of its lights are on */
+        if (opt->frame_gpu || scene_q) dp.single = -1;
         if (opt->frame_gpu && (a.scene_desc = opt->frame_gpu(opt->user, &a.p, a.r, a.clock)) != NULL) {
             /* the scene's lights summed on the GPU, straight into q */
             dp.near_terms = 0; /* the sum holds each light's near terms */
-            dp.single = -1;    /* single scattering: one directional light only (docs/layers.md §7) */
         } else if (scene_q) {
             opt->frame_q(opt->user, &a.p, a.clock, scene_q);
             sss_renderer_upload_q(a.r, scene_q);
             dp.near_terms = 0; /* the sum holds each light's near terms */
-            dp.single = -1;
         } else {
             sss_renderer_evaluate(a.r, &a.p);
         }
