@@ -102,6 +102,10 @@ shot s5 key w
 differ s4 s5 "W should draw the wireframe"
 shot s6 key w
 same s4 s6 "W twice should give the picture back"
+shot sx1 key x                              # a plain bake has no single-scattering bit: X adds it
+differ s6 sx1 "X should add single scattering"
+shot sx2 key x
+same s6 sx2 "X twice should give the picture back"
 shot s7 key c                               # CPU path: compared with s6 below
 shot s8 key c
 same s6 s8 "C twice should give the GPU picture back"

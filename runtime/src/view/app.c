@@ -43,6 +43,7 @@ const char *sss_app_controls_help =
     "  O                             toggle the near terms of a file baked with --own-term runtime\n"
     "  V                             their visibility: the bake's rays / a shadow map\n"
     "  S                             toggle the shadow of the surface terms (specular, diffuse)\n"
+    "  X                             toggle single scattering per pixel (docs/layers.md section 8)\n"
     "  D                             diffuse share of the reflected light: 0 / 0.25 / 0.5 / 1\n"
     "  N                             interpolation of q: triangle / the paper's 4 nearest samples\n"
     "  T                             toggle tone map clamp / Reinhard\n"
@@ -184,6 +185,11 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     case GLFW_KEY_O: a->p.near_terms = !a->p.near_terms; break;
     case GLFW_KEY_V: a->p.near_visibility = a->p.near_visibility == SSS_NEAR_MAP ? SSS_NEAR_RAYS : SSS_NEAR_MAP; break;
     case GLFW_KEY_S: a->p.surface_shadow = !a->p.surface_shadow; break;
+    case GLFW_KEY_X: { /* from what is drawn now (auto follows the file's effect bit) to the other */
+        const int drawn = a->p.single > 0 || (a->p.single == 0 && (a->f->fx.mask & SSS_FX_SINGLE));
+        a->p.single = drawn ? -1 : 1;
+        break;
+    }
     case GLFW_KEY_D: /* the next of 0, 0.25, 0.5, 1 above the current share */
         a->p.diffuse = a->p.diffuse >= 1.0 ? 0.0 : a->p.diffuse >= 0.5 ? 1.0 : a->p.diffuse >= 0.25 ? 0.5 : 0.25;
         break;
