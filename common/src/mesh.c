@@ -2,6 +2,7 @@
  * (Hao–Varshney 2004 §3.1: the area a vertex represents in the scattering
  * sum is one third of the areas of its incident triangles). */
 #include "sss/mesh.h"
+#include "sss/vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -241,4 +242,29 @@ sss_result sss_mesh_tangents(const sss_mesh *m, float *tangent, const char *name
     }
     free(acc);
     return SSS_OK;
+}
+
+/* Barycentrics of p's projection onto the triangle's plane (a degenerate
+ * triangle: its centroid's weights). */
+void sss_mesh_normal_at(const sss_mesh *m, uint32_t t, const double p[3], double n[3])
+{
+    const uint32_t *ix = &m->tri[3 * (size_t)t];
+    double a[3], b[3], c[3], e1[3], e2[3], q[3], w[3];
+    for (int k = 0; k < 3; k++) {
+        a[k] = m->pos[3 * (size_t)ix[0] + k];
+        b[k] = m->pos[3 * (size_t)ix[1] + k];
+        c[k] = m->pos[3 * (size_t)ix[2] + k];
+    }
+    sss_sub3(e1, b, a);
+    sss_sub3(e2, c, a);
+    sss_sub3(q, p, a);
+    const double d11 = sss_dot3(e1, e1), d12 = sss_dot3(e1, e2), d22 = sss_dot3(e2, e2);
+    const double q1 = sss_dot3(q, e1), q2 = sss_dot3(q, e2), den = d11 * d22 - d12 * d12;
+    w[1] = den != 0.0 ? (d22 * q1 - d12 * q2) / den : 1.0 / 3.0;
+    w[2] = den != 0.0 ? (d11 * q2 - d12 * q1) / den : 1.0 / 3.0;
+    w[0] = 1.0 - w[1] - w[2];
+    for (int k = 0; k < 3; k++)
+        n[k] = w[0] * m->nrm[3 * (size_t)ix[0] + k] + w[1] * m->nrm[3 * (size_t)ix[1] + k] +
+               w[2] * m->nrm[3 * (size_t)ix[2] + k];
+    sss_normalize3(n);
 }

@@ -32,32 +32,6 @@ typedef struct march_ctx {
     double eta, entry_v, cos_phase_v; /* the vertex's entry factor F_t cos θ_i / μ_i and phase cosine */
 } march_ctx;
 
-/* The interpolated unit normal of mesh triangle t at the point p (mesh
- * units; barycentrics of its projection), as the path tracer's boundary
- * uses (docs/reference.md). */
-static void normal_at(const sss_mesh *m, uint32_t t, const double p[3], double n[3])
-{
-    const uint32_t *ix = &m->tri[3 * (size_t)t];
-    double a[3], b[3], c[3], e1[3], e2[3], q[3], w[3];
-    for (int k = 0; k < 3; k++) {
-        a[k] = m->pos[3 * (size_t)ix[0] + k];
-        b[k] = m->pos[3 * (size_t)ix[1] + k];
-        c[k] = m->pos[3 * (size_t)ix[2] + k];
-    }
-    sss_sub3(e1, b, a);
-    sss_sub3(e2, c, a);
-    sss_sub3(q, p, a);
-    const double d11 = sss_dot3(e1, e1), d12 = sss_dot3(e1, e2), d22 = sss_dot3(e2, e2);
-    const double q1 = sss_dot3(q, e1), q2 = sss_dot3(q, e2), den = d11 * d22 - d12 * d12;
-    w[1] = den != 0.0 ? (d22 * q1 - d12 * q2) / den : 1.0 / 3.0;
-    w[2] = den != 0.0 ? (d11 * q2 - d12 * q1) / den : 1.0 / 3.0;
-    w[0] = 1.0 - w[1] - w[2];
-    for (int k = 0; k < 3; k++)
-        n[k] = w[0] * m->nrm[3 * (size_t)ix[0] + k] + w[1] * m->nrm[3 * (size_t)ix[1] + k] +
-               w[2] * m->nrm[3 * (size_t)ix[2] + k];
-    sss_normalize3(n);
-}
-
 /* Seed 002's per-vertex plane (Eqs. 7, 8): the least-squares plane of the
  * vertices within radius r (mesh units) of the point x (normal nx): through their
  * centroid, normal along the smallest eigenvector of their scatter matrix
@@ -129,7 +103,7 @@ static void fit_plane(const sss_mesh *m, const double x[3], const double nx[3], 
 static int refract_at(const march_ctx *k, uint32_t t, const double p[3], double d[3], double *c, double *ct)
 {
     double nK[3];
-    normal_at(k->mesh, t, p, nK);
+    sss_mesh_normal_at(k->mesh, t, p, nK);
     const double ci = sss_dot3(nK, k->light);
     if (!(ci > 0.0)) return 0;
     const double co = sss_ss_refract(nK, k->light, k->eta, d);
@@ -150,7 +124,7 @@ static double focusing(const march_ctx *k, uint32_t prim, const float M[3], doub
 {
     double K0[3], nK[3], u[3], v[3], Kj[3][3], tj[3][3], P[3][3];
     for (int a = 0; a < 3; a++) K0[a] = M[a] + t * back[a];
-    normal_at(k->mesh, prim, K0, nK);
+    sss_mesh_normal_at(k->mesh, prim, K0, nK);
     /* a tangent basis at K */
     const double h[3] = {fabs(nK[0]) < 0.9 ? 1.0 : 0.0, fabs(nK[0]) < 0.9 ? 0.0 : 1.0, 0.0};
     sss_cross3(nK, h, u);

@@ -30,24 +30,7 @@ static int pixel_point(const sss_renderer *r, const sss_mesh *m, const sss_bvh *
     const float t = sss_bvh_nearest(bvh, o, df, 0.0f, &prim);
     if (!isfinite(t) || prim == UINT32_MAX) return 0;
     for (int k = 0; k < 3; k++) P[k] = eye[k] + t * d[k], v[k] = -d[k];
-    /* the rasteriser's interpolation: barycentrics of P in the triangle */
-    const uint32_t *ix = &m->tri[3 * (size_t)prim];
-    double a[3], b[3], c[3], e1[3], e2[3], q[3];
-    for (int k = 0; k < 3; k++) {
-        a[k] = m->pos[3 * (size_t)ix[0] + k];
-        b[k] = m->pos[3 * (size_t)ix[1] + k];
-        c[k] = m->pos[3 * (size_t)ix[2] + k];
-    }
-    sss_sub3(e1, b, a);
-    sss_sub3(e2, c, a);
-    sss_sub3(q, P, a);
-    const double d11 = sss_dot3(e1, e1), d12 = sss_dot3(e1, e2), d22 = sss_dot3(e2, e2);
-    const double q1 = sss_dot3(q, e1), q2 = sss_dot3(q, e2), den = d11 * d22 - d12 * d12;
-    const double w1 = (d22 * q1 - d12 * q2) / den, w2 = (d11 * q2 - d12 * q1) / den, w0 = 1.0 - w1 - w2;
-    for (int k = 0; k < 3; k++)
-        n[k] = w0 * m->nrm[3 * (size_t)ix[0] + k] + w1 * m->nrm[3 * (size_t)ix[1] + k] +
-               w2 * m->nrm[3 * (size_t)ix[2] + k];
-    sss_normalize3(n);
+    sss_mesh_normal_at(m, prim, P, n); /* the rasteriser's interpolation */
     return 1;
 }
 

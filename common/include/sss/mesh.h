@@ -64,6 +64,12 @@ sss_result sss_mesh_compute_normals_areas(sss_mesh *m, const char *name, sss_err
  * one read from a file). Indices must already be valid. */
 void sss_mesh_vertex_areas(const sss_mesh *m, double *area);
 
+/* The interpolated unit normal of triangle t of m (nrm required) at the
+ * point p (mesh units), by the barycentrics of p's projection: the normal a
+ * rasteriser interpolates, and the one the path tracer's boundary and the
+ * single-scattering oracle use (docs/reference.md, docs/layers.md §5). */
+void sss_mesh_normal_at(const sss_mesh *m, uint32_t t, const double p[3], double n[3]);
+
 /* Per-vertex tangent frames from the texture coordinates (the frame
  * seed 002 §2.3 marches texture coordinates in): tangent[4 v .. 4 v + 3]
  * = (T, w), T the unit direction of ∂p/∂u at vertex v made orthogonal to
