@@ -28,8 +28,10 @@ void main() {
     // divided by c(η) for the normalised exit
     vec3 q = u_qimage != 0 ? texelFetch(u_qtex, ivec2(gl_FragCoord.xy), 0).rgb : v_q;
     if (u_scatter != 0) L += u_light_rgb * q * ((1.0 - fresnel_r(u_eta, nv)) * u_exit_scale);
+#ifdef SSS_SINGLE
     // Single scattering per pixel (single.glsl, docs/layers.md §8)
-    if (u_ss_on != 0) L += u_light_rgb * single_scattering(v_pos, n, v, u_light);
+    L += u_light_rgb * single_scattering(v_pos, n, v, u_light);
+#endif
     // Direct surface light (Hao-Varshney 2004 3.2, "direct on-surface
     // reflected light (including shadow)"): of the irradiance E n.w_i the
     // boundary reflects F_r; the rest entered and is q's. A share rho_d of

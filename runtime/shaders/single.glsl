@@ -10,10 +10,11 @@
 // (sss_ss_geometry), the same layer rule (seed 002 Eq. 12,
 // sss_layers_tau_path), the same entry weight at K and the same focusing
 // of the refracted beam by a curved surface.
-// Included in the shading fragment shader before shade.frag.glsl.
+// Included in the shading fragment shader before shade.frag.glsl; only the
+// program draw.c compiles with SSS_SINGLE holds it.
+#ifdef SSS_SINGLE
 #define SS_CAST_STEPS 4          // triangle planes a cast steps through before it bisects
 #define SS_MAXL 9                // 8 layers of a file + the material beneath
-uniform int u_ss_on;             // 0: no single scattering (the old image, bit for bit)
 uniform int u_ss_n;              // N: segments (or Algorithm 1's samples)
 uniform int u_ss_seed;           // 1: seed 002's Algorithm 1; 0: the per-segment closed form
 uniform int u_ss_schlick;        // the stack's phase: 1 Schlick (k = g), 0 Henyey-Greenstein
@@ -294,3 +295,4 @@ vec3 single_scattering(vec3 P, vec3 n, vec3 v, vec3 L) {
     }
     return B * Lss;
 }
+#endif

@@ -64,14 +64,28 @@ double sss_view_bounds(const sss_mesh *m, double centre[3])
     return r2 > 0 ? sqrt(r2) : 1.0;
 }
 
-sss_result sss_draw_create(sss_draw *d, sss_error *err)
+/* The shading program, with single scattering (single.glsl, defines
+ * SSS_SINGLE) or without it: a frame without the term runs a program that
+ * does not hold it, which llvmpipe would otherwise step through masked
+ * (8 times the draw's cost measured on the blob), and whose image is the
+ * old one by construction. */
+static GLuint shade_program(const char *defines, sss_error *err)
 {
     GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vert, err);
-    const char *parts[5] = {"", sss_glsl_shadow_map, sss_glsl_fresnel, sss_glsl_single, sss_glsl_shade_frag};
+    const char *parts[5] = {defines, sss_glsl_shadow_map, sss_glsl_fresnel, sss_glsl_single, sss_glsl_shade_frag};
     GLuint fs = vs ? sss_gl_compile_parts(GL_FRAGMENT_SHADER, parts, 5, err) : 0;
-    d->prog_shade = fs ? sss_gl_link(vs, fs, err) : 0;
-    if (!d->prog_shade) {
-        if (vs && !fs) glDeleteShader(vs);
+    GLuint pr = fs ? sss_gl_link(vs, fs, err) : 0;
+    if (vs && !fs) glDeleteShader(vs);
+    return pr;
+}
+
+sss_result sss_draw_create(sss_draw *d, sss_error *err)
+{
+    d->prog_shade = shade_program("", err);
+    d->prog_shade_ss = d->prog_shade ? shade_program("#define SSS_SINGLE 1\n", err) : 0;
+    if (!d->prog_shade_ss) {
+        if (d->prog_shade) glDeleteProgram(d->prog_shade);
+        d->prog_shade = 0;
         return SSS_ERR_UNSUPPORTED;
     }
     return SSS_OK;
@@ -80,6 +94,7 @@ sss_result sss_draw_create(sss_draw *d, sss_error *err)
 void sss_draw_destroy(sss_draw *d)
 {
     if (d->prog_shade) glDeleteProgram(d->prog_shade);
+    if (d->prog_shade_ss) glDeleteProgram(d->prog_shade_ss);
     sss_shadow_destroy(d->shadow);
     sss_single_destroy(d->single);
     if (d->fbo) {
@@ -178,8 +193,8 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
     glBeginQuery(GL_TIME_ELAPSED, query);
-    glUseProgram(d->prog_shade);
-    GLuint pr = d->prog_shade;
+    const GLuint pr = single ? d->prog_shade_ss : d->prog_shade;
+    glUseProgram(pr);
     glUniformMatrix4fv(glGetUniformLocation(pr, "u_mvp"), 1, GL_FALSE, mvp);
     glUniform1ui(glGetUniformLocation(pr, "u_channels"), m->C);
     glUniform3f(glGetUniformLocation(pr, "u_eye"), (float)eye[0], (float)eye[1], (float)eye[2]);
@@ -198,8 +213,7 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     if (shadowed) sss_shadow_bind(d->shadow, pr, 0);
     if (single) {
         sss_single_bind(d->single, pr, m, p, mvp, SINGLE_UNIT);
-    } else { /* the program keeps its uniforms: a frame without the term clears them */
-        glUniform1i(glGetUniformLocation(pr, "u_ss_on"), 0);
+    } else { /* no layer depths for the vertex shader to pass on */
         glUniform1i(glGetUniformLocation(pr, "u_ss_nd"), 0);
     }
     GLint fb = 0;

@@ -60,7 +60,7 @@ void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], i
 
 /* draw.c: the shading program and the float framebuffer. */
 typedef struct sss_draw {
-    GLuint prog_shade;
+    GLuint prog_shade, prog_shade_ss; /* without and with single scattering (draw.c) */
     struct sss_shadow *shadow; /* the surface terms' shadow map, made on the first frame that asks for it */
     struct sss_single *single; /* single scattering's maps (effects/single.h), made on the first frame that asks */
     GLuint fbo, fbo_color, fbo_depth;

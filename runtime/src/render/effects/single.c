@@ -244,7 +244,6 @@ void sss_single_bind(const sss_single *s, GLuint pr, const sss_gpu_mesh *m, cons
         g[k] = (float)(k + 1 < nl ? f->layers.layer[k].g : mat->g);
     }
     const int n = p->single_samples > 0 ? p->single_samples : SSS_SINGLE_SAMPLES_DEFAULT;
-    glUniform1i(glGetUniformLocation(pr, "u_ss_on"), 1);
     glUniform1i(glGetUniformLocation(pr, "u_ss_n"), n);
     glUniform1i(glGetUniformLocation(pr, "u_ss_seed"), p->single_march == SSS_SINGLE_MARCH_SEED);
     glUniform1i(glGetUniformLocation(pr, "u_ss_schlick"), f->layers.n && f->layers.phase == SSS_PHASE_SCHLICK);
