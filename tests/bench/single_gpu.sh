@@ -13,7 +13,7 @@ OUT=${1:-out/single_gpu}
 FRAMES=${2:-3}
 mkdir -p "$OUT"
 F=$OUT/bunny_ketchup.sss
-[ -f "$F" ] || build/precompute/sss-bake data/stanford/bunny.ply -o "$F" --material ketchup --mm-per-unit 6 \
+[ -f "$F" ] || build/precompute/sss-bake data/stanford/bunny.ply -o "$F" --material ketchup --mm-per-unit 10.1 \
   --dirs 40 --quant float -q 2>/dev/null
 bench() { build/runtime/sss-view "$F" --offscreen --bench "$FRAMES" --size 800x600 "$@" |
   python3 -c 'import json,sys; r=json.load(sys.stdin); print("%.1f | %.2f" % (r["frame_ms_median"], r["fps"]))'; }
