@@ -224,6 +224,16 @@ vec3 ss_mean_exp(vec3 x) { // (1 - e^-x)/x, 1 at 0 (single.c's mean_exp); a seri
     vec3 series = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x / 24.0));
     return mix((1.0 - exp(-x)) / max(x, vec3(1e-30)), series, lessThan(abs(x), vec3(1e-2)));
 }
+// One piece of the per-segment closed form (docs/layers.md §3) in one
+// layer, of length len from a point with light optical depth tau_a to one
+// with tau_b, both optical depths linear along it; tauv, the view ray's
+// optical depth at its start, moves to its end.
+vec3 ss_segment(int layer, vec3 tau_a, vec3 tau_b, float len, float cphase, inout vec3 tauv) {
+    vec3 dv = u_ss_sigma_t[layer] * len;
+    vec3 Ea = tau_a + tauv, Eb = tau_b + tauv + dv;
+    tauv += dv;
+    return u_ss_sigma_s[layer] * ss_phase(u_ss_g[layer], cphase) * len * exp(-min(Ea, Eb)) * ss_mean_exp(abs(Eb - Ea));
+}
 // The single-scattered radiance leaving P (unit normal n) towards v for a
 // light of unit irradiance from L, per channel, 1/sr.
 vec3 single_scattering(vec3 P, vec3 n, vec3 v, vec3 L) {
@@ -275,20 +285,12 @@ vec3 single_scattering(vec3 P, vec3 n, vec3 v, vec3 L) {
             float x = clamp(ss_depth(pa.layer) / mu_o, a, b);
             ss_pt px = ss_locate(x, P, n, L, di, dop, mu_i, mu_o, entry_v, cphase);
             px.layer = ss_find(ss_depth(pa.layer)); // the next layer with a thickness (z < depth_k)
-            vec3 dv = u_ss_sigma_t[pa.layer] * (x - a);
-            vec3 Ea = pa.tau + tauv, Eb = px.tau + tauv + dv;
-            Lss += u_ss_sigma_s[pa.layer] * ss_phase(u_ss_g[pa.layer], cphase) * (x - a) * exp(-min(Ea, Eb)) *
-                   ss_mean_exp(abs(Eb - Ea));
-            tauv += dv;
+            Lss += ss_segment(pa.layer, pa.tau, px.tau, x - a, cphase, tauv);
             a = x;
             pa = px;
         }
         if (pa.layer < u_ss_nl) {
-            vec3 dv = u_ss_sigma_t[pa.layer] * (b - a);
-            vec3 Ea = pa.tau + tauv, Eb = pb.tau + tauv + dv;
-            Lss += u_ss_sigma_s[pa.layer] * ss_phase(u_ss_g[pa.layer], cphase) * (b - a) * exp(-min(Ea, Eb)) *
-                   ss_mean_exp(abs(Eb - Ea));
-            tauv += dv;
+            Lss += ss_segment(pa.layer, pa.tau, pb.tau, b - a, cphase, tauv);
         }
         a = b;
         pa = pb;
