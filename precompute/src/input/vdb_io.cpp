@@ -40,7 +40,13 @@ extern "C" int sss_vdb_read(const char *data, size_t len, const char *grid, uint
     try {
         init_once();
         std::istringstream in(std::string(data, len), std::ios::binary);
-        openvdb::io::Stream stream(in);
+        // Read from this stream, not a delayed-load temporary file, and
+        // throw at the first read past its end: OpenVDB's readers do not
+        // check the stream, so a truncated file went on with lengths read
+        // from a failed stream and built strings of gigabytes for 100 s
+        // (docs/heterogeneous.md §6).
+        in.exceptions(std::ios::failbit | std::ios::badbit);
+        openvdb::io::Stream stream(in, false);
         openvdb::GridPtrVecPtr grids = stream.getGrids();
         openvdb::GridBase::Ptr base;
         for (const auto &g : *grids)
