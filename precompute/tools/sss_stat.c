@@ -754,7 +754,9 @@ static int model_error_report(const char *path, const sss_bake_file *f, const ch
     /* the reference of the same mesh (the file's, with its normals), size,
      * material (σ′s as baked, g = 0) and light */
     sss_ref_medium med;
-    if (sss_ref_medium_from_material(&f->material, 0.0, &med, &err) != SSS_OK ||
+    if (sss_ref_medium_from_material(&f->material, 0.0, &med, &err) == SSS_OK)
+        med.hetero = &f->hetero; /* the file's field (FELD), if any: the reference tracks it */
+    if (sss_ref_medium_validate(&med, &err) != SSS_OK ||
         sss_ref_scene_create(&f->mesh, f->mm_per_unit, &sc, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s: reference: %s\n", TOOL, path, err.msg);
         goto done;

@@ -43,12 +43,18 @@ extern "C" {
 /* ---- the medium ---------------------------------------------------------- */
 
 /* Per channel σa and σs (1/mm, σs the full scattering coefficient, not σ′s),
- * one Henyey–Greenstein g in (−1, 1) and one η for all channels. */
+ * one Henyey–Greenstein g in (−1, 1) and one η for all channels.
+ * hetero (not owned; NULL or a field of kind SSS_FIELD_NONE: homogeneous)
+ * makes the medium a material field (docs/heterogeneous.md §3): at x, σa
+ * and σs are (1 − f) times the ones above plus f times hetero->inside's
+ * (its σ′s over 1 − g), f the field at x's rest-frame point. Walks then
+ * track it with a majorant (docs/reference.md §3.1); particles refuse it. */
 typedef struct sss_ref_medium {
     double sigma_a[SSS_MAX_CHANNELS];
     double sigma_s[SSS_MAX_CHANNELS];
     double g;
     double eta;
+    const struct sss_hetero *hetero;
 } sss_ref_medium;
 
 /* From a material whose σ′s is reduced (Jensen's table, sss-bake's

@@ -51,9 +51,15 @@ typedef struct ref_medium {
     uint32_t C;                       /* channels: 1 when σa, σs agree in R, G, B */
     double sigma_a[3], sigma_s[3], sigma_t[3];
     double g, eta;
+    /* a material field (sss_ref_medium's hetero): the inside material's σa,
+     * σs at f = 1, the majorant σ̄ ≥ σt(x) everywhere (the largest σt of
+     * both materials over the channels: the blend is linear in f ∈ [0, 1])
+     * and the scene's mm per unit, for the field's rest frame */
+    const struct sss_hetero *het;
+    double sigma_a1[3], sigma_s1[3], sigma_bar, mm_per_unit;
 } ref_medium;
 
-void ref_medium_init(const sss_ref_medium *m, ref_medium *out);
+void ref_medium_init(const sss_ref_medium *m, double mm_per_unit, ref_medium *out);
 
 /* Everything one path needs. */
 typedef struct ref_ctx {

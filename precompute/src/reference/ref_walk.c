@@ -17,16 +17,21 @@
 #include <string.h>
 
 #include "sss/dipole.h"
+#include "sss/field.h"
 #include "sss/random.h"
 #include "sss/single.h" /* sss_phase_hg */
 #include "sss/vec3.h"
 
-void ref_medium_init(const sss_ref_medium *m, ref_medium *out)
+void ref_medium_init(const sss_ref_medium *m, double mm_per_unit, ref_medium *out)
 {
     memset(out, 0, sizeof *out);
+    const int het = m->hetero && m->hetero->field.kind != SSS_FIELD_NONE;
     int grey = 1;
     for (int c = 1; c < 3; c++)
-        if (m->sigma_a[c] != m->sigma_a[0] || m->sigma_s[c] != m->sigma_s[0]) grey = 0;
+        if (m->sigma_a[c] != m->sigma_a[0] || m->sigma_s[c] != m->sigma_s[0] ||
+            (het && (m->hetero->inside.sigma_a[c] != m->hetero->inside.sigma_a[0] ||
+                     m->hetero->inside.sigmap_s[c] != m->hetero->inside.sigmap_s[0])))
+            grey = 0;
     out->C = grey ? 1 : 3;
     for (int c = 0; c < 3; c++) {
         out->sigma_a[c] = m->sigma_a[c];
@@ -35,6 +40,29 @@ void ref_medium_init(const sss_ref_medium *m, ref_medium *out)
     }
     out->g = m->g;
     out->eta = m->eta;
+    if (het) {
+        out->het = m->hetero;
+        out->mm_per_unit = mm_per_unit;
+        for (int c = 0; c < 3; c++) {
+            out->sigma_a1[c] = m->hetero->inside.sigma_a[c];
+            out->sigma_s1[c] = m->hetero->inside.sigmap_s[c] / (1.0 - m->g); /* σ′s = σs (1 − g) */
+            out->sigma_bar = fmax(out->sigma_bar, fmax(out->sigma_t[c], out->sigma_a1[c] + out->sigma_s1[c]));
+        }
+    }
+}
+
+/* σa and σs at x (mm, the scene's frame): the blend (1 − f) base + f inside
+ * of docs/heterogeneous.md §3 at the field's value at x's rest-frame point. */
+static void medium_at(const ref_medium *m, const double x_mm[3], double sa[3], double ss[3])
+{
+    const double p[3] = {x_mm[0] / m->mm_per_unit, x_mm[1] / m->mm_per_unit, x_mm[2] / m->mm_per_unit};
+    double r[3];
+    sss_hetero_to_rest(m->het, p, r);
+    const double f = sss_field_eval(&m->het->field, r);
+    for (int c = 0; c < 3; c++) {
+        sa[c] = (1.0 - f) * m->sigma_a[c] + f * m->sigma_a1[c];
+        ss[c] = (1.0 - f) * m->sigma_s[c] + f * m->sigma_s1[c];
+    }
 }
 
 static uint64_t mix64(uint64_t z)
@@ -155,8 +183,13 @@ static void tp_scale(ref_tp *t, double k)
 /* One flight of at most tb (the boundary): 1 and the distance in *s for a
  * collision before tb (f_c × σs e^{−σt s}, p_h × σt e^{−σt s}), 0 for the
  * boundary (both × e^{−σt tb}). */
-static int flight(const ref_medium *m, double tb, uint64_t *rng, ref_tp *t, double *s)
+static int flight_tracked(const ref_medium *m, const double x[3], const double u[3], double tb, uint64_t *rng,
+                          ref_tp *t, double *s);
+
+static int flight(const ref_medium *m, const double x[3], const double u[3], double tb, uint64_t *rng, ref_tp *t,
+                  double *s)
 {
+    if (m->het) return flight_tracked(m, x, u, tb, rng, t, s);
     const double d = -log1p(-sss_rng_unit(rng)) / m->sigma_t[t->hero];
     const int hit = d < tb;
     double mx = 0.0;
@@ -173,6 +206,73 @@ static int flight(const ref_medium *m, double tb, uint64_t *rng, ref_tp *t, doub
         }
     *s = d;
     return hit;
+}
+
+/* A flight through a material field (docs/reference.md §3.1): spectral
+ * tracking (Kutz et al. 2017) against the one majorant σ̄ of every channel.
+ * Tentative collisions at rate σ̄; at each, with σn = σ̄ − σt(x) ≥ 0 per
+ * channel, the collision is real with probability P_s = S / (S + N), S =
+ * Σ_c f_c σs_c and N = Σ_c f_c σn_c (the weights so far: channels that
+ * still carry the path decide), and then f_c ×= σs_c / (σ̄ P_s); else null
+ * and f_c ×= σn_c / (σ̄ P_n). Each channel's expected factor per tentative
+ * collision is (σs + σn)/σ̄ = 1 − σa/σ̄: the absorption is weighted out, not
+ * sampled, so the estimate is unbiased whatever the field. The hero's
+ * densities p stay 1 (one distance law for all channels). */
+static int flight_tracked(const ref_medium *m, const double x[3], const double u[3], double tb, uint64_t *rng,
+                          ref_tp *t, double *s)
+{
+    double d = 0.0;
+    for (;;) {
+        d += -log1p(-sss_rng_unit(rng)) / m->sigma_bar;
+        if (!(d < tb)) {
+            *s = d;
+            return 0;
+        }
+        const double y[3] = {x[0] + d * u[0], x[1] + d * u[1], x[2] + d * u[2]};
+        double sa[3], ss[3], sn[3], S = 0.0, N = 0.0;
+        medium_at(m, y, sa, ss);
+        for (uint32_t c = 0; c < m->C; c++) {
+            sn[c] = fmax(0.0, m->sigma_bar - sa[c] - ss[c]);
+            S += t->f[c] * ss[c];
+            N += t->f[c] * sn[c];
+        }
+        if (!(S + N > 0.0)) { /* every channel absorbed: the weights are 0 */
+            for (uint32_t c = 0; c < m->C; c++) t->f[c] = 0.0;
+            *s = d;
+            return 1;
+        }
+        const double Ps = S / (S + N);
+        if (sss_rng_unit(rng) < Ps) {
+            for (uint32_t c = 0; c < m->C; c++) t->f[c] *= ss[c] / (m->sigma_bar * Ps);
+            *s = d;
+            return 1;
+        }
+        for (uint32_t c = 0; c < m->C; c++) t->f[c] *= sn[c] / (m->sigma_bar * (1.0 - Ps));
+    }
+}
+
+/* The transmittance from x along u over a distance t, per channel: e^{−σt t}
+ * in a homogeneous medium; in a field, ratio tracking (Novák et al. 2014):
+ * the product of σn(x_i)/σ̄ over tentative collisions at rate σ̄, an
+ * unbiased estimate of e^{−∫σt} in each channel. */
+static void transmittance(const ref_medium *m, const double x[3], const double u[3], double t, uint64_t *rng,
+                          double T[3])
+{
+    if (!m->het) {
+        for (uint32_t c = 0; c < m->C; c++) T[c] = exp(-m->sigma_t[c] * t);
+        return;
+    }
+    for (uint32_t c = 0; c < m->C; c++) T[c] = 1.0;
+    for (double d = -log1p(-sss_rng_unit(rng)) / m->sigma_bar; d < t; d += -log1p(-sss_rng_unit(rng)) / m->sigma_bar) {
+        const double y[3] = {x[0] + d * u[0], x[1] + d * u[1], x[2] + d * u[2]};
+        double sa[3], ss[3], mx = 0.0;
+        medium_at(m, y, sa, ss);
+        for (uint32_t c = 0; c < m->C; c++) {
+            T[c] *= fmax(0.0, m->sigma_bar - sa[c] - ss[c]) / m->sigma_bar;
+            mx = fmax(mx, T[c]);
+        }
+        if (!(mx > 0.0)) return;
+    }
 }
 
 /* Russian roulette once a path's largest weight falls below a tenth of
@@ -477,7 +577,9 @@ static void nee_light(const ref_ctx *c, const double z[3], const double u[3], co
     const double w = scale * E * sss_phase_hg(m->g, sss_dot3(v, u)) * eta * eta * sss_ft(eta, sss_dot3(h.ns, wl)) / J;
     double beta[3];
     tp_weights(tp, beta);
-    for (uint32_t ch = 0; ch < m->C; ch++) L[ch] += beta[ch] * w * exp(-m->sigma_t[ch] * h.t);
+    double T[3];
+    transmittance(m, z, v, h.t, rng, T);
+    for (uint32_t ch = 0; ch < m->C; ch++) L[ch] += beta[ch] * w * T[ch];
     k->nee_hits++;
 }
 
@@ -515,7 +617,7 @@ void ref_radiance_path(const ref_ctx *c, const ref_hit *h0, const double wo[3], 
                 goto done;
             }
             double d;
-            if (flight(m, h.t, rng, &tp, &d)) {
+            if (flight(m, x, u, h.t, rng, &tp, &d)) {
                 for (int q = 0; q < 3; q++) x[q] += d * u[q];
                 tnear = 0.0;
                 order++;
@@ -629,7 +731,7 @@ void ref_particle_path(const ref_ctx *c, const double bcentre_mm[3], double brad
         for (uint32_t ch = 0; ch < m->C; ch++)
             t->absorbed[ch] += beta[ch] * m->sigma_a[ch] / m->sigma_t[ch] * -expm1(-m->sigma_t[ch] * h.t);
         double d;
-        if (flight(m, h.t, rng, &tp, &d)) {
+        if (flight(m, x, u, h.t, rng, &tp, &d)) { /* homogeneous: sss_ref_particles refuses a field */
             for (int q = 0; q < 3; q++) x[q] += d * u[q];
             k->scatterings++;
             if (!roulette(&tp, 1.0, rng)) goto done;

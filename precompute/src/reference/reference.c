@@ -19,6 +19,7 @@
 
 #include "kernels/progress.h"
 #include "reference/ref_internal.h"
+#include "sss/field.h"
 #include "sss/vec3.h"
 
 /* paths per block, and blocks per round over all tasks at least (when
@@ -37,6 +38,18 @@ sss_result sss_ref_medium_validate(const sss_ref_medium *m, sss_error *err)
     if (!(fabs(m->g) < 1.0)) return sss_fail(err, SSS_ERR_ARG, "medium: g %g must lie in (-1, 1)", m->g);
     if (!(m->eta >= SSS_ETA_MIN && m->eta <= SSS_ETA_MAX))
         return sss_fail(err, SSS_ERR_ARG, "medium: eta %g must lie in [%g, %g]", m->eta, SSS_ETA_MIN, SSS_ETA_MAX);
+    if (m->hetero && m->hetero->field.kind != SSS_FIELD_NONE) {
+        sss_result r = sss_field_check(&m->hetero->field, err);
+        if (r != SSS_OK) return r;
+        const sss_material *in = &m->hetero->inside;
+        for (int c = 0; c < 3; c++) {
+            const double sa = in->sigma_a[c], ss = in->sigmap_s[c] / (1.0 - m->g);
+            if (!isfinite(sa) || !isfinite(ss) || sa < 0.0 || ss < 0.0 || !(sa + ss > 0.0) || sa > SSS_SIGMA_MAX ||
+                ss > SSS_SIGMA_MAX)
+                return sss_fail(err, SSS_ERR_ARG, "medium: the field's inside material, channel %d: sigma_a %g, "
+                                "sigma_s %g: need 0 <= each <= %g and a positive sum", c, sa, ss, SSS_SIGMA_MAX);
+        }
+    }
     return SSS_OK;
 }
 
@@ -252,7 +265,7 @@ static sss_result make_ctx(const sss_ref_scene *s, const sss_ref_medium *m, cons
     sss_result r = sss_ref_medium_validate(m, err);
     if (r != SSS_OK) return r;
     c->s = s;
-    ref_medium_init(m, &c->m);
+    ref_medium_init(m, s->mm_per_unit, &c->m);
     c->light = l->kind;
     if (l->kind == SSS_REF_DIRECTIONAL) {
         memcpy(c->wl, l->dir, sizeof c->wl);
@@ -500,6 +513,8 @@ sss_result sss_ref_particles(const sss_ref_scene *s, const sss_ref_medium *m, co
     if (!st) st = &dummy;
     memset(st, 0, sizeof *st);
     const sss_ref_light l = {.kind = SSS_REF_DIRECTIONAL, .dir = {b->dir[0], b->dir[1], b->dir[2]}};
+    if (m->hetero && m->hetero->field.kind != SSS_FIELD_NONE)
+        return sss_fail(err, SSS_ERR_UNSUPPORTED, "reference: particles in a material field (radiance only, docs/reference.md §3.1)");
     ref_ctx c;
     sss_result r = make_ctx(s, m, &l, o, &c, err);
     if (r != SSS_OK) return r;
