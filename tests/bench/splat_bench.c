@@ -46,7 +46,10 @@ int main(int argc, char **argv)
     sss_mesh rest = {0}, m = {0};
     sss_result r = strcmp(argv[1], "tube") == 0 ? sss_gen_by_name("tube", 24, 0.25, &rest, &err)
                                                  : sss_import_mesh(argv[1], &rest, NULL, &err);
-    sss_deform d = {SSS_DEFORM_BEND, {argv[3][0] == 'x', argv[3][0] == 'y', argv[3][0] == 'z'}, angle, 4.0};
+    sss_deform d = {.kind = SSS_DEFORM_BEND,
+                    .axis = {argv[3][0] == 'x', argv[3][0] == 'y', argv[3][0] == 'z'},
+                    .angle_deg = angle,
+                    .period_s = 4.0};
     if (r == SSS_OK) r = sss_deform_pose(&d, 1.0, &rest, argv[1], &m, &err);
     if (r != SSS_OK || !(mm > 0) || w < 1 || h < 1) {
         fprintf(stderr, "splat_bench: %s\n", r != SSS_OK ? err.msg : "bad size or mm per unit");
