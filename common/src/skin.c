@@ -83,7 +83,7 @@ sss_result sss_skin_check(const sss_skin *s, int *bone, const char **key, sss_er
     *bone = -1;
     *key = "blend_radius";
     if (!(s->blend_radius >= 0) || !isfinite(s->blend_radius))
-        return sss_fail(err, SSS_ERR_ARG, "%g must be > 0", s->blend_radius);
+        return sss_fail(err, SSS_ERR_ARG, "%g must be > 0 (0 in the struct: the default)", s->blend_radius);
     return SSS_OK;
 }
 

@@ -327,6 +327,18 @@ static void poseRefusesABadChain(void **state)
     assert_int_equal(sss_deform_pose(&d, 1.0, &rest, "tube", &out, &err), SSS_ERR_ARG);
     assert_non_null(strstr(err.msg, "tube: deform: bones: 0 bones, expected 1 to 16"));
     d = chain(20, 45);
+    d.skin.blend_radius = -1;
+    assert_int_equal(sss_deform_pose(&d, 1.0, &rest, "tube", &out, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "tube: deform: blend_radius: -1 must be > 0"));
+    d = chain(20, 45);
+    d.skin.bone[1].axis[0] = 2; /* the API takes unit axes (the scene normalises) */
+    assert_int_equal(sss_deform_pose(&d, 1.0, &rest, "tube", &out, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "tube: deform: bones/1/axis: (2, 0, 0) is not a unit vector"));
+    d = chain(20, 45);
+    d.skin.bone[0].head[2] = NAN;
+    assert_int_equal(sss_deform_pose(&d, 1.0, &rest, "tube", &out, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "tube: deform: bones/0/head: not a point of finite coordinates"));
+    d = chain(20, 45);
     assert_int_equal(sss_deform_pose(&d, INFINITY, &rest, "tube", &out, &err), SSS_ERR_ARG);
     sss_mesh_free(&rest);
 }
