@@ -389,6 +389,68 @@ static sss_result parse_material(const ctx *c, const cJSON *m, const char *jpath
     return SSS_OK;
 }
 
+/* "deform": {"type": "skin", "bones": [...], "blend_radius": r}
+ * (docs/deformable.md §2, sss/skin.h). The chain's own rules (lengths,
+ * parents, cycles) are sss_skin_check's, reported here at their path. */
+static sss_result parse_skin(const ctx *c, const cJSON *d, const char *jpath, sss_skin *out)
+{
+    static const char *const keys[] = {"type", "bones", "blend_radius", NULL};
+    static const char *const bkeys[] = {"head", "tail", "parent", "axis", "angle_deg", "period_s", NULL};
+    sss_result r = only_keys(c, d, jpath, keys);
+    if (r != SSS_OK) return r;
+    char p[512];
+    join(p, sizeof p, jpath, "bones");
+    const cJSON *bs = cJSON_GetObjectItemCaseSensitive(d, "bones");
+    if (!bs) return fail_at(c, p, "missing (expected an array of 1 to %d bones)", SSS_SKIN_MAX_BONES);
+    const int nb = cJSON_IsArray(bs) ? cJSON_GetArraySize(bs) : 0;
+    if (nb < 1 || nb > SSS_SKIN_MAX_BONES)
+        return fail_at(c, p, "expected an array of 1 to %d bones {head, tail, parent, axis, angle_deg, period_s}",
+                       SSS_SKIN_MAX_BONES);
+    memset(out, 0, sizeof *out);
+    out->nbones = nb;
+    for (int i = 0; i < nb; i++) {
+        const cJSON *b = cJSON_GetArrayItem(bs, i);
+        sss_skin_bone *o = &out->bone[i];
+        char pb[520], pk[600];
+        join_index(pb, sizeof pb, p, i);
+        if (!cJSON_IsObject(b))
+            return fail_at(c, pb, "expected an object {head, tail, parent, axis, angle_deg, period_s}");
+        if ((r = only_keys(c, b, pb, bkeys)) != SSS_OK) return r;
+        if ((r = get_vec3(c, b, pb, "head", 1, -SSS_COORD_MAX, SSS_COORD_MAX, o->head)) != SSS_OK) return r;
+        if ((r = get_vec3(c, b, pb, "tail", 1, -SSS_COORD_MAX, SSS_COORD_MAX, o->tail)) != SSS_OK) return r;
+        if ((r = get_vec3(c, b, pb, "axis", 1, -1e12, 1e12, o->axis)) != SSS_OK) return r;
+        join(pk, sizeof pk, pb, "axis");
+        if (!(sss_normalize3(o->axis) > 1e-12)) return fail_at(c, pk, "must be a non-zero vector");
+        if ((r = get_number(c, b, pb, "angle_deg", 1, -SSS_SKIN_MAX_DEG, SSS_SKIN_MAX_DEG, &o->angle_deg)) != SSS_OK)
+            return r;
+        o->period_s = SSS_DEFORM_PERIOD_DEFAULT;
+        if ((r = get_number(c, b, pb, "period_s", 0, 1e-6, 1e9, &o->period_s)) != SSS_OK) return r;
+        double parent = -1;
+        if ((r = get_number(c, b, pb, "parent", 0, -1e6, 1e6, &parent)) != SSS_OK) return r;
+        join(pk, sizeof pk, pb, "parent");
+        if (parent != floor(parent)) return fail_at(c, pk, "expected an integer (a bone index, -1 for none)");
+        o->parent = (int)parent;
+    }
+    join(p, sizeof p, jpath, "blend_radius");
+    if ((r = get_number(c, d, jpath, "blend_radius", 0, 0, SSS_COORD_MAX, &out->blend_radius)) != SSS_OK) return r;
+    if (cJSON_GetObjectItemCaseSensitive(d, "blend_radius") && !(out->blend_radius > 0))
+        return fail_at(c, p, "must be > 0 (mesh units)");
+    int bone;
+    const char *key;
+    sss_error why = {{0}};
+    if (sss_skin_check(out, &bone, &key, &why) != SSS_OK) {
+        if (bone < 0) join(p, sizeof p, jpath, key);
+        else {
+            char pbs[520], pb[540];
+            join(pbs, sizeof pbs, jpath, "bones");
+            join_index(pb, sizeof pb, pbs, bone);
+            join(p, sizeof p, pb, key);
+        }
+        return fail_at(c, p, "%s", why.msg);
+    }
+    return SSS_OK;
+}
+
 /* "deform" of an object (docs/scenes.md, sss/deform.h). */
 static sss_result parse_deform(const ctx *c, const cJSON *d, const char *jpath, sss_deform *out)
 {
@@ -400,12 +462,13 @@ static sss_result parse_deform(const ctx *c, const cJSON *d, const char *jpath, 
     if (r != SSS_OK) return r;
     char p[512];
     join(p, sizeof p, jpath, "type");
-    if (!type) return fail_at(c, p, "missing (expected \"bend\", \"twist\" or \"wave\")");
-    /* the generated two-bone rig is not built yet (docs/deformable.md §6):
-     * refused by name rather than drawn rigid */
-    if (type == 4) return fail_at(c, p, "\"skin\" is not supported yet (docs/deformable.md); use bend, twist or wave");
-    if ((r = only_keys(c, d, jpath, keys)) != SSS_OK) return r;
+    if (!type) return fail_at(c, p, "missing (expected \"bend\", \"twist\", \"wave\" or \"skin\")");
     memset(out, 0, sizeof *out);
+    if (type == SSS_DEFORM_SKIN) { /* a bone chain: its own keys */
+        out->kind = SSS_DEFORM_SKIN;
+        return parse_skin(c, d, jpath, &out->skin);
+    }
+    if ((r = only_keys(c, d, jpath, keys)) != SSS_OK) return r;
     out->kind = (sss_deform_kind)type; /* SSS_DEFORM_* in the order of `types` */
     out->axis[2] = 1.0;
     out->period_s = SSS_DEFORM_PERIOD_DEFAULT;

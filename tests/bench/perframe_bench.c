@@ -45,7 +45,7 @@ int main(int argc, char **argv)
     int ax = 0;
     for (int k = 1; k < 3; k++)
         if (hi[k] - lo[k] > hi[ax] - lo[ax]) ax = k;
-    sss_deform d = {SSS_DEFORM_BEND, {0, 0, 0}, 40.0, 4.0};
+    sss_deform d = {.kind = SSS_DEFORM_BEND, .axis = {0, 0, 0}, .angle_deg = 40.0, .period_s = 4.0};
     d.axis[ax] = 1.0;
     const double light[3] = {0.3, 0.2, 0.93};
     float *qe = malloc((size_t)rest.nv * C * sizeof *qe), *qt = malloc((size_t)rest.nv * C * sizeof *qt);

@@ -59,6 +59,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 abort();
             if (d->kind > SSS_DEPTH_PROCEDURAL) abort();
         }
+        /* a skin the parser accepts is a chain the pose accepts
+         * (docs/deformable.md §2, sss_skin_check) */
+        int bone;
+        const char *key;
+        if (o->deform.kind == SSS_DEFORM_SKIN && sss_skin_check(&o->deform.skin, &bone, &key, &e2) != SSS_OK) abort();
     }
     for (uint32_t i = 0; i < sc.nlights; i++) {
         const sss_scene_light *l = &sc.lights[i];

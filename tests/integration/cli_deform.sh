@@ -52,7 +52,7 @@ sed 's/"angle_deg": 40/"angle_deg": "40"/' "$TMP/s.json" > "$TMP/bad2.json"
 expect_fail "bad2.json: /objects/0/deform/angle_deg: expected a number" "$SSS_BAKE" --scene "$TMP/bad2.json" --plan
 [ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "message should be one line"
 sed 's/"type": "bend"/"type": "skin"/' "$TMP/s.json" > "$TMP/bad3.json"
-expect_fail "bad3.json: /objects/0/deform/type: \"skin\" is not supported yet" "$SSS_BAKE" --scene "$TMP/bad3.json" --plan
+expect_fail "bad3.json: /objects/0/deform/axis: unknown key" "$SSS_BAKE" --scene "$TMP/bad3.json" --plan
 # a glTF whose skin its clip moves (sss-genmesh's two-bone tube) deforms
 # without a "deform" key: per frame, no file; sss-stat measures its pose
 expect_ok "$SSS_GENMESH" tube 4 "$TMP/arm.gltf" 0.25 skin

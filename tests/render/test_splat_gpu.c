@@ -117,7 +117,7 @@ static void tube_pose(double t, sss_mesh *out)
     sss_mesh rest = {0};
     sss_error err = {{0}};
     assert_int_equal(sss_gen_by_name("tube", 16, 0.25, &rest, &err), SSS_OK);
-    sss_deform d = {SSS_DEFORM_BEND, {0, 0, 1}, 70.0, 4.0};
+    sss_deform d = {.kind = SSS_DEFORM_BEND, .axis = {0, 0, 1}, .angle_deg = 70.0, .period_s = 4.0};
     if (sss_deform_pose(&d, t, &rest, "tube", out, &err) != SSS_OK) fail_msg("pose: %s", err.msg);
     sss_mesh_free(&rest);
 }

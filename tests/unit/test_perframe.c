@@ -38,7 +38,8 @@ static int setup(void **state)
     sss_error err = {{0}};
     sss_mesh rest, bent;
     if (sss_gen_blob(&rest, 1.0, 3, &err) != SSS_OK) return -1;
-    sss_deform bend = {SSS_DEFORM_BEND, {0, 0, 1}, 60.0, 4.0}, twist = {SSS_DEFORM_TWIST, {0, 1, 0}, 45.0, 4.0};
+    sss_deform bend = {.kind = SSS_DEFORM_BEND, .axis = {0, 0, 1}, .angle_deg = 60.0, .period_s = 4.0},
+               twist = {.kind = SSS_DEFORM_TWIST, .axis = {0, 1, 0}, .angle_deg = 45.0, .period_s = 4.0};
     if (sss_deform_pose(&bend, 1.0, &rest, "blob", &bent, &err) != SSS_OK) return -1;
     if (sss_deform_pose(&twist, 1.0, &bent, "blob", &g_pose, &err) != SSS_OK) return -1;
     sss_mesh_free(&rest);
@@ -127,7 +128,7 @@ static sss_mesh big_pose(void)
     sss_error err = {{0}};
     sss_mesh rest, big;
     if (sss_gen_blob(&rest, 1.0, 4, &err) != SSS_OK) fail_msg("%s", err.msg);
-    sss_deform bend = {SSS_DEFORM_BEND, {0, 0, 1}, 60.0, 4.0};
+    sss_deform bend = {.kind = SSS_DEFORM_BEND, .axis = {0, 0, 1}, .angle_deg = 60.0, .period_s = 4.0};
     if (sss_deform_pose(&bend, 1.0, &rest, "blob", &big, &err) != SSS_OK) fail_msg("%s", err.msg);
     sss_mesh_free(&rest);
     return big;

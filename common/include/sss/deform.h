@@ -31,12 +31,21 @@
  *          slope is tan θ (the axis line tilts by at most θ):
  *              y' = y + (L tan θ / 2π) sin(2π σ / L),  σ' = σ,  z' = z
  * Where θ(t) is 0 the rest positions are copied bit for bit.
+ *
+ * Skin. A chain of bones given in the scene (sss/skin.h): each bone b turns
+ * about its head by θ_b(t) = angle_deg_b · sin(2π t / period_s_b), the same
+ * time law, composed down the chain, and the vertices follow by linear
+ * blend skinning with weights from their rest distances to the bones (the
+ * formula is in sss/skin.h). The axis, angle_deg and period_s above are
+ * unused. Where every θ_b(t) is 0 the rest positions are copied bit for
+ * bit.
  */
 #ifndef SSS_DEFORM_H
 #define SSS_DEFORM_H
 
 #include "sss/mesh.h"
 #include "sss/result.h"
+#include "sss/skin.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -46,7 +55,8 @@ typedef enum sss_deform_kind {
     SSS_DEFORM_NONE = 0, /* a rigid object */
     SSS_DEFORM_BEND = 1,
     SSS_DEFORM_TWIST = 2,
-    SSS_DEFORM_WAVE = 3
+    SSS_DEFORM_WAVE = 3,
+    SSS_DEFORM_SKIN = 4 /* a bone chain of the scene (sss/skin.h) */
 } sss_deform_kind;
 
 /* The largest |angle_deg| each kind accepts: a bend of two full turns and a
@@ -63,12 +73,18 @@ typedef struct sss_deform {
     double axis[3];   /* unit, mesh units' frame (default +z) */
     double angle_deg; /* the amplitude of θ(t), degrees */
     double period_s;  /* > 0, seconds */
+    sss_skin skin;    /* SSS_DEFORM_SKIN: the bones (the fields above unused) */
 } sss_deform;
 
-/* θ(t) in radians (0 for SSS_DEFORM_NONE). */
+/* θ(t) = angle_deg · sin(2π t / period_s) in radians: the time law of every
+ * deformer and of each bone of a skin. */
+double sss_deform_theta(double angle_deg, double period_s, double t);
+
+/* θ(t) in radians (0 for SSS_DEFORM_NONE); for a skin, θ_b(t) of the bone
+ * of the largest |angle_deg| (the first on a tie), for messages. */
 double sss_deform_angle(const sss_deform *d, double t);
 
-/* "bend", "twist", "wave" or "none". */
+/* "bend", "twist", "wave", "skin" or "none". */
 const char *sss_deform_kind_name(sss_deform_kind k);
 
 /* The pose at time t of rest (positions and triangles read; its normals and
@@ -76,7 +92,8 @@ const char *sss_deform_kind_name(sss_deform_kind k);
  * and areas recomputed with sss_mesh_compute_normals_areas, so a posed mesh
  * is what an imported one is to every later stage. A NONE deformer copies
  * the rest positions. Errors (name prefixes them): SSS_ERR_ARG for a
- * non-finite t, a non-unit axis, a period ≤ 0 or an angle out of range;
+ * non-finite t, a non-unit axis, a period ≤ 0 or an angle out of range, a
+ * skin that sss_skin_check refuses ("name: deform: bones/1/parent: …");
  * SSS_ERR_NOMEM; the mesh's own errors. On failure *out is zeroed. */
 sss_result sss_deform_pose(const sss_deform *d, double t, const sss_mesh *rest, const char *name, sss_mesh *out,
                            sss_error *err);

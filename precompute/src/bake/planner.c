@@ -226,7 +226,11 @@ static void rule_per_frame(const plan_in *in, sss_object_plan *p)
     const sss_deform *d = &s->objects[p->object].deform;
     p->per_frame = 1;
     p->self_shadow = 1;
-    if (d->kind != SSS_DEFORM_NONE)
+    if (d->kind == SSS_DEFORM_SKIN)
+        decide(p, "deform", "per-frame", "the object deforms (skin of %d bones, docs/deformable.md sec. 2): "
+               "neighbourhoods, areas and visibility change with the pose, so nothing is baked; q is evaluated on "
+               "each frame's pose (docs/deformable.md sec. 3)", d->skin.nbones);
+    else if (d->kind != SSS_DEFORM_NONE)
         decide(p, "deform", "per-frame", "the object deforms (%s about (%.3g, %.3g, %.3g), %g deg, period %g s): "
                "neighbourhoods, areas and visibility change with the pose, so nothing is baked; q is evaluated on "
                "each frame's pose (docs/deformable.md sec. 3)", sss_deform_kind_name(d->kind), d->axis[0], d->axis[1],

@@ -33,6 +33,7 @@
 
 #include "sss/base64.h"
 #include "sss/fileio.h"
+#include "sss/skin.h"
 
 #define GLB_MAGIC 0x46546C67u /* "glTF" */
 #define GLB_JSON 0x4E4F534Au  /* "JSON" */
@@ -544,17 +545,6 @@ static void local_matrix(const local_xf *x, double m[16])
     m[12] = x->t[0], m[13] = x->t[1], m[14] = x->t[2], m[15] = 1;
 }
 
-/* c = a · b (column-major 4 × 4) */
-static void mat_mul(const double *a, const double *b, double *c)
-{
-    for (int col = 0; col < 4; col++)
-        for (int row = 0; row < 4; row++) {
-            double s = 0;
-            for (int k = 0; k < 4; k++) s += a[4 * k + row] * b[4 * col + k];
-            c[4 * col + row] = s;
-        }
-}
-
 /* The inverse of an affine column-major matrix; 0 when singular. */
 static int affine_inverse(const double *m, double *inv)
 {
@@ -717,7 +707,7 @@ static sss_result pose_nodes(gltf *g)
         for (int i = len - 1; i >= 0; i--) {
             double l[16];
             local_matrix(&L[chain[i]], l);
-            mat_mul(&g->G[16 * (size_t)parent[chain[i]]], l, &g->G[16 * (size_t)chain[i]]);
+            sss_mat4_mul(&g->G[16 * (size_t)parent[chain[i]]], l, &g->G[16 * (size_t)chain[i]]);
             state[chain[i]] = 1;
         }
     }
@@ -764,8 +754,8 @@ static sss_result pose_prim(gltf *g, int m, const cJSON *attrs, prim *pr, float 
     cJSON_ArrayForEach(jn, jl) { /* J_k = G(joint k) · IBM_k, then the mesh node's transform undone */
         double ib[16], t1[16];
         for (int e = 0; e < 16; e++) ib[e] = has_ibm ? acc_float(&ibm, (ull)k, e) : e % 5 == 0;
-        mat_mul(&g->G[16 * (size_t)(int)jn->valuedouble], ib, t1);
-        mat_mul(Ginv, t1, &J[16 * (size_t)k]);
+        sss_mat4_mul(&g->G[16 * (size_t)(int)jn->valuedouble], ib, t1);
+        sss_mat4_mul(Ginv, t1, &J[16 * (size_t)k]);
         k++;
     }
     long long ij = get_index(g, attrs, "JOINTS_0", g->nacc, 0, "JOINTS_0", "accessor");
@@ -777,14 +767,13 @@ static sss_result pose_prim(gltf *g, int m, const cJSON *attrs, prim *pr, float 
     if (r == SSS_OK && !out) r = sss_fail(g->err, SSS_ERR_NOMEM, "%s: out of memory", g->s->name);
     for (ull e = 0; r == SSS_OK && e < pr->nv; e++) {
         const double p[3] = {acc_float(&pr->pos, e, 0), acc_float(&pr->pos, e, 1), acc_float(&pr->pos, e, 2)};
-        double q[3] = {0, 0, 0};
-        for (int c = 0; c < 4; c++) { /* Σ_i w_i J_{j_i} p (check_skin: j_i < joints, Σ w_i = 1) */
-            const double w = acc_float(&wa, e, c);
-            if (w == 0) continue;
-            const ull j = rd_uint(ja.base + e * ja.stride + (ull)c * (ull)ja.csize, (size_t)ja.csize, 0);
-            const double *M = &J[16 * (size_t)j];
-            for (int a = 0; a < 3; a++) q[a] += w * (M[a] * p[0] + M[4 + a] * p[1] + M[8 + a] * p[2] + M[12 + a]);
+        double q[3], w[4];
+        uint32_t j[4];
+        for (int c = 0; c < 4; c++) { /* check_skin: j_i < joints, Σ w_i = 1 */
+            w[c] = acc_float(&wa, e, c);
+            j[c] = (uint32_t)rd_uint(ja.base + e * ja.stride + (ull)c * (ull)ja.csize, (size_t)ja.csize, 0);
         }
+        sss_skin_blend(J, j, w, 4, p, q); /* Σ_i w_i J_{j_i} p */
         for (int a = 0; a < 3; a++) {
             if (!(fabs(q[a]) <= SSS_COORD_MAX)) r = bad(g, "mesh %d: posed vertex %llu leaves the coordinate range", m, e);
             out[3 * e + (ull)a] = (float)q[a];
