@@ -304,7 +304,10 @@ static double profile(const sss_dipole *d, double r, double rho_o, double rho_i)
     return sss_rd(d, r);
 }
 
-void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa)
+/* What κ(o, i) and κ(i, o) share (§4.1): the pair's distance r (mm) and
+ * the exponent of τ per channel, computed from the lower index to the
+ * higher, so both orders get the same bits. */
+static double pair_tau(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *tau_exp)
 {
     const uint32_t C = k->C;
     /* the segment from the lower index to the higher, so that (o, i) and
@@ -318,8 +321,8 @@ void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o
         d2 += dx * dx;
     }
     const double r = sqrt(d2);
-    const double rho_o = sqrt(mesh->area[o] * k->s * k->s / SSS_PI), rho_i = sqrt(mesh->area[i] * k->s * k->s / SSS_PI);
-    double tau_exp[SSS_MAX_CHANNELS] = {0}, cached[SSS_MAX_CHANNELS] = {0};
+    double cached[SSS_MAX_CHANNELS] = {0};
+    for (uint32_t c = 0; c < C; c++) tau_exp[c] = 0.0;
     /* far pairs (§4.3): the cells' mean excess over σtr_ref, relative to
      * the endpoints' mean (exactly 0 when the field is constant); between
      * far_mm and 1.5 far_mm blended with the march, so that q does not jump
@@ -345,6 +348,16 @@ void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o
     }
     if (wc > 0.0)
         for (uint32_t c = 0; c < C; c++) tau_exp[c] = wc >= 1.0 ? cached[c] : (1.0 - wc) * tau_exp[c] + wc * cached[c];
+    return r;
+}
+
+/* κ(o, i) from the pair's shared part: the profiles, which depend on the
+ * order (the own-area disks), times τ. */
+static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double r,
+                       const double *tau_exp, double *kappa)
+{
+    const uint32_t C = k->C;
+    const double rho_o = sqrt(mesh->area[o] * k->s * k->s / SSS_PI), rho_i = sqrt(mesh->area[i] * k->s * k->s / SSS_PI);
     /* Both endpoints at the reference's f (most of a surface that an
      * inclusion or a stratum does not reach): the profile ratio is 1, as
      * sqrt(P²)/P computes it, without three profiles per channel. */
@@ -361,6 +374,25 @@ void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o
     }
 }
 
+void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa)
+{
+    double tau_exp[SSS_MAX_CHANNELS];
+    const double r = pair_tau(k, mesh, o, i, tau_exp);
+    kappa_from(k, mesh, o, i, r, tau_exp, kappa);
+}
+
+/* The entry of source i in row o of sorted rows, or UINT64_MAX. */
+static uint64_t find_entry(const sss_weights *rows, uint32_t o, uint32_t i)
+{
+    uint64_t lo = rows->start[o], hi = rows->start[o + 1];
+    while (lo < hi) {
+        const uint64_t m = lo + (hi - lo) / 2;
+        if (rows->idx[m] < i) lo = m + 1;
+        else hi = m;
+    }
+    return lo < rows->start[o + 1] && rows->idx[lo] == i ? lo : UINT64_MAX;
+}
+
 sss_result sss_field_weights_apply(const sss_field_kernel *k, const sss_mesh *mesh, sss_weights *rows,
                                    const sss_cancel_flag *cancel, sss_error *err)
 {
@@ -368,14 +400,40 @@ sss_result sss_field_weights_apply(const sss_field_kernel *k, const sss_mesh *me
         return sss_fail(err, SSS_ERR_ARG, "field weights: %u rows of %u channels for %u vertices of %u", rows->nrows,
                         rows->channels, k->nv, k->C);
     const uint32_t C = k->C;
+    /* Each pair's march once for both its entries (o, i) and (i, o) when
+     * the rows are sorted (the neighbourhoods are; a row's partner is then
+     * a binary search away): the march is most of the field's cost
+     * (docs/heterogeneous.md §8), and κ's bits do not depend on which row
+     * computed it (pair_tau runs from the lower index). The entry (i, o) is
+     * scaled by the thread of row min(o, i) when row min holds the pair,
+     * else by its own row's: each entry by exactly one thread. */
+    int sorted = 1;
+    for (uint32_t o = 0; o < rows->nrows && sorted; o++)
+        for (uint64_t e = rows->start[o] + 1; e < rows->start[o + 1]; e++)
+            if (rows->idx[e] <= rows->idx[e - 1]) {
+                sorted = 0;
+                break;
+            }
 #pragma omp parallel for schedule(dynamic, 64)
     for (int64_t o = 0; o < (int64_t)rows->nrows; o++) {
         if (sss_cancelled(cancel)) continue;
         for (uint64_t e = rows->start[o]; e < rows->start[o + 1]; e++) {
-            double kap[SSS_MAX_CHANNELS];
-            sss_field_kappa(k, mesh, (uint32_t)o, rows->idx[e], kap);
+            const uint32_t i = rows->idx[e];
+            uint64_t mirror = UINT64_MAX;
+            if (sorted && i != (uint32_t)o) {
+                mirror = find_entry(rows, i, (uint32_t)o);
+                if (i < (uint32_t)o && mirror != UINT64_MAX) continue; /* scaled with row i */
+            }
+            double tau_exp[SSS_MAX_CHANNELS], kap[SSS_MAX_CHANNELS];
+            const double r = pair_tau(k, mesh, (uint32_t)o, i, tau_exp);
+            kappa_from(k, mesh, (uint32_t)o, i, r, tau_exp, kap);
             float *w = &rows->w[e * C];
             for (uint32_t c = 0; c < C; c++) w[c] = (float)((double)w[c] * kap[c]);
+            if (mirror != UINT64_MAX) {
+                kappa_from(k, mesh, i, (uint32_t)o, r, tau_exp, kap);
+                w = &rows->w[mirror * C];
+                for (uint32_t c = 0; c < C; c++) w[c] = (float)((double)w[c] * kap[c]);
+            }
         }
     }
     if (sss_cancelled(cancel)) return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during the field's weights");
