@@ -78,27 +78,18 @@ void sss_htsm_volume_free(sss_htsm_volume *v)
     memset(v, 0, sizeof *v);
 }
 
-/* One axis of the node-centred [1 2 1]/4 filter and decimation: src has
- * na nodes along axis `ax` (stride st), dst (na − 1)/2 + 1; the other two
- * axes have n1 × n2 nodes. */
-static void halve_axis(const float *src, float *dst, const uint32_t ns[3], int ax)
+/* Level l + 1 of the volume: the mean of each 2 × 2 × 2 block of level l
+ * (n voxels per side), as glGenerateMipmap builds a power-of-two texture. */
+static void volume_down(const float *a, uint32_t n, float *b)
 {
-    uint32_t nd[3] = {ns[0], ns[1], ns[2]};
-    nd[ax] = (ns[ax] - 1) / 2 + 1;
-    for (uint32_t k = 0; k < nd[2]; k++)
-        for (uint32_t j = 0; j < nd[1]; j++)
-            for (uint32_t i = 0; i < nd[0]; i++) {
-                uint32_t id[3] = {i, j, k};
-                const uint32_t c = 2 * id[ax];
-                const uint32_t lo = c > 0 ? c - 1 : 0, hi = c + 1 < ns[ax] ? c + 1 : ns[ax] - 1;
-                float v[3];
-                const uint32_t at[3] = {lo, c, hi};
-                for (int t = 0; t < 3; t++) {
-                    uint32_t s[3] = {id[0], id[1], id[2]};
-                    s[ax] = at[t];
-                    v[t] = src[((size_t)s[2] * ns[1] + s[1]) * ns[0] + s[0]];
-                }
-                dst[((size_t)k * nd[1] + j) * nd[0] + i] = 0.25f * (v[0] + 2.0f * v[1] + v[2]);
+    const uint32_t m = n / 2;
+    for (uint32_t k = 0; k < m; k++)
+        for (uint32_t j = 0; j < m; j++)
+            for (uint32_t i = 0; i < m; i++) {
+                float s = 0.0f;
+                for (int c = 0; c < 8; c++)
+                    s += a[((size_t)(2 * k + (c >> 2)) * n + 2 * j + ((c >> 1) & 1)) * n + 2 * i + (c & 1)];
+                b[((size_t)k * m + j) * m + i] = 0.125f * s;
             }
 }
 
@@ -106,17 +97,16 @@ sss_result sss_htsm_volume_build(const sss_hetero *h, const double lo[3], const 
                                  sss_htsm_volume *v, sss_error *err)
 {
     memset(v, 0, sizeof *v);
-    if (log2n < 1 || log2n > 8) return sss_fail(err, SSS_ERR_ARG, "field volume of 2^%u + 1 nodes per side", log2n);
-    const uint32_t n0 = (1u << log2n) + 1;
+    if (log2n < 1 || log2n > 8) return sss_fail(err, SSS_ERR_ARG, "field volume of 2^%u voxels per side", log2n);
+    const uint32_t n0 = 1u << log2n;
     for (int a = 0; a < 3; a++) {
         if (!isfinite(lo[a]) || !isfinite(hi[a]) || !(hi[a] >= lo[a]))
             return sss_fail(err, SSS_ERR_ARG, "field volume bounds are not a box");
         v->lo[a] = lo[a];
-        /* a flat object (a plane) still gets a positive spacing */
-        v->h[a] = hi[a] > lo[a] ? (hi[a] - lo[a]) / (n0 - 1) : 1.0;
+        /* a flat object (a plane) still gets a positive voxel */
+        v->h[a] = hi[a] > lo[a] ? (hi[a] - lo[a]) / n0 : 1.0;
     }
-    uint32_t n = n0;
-    for (;;) {
+    for (uint32_t n = n0; n >= 2 && v->levels < SSS_HTSM_MAX_LEVELS; n /= 2) {
         const uint32_t l = v->levels++;
         v->n[l] = n;
         v->f[l] = malloc((size_t)n * n * n * sizeof(float));
@@ -124,34 +114,18 @@ sss_result sss_htsm_volume_build(const sss_hetero *h, const double lo[3], const 
             sss_htsm_volume_free(v);
             return sss_fail(err, SSS_ERR_NOMEM, "out of memory for a %u³ field volume", n);
         }
-        if (n <= 3 || v->levels == SSS_HTSM_MAX_LEVELS) break;
-        n = (n - 1) / 2 + 1;
     }
     float *f0 = v->f[0];
     for (uint32_t k = 0; k < n0; k++)
         for (uint32_t j = 0; j < n0; j++)
             for (uint32_t i = 0; i < n0; i++) {
-                const double p[3] = {lo[0] + v->h[0] * i, lo[1] + v->h[1] * j, lo[2] + v->h[2] * k};
+                const double p[3] = {lo[0] + v->h[0] * (i + 0.5), lo[1] + v->h[1] * (j + 0.5),
+                                     lo[2] + v->h[2] * (k + 0.5)};
                 double x_mm[3];
                 sss_hetero_to_rest(h, p, x_mm);
                 f0[((size_t)k * n0 + j) * n0 + i] = (float)sss_field_eval(&h->field, x_mm);
             }
-    for (uint32_t l = 1; l < v->levels; l++) {
-        const uint32_t na = v->n[l - 1], nb = v->n[l];
-        float *t1 = malloc((size_t)nb * na * na * sizeof(float)), *t2 = malloc((size_t)nb * nb * na * sizeof(float));
-        if (!t1 || !t2) {
-            free(t1);
-            free(t2);
-            sss_htsm_volume_free(v);
-            return sss_fail(err, SSS_ERR_NOMEM, "out of memory for the field volume's levels");
-        }
-        const uint32_t s0[3] = {na, na, na}, s1[3] = {nb, na, na}, s2[3] = {nb, nb, na};
-        halve_axis(v->f[l - 1], t1, s0, 0);
-        halve_axis(t1, t2, s1, 1);
-        halve_axis(t2, v->f[l], s2, 2);
-        free(t1);
-        free(t2);
-    }
+    for (uint32_t l = 1; l < v->levels; l++) volume_down(v->f[l - 1], v->n[l - 1], v->f[l]);
     return SSS_OK;
 }
 
@@ -164,7 +138,8 @@ double sss_htsm_volume_at(const sss_htsm_volume *v, uint32_t level, const double
     uint32_t i0[3];
     double fr[3];
     for (int a = 0; a < 3; a++) {
-        double u = (x[a] - v->lo[a]) / (v->h[a] * scale);
+        /* values at voxel centres, as a texture's texels */
+        double u = (x[a] - v->lo[a]) / (v->h[a] * scale) - 0.5;
         u = u < 0.0 ? 0.0 : u > (double)(n - 1) ? (double)(n - 1) : u;
         uint32_t i = (uint32_t)floor(u);
         if (i > n - 2) i = n - 2;

@@ -58,10 +58,10 @@ sss_result sss_htsm_map_init(sss_htsm_map *m, uint32_t size, sss_error *err);
 void sss_htsm_map_mips(sss_htsm_map *m);
 void sss_htsm_map_free(sss_htsm_map *m);
 
-/* The field sampled at the nodes lo + h·(i, j, k), i, j, k ∈ [0, n[0]), over
- * the object's bounds in mesh units; level l has (n[0] − 1)/2^l + 1 nodes
- * per side, node j the [1 2 1]/4 filter of level l − 1's nodes 2j − 1,
- * 2j, 2j + 1 along each axis (the ends repeated). */
+/* The field as a mipmapped 3D texture over the object's bounds [lo, hi]
+ * (mesh units): level 0 has 2^m voxels per side, voxel (i, j, k) holding f
+ * at its centre lo + h·(i + ½, j + ½, k + ½); level l + 1 the mean of each
+ * 2 × 2 × 2 block of level l (glGenerateMipmap's box), down to 2 voxels. */
 typedef struct sss_htsm_volume {
     uint32_t levels;
     uint32_t n[SSS_HTSM_MAX_LEVELS];
@@ -69,14 +69,14 @@ typedef struct sss_htsm_volume {
     float *f[SSS_HTSM_MAX_LEVELS];
 } sss_htsm_volume;
 
-/* Samples h's field (through its rest-frame map h->xf) on 2^log2n + 1
- * nodes per side over [lo, hi] (mesh units; log2n 1 to 8) and builds the
- * levels down to 3 nodes per side. */
+/* Samples h's field (through its rest-frame map h->xf) at the centres of
+ * 2^log2n voxels per side over [lo, hi] (mesh units; log2n 1 to 8) and
+ * builds the levels. */
 sss_result sss_htsm_volume_build(const sss_hetero *h, const double lo[3], const double hi[3], uint32_t log2n,
                                  sss_htsm_volume *v, sss_error *err);
 void sss_htsm_volume_free(sss_htsm_volume *v);
 /* f at x (mesh units) on level l (clamped to the last): trilinear between
- * the nodes, the nearest edge node outside. */
+ * voxel centres, clamped to the edge (GL_CLAMP_TO_EDGE, GL_LINEAR). */
 double sss_htsm_volume_at(const sss_htsm_volume *v, uint32_t level, const double x[3]);
 
 /* The hierarchical pattern (Shopf 2007 Fig. 4.3, after Dachsbacher and
