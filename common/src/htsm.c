@@ -228,6 +228,12 @@ static double rd_at(const sss_htsm_material *mat, double f, int c, double r)
     return sss_rd(&d, r);
 }
 
+/* The blend's weight at x on level l: the field scaled by the strength. */
+static double weight_at(const sss_htsm_volume *vol, const sss_htsm_material *mat, uint32_t l, const double x[3])
+{
+    return vol ? fmin(1.0, mat->strength * sss_htsm_volume_at(vol, l, x)) : 0.0;
+}
+
 void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_htsm_material *mat,
                 const sss_htsm_pattern *pat, uint32_t steps, const double xo[3], double q[3])
 {
@@ -240,7 +246,7 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
     const double mm = mat->mm_per_unit;
     const double span = sss_htsm_texel_mm(map, mm) * map->size; /* mm across the map */
     if (!(span > 0.0)) return;
-    const double fo = sss_htsm_volume_at(vol, 0, xo);
+    const double fo = weight_at(vol, mat, 0, xo);
     for (uint32_t i = 0; i < pat->n; i++) {
         double pos[4], E[3];
         map_read(map, pat->map_level[i], so + pat->off[i][0] / span, to + pat->off[i][1] / span, pos, E);
@@ -252,7 +258,7 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
          * distance from x_o to its points is d² + ρ²/2 */
         const double r = sqrt(d * d + 0.5 * pat->rho[i] * pat->rho[i]);
         const uint32_t lv = pat->vol_level[i];
-        const double fi = sss_htsm_volume_at(vol, lv, xi);
+        const double fi = weight_at(vol, mat, lv, xi);
         double tau_sum[3] = {0, 0, 0};
         const double sbar[3] = {
             0.5 * (sss_material_sigma_tr(&mat->base, &mat->inside, fo, 0) +
@@ -265,7 +271,7 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
             for (uint32_t j = 0; j < steps; j++) {
                 const double a = (j + 0.5) / steps;
                 const double x[3] = {xi[0] + a * dx[0], xi[1] + a * dx[1], xi[2] + a * dx[2]};
-                const double f = sss_htsm_volume_at(vol, lv, x);
+                const double f = weight_at(vol, mat, lv, x);
                 for (int c = 0; c < 3; c++)
                     tau_sum[c] += fmax(0.0, sss_material_sigma_tr(&mat->base, &mat->inside, f, (uint32_t)c) - sbar[c]);
             }

@@ -61,6 +61,7 @@ static void materials(sss_htsm_material *mat)
         mat->inside.sigma_a[c] = 0.05 * (c + 1);
         mat->inside.sigmap_s[c] = 1.0;
     }
+    mat->strength = 1.0;
     mat->mm_per_unit = 1.0;
 }
 

@@ -103,10 +103,13 @@ sss_result sss_htsm_pattern_make(uint32_t n, double r0_mm, double texel_mm, uint
 /* The side of one level-0 texel of m in mm (from its lookup). */
 double sss_htsm_texel_mm(const sss_htsm_map *m, double mm_per_unit);
 
-/* The material of an estimate: base (f = 0), inside (f = 1), and the
- * blend's rule of docs/heterogeneous.md §3. */
+/* The material of an estimate: base (f = 0), inside (f = 1), blended by
+ * min(1, strength · f) as docs/heterogeneous.md §3 blends by f (strength 1:
+ * the field as given; the viewer's keys edit it live with the two
+ * materials). */
 typedef struct sss_htsm_material {
     sss_material base, inside;
+    double strength;
     double mm_per_unit;
 } sss_htsm_material;
 
