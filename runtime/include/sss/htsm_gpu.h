@@ -53,6 +53,10 @@ sss_result sss_htsm_gpu_render_image(sss_htsm_gpu *g, const sss_htsm_view *v, co
 sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, int width,
                               int height, double *ms, sss_error *err);
 
+/* on: the renderer's draws shade the q of g's last frame (per pixel, at
+ * that frame's size) until called with 0 (the window's frames). */
+sss_result sss_htsm_gpu_attach(sss_htsm_gpu *g, int on);
+
 /* What the last frame computed, for the oracle: the map's level 0 read
  * back (its mips rebuilt on the CPU, its lookup), and per pixel q and the
  * exit point x_o (RGBA, w = 1 where the object was drawn), width × height

@@ -343,6 +343,12 @@ sss_result sss_htsm_gpu_render_image(sss_htsm_gpu *g, const sss_htsm_view *v, co
     return res;
 }
 
+sss_result sss_htsm_gpu_attach(sss_htsm_gpu *g, int on)
+{
+    g->r->draw.qtex = on ? g->q_tex[0] : 0;
+    return SSS_OK;
+}
+
 sss_result sss_htsm_gpu_read(const sss_htsm_gpu *g, sss_htsm_map *map, float **q, float **x, sss_error *err)
 {
     *q = *x = NULL;
