@@ -279,7 +279,8 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
         for (int c = 0; c < 3; c++) {
             const double tau = exp(-tau_sum[c] * d / steps);
             const double P = sqrt(rd_at(mat, fo, c, r) * rd_at(mat, fi, c, r));
-            q[c] += pat->area[i] * E[c] * P * tau;
+            /* the baked weight's 1/π (docs/physics.md §4): q in the bake's units */
+            q[c] += pat->area[i] * E[c] * P * tau / SSS_PI;
         }
     }
 }

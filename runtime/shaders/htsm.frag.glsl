@@ -95,7 +95,7 @@ void main() {
             for (int j = 0; j < u_ht_steps; j++)
                 ts += max(vec3(0.0), ht_tr(ht_f(lv, xi + ((float(j) + 0.5) / float(u_ht_steps)) * dx)) - sbar);
         vec3 tau = exp(-ts * d / float(u_ht_steps));
-        q += u_ht_area[i] * E * sqrt(ht_rd(fo, r) * ht_rd(fi, r)) * tau;
+        q += u_ht_area[i] * E * sqrt(ht_rd(fo, r) * ht_rd(fi, r)) * tau / PI_HT; // the bake's 1/pi
     }
     o_q = vec4(q, 1.0);
     o_x = vec4(v_pos, 1.0);

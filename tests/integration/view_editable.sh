@@ -21,7 +21,7 @@ expect_ok "$SSS_BAKE" --scene "$TMP/edit.json" -o "$TMP/baked"
 contains "$TMP/err" "object 'block' is editable: evaluated per frame, nothing baked"
 [ ! -e "$TMP/baked/block.sss" ] || fail "an editable object was baked"
 expect_ok VIEW --scene "$TMP/edit.json" --offscreen --out "$TMP/box.exr" --size 96x72 --exposure 100
-contains "$TMP/err" "'block' editable, 386 vertices, q per pixel by the run-time path (5 samples, 8 steps)"
+contains "$TMP/err" "'block' editable, 386 vertices, q per pixel by the run-time path (13 samples, 4 steps)"
 # the same block with no field: brighter everywhere the box was behind
 sed 's/"field": {[^}]*}/"field": {"constant": 0}/' "$TMP/edit.json" > "$TMP/plain.json"
 expect_ok VIEW --scene "$TMP/plain.json" --offscreen --out "$TMP/plain.exr" --size 96x72 --exposure 100

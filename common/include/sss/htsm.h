@@ -15,7 +15,7 @@
  *
  * The estimate at an exit point x_o (docs/heterogeneous.md §9.2):
  *
- *   q_c(x_o) = Σ_i A_i E_i,c sqrt(R_d[f_o](r_i) R_d[f_i](r_i)) τ_i,c
+ *   q_c(x_o) = (1/π) Σ_i A_i E_i,c sqrt(R_d[f_o](r_i) R_d[f_i](r_i)) τ_i,c
  *   τ_i,c    = exp(−Σ_j max(0, σtr,c(f(ξ_j)) − σ̄tr,c) Δ)
  *
  * over the thesis's hierarchical pattern of n = 1, 5, 9 or 13 samples about

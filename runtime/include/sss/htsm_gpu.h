@@ -25,11 +25,11 @@ extern "C" {
 typedef struct sss_htsm_view {
     uint32_t n;            /* samples: 1, 5, 9, 13 */
     uint32_t steps;        /* march steps per sample, 1 … SSS_HTSM_MAX_STEPS */
-    double r0_mm;          /* the pattern's inner radius (sss_htsm_pattern_make); 0: the object's radius / 8 */
+    double r0_mm;          /* the pattern's inner radius (sss_htsm_pattern_make); 0: the bounding radius / 4 */
     sss_htsm_material mat; /* base, inside, strength, mm per unit: edited live */
 } sss_htsm_view;
 
-/* n = 5, 8 steps, r0 from the radius, the file's material as the base and
+/* n = 13, 4 steps, r0 from the radius, the file's material as the base and
  * as the inside (h's inside when given), strength 1, the file's mm per
  * unit. */
 void sss_htsm_view_default(sss_htsm_view *v, const sss_bake_file *f, const sss_hetero *h);
