@@ -32,7 +32,7 @@ static void usage(FILE *f)
     fprintf(f,
         "usage: sss-view FILE.sss [options]\n"
         "       sss-view FILE.sss --offscreen --out IMG.png|IMG.exr [--size WxH] [--light X,Y,Z] [--view X,Y,Z] [--exposure E]\n"
-        "       sss-view --scene S.json [--time T] [--offscreen --out IMG.png|IMG.exr]   (a deforming object, no file)\n"
+        "       sss-view --scene S.json [--time T] [--offscreen --out IMG.png|IMG.exr]   (a deforming or editable object, no file)\n"
         "Shows a baked translucent mesh: every frame reconstructs each vertex's scattering q for the\n"
         "light direction (GPU compute shader by default, or the CPU decoder) and shades\n"
         "L = E q F_t(eta, n.w_o) + the surface terms, shadowed. Any storage form: float, lloyd8, and the\n"
