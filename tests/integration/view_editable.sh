@@ -37,4 +37,12 @@ expect_fail "bend.json: /objects/0/editable: an editable object that deforms is 
 expect_fail "/objects/0/editable: an editable object that deforms is not supported yet" \
   VIEW --scene "$TMP/bend.json" --offscreen --out "$TMP/x.png"
 [ ! -e "$TMP/x.png" ] || fail "x.png written by a refused command"
+# the example scene, on the mesh its comment says to generate
+mkdir -p "$TMP/ex"
+expect_ok "$SSS_GENMESH" cube 16 "$TMP/ex/block.ply" 2
+cp "$SSS_SOURCE/data/scenes/editable_box.json" "$TMP/ex/"
+expect_ok VIEW --scene "$TMP/ex/editable_box.json" --offscreen --out "$TMP/ex.png" --size 96x72 --exposure 150
+contains "$TMP/err" "'block' editable, 1538 vertices"
+read -r W H MEAN SD NONBG < <("$SSS_PNGSTATS" "$TMP/ex.png")
+awk -v n="$NONBG" 'BEGIN { exit !(n > 0.2) }' || fail "ex.png is nearly empty ($NONBG of the pixels drawn)"
 echo ok
