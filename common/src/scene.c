@@ -579,7 +579,7 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
 {
     if (!cJSON_IsObject(o)) return fail_at(c, jpath, "expected an object");
     static const char *const keys[] = {"name", "mesh", "material", "mm_per_unit", "transform", "moving", "deform",
-                                       "single_scattering", NULL};
+                                       "single_scattering", "editable", NULL};
     sss_result r = only_keys(c, o, jpath, keys);
     if (r != SSS_OK) return r;
     memset(out, 0, sizeof *out);
@@ -617,6 +617,8 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
         return fail_at(c, p, "must be > 0");
     }
     if ((r = get_bool(c, o, jpath, "moving", &out->moving)) != SSS_OK) return r;
+    /* the material is edited live: seed 000's run-time path (docs/heterogeneous.md §9) */
+    if ((r = get_bool(c, o, jpath, "editable", &out->editable)) != SSS_OK) return r;
     const cJSON *df = cJSON_GetObjectItemCaseSensitive(o, "deform");
     if (df) {
         join(p, sizeof p, jpath, "deform");

@@ -189,8 +189,8 @@ static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path
             /* a deforming object: nothing of one pose holds for the next, so
              * no file; its q is evaluated per frame (docs/deformable.md §4) */
             if (!quiet)
-                sss_cli_printf(stderr, "%s: object '%s' deforms: evaluated per frame, nothing baked (see --plan)\n",
-                               tool, sc.objects[i].name);
+                sss_cli_printf(stderr, "%s: object '%s' %s: evaluated per frame, nothing baked (see --plan)\n",
+                               tool, sc.objects[i].name, sc.objects[i].editable ? "is editable" : "deforms");
             if (report) {
                 cJSON *o = cJSON_CreateObject();
                 cJSON_AddStringToObject(o, "object", sc.objects[i].name);

@@ -80,7 +80,8 @@ while IFS= read -r f; do
   for i in $(includes "$f"); do
     case "$i" in sss/*) [ -e "precompute/include/$i" ] && complain "$f (runtime) includes $i of precompute";; esac
   done
-done < <(find runtime -name '*.[ch]' -not -path 'runtime/src/view/pose.[ch]')
-# pose.c is sss-view's tool code for a deforming scene without a file: a
-# tool may link both libraries (docs/architecture.md §1), as sss-stat does
+done < <(find runtime -name '*.[ch]' -not -path 'runtime/src/view/pose.[ch]' -not -path 'runtime/src/view/edit.[ch]')
+# pose.c and edit.c are sss-view's tool code for a deforming or an editable
+# scene without a file: a tool may link both libraries (docs/architecture.md
+# §1), as sss-stat does
 exit $bad

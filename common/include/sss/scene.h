@@ -69,6 +69,7 @@ typedef struct sss_scene_object {
      * first clip moves; such an object deforms as one with "deform" does
      * (docs/deformable.md §5) */
     int animated;
+    int editable;                   /* "editable": the material is edited live (docs/heterogeneous.md §9) */
     int single_scattering;          /* "single_scattering": 1 true, -1 false, 0 absent (the planner decides) */
     /* The material's "layers" (seed 002; docs/layers.md §3): flat layers of
      * the given lower-boundary depths below the surface, over the material

@@ -75,7 +75,10 @@ typedef struct sss_object_plan {
     sss_decision decisions[SSS_PLAN_MAX_DECISIONS];
 } sss_object_plan;
 
-enum { SSS_PLAN_FIELD_NONE = 0, SSS_PLAN_FIELD_FOLDED = 1, SSS_PLAN_FIELD_BAKED = 2 };
+/* SSS_PLAN_FIELD_RUNTIME: "editable": true, the material is edited live;
+ * nothing is baked (per_frame is 1) and the viewer runs seed 000's
+ * run-time path (sss/htsm_gpu.h, docs/heterogeneous.md §9). */
+enum { SSS_PLAN_FIELD_NONE = 0, SSS_PLAN_FIELD_FOLDED = 1, SSS_PLAN_FIELD_BAKED = 2, SSS_PLAN_FIELD_RUNTIME = 3 };
 
 typedef struct sss_plan {
     uint32_t nobjects;

@@ -167,6 +167,35 @@ static void rule_field(const plan_in *in, sss_object_plan *p)
            "sec. 4), stored with the field (section FELD)", sss_field_kind_name(f->kind));
 }
 
+/* "editable": true (seed 000, Shopf 2007 §4.3): the material is edited
+ * live, so nothing baked for its q would hold after an edit; the viewer
+ * evaluates it every frame from a light-space map and the field's texture
+ * (docs/heterogeneous.md §9). */
+static void rule_editable(const plan_in *in, sss_object_plan *p)
+{
+    const sss_scene *s = in->scene;
+    const sss_scene_object *ob = &s->objects[p->object];
+    p->per_frame = 1;
+    p->field = SSS_PLAN_FIELD_RUNTIME;
+    p->material = ob->material;
+    decide(p, "field", "run-time", "editable object (%s field): its material is edited live, so no q is baked; "
+           "each frame the viewer renders a light-space map (position, normal, transmitted irradiance, with mips) and "
+           "sums, per pixel, the thesis's hierarchical samples, each marched through the field's mipmapped 3D "
+           "texture (docs/heterogeneous.md sec. 9)", ob->hetero.field.kind != SSS_FIELD_NONE ?
+           sss_field_kind_name(ob->hetero.field.kind) : "no");
+    for (uint32_t l = 0; l < s->nlights; l++) {
+        const sss_scene_light *L = &s->lights[l];
+        char eff[32];
+        snprintf(eff, sizeof eff, "light %u", l);
+        p->light_pass[l] = UINT32_MAX;
+        if (L->kind == SSS_LIGHT_DIRECTIONAL && L->intensity != 0.0)
+            decide(p, eff, "run-time", "directional light: its light-space map is rendered each frame");
+        else
+            decide(p, eff, "none", "the run-time path takes directional lights only (a %s light is not drawn on "
+                   "the object)", sss_light_kind_name(L->kind));
+    }
+}
+
 /* Self-shadowing: V(x_i, ω) of §3.1 is 1 whenever n_i·ω > 0 on a convex
  * object (the supporting plane at x_i separates the ray from the object),
  * so the visibility pass against the object itself changes nothing. */
@@ -490,6 +519,8 @@ static const rule_fn rules[] = {rule_field,   rule_channels, rule_self_shadow, r
                                 rule_storage, rule_single};
 /* the rules of a deforming object */
 static const rule_fn rules_per_frame[] = {rule_channels, rule_per_frame};
+/* the rules of an editable object */
+static const rule_fn rules_editable[] = {rule_editable, rule_channels};
 
 sss_result sss_plan_scene(const sss_scene *scene, const sss_mesh *world, sss_plan *out, sss_error *err)
 {
@@ -530,6 +561,15 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
         p->size = sss_mesh_bounds(&world[i], lo, hi);
         for (int k = 0; k < 3; k++) p->centre[k] = 0.5 * (lo[k] + hi[k]);
         p->convex = sss_mesh_is_convex(&world[i]);
+        if (scene->objects[i].editable) {
+            if (sss_scene_object_deforms(&scene->objects[i])) {
+                sss_plan_free(out);
+                return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/editable: an editable object that deforms is not "
+                                "supported yet (docs/heterogeneous.md sec. 9)", scene->path, i);
+            }
+            for (size_t r = 0; r < sizeof rules_editable / sizeof rules_editable[0]; r++) rules_editable[r](&in, p);
+            continue;
+        }
         if (sss_scene_object_deforms(&scene->objects[i])) {
             /* the per-frame path takes one homogeneous material (docs/deformable.md §3) */
             if (scene->objects[i].hetero.field.kind != SSS_FIELD_NONE) {

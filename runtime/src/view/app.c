@@ -53,6 +53,9 @@ const char *sss_app_controls_help =
     "  . / ,                         step the time by +1/30 s / -1/30 s (and pause)\n"
     "  H                             toggle the overlay\n"
     "  G                             toggle the panel (light, exposure, effects, frame times, the file)\n"
+    "  J / K                         editable object: inside material's absorption /1.5 / x1.5\n"
+    "  U / I                         editable object: the field's strength /1.25 / x1.25\n"
+    "  Y                             editable object: the next transport colour of the base material\n"
     "  Esc, Q                        quit\n";
 
 typedef enum drag_mode { DRAG_NONE, DRAG_ORBIT, DRAG_PAN, DRAG_LIGHT } drag_mode;
@@ -149,6 +152,7 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     app *a = glfwGetWindowUserPointer(w);
     if (action == GLFW_RELEASE) return;
     if (a->panel && sss_panel_wants_keyboard(a->panel)) return; /* a value being typed into the panel */
+    if (a->opt->key && a->opt->key(a->opt->user, key)) return;
     const double step = 5.0 * SSS_PI / 180.0;
     const double world_up[3] = {0, 1, 0};
     double eye[3], right[3], up[3], fwd[3];

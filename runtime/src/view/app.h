@@ -23,6 +23,10 @@ typedef struct sss_app_options {
     /* Optional: the scene sum behind frame_q / frame_gpu, whose light kinds
      * the panel switches on and off (sss_scene_eval_set_kinds). */
     sss_scene_eval *scene_eval;
+    /* Optional: a key press (GLFW key code) the caller handles itself
+     * before the window's own table; returns 1 when it did (sss-view on an
+     * editable object: the live material keys, edit.c). */
+    int (*key)(void *user, int key);
 } sss_app_options;
 
 /* Opens a window, runs the event loop until closed (Esc / Q / window close),

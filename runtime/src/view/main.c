@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "edit.h"
 #include "pose.h"
 #include "sss/cli.h"
 #include "sss/clock.h"
@@ -31,7 +32,7 @@ static void usage(FILE *f)
     fprintf(f,
         "usage: sss-view FILE.sss [options]\n"
         "       sss-view FILE.sss --offscreen --out IMG.png|IMG.exr [--size WxH] [--light X,Y,Z] [--view X,Y,Z] [--exposure E]\n"
-        "       sss-view --scene S.json [--time T] [--offscreen --out IMG.png|IMG.exr]   (a deforming object, no file)\n"
+        "       sss-view --scene S.json [--time T] [--offscreen --out IMG.png|IMG.exr]   (a deforming or editable object, no file)\n"
         "Shows a baked translucent mesh: every frame reconstructs each vertex's scattering q for the\n"
         "light direction (GPU compute shader by default, or the CPU decoder) and shades\n"
         "L = E q F_t(eta, n.w_o) + the surface terms, shadowed. Any storage form: float, lloyd8, and the\n"
@@ -611,7 +612,7 @@ static int scene_window(const sss_bake_file *f, view_args *a)
     if (scene_open(f, a, &a->p, &sc, &ev) != 0) return 2;
     a->p.background[0] = a->p.background[1] = a->p.background[2] = 0.02f;
     scene_win sw = {f, ev, NULL, a->p.path == SSS_EVAL_CPU, "", !a->scene};
-    sss_app_options ao = {a->path, a->size[0], a->size[1], a->shot, scene_frame, &sw, scene_frame_gpu, ev};
+    sss_app_options ao = {a->path, a->size[0], a->size[1], a->shot, scene_frame, &sw, scene_frame_gpu, ev, NULL};
     int rc = sss_app_run(f, &a->p, &ao);
     sss_scene_eval_destroy(ev);
     sss_scene_free(&sc);
@@ -622,7 +623,7 @@ static int scene_window(const sss_bake_file *f, view_args *a)
  * the mouse moves (app.c). */
 static int window(const sss_bake_file *f, view_args *a)
 {
-    sss_app_options ao = {a->path, a->size[0], a->size[1], a->shot, NULL, NULL, NULL, NULL};
+    sss_app_options ao = {a->path, a->size[0], a->size[1], a->shot, NULL, NULL, NULL, NULL, NULL};
     a->p.background[0] = a->p.background[1] = a->p.background[2] = 0.02f;
     return sss_app_run(f, &a->p, &ao);
 }
@@ -643,6 +644,8 @@ int main(int argc, char **argv)
         sss_pose_view pv = {TOOL, a.scene, a.time, a.out, a.shot, a.size[0], a.size[1], a.exposure_given, &a.inputs,
                             a.splat, a.splat_levels, !a.splat_uniform};
         if (!a.offscreen) a.p.background[0] = a.p.background[1] = a.p.background[2] = 0.02f; /* as window() */
+        /* an editable object: seed 000's run-time path (edit.c, docs/heterogeneous.md §9) */
+        if (sss_edit_wanted(a.scene)) return a.offscreen ? sss_edit_offscreen(&pv, &a.p) : sss_edit_window(&pv, &a.p);
         return a.offscreen ? sss_pose_offscreen(&pv, &a.p) : sss_pose_window(&pv, &a.p);
     }
     a.input[0] = a.path;

@@ -318,7 +318,7 @@ int sss_pose_window(const sss_pose_view *v, sss_view_params *p)
     if (rc == 0) {
         view_params(&s, p);
         s.shown_t = NAN; /* the first frame uploads the pose */
-        sss_app_options ao = {v->scene, v->width, v->height, v->shot, NULL, &s, window_frame, NULL};
+        sss_app_options ao = {v->scene, v->width, v->height, v->shot, NULL, &s, window_frame, NULL, NULL};
         rc = sss_app_run(&s.f, p, &ao);
     }
     state_free(&s);

@@ -1,0 +1,286 @@
+/* htsm.c: seed 000's run-time estimator on the CPU (sss/htsm.h,
+ * docs/heterogeneous.md §9): the oracle the viewer's GPU pass is tested
+ * against, and the definition of what that pass computes. */
+#include "sss/htsm.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sss/vec3.h"
+
+sss_result sss_htsm_map_init(sss_htsm_map *m, uint32_t size, sss_error *err)
+{
+    memset(m, 0, sizeof *m);
+    if (size < 2 || size > 4096 || (size & (size - 1)))
+        return sss_fail(err, SSS_ERR_ARG, "light-space map size %u is not a power of two in [2, 4096]", size);
+    m->size = size;
+    for (uint32_t s = size; s >= 1 && m->levels < SSS_HTSM_MAX_LEVELS; s >>= 1) {
+        const size_t n = (size_t)s * s * 4;
+        const uint32_t l = m->levels++;
+        m->pos[l] = calloc(n, sizeof(float));
+        m->nrm[l] = calloc(n, sizeof(float));
+        m->irr[l] = calloc(n, sizeof(float));
+        if (!m->pos[l] || !m->nrm[l] || !m->irr[l]) {
+            sss_htsm_map_free(m);
+            return sss_fail(err, SSS_ERR_NOMEM, "out of memory for a %u² light-space map", size);
+        }
+    }
+    return SSS_OK;
+}
+
+void sss_htsm_map_free(sss_htsm_map *m)
+{
+    if (!m) return;
+    for (uint32_t l = 0; l < SSS_HTSM_MAX_LEVELS; l++) {
+        free(m->pos[l]);
+        free(m->nrm[l]);
+        free(m->irr[l]);
+    }
+    memset(m, 0, sizeof *m);
+}
+
+static void mip_down(const float *a, uint32_t sa, float *b)
+{
+    const uint32_t sb = sa / 2;
+    for (uint32_t j = 0; j < sb; j++)
+        for (uint32_t i = 0; i < sb; i++)
+            for (int c = 0; c < 4; c++) {
+                const size_t r0 = ((size_t)(2 * j) * sa + 2 * i) * 4 + (size_t)c, r1 = r0 + (size_t)sa * 4;
+                b[((size_t)j * sb + i) * 4 + (size_t)c] = 0.25f * ((a[r0] + a[r0 + 4]) + (a[r1] + a[r1 + 4]));
+            }
+}
+
+void sss_htsm_map_mips(sss_htsm_map *m)
+{
+    for (uint32_t l = 0; l + 1 < m->levels; l++) {
+        const uint32_t s = m->size >> l;
+        mip_down(m->pos[l], s, m->pos[l + 1]);
+        mip_down(m->nrm[l], s, m->nrm[l + 1]);
+        mip_down(m->irr[l], s, m->irr[l + 1]);
+    }
+}
+
+double sss_htsm_texel_mm(const sss_htsm_map *m, double mm_per_unit)
+{
+    /* s = row 0 of lookup · x spans [0, 1] over the map's width */
+    const double a = m->lookup[0], b = m->lookup[4], c = m->lookup[8];
+    const double inv_w = sqrt(a * a + b * b + c * c);
+    return inv_w > 0.0 ? mm_per_unit / (inv_w * m->size) : 0.0;
+}
+
+/* --- the field's volume ------------------------------------------------ */
+
+void sss_htsm_volume_free(sss_htsm_volume *v)
+{
+    if (!v) return;
+    for (uint32_t l = 0; l < SSS_HTSM_MAX_LEVELS; l++) free(v->f[l]);
+    memset(v, 0, sizeof *v);
+}
+
+/* Level l + 1 of the volume: the mean of each 2 × 2 × 2 block of level l
+ * (n voxels per side), as glGenerateMipmap builds a power-of-two texture. */
+static void volume_down(const float *a, uint32_t n, float *b)
+{
+    const uint32_t m = n / 2;
+    for (uint32_t k = 0; k < m; k++)
+        for (uint32_t j = 0; j < m; j++)
+            for (uint32_t i = 0; i < m; i++) {
+                float s = 0.0f;
+                for (int c = 0; c < 8; c++)
+                    s += a[((size_t)(2 * k + (c >> 2)) * n + 2 * j + ((c >> 1) & 1)) * n + 2 * i + (c & 1)];
+                b[((size_t)k * m + j) * m + i] = 0.125f * s;
+            }
+}
+
+sss_result sss_htsm_volume_build(const sss_hetero *h, const double lo[3], const double hi[3], uint32_t log2n,
+                                 sss_htsm_volume *v, sss_error *err)
+{
+    memset(v, 0, sizeof *v);
+    if (log2n < 1 || log2n > 8) return sss_fail(err, SSS_ERR_ARG, "field volume of 2^%u voxels per side", log2n);
+    const uint32_t n0 = 1u << log2n;
+    for (int a = 0; a < 3; a++) {
+        if (!isfinite(lo[a]) || !isfinite(hi[a]) || !(hi[a] >= lo[a]))
+            return sss_fail(err, SSS_ERR_ARG, "field volume bounds are not a box");
+        v->lo[a] = lo[a];
+        /* a flat object (a plane) still gets a positive voxel */
+        v->h[a] = hi[a] > lo[a] ? (hi[a] - lo[a]) / n0 : 1.0;
+    }
+    for (uint32_t n = n0; n >= 2 && v->levels < SSS_HTSM_MAX_LEVELS; n /= 2) {
+        const uint32_t l = v->levels++;
+        v->n[l] = n;
+        v->f[l] = malloc((size_t)n * n * n * sizeof(float));
+        if (!v->f[l]) {
+            sss_htsm_volume_free(v);
+            return sss_fail(err, SSS_ERR_NOMEM, "out of memory for a %u³ field volume", n);
+        }
+    }
+    float *f0 = v->f[0];
+    for (uint32_t k = 0; k < n0; k++)
+        for (uint32_t j = 0; j < n0; j++)
+            for (uint32_t i = 0; i < n0; i++) {
+                const double p[3] = {lo[0] + v->h[0] * (i + 0.5), lo[1] + v->h[1] * (j + 0.5),
+                                     lo[2] + v->h[2] * (k + 0.5)};
+                double x_mm[3];
+                sss_hetero_to_rest(h, p, x_mm);
+                f0[((size_t)k * n0 + j) * n0 + i] = (float)sss_field_eval(&h->field, x_mm);
+            }
+    for (uint32_t l = 1; l < v->levels; l++) volume_down(v->f[l - 1], v->n[l - 1], v->f[l]);
+    return SSS_OK;
+}
+
+double sss_htsm_volume_at(const sss_htsm_volume *v, uint32_t level, const double x[3])
+{
+    if (!v || !v->levels) return 0.0;
+    const uint32_t l = level < v->levels ? level : v->levels - 1;
+    const uint32_t n = v->n[l];
+    const double scale = (double)(1u << l);
+    uint32_t i0[3];
+    double fr[3];
+    for (int a = 0; a < 3; a++) {
+        /* values at voxel centres, as a texture's texels */
+        double u = (x[a] - v->lo[a]) / (v->h[a] * scale) - 0.5;
+        u = u < 0.0 ? 0.0 : u > (double)(n - 1) ? (double)(n - 1) : u;
+        uint32_t i = (uint32_t)floor(u);
+        if (i > n - 2) i = n - 2;
+        i0[a] = i;
+        fr[a] = u - i;
+    }
+    const float *f = v->f[l];
+    double s = 0.0;
+    for (int c = 0; c < 8; c++) {
+        const uint32_t i = i0[0] + (c & 1), j = i0[1] + ((c >> 1) & 1), k = i0[2] + ((c >> 2) & 1);
+        const double w = ((c & 1) ? fr[0] : 1.0 - fr[0]) * (((c >> 1) & 1) ? fr[1] : 1.0 - fr[1]) *
+                         (((c >> 2) & 1) ? fr[2] : 1.0 - fr[2]);
+        s += w * f[((size_t)k * n + j) * n + i];
+    }
+    return s;
+}
+
+/* --- the pattern -------------------------------------------------------- */
+
+static uint32_t level_for(double area, double texel_mm, uint32_t levels)
+{
+    if (!(texel_mm > 0.0)) return 0;
+    const double l = floor(log2(sqrt(area) / texel_mm) + 0.5);
+    return l < 0.0 ? 0u : l > (double)(levels - 1) ? levels - 1 : (uint32_t)l;
+}
+
+sss_result sss_htsm_pattern_make(uint32_t n, double r0_mm, double texel_mm, uint32_t map_levels,
+                                 sss_htsm_pattern *p, sss_error *err)
+{
+    memset(p, 0, sizeof *p);
+    if (n != 1 && n != 5 && n != 9 && n != 13)
+        return sss_fail(err, SSS_ERR_ARG, "sample pattern of %u samples: the thesis's are 1, 5, 9 and 13", n);
+    if (!(r0_mm > 0.0) || !isfinite(r0_mm))
+        return sss_fail(err, SSS_ERR_ARG, "sample pattern radius %g mm must be positive", r0_mm);
+    if (map_levels < 1) map_levels = 1;
+    p->n = n;
+    p->area[0] = SSS_PI * r0_mm * r0_mm;
+    for (uint32_t k = 1; 4 * k + 1 <= n; k++) {
+        const double a = r0_mm * ldexp(1.0, (int)k - 1), b = 2.0 * a;
+        /* the radius that halves the quarter annulus's area */
+        const double rm = sqrt(0.5 * (a * a + b * b));
+        for (uint32_t j = 0; j < 4; j++) {
+            const double th = 0.5 * SSS_PI * j + ((k & 1) ? 0.25 * SSS_PI : 0.0);
+            const uint32_t i = 4 * (k - 1) + 1 + j;
+            p->off[i][0] = rm * cos(th);
+            p->off[i][1] = rm * sin(th);
+            p->area[i] = 0.25 * SSS_PI * (b * b - a * a);
+            p->vol_level[i] = k;
+        }
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        p->rho[i] = sqrt(p->area[i] / SSS_PI);
+        p->map_level[i] = level_for(p->area[i], texel_mm, map_levels);
+    }
+    return SSS_OK;
+}
+
+/* --- the estimate --------------------------------------------------------- */
+
+/* The map's bilinear mean at (s, t) on level l (texels outside the map are
+ * empty): sums of position × coverage, coverage and E_t. */
+static void map_read(const sss_htsm_map *m, uint32_t l, double s, double t, double pos[4], double irr[3])
+{
+    const uint32_t S = m->size >> l;
+    const double u = s * S - 0.5, v = t * S - 0.5;
+    const double fu = floor(u), fv = floor(v);
+    const double wu = u - fu, wv = v - fv;
+    memset(pos, 0, 4 * sizeof *pos);
+    memset(irr, 0, 3 * sizeof *irr);
+    for (int c = 0; c < 4; c++) {
+        const double i = fu + (c & 1), j = fv + (c >> 1);
+        if (i < 0.0 || j < 0.0 || i >= S || j >= S) continue;
+        const double w = ((c & 1) ? wu : 1.0 - wu) * ((c >> 1) ? wv : 1.0 - wv);
+        const size_t at = ((size_t)j * S + (size_t)i) * 4;
+        for (int k = 0; k < 4; k++) pos[k] += w * m->pos[l][at + (size_t)k];
+        for (int k = 0; k < 3; k++) irr[k] += w * m->irr[l][at + (size_t)k];
+    }
+}
+
+static double rd_at(const sss_htsm_material *mat, double f, int c, double r)
+{
+    sss_material b;
+    sss_material_blend(&mat->base, &mat->inside, f, &b);
+    sss_dipole d;
+    if (sss_dipole_init(&d, b.sigma_a[c], b.sigmap_s[c], b.eta) != SSS_OK) return 0.0;
+    return sss_rd(&d, r);
+}
+
+/* The blend's weight at x on level l: the field scaled by the strength. */
+static double weight_at(const sss_htsm_volume *vol, const sss_htsm_material *mat, uint32_t l, const double x[3])
+{
+    return vol ? fmin(1.0, mat->strength * sss_htsm_volume_at(vol, l, x)) : 0.0;
+}
+
+void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_htsm_material *mat,
+                const sss_htsm_pattern *pat, uint32_t steps, const double xo[3], double q[3])
+{
+    q[0] = q[1] = q[2] = 0.0;
+    if (steps < 1) steps = 1;
+    if (steps > SSS_HTSM_MAX_STEPS) steps = SSS_HTSM_MAX_STEPS;
+    const float *L = map->lookup;
+    const double so = L[0] * xo[0] + L[4] * xo[1] + L[8] * xo[2] + L[12];
+    const double to = L[1] * xo[0] + L[5] * xo[1] + L[9] * xo[2] + L[13];
+    const double mm = mat->mm_per_unit;
+    const double span = sss_htsm_texel_mm(map, mm) * map->size; /* mm across the map */
+    if (!(span > 0.0)) return;
+    const double fo = weight_at(vol, mat, 0, xo);
+    for (uint32_t i = 0; i < pat->n; i++) {
+        double pos[4], E[3];
+        map_read(map, pat->map_level[i], so + pat->off[i][0] / span, to + pat->off[i][1] / span, pos, E);
+        if (!(pos[3] > 1e-6)) continue; /* nothing lit there */
+        const double xi[3] = {pos[0] / pos[3], pos[1] / pos[3], pos[2] / pos[3]};
+        const double dx[3] = {xo[0] - xi[0], xo[1] - xi[1], xo[2] - xi[2]};
+        const double d = sqrt(sss_dot3(dx, dx)) * mm;
+        /* the sample stands for a disk of radius ρ: the mean square
+         * distance from x_o to its points is d² + ρ²/2 */
+        const double r = sqrt(d * d + 0.5 * pat->rho[i] * pat->rho[i]);
+        const uint32_t lv = pat->vol_level[i];
+        const double fi = weight_at(vol, mat, lv, xi);
+        double tau_sum[3] = {0, 0, 0};
+        const double sbar[3] = {
+            0.5 * (sss_material_sigma_tr(&mat->base, &mat->inside, fo, 0) +
+                   sss_material_sigma_tr(&mat->base, &mat->inside, fi, 0)),
+            0.5 * (sss_material_sigma_tr(&mat->base, &mat->inside, fo, 1) +
+                   sss_material_sigma_tr(&mat->base, &mat->inside, fi, 1)),
+            0.5 * (sss_material_sigma_tr(&mat->base, &mat->inside, fo, 2) +
+                   sss_material_sigma_tr(&mat->base, &mat->inside, fi, 2))};
+        if (vol) {
+            for (uint32_t j = 0; j < steps; j++) {
+                const double a = (j + 0.5) / steps;
+                const double x[3] = {xi[0] + a * dx[0], xi[1] + a * dx[1], xi[2] + a * dx[2]};
+                const double f = weight_at(vol, mat, lv, x);
+                for (int c = 0; c < 3; c++)
+                    tau_sum[c] += fmax(0.0, sss_material_sigma_tr(&mat->base, &mat->inside, f, (uint32_t)c) - sbar[c]);
+            }
+        }
+        for (int c = 0; c < 3; c++) {
+            const double tau = exp(-tau_sum[c] * d / steps);
+            const double P = sqrt(rd_at(mat, fo, c, r) * rd_at(mat, fi, c, r));
+            /* the baked weight's 1/π (docs/physics.md §4): q in the bake's units */
+            q[c] += pat->area[i] * E[c] * P * tau / SSS_PI;
+        }
+    }
+}

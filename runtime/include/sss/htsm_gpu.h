@@ -1,0 +1,72 @@
+/* sss/htsm_gpu.h: seed 000's heterogeneous translucent shadow maps on the
+ * GPU (Shopf 2007 §4.3; library sss_render; docs/heterogeneous.md §9), the
+ * run-time path of an object whose material is edited live. Each frame:
+ *   1. the light-space map: the mesh drawn along the light (orthographic,
+ *      the shadow map's frame), per texel the position, normal and
+ *      transmitted flux E_t of the surface nearest the light, with mips;
+ *   2. per visible pixel, q(x_o) by the estimator of sss/htsm.h (its CPU
+ *      oracle, sss_htsm_q): the hierarchical pattern of n = 1, 5, 9 or 13
+ *      samples, each marched through the field's mipmapped 3D texture with
+ *      a fixed number of steps;
+ * then the renderer's own draw shades that q per pixel as it shades any q.
+ * The materials, the field's strength, n and the steps are uniforms: an
+ * edit shows in the next frame. Needs the renderer's context.
+ */
+#ifndef SSS_HTSM_GPU_H
+#define SSS_HTSM_GPU_H
+
+#include "sss/htsm.h"
+#include "sss/render.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sss_htsm_view {
+    uint32_t n;            /* samples: 1, 5, 9, 13 */
+    uint32_t steps;        /* march steps per sample, 1 … SSS_HTSM_MAX_STEPS */
+    double r0_mm;          /* the pattern's inner radius (sss_htsm_pattern_make); 0: the bounding radius / 4 */
+    sss_htsm_material mat; /* base, inside, strength, mm per unit: edited live */
+} sss_htsm_view;
+
+/* n = 13, 4 steps, r0 from the radius, the file's material as the base and
+ * as the inside (h's inside when given), strength 1, the file's mm per
+ * unit. */
+void sss_htsm_view_default(sss_htsm_view *v, const sss_bake_file *f, const sss_hetero *h);
+
+typedef struct sss_htsm_gpu sss_htsm_gpu;
+
+/* Builds the programs, a map_size² light-space map (power of two, 16 …
+ * 4096; 0: 256) and the field h (NULL: none) sampled on 2^vol_log2 voxels
+ * per side over the mesh's bounds (0: 64³) into a mipmapped 3D texture. */
+sss_result sss_htsm_gpu_create(sss_renderer *r, const sss_hetero *h, uint32_t map_size, uint32_t vol_log2,
+                               sss_htsm_gpu **out, sss_error *err);
+void sss_htsm_gpu_destroy(sss_htsm_gpu *g);
+
+/* The frame's image as sss_renderer_render_q_image returns it, q per pixel
+ * from the pass for p's light (direction and light_rgb) and camera. */
+sss_result sss_htsm_gpu_render_image(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, int width,
+                                     int height, float **rgb, float **hdr, sss_error *err);
+
+/* The pass alone for p at width × height (its q texture filled), and the
+ * wall time it took between glFinish calls, ms. */
+sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, int width,
+                              int height, double *ms, sss_error *err);
+
+/* on: the renderer's draws shade the q of g's last frame (per pixel, at
+ * that frame's size) until called with 0 (the window's frames). */
+sss_result sss_htsm_gpu_attach(sss_htsm_gpu *g, int on);
+
+/* What the last frame computed, for the oracle: the map's level 0 read
+ * back (its mips rebuilt on the CPU, its lookup), and per pixel q and the
+ * exit point x_o (RGBA, w = 1 where the object was drawn), width × height
+ * floats × 4 each (caller frees). */
+sss_result sss_htsm_gpu_read(const sss_htsm_gpu *g, sss_htsm_map *map, float **q, float **x, sss_error *err);
+
+/* The field's volume as uploaded (owned by g). */
+const sss_htsm_volume *sss_htsm_gpu_volume(const sss_htsm_gpu *g);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

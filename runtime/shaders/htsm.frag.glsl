@@ -1,0 +1,102 @@
+// Seed 000's run-time estimator per pixel (Shopf 2007 §4.3;
+// docs/heterogeneous.md §9): the sum of common/src/htsm.c (sss_htsm_q, its
+// CPU oracle) over the hierarchical pattern's samples of the light-space map
+// (htsm_map.*.glsl), each weighted by the geometric mean of the endpoints'
+// dipoles and the transmittance marched through the field's mipmapped 3D
+// texture with a fixed number of steps. Writes q and the exit point x_o.
+#define HT_MAX 13
+uniform mat4 u_ht_lookup;        // world -> (s, t) of the map
+uniform float u_ht_span;         // mm across the map
+uniform float u_ht_mm;           // mm per mesh unit
+uniform int u_ht_size;           // the map's level-0 texels per side
+uniform int u_ht_n;              // samples: 1, 5, 9, 13
+uniform int u_ht_steps;          // march steps per sample
+uniform vec2 u_ht_off[HT_MAX];   // sample offsets along s, t, mm
+uniform float u_ht_area[HT_MAX]; // mm² across the light
+uniform float u_ht_rho[HT_MAX];  // sqrt(area / pi), mm
+uniform int u_ht_mlev[HT_MAX];   // the map's mip level of each sample
+uniform int u_ht_vlev[HT_MAX];   // the field's mip level of each sample
+uniform vec3 u_ht_base_sa, u_ht_base_ss, u_ht_in_sa, u_ht_in_ss; // 1/mm
+uniform float u_ht_A;            // the dipole's boundary term (1 + F_dr)/(1 - F_dr) of the base's eta
+uniform float u_ht_strength;     // f scaled, clamped to 1
+uniform int u_ht_vol_on;         // 0: no field (f = 0)
+uniform int u_ht_vol_n;          // voxels per side at level 0
+uniform int u_ht_vol_levels;
+uniform vec3 u_ht_vol_lo, u_ht_vol_h; // mesh units: the box's corner, a level-0 voxel
+uniform sampler2D u_ht_pos;      // position x coverage, coverage (mips)
+uniform sampler2D u_ht_irr;      // E_t, coverage (mips)
+uniform sampler3D u_ht_vol;      // f (mips)
+in vec3 v_pos;
+layout(location = 0) out vec4 o_q;
+layout(location = 1) out vec4 o_x;
+const float PI_HT = 3.14159265358979;
+
+// sss_htsm_volume_at, then the strength: trilinear between voxel centres
+float ht_f(int l, vec3 x) {
+    if (u_ht_vol_on == 0) return 0.0;
+    l = min(l, u_ht_vol_levels - 1);
+    int n = u_ht_vol_n >> l;
+    vec3 u = clamp((x - u_ht_vol_lo) / (u_ht_vol_h * float(1 << l)) - 0.5, vec3(0.0), vec3(float(n - 1)));
+    ivec3 i0 = min(ivec3(floor(u)), ivec3(n - 2));
+    vec3 fr = u - vec3(i0);
+    float s = 0.0;
+    for (int c = 0; c < 8; c++) {
+        ivec3 o = ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+        vec3 w = mix(1.0 - fr, fr, vec3(o));
+        s += w.x * w.y * w.z * texelFetch(u_ht_vol, i0 + o, l).r;
+    }
+    return min(1.0, u_ht_strength * s);
+}
+// sss_material_sigma_tr of the blend at f, per channel
+vec3 ht_tr(float f) {
+    vec3 sa = mix(u_ht_base_sa, u_ht_in_sa, f), ss = mix(u_ht_base_ss, u_ht_in_ss, f);
+    return sqrt(3.0 * sa * (sa + ss));
+}
+vec3 ht_term(vec3 tr, vec3 z, float r) {
+    vec3 d = sqrt(r * r + z * z);
+    return z * (1.0 + tr * d) * exp(-tr * d) / (d * d * d);
+}
+// sss_rd of the blend at f (docs/physics.md §2)
+vec3 ht_rd(float f, float r) {
+    vec3 sa = mix(u_ht_base_sa, u_ht_in_sa, f), ss = mix(u_ht_base_ss, u_ht_in_ss, f);
+    vec3 st = sa + ss, tr = sqrt(3.0 * sa * st), zr = 1.0 / st, zv = zr + 4.0 * u_ht_A / (3.0 * st);
+    return ss / st / (4.0 * PI_HT) * (ht_term(tr, zr, r) + ht_term(tr, zv, r));
+}
+// the map's bilinear mean at (s, t) on level l, texels outside empty (map_read)
+void ht_map(int l, vec2 st, out vec4 pos, out vec3 irr) {
+    int S = u_ht_size >> l;
+    vec2 u = st * float(S) - 0.5, f0 = floor(u), w = u - f0;
+    pos = vec4(0.0);
+    irr = vec3(0.0);
+    for (int c = 0; c < 4; c++) {
+        ivec2 i = ivec2(f0) + ivec2(c & 1, c >> 1);
+        if (any(lessThan(i, ivec2(0))) || any(greaterThanEqual(i, ivec2(S)))) continue;
+        float wt = ((c & 1) != 0 ? w.x : 1.0 - w.x) * ((c >> 1) != 0 ? w.y : 1.0 - w.y);
+        pos += wt * texelFetch(u_ht_pos, i, l);
+        irr += wt * texelFetch(u_ht_irr, i, l).rgb;
+    }
+}
+void main() {
+    vec2 so = (u_ht_lookup * vec4(v_pos, 1.0)).xy;
+    float fo = ht_f(0, v_pos);
+    vec3 tro = ht_tr(fo), q = vec3(0.0);
+    for (int i = 0; i < u_ht_n; i++) {
+        vec4 pos;
+        vec3 E;
+        ht_map(u_ht_mlev[i], so + u_ht_off[i] / u_ht_span, pos, E);
+        if (!(pos.w > 1e-6)) continue; // nothing lit there
+        vec3 xi = pos.xyz / pos.w, dx = v_pos - xi;
+        float d = length(dx) * u_ht_mm;
+        float r = sqrt(d * d + 0.5 * u_ht_rho[i] * u_ht_rho[i]);
+        int lv = u_ht_vlev[i];
+        float fi = ht_f(lv, xi);
+        vec3 sbar = 0.5 * (tro + ht_tr(fi)), ts = vec3(0.0);
+        if (u_ht_vol_on != 0)
+            for (int j = 0; j < u_ht_steps; j++)
+                ts += max(vec3(0.0), ht_tr(ht_f(lv, xi + ((float(j) + 0.5) / float(u_ht_steps)) * dx)) - sbar);
+        vec3 tau = exp(-ts * d / float(u_ht_steps));
+        q += u_ht_area[i] * E * sqrt(ht_rd(fo, r) * ht_rd(fi, r)) * tau / PI_HT; // the bake's 1/pi
+    }
+    o_q = vec4(q, 1.0);
+    o_x = vec4(v_pos, 1.0);
+}

@@ -1,0 +1,384 @@
+/* htsm_gpu.c: seed 000's heterogeneous translucent shadow maps on the GPU
+ * (sss/htsm_gpu.h; docs/heterogeneous.md §9). Two draws per frame, both
+ * rasterising the mesh: along the light into the map's three images (MRT,
+ * then glGenerateMipmap: the 2 × 2 means sss_htsm_map_mips computes), and
+ * from the camera into q and x_o per pixel (htsm.frag.glsl, sss_htsm_q's
+ * sum). The field's 3D texture is uploaded once with every level computed
+ * on the CPU (sss_htsm_volume_build), so that the pass and its oracle read
+ * the same numbers.
+ */
+#include "sss/htsm_gpu.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gl_util.h"
+#include "renderer.h"
+#include "shaders.h"
+#include "shadow.h"
+#include "sss/clock.h"
+
+struct sss_htsm_gpu {
+    sss_renderer *r;
+    GLuint prog_map, prog_q;
+    uint32_t size, levels;   /* the map */
+    GLuint map_fbo, map_tex[3], map_depth;
+    float lookup[16];
+    sss_htsm_volume vol;
+    int vol_on;
+    GLuint vol_tex;
+    GLuint q_fbo, q_tex[2], q_depth; /* q, x_o */
+    int w, h;
+};
+
+static GLuint program(const char *vs_src, const char *const *fs_parts, int nparts, sss_error *err)
+{
+    GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", vs_src, err);
+    GLuint fs = vs ? sss_gl_compile_parts(GL_FRAGMENT_SHADER, fs_parts, nparts, err) : 0;
+    GLuint p = fs ? sss_gl_link(vs, fs, err) : 0;
+    if (vs && !fs) glDeleteShader(vs);
+    return p;
+}
+
+static void q_free(sss_htsm_gpu *g)
+{
+    if (g->q_fbo) glDeleteFramebuffers(1, &g->q_fbo);
+    if (g->q_tex[0]) glDeleteTextures(2, g->q_tex);
+    if (g->q_depth) glDeleteRenderbuffers(1, &g->q_depth);
+    g->q_fbo = g->q_tex[0] = g->q_tex[1] = g->q_depth = 0;
+    g->w = g->h = 0;
+}
+
+void sss_htsm_gpu_destroy(sss_htsm_gpu *g)
+{
+    if (!g) return;
+    if (g->prog_map) glDeleteProgram(g->prog_map);
+    if (g->prog_q) glDeleteProgram(g->prog_q);
+    if (g->map_fbo) glDeleteFramebuffers(1, &g->map_fbo);
+    if (g->map_tex[0]) glDeleteTextures(3, g->map_tex);
+    if (g->map_depth) glDeleteRenderbuffers(1, &g->map_depth);
+    if (g->vol_tex) glDeleteTextures(1, &g->vol_tex);
+    q_free(g);
+    sss_htsm_volume_free(&g->vol);
+    free(g);
+}
+
+void sss_htsm_view_default(sss_htsm_view *v, const sss_bake_file *f, const sss_hetero *h)
+{
+    memset(v, 0, sizeof *v);
+    /* the best error for the time of those measured (docs/heterogeneous.md §9.4) */
+    v->n = 13;
+    v->steps = 4;
+    v->mat.base = f->material;
+    v->mat.inside = h && h->field.kind != SSS_FIELD_NONE ? h->inside : f->material;
+    v->mat.inside.eta = f->material.eta; /* one surface, one index (docs/heterogeneous.md §3) */
+    v->mat.strength = 1.0;
+    v->mat.mm_per_unit = f->mm_per_unit;
+}
+
+/* The mesh's bounding box, mesh units. */
+static void mesh_box(const sss_mesh *m, double lo[3], double hi[3])
+{
+    for (int a = 0; a < 3; a++) lo[a] = INFINITY, hi[a] = -INFINITY;
+    for (uint32_t v = 0; v < m->nv; v++)
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(lo[a], m->pos[3 * (size_t)v + (size_t)a]);
+            hi[a] = fmax(hi[a], m->pos[3 * (size_t)v + (size_t)a]);
+        }
+}
+
+static sss_result make_map(sss_htsm_gpu *g, sss_error *err)
+{
+    glGenTextures(3, g->map_tex);
+    for (int i = 0; i < 3; i++) {
+        glBindTexture(GL_TEXTURE_2D, g->map_tex[i]);
+        glTexStorage2D(GL_TEXTURE_2D, (GLsizei)g->levels, GL_RGBA32F, (GLsizei)g->size, (GLsizei)g->size);
+    }
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glGenRenderbuffers(1, &g->map_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, g->map_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, (GLsizei)g->size, (GLsizei)g->size);
+    GLint prev = 0;
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev);
+    glGenFramebuffers(1, &g->map_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, g->map_fbo);
+    for (int i = 0; i < 3; i++)
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i, GL_TEXTURE_2D, g->map_tex[i], 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g->map_depth);
+    const GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)prev);
+    if (st != GL_FRAMEBUFFER_COMPLETE)
+        return sss_fail(err, SSS_ERR_UNSUPPORTED, "the light-space map's framebuffer is incomplete (0x%x)", st);
+    return SSS_OK;
+}
+
+static sss_result upload_volume(sss_htsm_gpu *g)
+{
+    glGenTextures(1, &g->vol_tex);
+    glBindTexture(GL_TEXTURE_3D, g->vol_tex);
+    const GLsizei n0 = (GLsizei)g->vol.n[0];
+    glTexStorage3D(GL_TEXTURE_3D, (GLsizei)g->vol.levels, GL_R32F, n0, n0, n0);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (uint32_t l = 0; l < g->vol.levels; l++) {
+        const GLsizei n = (GLsizei)g->vol.n[l];
+        glTexSubImage3D(GL_TEXTURE_3D, (GLint)l, 0, 0, 0, n, n, n, GL_RED, GL_FLOAT, g->vol.f[l]);
+    }
+    glBindTexture(GL_TEXTURE_3D, 0);
+    return SSS_OK;
+}
+
+sss_result sss_htsm_gpu_create(sss_renderer *r, const sss_hetero *h, uint32_t map_size, uint32_t vol_log2,
+                               sss_htsm_gpu **out, sss_error *err)
+{
+    *out = NULL;
+    if (!map_size) map_size = 256;
+    if (!vol_log2) vol_log2 = 6;
+    if (map_size < 16 || map_size > 4096 || (map_size & (map_size - 1)))
+        return sss_fail(err, SSS_ERR_ARG, "light-space map size %u is not a power of two in [16, 4096]", map_size);
+    sss_htsm_gpu *g = calloc(1, sizeof *g);
+    if (!g) return sss_fail(err, SSS_ERR_NOMEM, "out of memory");
+    g->r = r;
+    g->size = map_size;
+    for (uint32_t s = map_size; s >= 1; s >>= 1) g->levels++;
+    const char *map_parts[2] = {sss_glsl_fresnel, sss_glsl_htsm_map_frag};
+    const char *q_parts[1] = {sss_glsl_htsm_frag};
+    g->prog_map = program(sss_glsl_htsm_map_vert, map_parts, 2, err);
+    g->prog_q = g->prog_map ? program(sss_glsl_single_map_vert, q_parts, 1, err) : 0;
+    sss_result res = g->prog_q ? make_map(g, err) : SSS_ERR_UNSUPPORTED;
+    if (res == SSS_OK && h && h->field.kind != SSS_FIELD_NONE) {
+        double lo[3], hi[3];
+        mesh_box(&r->mesh.f->mesh, lo, hi);
+        res = sss_htsm_volume_build(h, lo, hi, vol_log2, &g->vol, err);
+        if (res == SSS_OK) res = upload_volume(g);
+        g->vol_on = res == SSS_OK;
+    }
+    if (res != SSS_OK) {
+        sss_htsm_gpu_destroy(g);
+        return res;
+    }
+    *out = g;
+    return SSS_OK;
+}
+
+const sss_htsm_volume *sss_htsm_gpu_volume(const sss_htsm_gpu *g) { return g->vol_on ? &g->vol : NULL; }
+
+static sss_result q_ensure(sss_htsm_gpu *g, int w, int h, sss_error *err)
+{
+    if (g->q_fbo && g->w == w && g->h == h) return SSS_OK;
+    q_free(g);
+    glGenTextures(2, g->q_tex);
+    for (int i = 0; i < 2; i++) {
+        glBindTexture(GL_TEXTURE_2D, g->q_tex[i]);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, w, h);
+    }
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glGenRenderbuffers(1, &g->q_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, g->q_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    GLint prev = 0;
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev);
+    glGenFramebuffers(1, &g->q_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, g->q_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->q_tex[0], 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, g->q_tex[1], 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g->q_depth);
+    const GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)prev);
+    g->w = w;
+    g->h = h;
+    if (st != GL_FRAMEBUFFER_COMPLETE)
+        return sss_fail(err, SSS_ERR_UNSUPPORTED, "the per-pixel q framebuffer is incomplete (0x%x)", st);
+    return SSS_OK;
+}
+
+static void uni_f(GLuint p, const char *name, float v) { glUniform1f(glGetUniformLocation(p, name), v); }
+static void uni_i(GLuint p, const char *name, int v) { glUniform1i(glGetUniformLocation(p, name), v); }
+static void uni_v3(GLuint p, const char *name, const double v[3])
+{
+    glUniform3f(glGetUniformLocation(p, name), (float)v[0], (float)v[1], (float)v[2]);
+}
+
+/* The estimator's uniforms: the pattern for this map, the materials, the
+ * field's texture (unit 2) and the map's two images (units 0, 1). */
+static sss_result set_estimator(const sss_htsm_gpu *g, const sss_htsm_view *v, sss_error *err)
+{
+    const GLuint p = g->prog_q;
+    const sss_gpu_mesh *m = &g->r->mesh;
+    sss_htsm_map geo;
+    memset(&geo, 0, sizeof geo);
+    geo.size = g->size;
+    memcpy(geo.lookup, g->lookup, sizeof geo.lookup);
+    const double texel = sss_htsm_texel_mm(&geo, v->mat.mm_per_unit);
+    /* 13 samples reach 8 r0 = the bounding sphere's diameter: every lit point of a back-lit
+     * object (docs/heterogeneous.md §9.4 measures the choice) */
+    const double r0 = v->r0_mm > 0 ? v->r0_mm : m->radius * v->mat.mm_per_unit / 4.0;
+    sss_htsm_pattern pat;
+    sss_result res = sss_htsm_pattern_make(v->n, r0, texel, g->levels, &pat, err);
+    if (res != SSS_OK) return res;
+    if (v->steps < 1 || v->steps > SSS_HTSM_MAX_STEPS)
+        return sss_fail(err, SSS_ERR_ARG, "march of %u steps: 1 to %d", v->steps, SSS_HTSM_MAX_STEPS);
+    float off[2 * SSS_HTSM_MAX_SAMPLES], area[SSS_HTSM_MAX_SAMPLES], rho[SSS_HTSM_MAX_SAMPLES];
+    GLint ml[SSS_HTSM_MAX_SAMPLES], vl[SSS_HTSM_MAX_SAMPLES];
+    for (uint32_t i = 0; i < pat.n; i++) {
+        off[2 * i] = (float)pat.off[i][0];
+        off[2 * i + 1] = (float)pat.off[i][1];
+        area[i] = (float)pat.area[i];
+        rho[i] = (float)pat.rho[i];
+        ml[i] = (GLint)pat.map_level[i];
+        vl[i] = (GLint)pat.vol_level[i];
+    }
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_ht_lookup"), 1, GL_FALSE, g->lookup);
+    uni_f(p, "u_ht_span", (float)(texel * g->size));
+    uni_f(p, "u_ht_mm", (float)v->mat.mm_per_unit);
+    uni_i(p, "u_ht_size", (int)g->size);
+    uni_i(p, "u_ht_n", (int)pat.n);
+    uni_i(p, "u_ht_steps", (int)v->steps);
+    glUniform2fv(glGetUniformLocation(p, "u_ht_off"), (GLsizei)pat.n, off);
+    glUniform1fv(glGetUniformLocation(p, "u_ht_area"), (GLsizei)pat.n, area);
+    glUniform1fv(glGetUniformLocation(p, "u_ht_rho"), (GLsizei)pat.n, rho);
+    glUniform1iv(glGetUniformLocation(p, "u_ht_mlev"), (GLsizei)pat.n, ml);
+    glUniform1iv(glGetUniformLocation(p, "u_ht_vlev"), (GLsizei)pat.n, vl);
+    uni_v3(p, "u_ht_base_sa", v->mat.base.sigma_a);
+    uni_v3(p, "u_ht_base_ss", v->mat.base.sigmap_s);
+    uni_v3(p, "u_ht_in_sa", v->mat.inside.sigma_a);
+    uni_v3(p, "u_ht_in_ss", v->mat.inside.sigmap_s);
+    const double F = sss_fdr(v->mat.base.eta);
+    uni_f(p, "u_ht_A", (float)((1.0 + F) / (1.0 - F)));
+    uni_f(p, "u_ht_strength", (float)v->mat.strength);
+    uni_i(p, "u_ht_vol_on", g->vol_on);
+    uni_i(p, "u_ht_vol_n", g->vol_on ? (int)g->vol.n[0] : 2);
+    uni_i(p, "u_ht_vol_levels", g->vol_on ? (int)g->vol.levels : 1);
+    uni_v3(p, "u_ht_vol_lo", g->vol.lo);
+    uni_v3(p, "u_ht_vol_h", g->vol.h);
+    const char *names[3] = {"u_ht_pos", "u_ht_irr", "u_ht_vol"};
+    const GLuint tex[3] = {g->map_tex[0], g->map_tex[2], g->vol_tex};
+    for (int i = 0; i < 3; i++) {
+        glActiveTexture(GL_TEXTURE0 + (GLenum)i);
+        glBindTexture(i < 2 ? GL_TEXTURE_2D : GL_TEXTURE_3D, tex[i]);
+        uni_i(p, names[i], i);
+    }
+    glActiveTexture(GL_TEXTURE0);
+    return SSS_OK;
+}
+
+static void unbind_units(void)
+{
+    for (int i = 0; i < 3; i++) {
+        glActiveTexture(GL_TEXTURE0 + (GLenum)i);
+        glBindTexture(i < 2 ? GL_TEXTURE_2D : GL_TEXTURE_3D, 0);
+    }
+    glActiveTexture(GL_TEXTURE0);
+}
+
+sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, int width,
+                              int height, double *ms, sss_error *err)
+{
+    const sss_gpu_mesh *m = &g->r->mesh;
+    sss_result res = q_ensure(g, width, height, err);
+    if (res != SSS_OK) return res;
+    double l[3] = {p->light[0], p->light[1], p->light[2]};
+    sss_normalize3(l);
+    const float lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
+    float clip[16];
+    if (!sss_shadow_frame(m->centre, m->radius * (1.0 + SSS_SHADOW_MARGIN), lf, clip, g->lookup))
+        return sss_fail(err, SSS_ERR_ARG, "the light has no direction");
+    GLint prev = 0, vp[4];
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev);
+    glGetIntegerv(GL_VIEWPORT, vp);
+    glFinish();
+    const double t0 = sss_now();
+    /* 1. the map along the light: every surface, the nearest to the light */
+    glBindFramebuffer(GL_FRAMEBUFFER, g->map_fbo);
+    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glDrawBuffers(3, bufs);
+    glViewport(0, 0, (GLsizei)g->size, (GLsizei)g->size);
+    glClearColor(0, 0, 0, 0);
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(g->prog_map);
+    glUniformMatrix4fv(glGetUniformLocation(g->prog_map, "u_mat"), 1, GL_FALSE, clip);
+    uni_v3(g->prog_map, "u_l", l);
+    uni_v3(g->prog_map, "u_light_rgb", p->light_rgb);
+    uni_f(g->prog_map, "u_eta", (float)v->mat.base.eta);
+    glBindVertexArray(m->vao);
+    glDrawElements(GL_TRIANGLES, (GLsizei)(3 * m->nf), GL_UNSIGNED_INT, NULL);
+    for (int i = 0; i < 3; i++) {
+        glBindTexture(GL_TEXTURE_2D, g->map_tex[i]);
+        glGenerateMipmap(GL_TEXTURE_2D);
+    }
+    glBindTexture(GL_TEXTURE_2D, 0);
+    /* 2. q and x_o per pixel from the camera */
+    double eye[3];
+    float mvp[16];
+    sss_draw_camera_mvp(m, p, width, height, eye, mvp);
+    glBindFramebuffer(GL_FRAMEBUFFER, g->q_fbo);
+    glDrawBuffers(2, bufs);
+    glViewport(0, 0, width, height);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUseProgram(g->prog_q);
+    glUniformMatrix4fv(glGetUniformLocation(g->prog_q, "u_mat"), 1, GL_FALSE, mvp);
+    res = set_estimator(g, v, err);
+    if (res == SSS_OK) glDrawElements(GL_TRIANGLES, (GLsizei)(3 * m->nf), GL_UNSIGNED_INT, NULL);
+    unbind_units();
+    glBindVertexArray(0);
+    glUseProgram(0);
+    glFinish();
+    if (ms) *ms = 1e3 * (sss_now() - t0);
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)prev);
+    glViewport(vp[0], vp[1], vp[2], vp[3]);
+    return res;
+}
+
+sss_result sss_htsm_gpu_render_image(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, int width,
+                                     int height, float **rgb, float **hdr, sss_error *err)
+{
+    *rgb = NULL;
+    if (hdr) *hdr = NULL;
+    sss_result res = sss_htsm_gpu_frame(g, v, p, width, height, NULL, err);
+    if (res != SSS_OK) return res;
+    g->r->draw.qtex = g->q_tex[0];
+    res = sss_draw_read_image(g->r, p, width, height, rgb, hdr, err);
+    g->r->draw.qtex = 0;
+    return res;
+}
+
+sss_result sss_htsm_gpu_attach(sss_htsm_gpu *g, int on)
+{
+    g->r->draw.qtex = on ? g->q_tex[0] : 0;
+    return SSS_OK;
+}
+
+sss_result sss_htsm_gpu_read(const sss_htsm_gpu *g, sss_htsm_map *map, float **q, float **x, sss_error *err)
+{
+    *q = *x = NULL;
+    sss_result res = sss_htsm_map_init(map, g->size, err);
+    if (res != SSS_OK) return res;
+    memcpy(map->lookup, g->lookup, sizeof map->lookup);
+    float *dst[3] = {map->pos[0], map->nrm[0], map->irr[0]};
+    for (int i = 0; i < 3; i++) {
+        glBindTexture(GL_TEXTURE_2D, g->map_tex[i]);
+        glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, dst[i]);
+    }
+    sss_htsm_map_mips(map);
+    const size_t n = (size_t)g->w * g->h * 4;
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+    if (!a || !b) {
+        free(a);
+        free(b);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        sss_htsm_map_free(map);
+        return sss_fail(err, SSS_ERR_NOMEM, "out of memory");
+    }
+    glBindTexture(GL_TEXTURE_2D, g->q_tex[0]);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, a);
+    glBindTexture(GL_TEXTURE_2D, g->q_tex[1]);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, b);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    *q = a;
+    *x = b;
+    return SSS_OK;
+}

@@ -1,0 +1,207 @@
+/* Seed 000's run-time path on the GPU (sss/htsm_gpu.h, runtime/shaders/
+ * htsm.frag.glsl, docs/heterogeneous.md §9) against its CPU oracle
+ * (sss_htsm_q): a back-lit block (20 × 20 × 10 mm) with an embedded box
+ * field; every pixel the camera sees is estimated again on the CPU at the
+ * GPU's own exit point from the GPU's own light-space map (read back, its
+ * mips rebuilt), and must agree within a bound; an edit of the inside
+ * material shows in the next frame, darkens the picture and undoes
+ * exactly; strength 0 is the homogeneous pass. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "genmesh.h"
+#include "gl_fixture.h"
+#include "sss/htsm_gpu.h"
+
+#define W 64
+#define H 48
+#define MAP 128
+
+typedef struct block {
+    sss_mesh m;
+    sss_bake_file f;
+    sss_renderer *r;
+    sss_hetero h;
+} block;
+
+/* 2 × 2 × 1 units at 10 mm per unit, marble, with a ketchup box of half
+ * extents 4 × 4 × 2 mm in the middle (its edge 1 mm wide). */
+static void block_make(block *b)
+{
+    sss_error err = {{0}};
+    memset(b, 0, sizeof *b);
+    assert_int_equal(sss_gen_box(&b->m, 2.0, 2.0, 1.0, 6, 0, &err), SSS_OK);
+    if (!b->m.nrm) assert_int_equal(sss_mesh_compute_normals_areas(&b->m, "mesh", &err), SSS_OK);
+    bake_preset(&b->m, "marble", 0, 10.0, 6, SSS_QUANT_FLOAT, -1, &b->f);
+    if (sss_renderer_create(&b->f, &b->r, &err) != SSS_OK) fail_msg("renderer: %s", err.msg);
+    b->h.field.kind = SSS_FIELD_BOX;
+    b->h.field.half_mm[0] = b->h.field.half_mm[1] = 4.0;
+    b->h.field.half_mm[2] = 2.0;
+    b->h.field.edge_mm = 1.0;
+    assert_int_equal(sss_material_preset("ketchup", &b->h.inside, NULL), SSS_OK);
+    b->h.xf[0] = b->h.xf[5] = b->h.xf[10] = 10.0; /* units → rest-frame mm */
+}
+
+static void block_free(block *b)
+{
+    sss_renderer_destroy(b->r);
+    sss_file_free(&b->f);
+    sss_mesh_free(&b->m);
+}
+
+/* Lit from behind (−z), seen from the front (+z), q alone. */
+static void params(sss_view_params *p)
+{
+    sss_view_params_default(p);
+    p->specular = 0;
+    p->surface_shadow = 0;
+    p->tonemap = SSS_TONEMAP_CLAMP;
+    p->light[0] = 0.2, p->light[1] = 0.1, p->light[2] = -1.0;
+    p->view[0] = 0.15, p->view[1] = 0.1, p->view[2] = 1.0;
+    p->distance = 2.4;
+}
+
+static void view(const block *b, uint32_t n, uint32_t steps, sss_htsm_view *v)
+{
+    sss_htsm_view_default(v, &b->f, &b->h);
+    v->n = n;
+    v->steps = steps;
+    v->r0_mm = 2.0;
+}
+
+/* The largest difference of the GPU's q from the oracle's over the drawn
+ * pixels, relative to the largest q of the image; and the drawn pixels. */
+static double oracle_error(sss_htsm_gpu *g, const sss_htsm_view *v, int *drawn)
+{
+    sss_htsm_map map;
+    float *q = NULL, *x = NULL;
+    sss_error err = {{0}};
+    assert_int_equal(sss_htsm_gpu_read(g, &map, &q, &x, &err), SSS_OK);
+    sss_htsm_pattern pat;
+    assert_int_equal(
+        sss_htsm_pattern_make(v->n, v->r0_mm, sss_htsm_texel_mm(&map, v->mat.mm_per_unit), map.levels, &pat, &err),
+        SSS_OK);
+    double worst = 0.0, qmax = 0.0;
+    double *cpu = malloc((size_t)W * H * 3 * sizeof *cpu);
+    assert_non_null(cpu);
+    *drawn = 0;
+    for (int i = 0; i < W * H; i++) {
+        if (x[4 * i + 3] != 1.0f) continue;
+        const double xo[3] = {x[4 * i], x[4 * i + 1], x[4 * i + 2]};
+        sss_htsm_q(&map, sss_htsm_gpu_volume(g), &v->mat, &pat, v->steps, xo, cpu + 3 * i);
+        for (int c = 0; c < 3; c++) qmax = fmax(qmax, cpu[3 * i + c]);
+        (*drawn)++;
+    }
+    for (int i = 0; i < W * H; i++) {
+        if (x[4 * i + 3] != 1.0f) continue;
+        for (int c = 0; c < 3; c++) worst = fmax(worst, fabs(q[4 * i + c] - cpu[3 * i + c]) / qmax);
+    }
+    assert_true(qmax > 0.0);
+    free(cpu);
+    free(q);
+    free(x);
+    sss_htsm_map_free(&map);
+    return worst;
+}
+
+static double frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p)
+{
+    sss_error err = {{0}};
+    double ms = 0;
+    if (sss_htsm_gpu_frame(g, v, p, W, H, &ms, &err) != SSS_OK) fail_msg("frame: %s", err.msg);
+    return ms;
+}
+
+/* Per pixel within 10⁻⁴ of the image's largest q (float against double,
+ * the same texels, levels and steps), for the smallest and the largest
+ * pattern. */
+static void perPixelAgreesWithTheCpuOracle(void **state)
+{
+    (void)state;
+    block b;
+    block_make(&b);
+    sss_htsm_gpu *g = NULL;
+    sss_error err = {{0}};
+    if (sss_htsm_gpu_create(b.r, &b.h, MAP, 5, &g, &err) != SSS_OK) fail_msg("htsm: %s", err.msg);
+    sss_view_params p;
+    params(&p);
+    const uint32_t ns[2] = {1, 13};
+    for (int k = 0; k < 2; k++) {
+        sss_htsm_view v;
+        view(&b, ns[k], 8, &v);
+        const double ms = frame(g, &v, &p);
+        int drawn = 0;
+        const double e = oracle_error(g, &v, &drawn);
+        printf("n = %2u, 8 steps: %d pixels, GPU vs CPU %.2e of the largest q (%.1f ms)\n", ns[k], drawn, e, ms);
+        assert_true(drawn > W * H / 4);
+        assert_true(e < 1e-4);
+    }
+    sss_htsm_gpu_destroy(g);
+    block_free(&b);
+}
+
+static double mean_q(sss_htsm_gpu *g)
+{
+    sss_htsm_map map;
+    float *q = NULL, *x = NULL;
+    sss_error err = {{0}};
+    assert_int_equal(sss_htsm_gpu_read(g, &map, &q, &x, &err), SSS_OK);
+    double s = 0.0;
+    for (int i = 0; i < W * H; i++) s += q[4 * i] + q[4 * i + 1] + q[4 * i + 2];
+    free(q);
+    free(x);
+    sss_htsm_map_free(&map);
+    return s / (W * H);
+}
+
+/* The inside's absorption ×4 darkens the next frame; ÷4 gives the first
+ * frame back bit for bit; strength 0 is the pass with no field at all. */
+static void liveEditsShowAtOnceAndUndo(void **state)
+{
+    (void)state;
+    block b;
+    block_make(&b);
+    sss_htsm_gpu *g = NULL, *g0 = NULL;
+    sss_error err = {{0}};
+    if (sss_htsm_gpu_create(b.r, &b.h, MAP, 5, &g, &err) != SSS_OK) fail_msg("htsm: %s", err.msg);
+    if (sss_htsm_gpu_create(b.r, NULL, MAP, 5, &g0, &err) != SSS_OK) fail_msg("htsm: %s", err.msg);
+    sss_view_params p;
+    params(&p);
+    sss_htsm_view v;
+    view(&b, 5, 8, &v);
+    frame(g, &v, &p);
+    const double q1 = mean_q(g);
+    for (int c = 0; c < 3; c++) v.mat.inside.sigma_a[c] *= 4.0;
+    frame(g, &v, &p);
+    const double q4 = mean_q(g);
+    for (int c = 0; c < 3; c++) v.mat.inside.sigma_a[c] /= 4.0;
+    frame(g, &v, &p);
+    const double qb = mean_q(g);
+    printf("mean q: %.5g, inside sigma_a x4: %.5g, back: %.5g\n", q1, q4, qb);
+    assert_true(q4 < 0.95 * q1);
+    assert_true(qb == q1);
+    v.mat.strength = 0.0;
+    frame(g, &v, &p);
+    const double qs = mean_q(g);
+    frame(g0, &v, &p);
+    assert_true(qs == mean_q(g0));
+    assert_true(qs > q1);
+    sss_htsm_gpu_destroy(g0);
+    sss_htsm_gpu_destroy(g);
+    block_free(&b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(perPixelAgreesWithTheCpuOracle),
+        cmocka_unit_test(liveEditsShowAtOnceAndUndo),
+    };
+    return cmocka_run_group_tests(tests, gl_setup, gl_teardown);
+}
