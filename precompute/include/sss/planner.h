@@ -67,7 +67,8 @@ typedef struct sss_object_plan {
     int per_frame;
     /* A material field (rule_field, docs/heterogeneous.md §5): none, folded
      * into the homogeneous blend of a constant, or baked with the spatially
-     * varying kernel. material is what the bake takes as the object's
+     * varying kernel, or read per frame at the rest pose (a deforming
+     * object, docs/deformable.md §10). material is what the bake takes as the object's
      * (base) material: the scene's, or the constant's blend. */
     int field;
     sss_material material;
@@ -75,7 +76,7 @@ typedef struct sss_object_plan {
     sss_decision decisions[SSS_PLAN_MAX_DECISIONS];
 } sss_object_plan;
 
-enum { SSS_PLAN_FIELD_NONE = 0, SSS_PLAN_FIELD_FOLDED = 1, SSS_PLAN_FIELD_BAKED = 2 };
+enum { SSS_PLAN_FIELD_NONE = 0, SSS_PLAN_FIELD_FOLDED = 1, SSS_PLAN_FIELD_BAKED = 2, SSS_PLAN_FIELD_PER_FRAME = 3 };
 
 typedef struct sss_plan {
     uint32_t nobjects;
