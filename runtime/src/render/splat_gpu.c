@@ -169,8 +169,8 @@ static sss_result build_tables(sss_splat_gpu *s, sss_error *err)
         s->RP_mm[c] = s->RPmax_mm[c];
         if (s->Rcut_mm[c] < s->RP_mm[c]) s->Rcut_mm[c] = s->RP_mm[c];
     }
-    /* R_d per channel for a homogeneous object; a field's is evaluated per pair */
-    if (!s->field) (void)dipoles_at(s, 0.0, dip, err); /* made above already */
+    /* R_d per channel for a homogeneous object (dip holds its dipoles from
+     * the loop's one pass); a field's is evaluated per pair */
     const size_t ntab = RB_N + 3 * RD_N + 3 * RP_N;
     float *tab = calloc(ntab, sizeof *tab);
     if (!tab) return sss_fail(err, SSS_ERR_NOMEM, "splatting: out of memory");
