@@ -412,7 +412,7 @@ static void splatting_matches_object_space_on_bunny(void **state)
     sss_mesh rest, m;
     sss_error err = {{0}};
     if (sss_import_mesh(path, &rest, NULL, &err) != SSS_OK) fail_msg("%s", err.msg);
-    sss_deform d = {SSS_DEFORM_BEND, {1, 0, 0}, 40.0, 4.0};
+    sss_deform d = {.kind = SSS_DEFORM_BEND, .axis = {1, 0, 0}, .angle_deg = 40.0, .period_s = 4.0};
     if (sss_deform_pose(&d, 1.0, &rest, "bunny", &m, &err) != SSS_OK) fail_msg("pose: %s", err.msg);
     sss_hetero h;
     memset(&h, 0, sizeof h);

@@ -43,7 +43,7 @@ static int setup(void **state)
     (void)state;
     sss_error err = {{0}};
     if (sss_gen_blob(&g_rest, 1.0, 3, &err) != SSS_OK) return -1;
-    sss_deform bend = {SSS_DEFORM_BEND, {0, 0, 1}, 60.0, 4.0};
+    sss_deform bend = {.kind = SSS_DEFORM_BEND, .axis = {0, 0, 1}, .angle_deg = 60.0, .period_s = 4.0};
     if (sss_deform_pose(&bend, 1.0, &g_rest, "blob", &g_pose, &err) != SSS_OK) return -1;
     if (sss_material_preset("skin1", &g_base, &err) != SSS_OK) return -1;
     return sss_material_preset("ketchup", &g_inside, &err) == SSS_OK ? 0 : -1;
@@ -222,7 +222,8 @@ static void materialMovesWithTheSurface(void **state)
     const double a = 40.0 * SSS_PI / 180.0, c = cos(a), s = sin(a), t[3] = {0.4, -0.3, 0.2};
     sss_mesh moved = {0};
     sss_error err = {{0}};
-    sss_deform none = {SSS_DEFORM_BEND, {0, 0, 1}, 0.0, 4.0}; /* angle 0: the rest pose bit for bit, as a copy */
+    /* angle 0: the rest pose bit for bit, as a copy */
+    sss_deform none = {.kind = SSS_DEFORM_BEND, .axis = {0, 0, 1}, .angle_deg = 0.0, .period_s = 4.0};
     assert_int_equal(sss_deform_pose(&none, 0.0, &g_rest, "blob", &moved, &err), SSS_OK);
     for (uint32_t v = 0; v < nv; v++) {
         const double x = moved.pos[3 * v], y = moved.pos[3 * v + 1];
