@@ -49,6 +49,16 @@ static int measure(const char *tool, sss_scene *sc, uint32_t i, double t, uint32
         goto done;
     }
     *measured = 1;
+    /* with a field the per-frame path is the exact sum of the endpoints'
+     * product (docs/deformable.md §10), and the exact evaluator of a file
+     * reads FELD at the pose with the transmittance: no tree to measure,
+     * and not the same model */
+    if (o->hetero.field.kind != SSS_FIELD_NONE) {
+        sss_cli_printf(stderr, "%s: %s: /objects/%u/material/field: a deforming object with a field is evaluated by "
+                       "the exact sum already (docs/deformable.md sec. 10): --error has nothing to measure\n", tool,
+                       sc->path, i);
+        goto done;
+    }
     if (sss_scene_object_posed(o, &rest, t, &pose, &err) != SSS_OK) {
         sss_cli_printf(stderr, "%s: %s: /objects/%u: %s\n", tool, sc->path, i, err.msg);
         goto done;

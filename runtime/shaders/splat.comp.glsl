@@ -13,6 +13,13 @@
 //              its reach (docs/deformable.md §9)
 //   7 UP       bilateral upsampling and accumulation (Eq. 17), the frame's
 //              q image at level 0
+// A spatially varying material (u_field = 1; docs/deformable.md sec. 10)
+// carries f per texel and pixel in MF: the light levels from 0, the camera
+// levels from u_cfo. The material at f is the blend of u_sa0/u_ss0 (f = 0)
+// and u_sa1/u_ss1 (f = 1), sigma_a and sigma'_s linear in f; a pair's
+// profile is sqrt(R_d(r; m_o) R_d(r; m_i)) (seed 003 Eq. 8), the dipole
+// evaluated here; its level range takes the larger of the two endpoints'
+// R_P; the upsampling's material weight is Eq. 17's w_m.
 layout(local_size_x = 8, local_size_y = 8) in;
 // The gather walks its reach in shares of CHUNK x CHUNK coarse texels, one
 // dispatch each, at most CHUNK^2 (1 + 4 + 16) loop iterations: llvmpipe's
@@ -25,16 +32,31 @@ layout(std430, binding = 2) buffer SEL { uint sel[]; };
 layout(std430, binding = 3) buffer CA { vec4 ca[]; };   // camera: position, view depth
 layout(std430, binding = 4) buffer CB { vec4 cb[]; };   // camera: normal, covered
 layout(std430, binding = 5) buffer BK { vec4 bk[]; };   // B^k per camera level
-layout(std430, binding = 6) readonly buffer TAB { float tab[]; }; // R-bar(log2 T), then R_d per channel
+layout(std430, binding = 6) readonly buffer TAB { float tab[]; }; // R-bar(log2 T), then R_d per channel, then R_P(f) per channel
+layout(std430, binding = 7) buffer MF { float mf[]; };  // f: light levels, then camera levels from u_cfo
 uniform uvec2 u_size;   // this pass's grid (texels or pixels)
 uniform uint u_off;     // its offset in the level arrays
 uniform uint u_off2;    // the other level's offset (the source of a mip, the coarse level of UP)
 uniform uvec2 u_size2;  // the other level's size
 const float PI = 3.14159265358979;
+uniform int u_field;    // 1: a spatially varying material (MF holds f)
+uniform uint u_cfo;     // the camera levels' offset in MF
 
 #if PASS == 1 || PASS == 4
 layout(binding = 0) uniform sampler2D u_ta;
 layout(binding = 1) uniform sampler2D u_tb;
+layout(binding = 2) uniform sampler2D u_tc;  // f
+#endif
+#if PASS == 6 || PASS == 7
+uniform uint u_rpo;         // R_P(f) in TAB: channel c's u_nrp samples, f = 0 ... 1, from u_rpo + c u_nrp
+uniform int u_nrp;
+// R_P of the material at f, channel c (mm)
+float rp(uint c, float f) {
+    float x = clamp(f, 0.0, 1.0) * float(u_nrp - 1);
+    int i = min(int(x), u_nrp - 2);
+    uint o = u_rpo + c * uint(u_nrp);
+    return mix(tab[o + uint(i)], tab[o + uint(i) + 1u], x - float(i));
+}
 #endif
 
 #if PASS == 3 || PASS == 6
@@ -89,9 +111,25 @@ float rd(uint c, float d) {
     int o = u_nrbar + int(c) * u_nrd;
     return mix(tab[o + i], tab[o + i + 1], x - float(i));
 }
+uniform vec3 u_sa0, u_ss0, u_sa1, u_ss1; // sigma_a, sigma'_s at f = 0 and f = 1 (1/mm)
+uniform float u_A;          // the dipole's A = (1 + F_dr) / (1 - F_dr), from the base's eta
+// The dipole of the blend at f, channel c, as sss_dipole_init makes it:
+// sigma_tr, z_r, z_v, alpha' / (4 pi)
+vec4 dipole(uint c, float f) {
+    float sa = mix(u_sa0[c], u_sa1[c], f), ss = mix(u_ss0[c], u_ss1[c], f), st = sa + ss;
+    float zr = 1.0 / st;
+    return vec4(sqrt(3.0 * sa * st), zr, zr + 4.0 * u_A / (3.0 * st), ss / st / (4.0 * PI));
+}
+// R_d(r) of that dipole (sss_rd, Jensen et al. 2001)
+float rd_term(float tr, float z, float r) {
+    float d = sqrt(r * r + z * z);
+    return z * (1.0 + tr * d) * exp(-tr * d) / (d * d * d);
+}
+float rd_dip(vec4 p, float r) { return p.w * (rd_term(p.x, p.y, r) + rd_term(p.x, p.z, r)); }
 #endif
 #if PASS == 7
 uniform float u_lambda_Rw;  // lambda_z / R_w
+uniform float u_mpu;        // mm per world unit
 layout(rgba32f, binding = 0) uniform image2D u_out;
 uniform vec3 u_w;           // the light's weight (intensity x colour)
 uniform int u_first;        // 1: the first light overwrites
@@ -106,9 +144,10 @@ void main() {
     vec4 a = texelFetch(u_ta, ivec2(t), 0), b = texelFetch(u_tb, ivec2(t), 0);
     la[i] = b.z > 0.0 ? a : vec4(0.0);
     lb[i] = vec4(b.x, b.x, b.y, b.z);
+    if (u_field != 0) mf[i] = b.z > 0.0 ? texelFetch(u_tc, ivec2(t), 0).x : 0.0;
 #elif PASS == 2
     vec3 pf = vec3(0.0), pc = vec3(0.0);
-    float F = 0.0, n = 0.0, cov = 0.0, zmin = 3.4e38, zmax = -3.4e38, nl = 0.0;
+    float F = 0.0, n = 0.0, cov = 0.0, zmin = 3.4e38, zmax = -3.4e38, nl = 0.0, ff = 0.0, fc = 0.0;
     for (uint k = 0u; k < 4u; k++) {
         uint s = u_off2 + (2u * t.y + (k >> 1)) * u_size2.x + 2u * t.x + (k & 1u);
         vec4 a = la[s], b = lb[s];
@@ -121,8 +160,11 @@ void main() {
             zmin = min(zmin, b.x);
             zmax = max(zmax, b.y);
             nl += b.z;
+            if (u_field != 0) ff += a.w * mf[s], fc += mf[s];
         }
     }
+    // the coarse sample's material: its children's, flux-weighted as its position
+    if (u_field != 0) mf[i] = n > 0.0 ? (F > 0.0 ? ff / F : fc / n) : 0.0;
     la[i] = n > 0.0 ? vec4(F > 0.0 ? pf / F : pc / n, F) : vec4(0.0);
     lb[i] = n > 0.0 ? vec4(zmin, zmax, nl / n, cov) : vec4(0.0);
 #elif PASS == 3
@@ -144,6 +186,7 @@ void main() {
     vec4 a = texelFetch(u_ta, ivec2(t), 0), b = texelFetch(u_tb, ivec2(t), 0);
     ca[i] = a;
     cb[i] = b.w > 0.0 ? b : vec4(0.0);
+    if (u_field != 0) mf[u_cfo + i] = b.w > 0.0 ? texelFetch(u_tc, ivec2(t), 0).x : 0.0;
 #elif PASS == 5
     // the child of median depth among the covered ones (the lower median of an even count)
     uint idx[4];
@@ -164,14 +207,22 @@ void main() {
         uint s = idx[(n - 1) / 2];
         ca[i] = ca[s];
         cb[i] = cb[s];
+        if (u_field != 0) mf[u_cfo + i] = mf[u_cfo + s];
     } else {
         ca[i] = vec4(0.0);
         cb[i] = vec4(0.0);
+        if (u_field != 0) mf[u_cfo + i] = 0.0;
     }
 #elif PASS == 6
     vec3 acc = vec3(0.0);
     if (cb[i].w > 0.0) {
         vec3 xo = ca[i].xyz;
+        // x_o's material (a field): its dipole and R_P per channel, once per pixel
+        float fo = u_field != 0 ? mf[u_cfo + i] : 0.0;
+        vec4 dipo[3];
+        vec3 rpo = vec3(0.0);
+        if (u_field != 0)
+            for (uint c = 0u; c < u_C; c++) dipo[c] = dipole(c, fo), rpo[c] = rp(c, fo);
         vec2 lp = vec2(dot(xo - u_c, u_u), dot(xo - u_c, u_v)) + u_Rl; // [0, 2 R_l]
         int jt = u_J - 1;
         uint Nt = u_N0 >> uint(jt);
@@ -196,6 +247,22 @@ void main() {
                         vec4 a = la[li];
                         float d = length(xo - a.xyz) * u_mpu;
                         float z = dot(a.xyz - u_eye, u_fwd);
+                        if (u_field != 0) {
+                            float fi = mf[li];
+                            for (uint c = 0u; c < u_C; c++) {
+                                if ((s & (1u << c)) == 0u) continue;
+                                // Eq. 13's range for the larger of the two endpoints' R_P (the finer
+                                // level reaches farther: conservative), R-bar at its T(x_i) (Eq. 14)
+                                float RP = max(rpo[c], rp(c, fi)), RPw = RP / u_mpu;
+                                float rlo = u_k == 0 ? 0.0 : RP * rbar(u_tk0 * RPw / z);
+                                float rhi = u_k == u_K - 1 ? u_Rcut[c] : RP * rbar(u_tk1 * RPw / z);
+                                if (d >= rlo && d < rhi) {
+                                    float po = rd_dip(dipo[c], d);
+                                    float pi = fi == fo ? po : rd_dip(dipole(c, fi), d);
+                                    acc[c] += sqrt(po * pi) * a.w; // seed 003 Eq. 8
+                                }
+                            }
+                        } else
                         for (uint c = 0u; c < u_C; c++) {
                             if ((s & (1u << c)) == 0u) continue;
                             // level k's range for x_i (Eq. 13), R-bar at T(x_i) (Eq. 14)
@@ -222,7 +289,7 @@ void main() {
     vec3 B = vec3(0.0);
     if (cb[i].w > 0.0) {
         B = bk[i].xyz;
-        if (u_k < u_K - 1) {
+        if (u_k < u_K - 1 && u_field == 0) {
             // Eq. 17: the four nearest coarse pixels, bilinear x exp(-lambda_z |dz| / R_w) (w_m = 1: one material)
             vec2 f = (vec2(t) + 0.5) * 0.5 - 0.5;
             ivec2 b0 = ivec2(floor(f));
@@ -241,6 +308,31 @@ void main() {
                 ws += wk;
             }
             if (ws > 0.0) B += sum / ws;
+        }
+        if (u_k < u_K - 1 && u_field != 0) {
+            // Eq. 17 with the material weight w_m = exp(-lambda_m |R_P(x_o) - R_P(x_j)| / R_w)
+            // per channel, lambda_m = lambda_z = 8 and R_P over R_w as |dz| is
+            vec2 f = (vec2(t) + 0.5) * 0.5 - 0.5;
+            ivec2 b0 = ivec2(floor(f));
+            vec2 w = f - vec2(b0);
+            float zo = ca[i].w, fo = mf[u_cfo + i];
+            vec3 sum = vec3(0.0), ws = vec3(0.0);
+            for (int k = 0; k < 4; k++) {
+                ivec2 o = ivec2(k & 1, k >> 1);
+                ivec2 c = clamp(b0 + o, ivec2(0), ivec2(u_size2) - 1);
+                uint s = u_off2 + uint(c.y) * u_size2.x + uint(c.x);
+                if (cb[s].w <= 0.0) continue;
+                float wp = (o.x == 1 ? w.x : 1.0 - w.x) * (o.y == 1 ? w.y : 1.0 - w.y);
+                float wk = wp * exp(-u_lambda_Rw * abs(zo - ca[s].w));
+                float fj = mf[u_cfo + s];
+                for (uint ch = 0u; ch < u_C; ch++) {
+                    float wm = wk * exp(-u_lambda_Rw * abs(rp(ch, fo) - rp(ch, fj)) / u_mpu);
+                    sum[ch] += wm * bk[s][ch];
+                    ws[ch] += wm;
+                }
+            }
+            for (uint ch = 0u; ch < u_C; ch++)
+                if (ws[ch] > 0.0) B[ch] += sum[ch] / ws[ch];
         }
     }
     bk[i] = vec4(B, 0.0);

@@ -45,6 +45,15 @@ expect_ok "$SSS_STAT" --scene "$TMP/s.json" --time 1 --error --views 2
 contains "$TMP/out" "object 'bar' at t = 1 s (bend, theta 40 deg), 162 vertices, 2 views: per-frame q (tree gather, point weights)"
 expect_fail "takes --error" "$SSS_STAT" --scene "$TMP/s.json" --time 1
 expect_fail "without FILE.sss" "$SSS_STAT" "$TMP/o/ball.sss" --scene "$TMP/s.json" --error
+# a field on a deforming object: read at the rest pose, the endpoints'
+# product (docs/deformable.md sec. 10); sss-stat has no tree to measure there
+sed 's/"material": "marble", "mm_per_unit": 10,/"mm_per_unit": 10, "material": {"preset": "marble", "inside": "ketchup", "field": {"procedural": "veins", "scale_mm": 5}},/' \
+  "$TMP/s.json" > "$TMP/field.json"
+expect_ok "$SSS_BAKE" --scene "$TMP/field.json" --plan
+grep -q -- "field         per-frame .*rest-pose position.*Eq. 8" "$TMP/out" || { cat "$TMP/out" >&2; fail "--plan should say the field's model"; }
+expect_fail "field.json: /objects/0/material/field: a deforming object with a field is evaluated by the exact sum" \
+  "$SSS_STAT" --scene "$TMP/field.json" --time 1 --error --views 2
+[ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "message should be one line"
 # a deforming object needs a directional light; bad deformers name their path
 sed 's/{"type": "directional", "direction": \[1, 0, 1\]},//' "$TMP/s.json" > "$TMP/bad1.json"
 expect_fail "bad1.json: /objects/0/deform: no directional light" "$SSS_BAKE" --scene "$TMP/bad1.json" --plan

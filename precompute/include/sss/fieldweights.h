@@ -68,6 +68,17 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double mm_per_unit, con
                                    const sss_hetero *h, uint32_t C, double eps, const char *name,
                                    sss_field_kernel *k, sss_error *err);
 
+/* The kernel of a deforming object (docs/deformable.md §10): f read at
+ * the rest-pose positions `rest` (nv × 3, the frame h->xf maps from), so
+ * that the material moves with the surface, and the endpoints' product
+ * alone, κ = sqrt(P_o(r) P_i(r)) / P_ref(r) with τ ≡ 1 (step_mm 0): a
+ * straight segment between two posed vertices has no rest-frame
+ * counterpart to march, and the splatting (sss/splat_gpu.h) cannot march
+ * either. The radius rule and r come from mesh, the pose. */
+sss_result sss_field_kernel_create_ends(const sss_mesh *mesh, const float *rest, double mm_per_unit,
+                                        const sss_material *base, const sss_hetero *h, uint32_t C, double eps,
+                                        const char *name, sss_field_kernel *k, sss_error *err);
+
 void sss_field_kernel_free(sss_field_kernel *k);
 
 /* Builds the far pairs' cache (§4.3) for a bake: at most max_cells occupied

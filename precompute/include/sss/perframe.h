@@ -27,6 +27,7 @@
 
 #include <stdint.h>
 #include "sss/dipole.h"
+#include "sss/field.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
 
@@ -43,6 +44,14 @@ typedef struct sss_perframe_options {
     double eps;          /* neighbourhood energy cutoff ε (default 1e-3, the bake's) */
     double theta;        /* tree opening threshold (default SSS_GATHER_THETA_DEFAULT) */
     int no_shadows;      /* 1: V ≡ 1 (a convex object, the planner's self-shadow rule) */
+    /* A material field (docs/deformable.md §10): with hetero's field not
+     * NONE, each vertex takes the blend at f of its rest-pose position
+     * rest[3v..3v+2] (the frame hetero->xf maps from) and every pair the
+     * endpoints' product sqrt(R_d(r; m_o) R_d(r; m_i)) (seed 003 Eq. 8,
+     * sss_field_kernel_create_ends: no transmittance τ). Exact mode only:
+     * the tree's far field takes one kernel for all pairs. */
+    const sss_hetero *hetero; /* NULL: homogeneous */
+    const float *rest;
     const sss_cancel_flag *cancel;
 } sss_perframe_options;
 

@@ -67,7 +67,8 @@ typedef struct sss_object_plan {
     int per_frame;
     /* A material field (rule_field, docs/heterogeneous.md §5): none, folded
      * into the homogeneous blend of a constant, or baked with the spatially
-     * varying kernel. material is what the bake takes as the object's
+     * varying kernel, or read per frame at the rest pose (a deforming
+     * object, docs/deformable.md §10). material is what the bake takes as the object's
      * (base) material: the scene's, or the constant's blend. */
     int field;
     sss_material material;
@@ -75,10 +76,13 @@ typedef struct sss_object_plan {
     sss_decision decisions[SSS_PLAN_MAX_DECISIONS];
 } sss_object_plan;
 
-/* SSS_PLAN_FIELD_RUNTIME: "editable": true, the material is edited live;
+/* SSS_PLAN_FIELD_PER_FRAME: a deforming object with a field, the
+ * endpoints' product per pair every frame (docs/deformable.md §10).
+ * SSS_PLAN_FIELD_RUNTIME: "editable": true, the material is edited live;
  * nothing is baked (per_frame is 1) and the viewer runs seed 000's
  * run-time path (sss/htsm_gpu.h, docs/heterogeneous.md §9). */
-enum { SSS_PLAN_FIELD_NONE = 0, SSS_PLAN_FIELD_FOLDED = 1, SSS_PLAN_FIELD_BAKED = 2, SSS_PLAN_FIELD_RUNTIME = 3 };
+enum { SSS_PLAN_FIELD_NONE = 0, SSS_PLAN_FIELD_FOLDED = 1, SSS_PLAN_FIELD_BAKED = 2, SSS_PLAN_FIELD_RUNTIME = 3,
+       SSS_PLAN_FIELD_PER_FRAME = 4 };
 
 typedef struct sss_plan {
     uint32_t nobjects;

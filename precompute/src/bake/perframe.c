@@ -15,6 +15,7 @@
 
 #include "bake/bake_tree.h"
 #include "sss/clock.h"
+#include "sss/fieldweights.h"
 #include "sss/format.h"
 #include "sss/gather.h"
 #include "sss/hatweights.h"
@@ -62,6 +63,20 @@ sss_result sss_perframe_q(const sss_mesh *mesh, const sss_material *mat, uint32_
         return SSS_OK;
     }
 
+    /* A field (docs/deformable.md §10): the rows are built for the
+     * kernel's reference material and radius, then scaled pair by pair, as
+     * the scene bake and the exact evaluator scale theirs. */
+    sss_field_kernel fk;
+    memset(&fk, 0, sizeof fk);
+    if (o->hetero && o->hetero->field.kind != SSS_FIELD_NONE) {
+        if (o->mode != SSS_PERFRAME_EXACT)
+            return sss_fail(err, SSS_ERR_ARG, "per-frame path: a material field needs the exact mode (the tree's far "
+                            "field takes one kernel for all pairs, docs/heterogeneous.md sec. 4.3)");
+        sss_result fr = sss_field_kernel_create_ends(mesh, o->rest, mm_per_unit, mat, o->hetero, channels, eps,
+                                                     "per-frame path", &fk, err);
+        if (fr != SSS_OK) return fr;
+        memcpy(dip, fk.dip_ref, sizeof dip);
+    }
     sss_weights nb = {0}, hat = {0};
     sss_vis *vis = NULL;
     sss_gather_tree *tree = NULL;
@@ -72,11 +87,13 @@ sss_result sss_perframe_q(const sss_mesh *mesh, const sss_material *mat, uint32_
     /* 1. the neighbourhood cutoff, rows and corrections of the bake (the
      *    radius rule of sss_nbhd_radii, so the exact evaluator's too) */
     double t = sss_now();
-    st.radius_mm = sss_nbhd_radii(mesh, mm_per_unit, dip, channels, eps, NULL);
+    st.radius_mm = fk.f ? fk.radius_mm : sss_nbhd_radii(mesh, mm_per_unit, dip, channels, eps, NULL);
     if (r == SSS_OK && o->mode == SSS_PERFRAME_EXACT)
         r = sss_nbhd_build(mesh, mm_per_unit, dip, channels, st.radius_mm, NULL, 0, 0, o->cancel, &nb, err);
     if (r == SSS_OK && o->weights == SSS_WEIGHTS_HAT)
         r = sss_hat_corrections(mesh, mm_per_unit, dip, channels, st.radius_mm, NULL, 0, o->cancel, &hat, err);
+    if (r == SSS_OK && fk.f) r = sss_field_weights_apply(&fk, mesh, &nb, o->cancel, err);
+    if (r == SSS_OK && fk.f && hat.nrows) r = sss_field_weights_apply(&fk, mesh, &hat, o->cancel, err);
     if (r == SSS_OK && o->mode == SSS_PERFRAME_EXACT) st.pairs = nb.start[nv];
     st.t_neighbourhoods = sss_now() - t;
 
@@ -111,6 +128,7 @@ sss_result sss_perframe_q(const sss_mesh *mesh, const sss_material *mat, uint32_
     st.t_gather = sss_now() - t;
     st.t_total = sss_now() - t0;
 
+    sss_field_kernel_free(&fk);
     sss_gather_tree_destroy(tree);
     sss_vis_destroy(vis);
     sss_weights_free(&nb);

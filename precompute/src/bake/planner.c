@@ -128,7 +128,8 @@ static void rule_channels(const plan_in *in, sss_object_plan *p)
     const sss_scene_object *ob = &in->scene->objects[p->object];
     /* a baked field blends with the inside material: grey only if both are */
     const int grey = sss_material_channels(m) == 1 &&
-                     (p->field != SSS_PLAN_FIELD_BAKED || sss_material_channels(&ob->hetero.inside) == 1);
+                     ((p->field != SSS_PLAN_FIELD_BAKED && p->field != SSS_PLAN_FIELD_PER_FRAME && p->field != SSS_PLAN_FIELD_RUNTIME) ||
+                      sss_material_channels(&ob->hetero.inside) == 1);
     p->channels = grey ? 1 : 3;
     if (!grey) p->effects |= SSS_FX_RGB;
     if (grey)
@@ -194,6 +195,26 @@ static void rule_editable(const plan_in *in, sss_object_plan *p)
             decide(p, eff, "none", "the run-time path takes directional lights only (a %s light is not drawn on "
                    "the object)", sss_light_kind_name(L->kind));
     }
+}
+
+/* A material field on a deforming object (docs/deformable.md §10): a
+ * constant folds as on a static one; any other is read at each vertex's
+ * rest-pose position, so the material moves with the surface, and each
+ * pair takes the endpoints' product alone (seed 003 Eq. 8), the model the
+ * splatting computes too. */
+static void rule_field_per_frame(const plan_in *in, sss_object_plan *p)
+{
+    const sss_field *f = &in->scene->objects[p->object].hetero.field;
+    if (f->kind == SSS_FIELD_NONE || f->kind == SSS_FIELD_CONSTANT) {
+        rule_field(in, p);
+        return;
+    }
+    p->material = in->scene->objects[p->object].material;
+    p->field = SSS_PLAN_FIELD_PER_FRAME;
+    decide(p, "field", "per-frame", "deforming object with a %s field: each vertex takes the material of the field at "
+           "its rest-pose position, so the material moves with the surface; every pair's weight takes the geometric "
+           "mean of its endpoints' dipole profiles (seed 003 Eq. 8) without the transmittance between them, which a "
+           "posed segment has no rest-frame path for (docs/deformable.md sec. 10)", sss_field_kind_name(f->kind));
 }
 
 /* Self-shadowing: V(x_i, ω) of §3.1 is 1 whenever n_i·ω > 0 on a convex
@@ -518,7 +539,7 @@ static void rule_single(const plan_in *in, sss_object_plan *p)
 static const rule_fn rules[] = {rule_field,   rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights,
                                 rule_storage, rule_single};
 /* the rules of a deforming object */
-static const rule_fn rules_per_frame[] = {rule_channels, rule_per_frame};
+static const rule_fn rules_per_frame[] = {rule_field_per_frame, rule_channels, rule_per_frame};
 /* the rules of an editable object */
 static const rule_fn rules_editable[] = {rule_editable, rule_channels};
 
@@ -571,12 +592,6 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
             continue;
         }
         if (sss_scene_object_deforms(&scene->objects[i])) {
-            /* the per-frame path takes one homogeneous material (docs/deformable.md §3) */
-            if (scene->objects[i].hetero.field.kind != SSS_FIELD_NONE) {
-                sss_plan_free(out);
-                return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/material/field: a material field on a deforming "
-                                "object is not supported yet (docs/heterogeneous.md)", scene->path, i);
-            }
             p->material = scene->objects[i].material;
             for (size_t r = 0; r < sizeof rules_per_frame / sizeof rules_per_frame[0]; r++) rules_per_frame[r](&in, p);
             uint32_t lit = 0;

@@ -30,10 +30,16 @@
 #include "sss/hatweights.h"
 #include "sss/vec3.h"
 
+/* Vertex v of the positions pos (world units) in the rest frame (mm). */
+static void rest_at(const sss_hetero *h, const float *pos, uint32_t v, double x[3])
+{
+    const double p[3] = {pos[3 * (size_t)v], pos[3 * (size_t)v + 1], pos[3 * (size_t)v + 2]};
+    sss_hetero_to_rest(h, p, x);
+}
+
 static void rest_of(const sss_hetero *h, const sss_mesh *m, uint32_t v, double x[3])
 {
-    const double p[3] = {m->pos[3 * (size_t)v], m->pos[3 * (size_t)v + 1], m->pos[3 * (size_t)v + 2]};
-    sss_hetero_to_rest(h, p, x);
+    rest_at(h, m->pos, v, x);
 }
 
 void sss_field_kernel_free(sss_field_kernel *k)
@@ -48,8 +54,12 @@ void sss_field_kernel_free(sss_field_kernel *k)
     memset(k, 0, sizeof *k);
 }
 
-sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_material *base, const sss_hetero *h,
-                                   uint32_t C, double eps, const char *name, sss_field_kernel *k, sss_error *err)
+/* The kernel for the vertices of mesh with f read at the positions `at`
+ * (mesh->pos for a static object, the rest pose for a deforming one);
+ * march 0 leaves out τ (step 0, no march grid). */
+static sss_result kernel_create(const sss_mesh *mesh, const float *at, int march, double s, const sss_material *base,
+                                const sss_hetero *h, uint32_t C, double eps, const char *name, sss_field_kernel *k,
+                                sss_error *err)
 {
     memset(k, 0, sizeof *k);
     if (!mesh->nv || !mesh->area || C < 1 || C > SSS_MAX_CHANNELS || !(s > 0.0))
@@ -71,7 +81,7 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_mat
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (uint32_t v = 0; v < mesh->nv; v++) {
         double x[3];
-        rest_of(h, mesh, v, x);
+        rest_at(h, at, v, x);
         for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], x[a]), hi[a] = fmax(hi[a], x[a]);
     }
     char why[300];
@@ -84,7 +94,7 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_mat
 #pragma omp parallel for schedule(static)
     for (int64_t v = 0; v < (int64_t)mesh->nv; v++) {
         double x[3];
-        rest_of(h, mesh, (uint32_t)v, x);
+        rest_at(h, at, (uint32_t)v, x);
         k->f[v] = sss_field_eval(&h->field, x);
     }
     for (uint32_t v = 0; v < mesh->nv; v++) {
@@ -114,7 +124,7 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_mat
     const double r0 = sss_cutoff_radius_mm(mesh, s, k->dip_ref, C, eps, NULL);
     const double r1 = k->f_max > k->f_min ? sss_cutoff_radius_mm(mesh, s, dmax, C, eps, NULL) : r0;
     k->radius_mm = r0 > r1 ? r0 : r1;
-    k->step_mm = sss_field_step_mm(&h->field);
+    k->step_mm = march ? sss_field_step_mm(&h->field) : 0.0;
     for (uint32_t c = 0; c < C; c++) k->sigma_tr_ref[c] = sss_material_sigma_tr(base, &h->inside, k->f_min, c);
     /* The march reads σtr from a grid sampled once at the step over the
      * rest box (every segment between two vertices lies inside it): a
@@ -145,6 +155,23 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_mat
         }
     }
     return SSS_OK;
+}
+
+sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_material *base, const sss_hetero *h,
+                                   uint32_t C, double eps, const char *name, sss_field_kernel *k, sss_error *err)
+{
+    return kernel_create(mesh, mesh->pos, 1, s, base, h, C, eps, name, k, err);
+}
+
+sss_result sss_field_kernel_create_ends(const sss_mesh *mesh, const float *rest, double s, const sss_material *base,
+                                        const sss_hetero *h, uint32_t C, double eps, const char *name,
+                                        sss_field_kernel *k, sss_error *err)
+{
+    if (!rest) {
+        memset(k, 0, sizeof *k);
+        return sss_fail(err, SSS_ERR_ARG, "%s: field: no rest-pose positions to read the field at", name);
+    }
+    return kernel_create(mesh, rest, 0, s, base, h, C, eps, name, k, err);
 }
 
 /* Sums over the n midpoints of the segment a → b (world units) of σtr from

@@ -50,6 +50,17 @@ typedef struct sss_splat_gpu sss_splat_gpu;
 sss_result sss_splat_gpu_create(sss_renderer *r, const sss_splat_options *o, sss_splat_gpu **out, sss_error *err);
 void sss_splat_gpu_destroy(sss_splat_gpu *s);
 
+/* A spatially varying material (docs/deformable.md §10): f[v] ∈ [0, 1]
+ * per vertex of the mesh r holds (read at the rest pose, so that the
+ * material moves with the surface), the material at f the blend of the
+ * file's (f = 0) and `inside` (f = 1), σa and σ′s linear in f, η the
+ * file's. f is interpolated into both buffers; each pair splats
+ * sqrt(R_d(r; m_o) R_d(r; m_i)) (seed 003 Eq. 8, the dipole evaluated per
+ * pair), over the level ranges of the larger endpoint R_P; Eq. 17 weighs by
+ * the materials' R_P. f = NULL returns to the homogeneous material.
+ * Errors: SSS_ERR_ARG (f outside [0, 1], a blend without a dipole). */
+sss_result sss_splat_gpu_set_field(sss_splat_gpu *s, const sss_material *inside, const float *f, sss_error *err);
+
 /* Stage times of the last frame, milliseconds, summed over its lights:
  * the wall clock between glFinish calls (splat_gpu.c says why not
  * GL_TIME_ELAPSED). */

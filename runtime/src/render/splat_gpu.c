@@ -35,8 +35,12 @@
 #define LIGHT_LEVELS 3
 /* splat.comp.glsl's CHUNK */
 #define SPLAT_CHUNK 16
-/* Eq. 17's λ_z */
+/* Eq. 17's λ_z (and λ_m) */
 #define LAMBDA_Z 8.0
+/* R_P(f) samples per channel of a spatially varying material, f = 0 … 1 */
+#define RP_N 33
+/* the materials R̄ and R_cut are taken over (their largest), f = 0, 1/4, … 1 */
+#define FIELD_LEVELS 5
 
 enum { P_LIGHT0, P_LIGHTMIP, P_SELECT, P_CAM0, P_CAMMIP, P_GATHER, P_UP, P_N };
 enum { T_BUF, T_L0, T_L1, T_L2, T_ACC, T_N };
@@ -55,6 +59,14 @@ struct sss_splat_gpu {
     int cw, ch;
     GLuint la, lb, sel, ca, cb, bk, qtex;
     uint32_t loff[LIGHT_LEVELS], coff[3], cdim[3][2];
+    uint32_t ltot;                           /* texels of the light levels */
+    /* A spatially varying material (sss_splat_gpu_set_field): f per vertex
+     * as vertex attribute 2 of the splat's own VAO, f per texel and pixel
+     * in mf; R_P(f) per channel; the inside material (f = 1). */
+    int field;
+    GLuint vao, fvbo, mf, ltexf, ctexf;
+    sss_material inside;
+    double RPmin_mm[3], RPmax_mm[3];
     double t0, t_ms[T_N];
 };
 
@@ -99,6 +111,93 @@ static double rbar_at(const sss_splat_gpu *s, double T)
     return s->rbar[i] + (x - i) * (s->rbar[i + 1] - s->rbar[i]);
 }
 
+/* The blend at f of the file's material (f = 0) and the field's inside
+ * (f = 1), as sss_material_blend makes it; its dipoles. */
+static sss_result dipoles_at(const sss_splat_gpu *s, double fv, sss_dipole *dip, sss_error *err)
+{
+    const sss_material *base = &s->r->mesh.f->material;
+    sss_material m = *base;
+    if (s->field) sss_material_blend(base, &s->inside, fv, &m);
+    for (uint32_t c = 0; c < s->C; c++)
+        if (sss_dipole_init(&dip[c], m.sigma_a[c], m.sigmap_s[c], base->eta) != SSS_OK)
+            return sss_fail(err, SSS_ERR_ARG, "splatting: channel %u of the material at f = %g makes no dipole", c, fv);
+    return SSS_OK;
+}
+
+/* R̄ (Eqs. 14–16), R_P, R_cut and the tables the gather reads (TAB): R̄,
+ * R_d per channel, and with a field R_P(f) per channel. With a field, R̄
+ * and R_cut are the largest over the blends at f = 0, 1/4, … 1 and R_P
+ * the range of R_P(f): the level ranges and reaches err on the long side. */
+static sss_result build_tables(sss_splat_gpu *s, sss_error *err)
+{
+    const sss_bake_file *f = s->r->mesh.f;
+    const int nf = s->field ? FIELD_LEVELS : 1;
+    sss_dipole dip[3];
+    for (uint32_t c = 0; c < 3; c++) {
+        s->Rcut_mm[c] = 0;
+        s->RPmin_mm[c] = INFINITY;
+        s->RPmax_mm[c] = 0;
+    }
+    for (int lv = 0; lv < nf; lv++) {
+        const double fv = nf > 1 ? (double)lv / (nf - 1) : 0.0;
+        sss_result res = dipoles_at(s, fv, dip, err);
+        if (res != SSS_OK) return res;
+        /* P̄ and R̄ (Eqs. 14–16); R̄ made non-increasing in T, as Eq. 13's
+         * ranges need (splat.c's level ranges take the same maximum) */
+        sss_splat_profile prof;
+        res = sss_splat_profile_dipole(dip, s->C, PBAR_N, &prof, err);
+        if (res != SSS_OK) return res;
+        for (int i = 0; i < RB_N; i++) {
+            const float rb = (float)sss_splat_min_radius(&prof, exp2(RB_LO + i * RB_STEP), s->o.eps);
+            if (lv == 0 || rb > s->rbar[i]) s->rbar[i] = rb;
+        }
+        for (uint32_t c = 0; c < s->C; c++) {
+            s->RPmin_mm[c] = fmin(s->RPmin_mm[c], prof.R_P[c]);
+            s->RPmax_mm[c] = fmax(s->RPmax_mm[c], prof.R_P[c]);
+        }
+        sss_splat_profile_free(&prof);
+        /* the last level's reach: the bake's neighbourhood radius per channel,
+         * so that the splat sums what the object-space path sums (the paper's
+         * R_P holds 95 % of R_d's energy and would drop the rest) */
+        double rc[3];
+        sss_cutoff_radius_mm(&f->mesh, s->mpu, dip, s->C, s->o.cut_eps, rc);
+        for (uint32_t c = 0; c < s->C; c++) s->Rcut_mm[c] = fmax(s->Rcut_mm[c], rc[c]);
+    }
+    for (int i = 1; i < RB_N; i++)
+        if (s->rbar[i] > s->rbar[i - 1]) s->rbar[i] = s->rbar[i - 1];
+    for (uint32_t c = 0; c < s->C; c++) {
+        s->RP_mm[c] = s->RPmax_mm[c];
+        if (s->Rcut_mm[c] < s->RP_mm[c]) s->Rcut_mm[c] = s->RP_mm[c];
+    }
+    /* R_d per channel for a homogeneous object (dip holds its dipoles from
+     * the loop's one pass); a field's is evaluated per pair */
+    const size_t ntab = RB_N + 3 * RD_N + 3 * RP_N;
+    float *tab = calloc(ntab, sizeof *tab);
+    if (!tab) return sss_fail(err, SSS_ERR_NOMEM, "splatting: out of memory");
+    memcpy(tab, s->rbar, sizeof s->rbar);
+    if (!s->field)
+        for (uint32_t c = 0; c < s->C; c++)
+            for (int i = 0; i < RD_N; i++) {
+                const double u = (double)i / (RD_N - 1);
+                tab[RB_N + c * RD_N + i] = (float)sss_rd(&dip[c], u * u * s->Rcut_mm[c]);
+            }
+    for (int i = 0; s->field && i < RP_N; i++) {
+        sss_splat_profile prof;
+        sss_result res = dipoles_at(s, (double)i / (RP_N - 1), dip, err);
+        if (res == SSS_OK) res = sss_splat_profile_dipole(dip, s->C, 2, &prof, err);
+        if (res != SSS_OK) {
+            free(tab);
+            return res;
+        }
+        for (uint32_t c = 0; c < s->C; c++) tab[RB_N + s->C * RD_N + c * RP_N + i] = (float)prof.R_P[c];
+        sss_splat_profile_free(&prof);
+    }
+    if (s->tab) glDeleteBuffers(1, &s->tab);
+    s->tab = sss_gl_ssbo((GLsizeiptr)ntab * sizeof *tab, tab, GL_STATIC_DRAW);
+    free(tab);
+    return SSS_OK;
+}
+
 sss_result sss_splat_gpu_create(sss_renderer *r, const sss_splat_options *opt, sss_splat_gpu **out, sss_error *err)
 {
     *out = NULL;
@@ -129,44 +228,11 @@ sss_result sss_splat_gpu_create(sss_renderer *r, const sss_splat_options *opt, s
     s->C = r->mesh.C;
     s->mpu = f->mm_per_unit;
     s->eta = f->material.eta;
-    sss_dipole dip[3];
-    for (uint32_t c = 0; c < s->C; c++)
-        if (sss_dipole_init(&dip[c], f->material.sigma_a[c], f->material.sigmap_s[c], f->material.eta) != SSS_OK) {
-            free(s);
-            return sss_fail(err, SSS_ERR_ARG, "splatting: channel %u of the material makes no dipole", c);
-        }
-    /* P̄ and R̄ (Eqs. 14–16); R̄ made non-increasing in T, as Eq. 13's
-     * ranges need (splat.c's level ranges take the same maximum) */
-    sss_splat_profile prof;
-    sss_result res = sss_splat_profile_dipole(dip, s->C, PBAR_N, &prof, err);
+    sss_result res = build_tables(s, err);
     if (res != SSS_OK) {
         free(s);
         return res;
     }
-    for (int i = 0; i < RB_N; i++) s->rbar[i] = (float)sss_splat_min_radius(&prof, exp2(RB_LO + i * RB_STEP), o.eps);
-    for (int i = 1; i < RB_N; i++)
-        if (s->rbar[i] > s->rbar[i - 1]) s->rbar[i] = s->rbar[i - 1];
-    for (uint32_t c = 0; c < s->C; c++) s->RP_mm[c] = prof.R_P[c];
-    sss_splat_profile_free(&prof);
-    /* the last level's reach: the bake's neighbourhood radius per channel,
-     * so that the splat sums what the object-space path sums (the paper's
-     * R_P holds 95 % of R_d's energy and would drop the rest) */
-    sss_cutoff_radius_mm(&f->mesh, s->mpu, dip, s->C, o.cut_eps, s->Rcut_mm);
-    for (uint32_t c = 0; c < s->C; c++)
-        if (s->Rcut_mm[c] < s->RP_mm[c]) s->Rcut_mm[c] = s->RP_mm[c];
-    float *tab = malloc((RB_N + 3 * RD_N) * sizeof *tab);
-    if (!tab) {
-        free(s);
-        return sss_fail(err, SSS_ERR_NOMEM, "splatting: out of memory");
-    }
-    memcpy(tab, s->rbar, sizeof s->rbar);
-    for (uint32_t c = 0; c < s->C; c++)
-        for (int i = 0; i < RD_N; i++) {
-            const double u = (double)i / (RD_N - 1);
-            tab[RB_N + c * RD_N + i] = (float)sss_rd(&dip[c], u * u * s->Rcut_mm[c]);
-        }
-    s->tab = sss_gl_ssbo((GLsizeiptr)(RB_N + s->C * RD_N) * sizeof *tab, tab, GL_STATIC_DRAW);
-    free(tab);
     s->prog_light = raster_program(1, err);
     s->prog_cam = s->prog_light ? raster_program(0, err) : 0;
     int ok = s->prog_cam != 0;
@@ -188,8 +254,14 @@ sss_result sss_splat_gpu_create(sss_renderer *r, const sss_splat_options *opt, s
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->ltex[0], 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, s->ltex[1], 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, s->ltex[2], 0);
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glDrawBuffers(2, bufs);
+    /* f of a spatially varying material (splat_raster.frag.glsl's o_c) */
+    glGenTextures(1, &s->ltexf);
+    glBindTexture(GL_TEXTURE_2D, s->ltexf);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32F, N, N);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT2, GL_TEXTURE_2D, s->ltexf, 0);
+    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glDrawBuffers(3, bufs);
     ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (!ok) {
@@ -201,6 +273,7 @@ sss_result sss_splat_gpu_create(sss_renderer *r, const sss_splat_options *opt, s
         s->loff[j] = tot;
         tot += (uint32_t)(N >> j) * (uint32_t)(N >> j);
     }
+    s->ltot = tot;
     s->la = sss_gl_ssbo((GLsizeiptr)tot * 16, NULL, GL_DYNAMIC_COPY);
     s->lb = sss_gl_ssbo((GLsizeiptr)tot * 16, NULL, GL_DYNAMIC_COPY);
     s->sel = sss_gl_ssbo((GLsizeiptr)tot * 4, NULL, GL_DYNAMIC_COPY);
@@ -214,9 +287,11 @@ static void camera_free(sss_splat_gpu *s)
     if (!s->cfbo) return;
     glDeleteFramebuffers(1, &s->cfbo);
     glDeleteTextures(3, s->ctex);
-    GLuint b[3] = {s->ca, s->cb, s->bk};
-    glDeleteBuffers(3, b);
+    GLuint b[4] = {s->ca, s->cb, s->bk, s->mf};
+    glDeleteBuffers(4, b);
     glDeleteTextures(1, &s->qtex);
+    glDeleteTextures(1, &s->ctexf);
+    s->mf = s->ctexf = 0;
     s->cfbo = 0;
 }
 
@@ -232,6 +307,9 @@ void sss_splat_gpu_destroy(sss_splat_gpu *s)
     glDeleteBuffers(4, b);
     if (s->lfbo) glDeleteFramebuffers(1, &s->lfbo);
     if (s->ltex[0]) glDeleteTextures(3, s->ltex);
+    if (s->ltexf) glDeleteTextures(1, &s->ltexf);
+    if (s->fvbo) glDeleteBuffers(1, &s->fvbo);
+    if (s->vao) glDeleteVertexArrays(1, &s->vao);
     free(s);
 }
 
@@ -260,8 +338,13 @@ static sss_result camera_ensure(sss_splat_gpu *s, int w, int h, sss_error *err)
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->ctex[0], 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, s->ctex[1], 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, s->ctex[2], 0);
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glDrawBuffers(2, bufs);
+    glGenTextures(1, &s->ctexf);
+    glBindTexture(GL_TEXTURE_2D, s->ctexf);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32F, w, h);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT2, GL_TEXTURE_2D, s->ctexf, 0);
+    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glDrawBuffers(3, bufs);
     int ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     s->cw = w;
@@ -282,6 +365,7 @@ static sss_result camera_ensure(sss_splat_gpu *s, int w, int h, sss_error *err)
     s->ca = sss_gl_ssbo((GLsizeiptr)tot * 16, NULL, GL_DYNAMIC_COPY);
     s->cb = sss_gl_ssbo((GLsizeiptr)tot * 16, NULL, GL_DYNAMIC_COPY);
     s->bk = sss_gl_ssbo((GLsizeiptr)tot * 16, NULL, GL_DYNAMIC_COPY);
+    s->mf = sss_gl_ssbo((GLsizeiptr)(s->ltot + tot) * 4, NULL, GL_DYNAMIC_COPY); /* f: light, then camera levels */
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     return SSS_OK;
 }
@@ -319,6 +403,8 @@ static GLuint pass_use(const sss_splat_gpu *s, int pass, uint32_t w, uint32_t h,
     glUniform1ui(glGetUniformLocation(p, "u_off"), off);
     glUniform1ui(glGetUniformLocation(p, "u_off2"), off2);
     glUniform2ui(glGetUniformLocation(p, "u_size2"), w2, h2);
+    glUniform1i(glGetUniformLocation(p, "u_field"), s->field);
+    glUniform1ui(glGetUniformLocation(p, "u_cfo"), s->ltot);
     return p;
 }
 static void dispatch(uint32_t w, uint32_t h)
@@ -327,7 +413,7 @@ static void dispatch(uint32_t w, uint32_t h)
     barrier();
 }
 
-static void raster(GLuint prog, GLuint fbo, int w, int h, const sss_gpu_mesh *m)
+static void raster(GLuint prog, GLuint fbo, int w, int h, const sss_gpu_mesh *m, GLuint vao)
 {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, w, h);
@@ -337,7 +423,7 @@ static void raster(GLuint prog, GLuint fbo, int w, int h, const sss_gpu_mesh *m)
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glUseProgram(prog);
-    glBindVertexArray(m->vao);
+    glBindVertexArray(vao ? vao : m->vao);
     glDrawElements(GL_TRIANGLES, (GLsizei)(3 * m->nf), GL_UNSIGNED_INT, NULL);
     glBindVertexArray(0);
 }
@@ -345,6 +431,65 @@ static void raster(GLuint prog, GLuint fbo, int w, int h, const sss_gpu_mesh *m)
 static void set3(GLuint p, const char *name, const double v[3])
 {
     glUniform3f(glGetUniformLocation(p, name), (float)v[0], (float)v[1], (float)v[2]);
+}
+
+/* The field's materials and R_P(f) table for the gather and the upsampling. */
+static void field_uniforms(const sss_splat_gpu *s, GLuint pr)
+{
+    if (!s->field) return;
+    const sss_material *b = &s->r->mesh.f->material, *in = &s->inside;
+    set3(pr, "u_sa0", b->sigma_a);
+    set3(pr, "u_ss0", b->sigmap_s);
+    set3(pr, "u_sa1", in->sigma_a);
+    set3(pr, "u_ss1", in->sigmap_s);
+    sss_dipole d;
+    sss_dipole_init(&d, b->sigma_a[0], b->sigmap_s[0], b->eta); /* A depends on η alone */
+    glUniform1f(glGetUniformLocation(pr, "u_A"), (float)d.A);
+    glUniform1ui(glGetUniformLocation(pr, "u_rpo"), RB_N + s->C * RD_N);
+    glUniform1i(glGetUniformLocation(pr, "u_nrp"), RP_N);
+}
+
+sss_result sss_splat_gpu_set_field(sss_splat_gpu *s, const sss_material *inside, const float *f, sss_error *err)
+{
+    const sss_gpu_mesh *m = &s->r->mesh;
+    if (!f) {
+        s->field = 0;
+        return build_tables(s, err);
+    }
+    if (!inside) return sss_fail(err, SSS_ERR_ARG, "splatting: a field without its inside material");
+    for (uint32_t v = 0; v < m->nv; v++)
+        if (!(f[v] >= 0.0f && f[v] <= 1.0f))
+            return sss_fail(err, SSS_ERR_ARG, "splatting: f of vertex %u is %g, outside [0, 1]", v, (double)f[v]);
+    s->field = 1;
+    s->inside = *inside;
+    sss_result res = build_tables(s, err);
+    if (res != SSS_OK) {
+        s->field = 0;
+        (void)build_tables(s, NULL);
+        return res;
+    }
+    /* the splat's own VAO: the renderer's positions, normals and triangles
+     * (which a new pose updates in place) and f as attribute 2 */
+    if (!s->vao) {
+        glGenVertexArrays(1, &s->vao);
+        glGenBuffers(1, &s->fvbo);
+        glBindVertexArray(s->vao);
+        glBindBuffer(GL_ARRAY_BUFFER, m->vbo_pos);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, NULL);
+        glBindBuffer(GL_ARRAY_BUFFER, m->vbo_nrm);
+        glEnableVertexAttribArray(1);
+        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, NULL);
+        glBindBuffer(GL_ARRAY_BUFFER, s->fvbo);
+        glEnableVertexAttribArray(2);
+        glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 0, NULL);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m->ebo);
+        glBindVertexArray(0);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, s->fvbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)m->nv * sizeof *f, f, GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    return SSS_OK;
 }
 
 sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p, const double (*dirs)[3],
@@ -365,11 +510,15 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
     /* the pose's own bounds: the light frame must hold this shape, not the first */
     double c[3];
     const double Rl = 1.001 * sss_view_bounds(&m->f->mesh, c);
-    double RPw[3] = {0, 0, 0}, RPmm[3] = {0, 0, 0}, Rcut[3] = {0, 0, 0};
+    double RPw[3] = {0, 0, 0}, RPmm[3] = {0, 0, 0}, Rcut[3] = {0, 0, 0}, RPsel[3] = {0, 0, 0};
     for (uint32_t k = 0; k < C; k++) {
         RPmm[k] = s->RP_mm[k];
         RPw[k] = s->RP_mm[k] / s->mpu;
         Rcut[k] = s->Rcut_mm[k];
+        /* Eq. 11's M with a field: the shortest R_P of any blend, so that a
+         * coarse texel stands for its children only where every material
+         * allows it (the homogeneous R_P otherwise) */
+        RPsel[k] = (s->field ? s->RPmin_mm[k] : s->RP_mm[k]) / s->mpu;
     }
 
     /* the splatting buffer, once for all lights */
@@ -383,7 +532,7 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
     set3(s->prog_cam, "u_fwd", fwd);
     glBindFramebuffer(GL_FRAMEBUFFER, s->cfbo);
     t_begin(s);
-    raster(s->prog_cam, s->cfbo, width, height, m);
+    raster(s->prog_cam, s->cfbo, width, height, m, s->field ? s->vao : 0);
     t_end(s, T_BUF);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     barrier();
@@ -394,11 +543,14 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s->cb);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, s->bk);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, s->tab);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, s->mf);
     t_begin(s);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, s->ctex[0]);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, s->ctex[1]);
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, s->ctexf);
     pass_use(s, P_CAM0, s->cdim[0][0], s->cdim[0][1], s->coff[0], 0, 0, 0);
     dispatch(s->cdim[0][0], s->cdim[0][1]);
     for (uint32_t k = 0; k + 1 < K; k++) {
@@ -419,6 +571,12 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
             /* the farthest sample projects smallest, so its R̄ is the largest */
             const double hi = k == K - 1 ? Rcut[ch] : RPmm[ch] * rbar_at(s, tk[k + 1] * RPw[ch] / zfar);
             if (hi / s->mpu > reach[k]) reach[k] = hi / s->mpu;
+            /* a field's pairs take R_P anywhere in [R_P,min, R_P,max]: the largest reach over it */
+            for (int j = 0; s->field && k < K - 1 && j <= 8; j++) {
+                const double rp = s->RPmin_mm[ch] + j / 8.0 * (s->RPmax_mm[ch] - s->RPmin_mm[ch]);
+                const double h2 = rp * rbar_at(s, tk[k + 1] * rp / s->mpu / zfar);
+                if (h2 / s->mpu > reach[k]) reach[k] = h2 / s->mpu;
+            }
         }
 
     uint32_t done = 0; /* lights splatted: the first overwrites the q image */
@@ -451,7 +609,7 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
         glUniform1f(glGetUniformLocation(s->prog_light, "u_texel_mm2"), (float)(texel_mm * texel_mm));
         glBindFramebuffer(GL_FRAMEBUFFER, s->lfbo);
         t_begin(s);
-        raster(s->prog_light, s->lfbo, (int)N0, (int)N0, m);
+        raster(s->prog_light, s->lfbo, (int)N0, (int)N0, m, s->field ? s->vao : 0);
         t_end(s, T_BUF);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         barrier();
@@ -461,6 +619,8 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
         glBindTexture(GL_TEXTURE_2D, s->ltex[0]);
         glActiveTexture(GL_TEXTURE1);
         glBindTexture(GL_TEXTURE_2D, s->ltex[1]);
+        glActiveTexture(GL_TEXTURE2);
+        glBindTexture(GL_TEXTURE_2D, s->ltexf);
         glActiveTexture(GL_TEXTURE0);
         pass_use(s, P_LIGHT0, N0, N0, s->loff[0], 0, 0, 0);
         dispatch(N0, N0);
@@ -476,7 +636,7 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
             glUniform1ui(glGetUniformLocation(pr, "u_N0"), N0);
             glUniform1f(glGetUniformLocation(pr, "u_z0"), (float)(s->o.z0 * Rl));
             glUniform1f(glGetUniformLocation(pr, "u_alpha_Rw"), (float)(s->o.alpha * 2.0 * Rl));
-            set3(pr, "u_RPw", RPw);
+            set3(pr, "u_RPw", RPsel);
             glUniform1ui(glGetUniformLocation(pr, "u_C"), C);
             glUniform1i(glGetUniformLocation(pr, "u_j"), (GLint)j);
             dispatch(N0 >> j, N0 >> j);
@@ -510,6 +670,7 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
             glUniform1f(glGetUniformLocation(pr, "u_rb0"), (float)RB_LO);
             glUniform1f(glGetUniformLocation(pr, "u_rbs"), (float)RB_STEP);
             glUniform1i(glGetUniformLocation(pr, "u_nrd"), RD_N);
+            field_uniforms(s, pr);
             /* the reach's width in coarse texels, walked in shares (splat.comp.glsl, CHUNK) */
             const double win = reach[k] + 2.0 * Rl / (N0 >> (J - 1)) * 1.5;
             const int nc = (int)ceil((2.0 * win / (2.0 * Rl / (N0 >> (J - 1))) + 2.0) / SPLAT_CHUNK);
@@ -535,6 +696,8 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
             set3(pr, "u_w", wl);
             glUniform1i(glGetUniformLocation(pr, "u_first"), done == 0);
             glUniform1ui(glGetUniformLocation(pr, "u_C"), C);
+            glUniform1f(glGetUniformLocation(pr, "u_mpu"), (float)s->mpu);
+            field_uniforms(s, pr);
             dispatch(s->cdim[k][0], s->cdim[k][1]);
         }
         t_end(s, T_ACC);
@@ -548,7 +711,10 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
     glBindTexture(GL_TEXTURE_2D, 0);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, 0);
-    for (GLuint b = 0; b < 7; b++) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glActiveTexture(GL_TEXTURE0);
+    for (GLuint b = 0; b < 8; b++) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
     glUseProgram(0);
 
     r->draw.qtex = s->qtex;

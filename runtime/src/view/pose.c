@@ -22,6 +22,8 @@
 #include "sss/cli.h"
 #include "sss/clock.h"
 #include "sss/deform.h"
+#include "sss/field.h"
+#include "sss/fieldio.h"
 #include "sss/import.h"
 #include "sss/perframe.h"
 #include "sss/scene.h"
@@ -42,6 +44,10 @@ typedef struct pose_state {
     double shown_t;     /* the time f and q hold (window: NAN before the first) */
     int failed;         /* window: a pose failed; the last one stays */
     char desc[160];
+    /* a material field (docs/deformable.md §10): the rest (bind) pose
+     * placed in the world, where the field is read, and f there */
+    sss_mesh rest_world;
+    float *fv;
 } pose_state;
 
 static void state_free(pose_state *s)
@@ -50,7 +56,47 @@ static void state_free(pose_state *s)
     free(s->ql);
     sss_mesh_free(&s->rest);
     sss_mesh_free(&s->f.mesh);
+    sss_mesh_free(&s->rest_world);
+    free(s->fv);
     sss_scene_free(&s->sc);
+}
+
+/* A field: the mesh in its rest (bind) pose placed by the object's
+ * transform, and f at each vertex there, so that the material moves with
+ * the surface (docs/deformable.md §10). 0, or 1 after a message. */
+static int field_open(pose_state *s)
+{
+    const char *T = s->v->tool;
+    sss_scene_object *o = &s->sc.objects[0];
+    sss_error err = {{0}};
+    sss_mesh bind = {0};
+    if (o->field_path[0] && sss_field_load(o->field_path, o->field_grid, &o->hetero.field, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s: /objects/0/material/field: %s\n", T, s->v->scene, err.msg);
+        return 1;
+    }
+    if (sss_import_mesh(o->mesh, &bind, NULL, &err) != SSS_OK ||
+        sss_scene_object_world(o, &bind, &s->rest_world, &err) != SSS_OK) {
+        sss_mesh_free(&bind);
+        sss_cli_printf(stderr, "%s: %s: /objects/0/mesh: %s\n", T, s->v->scene, err.msg);
+        return 1;
+    }
+    sss_mesh_free(&bind);
+    if (s->rest_world.nv != s->rest.nv) {
+        sss_cli_printf(stderr, "%s: %s: /objects/0/mesh: the rest pose has %u vertices, the pose %u\n", T,
+                       s->v->scene, s->rest_world.nv, s->rest.nv);
+        return 1;
+    }
+    if (!(s->fv = malloc((size_t)s->rest.nv * sizeof *s->fv))) {
+        sss_cli_printf(stderr, "%s: out of memory for %u vertices\n", T, s->rest.nv);
+        return 1;
+    }
+    for (uint32_t v = 0; v < s->rest.nv; v++) {
+        const float *p = &s->rest_world.pos[3 * (size_t)v];
+        double x[3];
+        sss_hetero_to_rest(&o->hetero, (const double[3]){p[0], p[1], p[2]}, x);
+        s->fv[v] = (float)sss_field_eval(&o->hetero.field, x);
+    }
+    return 0;
 }
 
 /* The pose at time t into s->f.mesh (positions, normals, areas) and its q
@@ -173,6 +219,14 @@ static int state_open(const sss_pose_view *v, pose_state *s)
                                    .weights = s->sc.bake.weights == SSS_SCENE_WEIGHTS_HAT ? SSS_WEIGHTS_HAT
                                                                                           : SSS_WEIGHTS_POINT,
                                    .eps = s->sc.bake.eps};
+    if (o->hetero.field.kind != SSS_FIELD_NONE) {
+        /* the field's kernel varies pair by pair, which the tree's far
+         * field cannot take: the exact sum (docs/deformable.md §10) */
+        if (field_open(s) != 0) return 1;
+        s->po.mode = SSS_PERFRAME_EXACT;
+        s->po.hetero = &o->hetero;
+        s->po.rest = s->rest_world.pos;
+    }
     if (pose_frame(s, v->time) != 0) return 1;
     /* the renderer draws a file: this one holds the pose and the material,
      * and no stored rows (q is supplied) */
@@ -241,6 +295,7 @@ int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
         so.levels = v->splat_levels;
         so.adaptive = v->splat_adaptive;
         res = sss_splat_gpu_create(r, &so, &sp, &err);
+        if (res == SSS_OK && s.fv) res = sss_splat_gpu_set_field(sp, &s.sc.objects[0].hetero.inside, s.fv, &err);
         if (res == SSS_OK) {
             double dirs[POSE_SPLAT_LIGHTS][3], w[POSE_SPLAT_LIGHTS][3];
             const uint32_t n = splat_lights(&s, dirs, w, POSE_SPLAT_LIGHTS);
@@ -267,8 +322,8 @@ int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p)
                      v->splat_adaptive ? "adaptive" : "uniform", st.buffers_ms, st.level_ms[0], st.level_ms[1],
                      st.level_ms[2], st.accum_ms);
         } else {
-            snprintf(how, sizeof how, "q per frame on the CPU (tree gather, %s weights) in %.3f s", weights_name(&s),
-                     s.t_q);
+            snprintf(how, sizeof how, "q per frame on the CPU (%s, %s weights) in %.3f s",
+                     s.fv ? "exact sum, the field read at the rest pose" : "tree gather", weights_name(&s), s.t_q);
         }
         sss_cli_printf(stderr, "%s: %s: %dx%d, %s, '%s' at t = %g s (%s), %u vertices, %s; pose %.3f s, draw %.3f s\n",
                        T, v->out, v->width, v->height, sss_gl_renderer_name(), s.sc.objects[0].name, v->time, motion,
