@@ -7,6 +7,7 @@
  * directions; the error figures are sss_err_accum's, as for a file's
  * --error (area-weighted RMS, relative RMS, max). */
 #include "deform_error.h"
+#include "image_error.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -24,6 +25,21 @@
 #include "sss/random.h"
 #include "sss/scene.h"
 #include "sss/vec3.h"
+
+/* The approximate image's q (image_error.h): the per-frame path on the pose. */
+typedef struct perframe_ctx {
+    const sss_mesh *pose;
+    const sss_material *m;
+    uint32_t C;
+    double mpw;
+    const sss_perframe_options *po;
+} perframe_ctx;
+
+static sss_result perframe_approx(void *ctx, const double light[3], float *q, sss_error *err)
+{
+    const perframe_ctx *c = ctx;
+    return sss_perframe_q(c->pose, c->m, c->C, c->mpw, light, c->po, q, NULL, err);
+}
 
 /* One object: 0, or 1 after a message; *measured 0 when it does not
  * deform (its mesh read at t, where a glTF's rig may move it). */
@@ -105,6 +121,32 @@ static int measure(const char *tool, sss_scene *sc, uint32_t i, double t, uint32
     }
     double rms[SSS_MAX_CHANNELS + 1], rel[SSS_MAX_CHANNELS + 1], mx[SSS_MAX_CHANNELS + 1], ref[SSS_MAX_CHANNELS + 1];
     sss_err_accum_result(&acc, rms, rel, mx, ref);
+    /* the image error (Hao–Varshney 2004 §3.3, image_error.c's protocol):
+     * the per-frame path's picture of the pose against the exact one's,
+     * one line saying why when there is no OpenGL */
+    sss_image_error ie;
+    memset(&ie, 0, sizeof ie);
+    char image_status[600] = "ok";
+    {
+        perframe_ctx pc = {&pose, &o->material, C, mpw, &po};
+        sss_image_error_opts io;
+        memset(&io, 0, sizeof io);
+        io.views = views;
+        io.seed = seed;
+        io.approx = perframe_approx;
+        io.approx_ctx = &pc;
+        sss_error ierr = {{0}};
+        const sss_result ir = sss_image_error_measure(&f, e, &io, &ie, &ierr);
+        if (ir == SSS_ERR_UNSUPPORTED) {
+            snprintf(image_status, sizeof image_status, "unavailable: %s", ierr.msg);
+            sss_cli_printf(stderr, "%s: %s: /objects/%u: image error unavailable (no OpenGL 4.3 context): %s\n", tool,
+                           sc->path, i, ierr.msg);
+        } else if (ir != SSS_OK) {
+            sss_cli_printf(stderr, "%s: %s: /objects/%u: image error: %s\n", tool, sc->path, i, ierr.msg);
+            goto done;
+        }
+    }
+    const int have_image = !strcmp(image_status, "ok");
     const double theta = sss_deform_angle(&o->deform, t) * 180.0 / SSS_PI;
     const char *wn = weights == SSS_WEIGHTS_HAT ? "hat" : "point";
     if (arr) {
@@ -123,6 +165,9 @@ static int measure(const char *tool, sss_scene *sc, uint32_t i, double t, uint32
         cJSON_AddNumberToObject(j, "rel_rms", rel[C]);
         cJSON_AddNumberToObject(j, "max_abs", mx[C]);
         cJSON_AddNumberToObject(j, "rms_exact", ref[C]);
+        cJSON_AddStringToObject(j, "image_error_status", image_status);
+        if (have_image) sss_image_error_json(&ie, cJSON_AddObjectToObject(j, "image_error"));
+        else cJSON_AddNullToObject(j, "image_error");
         cJSON_AddItemToArray(arr, j);
     } else {
         char motion[96];
@@ -131,6 +176,10 @@ static int measure(const char *tool, sss_scene *sc, uint32_t i, double t, uint32
                "%s weights) against the exact evaluator on the pose: relative RMS %.3e, RMS %.3e, max |diff| %.3e "
                "(RMS of q %.3e)\n", sc->path, o->name, t, motion, nv, views, wn,
                rel[C], rms[C], mx[C], ref[C]);
+        if (have_image)
+            printf("  image RMS (section 3.3) over %u views, %dx%d, exposure %.4g: max %.4g, mean %.4g, median %.4g "
+                   "(worst view %u; over its covered pixels %.4g; %s)\n", ie.views, ie.width, ie.height, ie.exposure,
+                   ie.rms_max, ie.rms_mean, ie.rms_median, ie.worst, ie.rms_max_covered, ie.gl_renderer);
     }
     rc = 0;
 done:

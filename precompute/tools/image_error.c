@@ -27,6 +27,8 @@
  * scattering data need not be uploaded, whatever its size.
  */
 #define _POSIX_C_SOURCE 200809L /* mkdir under -std=c11 */
+#include <cjson/cJSON.h>
+
 #include "sss/clock.h"
 #include "image_error.h"
 
@@ -194,8 +196,8 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
         res = sss_fail(err, SSS_ERR_NOMEM, "image error: out of memory for %zu vertices", nv);
         goto done;
     }
-    if ((res = sss_reconstruct_create(f, &rc, err)) != SSS_OK) goto done;
-    if (f->qvec && (res = sss_reconstruct_create(&fs, &rs, err)) != SSS_OK) goto done;
+    if (!o->approx && (res = sss_reconstruct_create(f, &rc, err)) != SSS_OK) goto done;
+    if (!o->approx && f->qvec && (res = sss_reconstruct_create(&fs, &rs, err)) != SSS_OK) goto done;
     out->exposure = o->exposure > 0.0 ? o->exposure : auto_exposure(e, nv * C, qx);
     out->views = views;
     out->width = W;
@@ -220,8 +222,13 @@ sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, c
         else sss_vertex_error_draw_direction(&f->dirs, &state, light);
         for (int k = 0; k < 3; k++) p.view[k] = view[k], p.light[k] = light[k];
         sss_exact_eval(e, light, qx);
-        if (map_vis) sss_reconstruct_eval_rows(rc, light, o->interp, qa);
-        else sss_reconstruct_eval(rc, light, o->interp, qa);
+        if (o->approx) {
+            if ((res = o->approx(o->approx_ctx, light, qa, err)) != SSS_OK) goto done;
+        } else if (map_vis) {
+            sss_reconstruct_eval_rows(rc, light, o->interp, qa);
+        } else {
+            sss_reconstruct_eval(rc, light, o->interp, qa);
+        }
         float *ex = NULL, *exh = NULL, *ap = NULL, *aph = NULL;
         p.near_terms = 0; /* the exact q is whole */
         res = sss_renderer_render_q_image(ren, &p, qx, W, H, &ex, &exh, err);
@@ -329,4 +336,22 @@ done:
     sss_offscreen_destroy(ctx);
     out->seconds = sss_now() - t0;
     return res;
+}
+
+void sss_image_error_json(const sss_image_error *ie, cJSON *im)
+{
+    cJSON_AddNumberToObject(im, "views", ie->views);
+    cJSON_AddNumberToObject(im, "width", ie->width);
+    cJSON_AddNumberToObject(im, "height", ie->height);
+    cJSON_AddNumberToObject(im, "exposure", ie->exposure);
+    cJSON_AddNumberToObject(im, "rms_max", ie->rms_max);
+    cJSON_AddNumberToObject(im, "rms_mean", ie->rms_mean);
+    cJSON_AddNumberToObject(im, "rms_median", ie->rms_median);
+    cJSON_AddNumberToObject(im, "rms_max_covered", ie->rms_max_covered);
+    cJSON_AddNumberToObject(im, "coverage_mean", ie->coverage_mean);
+    cJSON *w = cJSON_AddObjectToObject(im, "worst_view");
+    cJSON_AddNumberToObject(w, "index", ie->worst);
+    cJSON_AddItemToObject(w, "light", cJSON_CreateDoubleArray(ie->worst_light, 3));
+    cJSON_AddItemToObject(w, "view", cJSON_CreateDoubleArray(ie->worst_view, 3));
+    cJSON_AddStringToObject(im, "gl_renderer", ie->gl_renderer);
 }

@@ -39,6 +39,11 @@ typedef struct sss_image_error_opts {
      * object, its translucency and the terminators facing the camera);
      * 0: light and view independent and uniform */
     double backlit_deg;
+    /* If set, the approximate image's q for a light comes from here (a
+     * deforming object's per-frame path, deform_error.c) instead of f's
+     * reconstruction, and f need hold the geometry only; 0 or an error */
+    sss_result (*approx)(void *ctx, const double light[3], float *q, sss_error *err);
+    void *approx_ctx;
 } sss_image_error_opts;
 
 typedef struct sss_image_error {
@@ -70,6 +75,13 @@ typedef struct sss_image_error {
  * for a given renderer (llvmpipe gives the same images on every run). */
 sss_result sss_image_error_measure(const sss_bake_file *f, const sss_exact *e, const sss_image_error_opts *o,
                                    sss_image_error *out, sss_error *err);
+
+/* The measure's figures as JSON members of im (the keys of `sss-stat
+ * --json`'s "image_error": views, width, height, exposure, rms_max,
+ * rms_mean, rms_median, rms_max_covered, coverage_mean, worst_view,
+ * gl_renderer), for a file's measure and a deforming scene's alike. */
+struct cJSON;
+void sss_image_error_json(const sss_image_error *ie, struct cJSON *im);
 
 /* Whether the six images of images_dir (exact, approx and error, as .png
  * and .exr) may be written (sss_output_check): for a refusal before the

@@ -392,7 +392,7 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
     if (!a->no_image && dirset) {
         sss_image_error_opts io = {a->image_views ? a->image_views : views, seed, a->image_size, a->image_size,
                                    a->exposure, a->interp, a->images_dir, a->near_mode, a->shadow_size, &ins,
-                                   a->backlit ? 30.0 : 0.0};
+                                   a->backlit ? 30.0 : 0.0, NULL, NULL};
         sss_error ierr = {{0}};
         r = sss_image_error_measure(f, e, &io, &ie, &ierr);
         if (r == SSS_OK) {
@@ -531,15 +531,7 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
         cJSON_AddStringToObject(o, "image_error_status", image_status);
         if (have_image) {
             cJSON *im = cJSON_AddObjectToObject(o, "image_error");
-            cJSON_AddNumberToObject(im, "views", ie.views);
-            cJSON_AddNumberToObject(im, "width", ie.width);
-            cJSON_AddNumberToObject(im, "height", ie.height);
-            cJSON_AddNumberToObject(im, "exposure", ie.exposure);
-            cJSON_AddNumberToObject(im, "rms_max", ie.rms_max);
-            cJSON_AddNumberToObject(im, "rms_mean", ie.rms_mean);
-            cJSON_AddNumberToObject(im, "rms_median", ie.rms_median);
-            cJSON_AddNumberToObject(im, "rms_max_covered", ie.rms_max_covered);
-            cJSON_AddNumberToObject(im, "coverage_mean", ie.coverage_mean);
+            sss_image_error_json(&ie, im);
             if (ie.vector) { /* section QVEC: the file's q rows drawn too (docs/accuracy.md, "Vector integral Q") */
                 cJSON *sv = cJSON_AddObjectToObject(im, "scalar_q");
                 cJSON_AddNumberToObject(sv, "rms_max", ie.scalar_rms_max);
@@ -558,15 +550,10 @@ static int error_report(const char *path, const sss_bake_file *f, const error_ar
                 cJSON_AddStringToObject(im, "near_visibility", "rays (viewer, GPU)");
             else
                 cJSON_AddNullToObject(im, "near_visibility");
-            cJSON *w = cJSON_AddObjectToObject(im, "worst_view");
-            cJSON_AddNumberToObject(w, "index", ie.worst);
-            cJSON_AddItemToObject(w, "light", cJSON_CreateDoubleArray(ie.worst_light, 3));
-            cJSON_AddItemToObject(w, "view", cJSON_CreateDoubleArray(ie.worst_view, 3));
             if (a->images_dir) {
                 cJSON_AddStringToObject(im, "images_dir", a->images_dir);
                 cJSON_AddNumberToObject(im, "error_map_gain", ie.error_map_gain);
             }
-            cJSON_AddStringToObject(im, "gl_renderer", ie.gl_renderer);
         } else {
             cJSON_AddNullToObject(o, "image_error");
         }

@@ -39,10 +39,17 @@ contains "$TMP/out" '"object":"bar","deform":"bend","animated":false,"time":1,"t
 python3 - "$TMP/out" <<'P' || fail "sss-stat --scene: error beyond the tree's bound: $(cat "$TMP/out")"
 import json, sys
 o = json.load(open(sys.argv[1]))["objects"][0]
-sys.exit(0 if o["rms_exact"] > 0 and o["max_abs"] <= 2e-3 * 5 * o["rms_exact"] and o["rel_rms"] < 2e-3 else 1)
+ok = o["rms_exact"] > 0 and o["max_abs"] <= 2e-3 * 5 * o["rms_exact"] and o["rel_rms"] < 2e-3
+# the image error (section 3.3) of the same pose: pictures in [0, 1], so
+# within the tree's bound too, and not 0 (the two q differ by rounding at least)
+im = o["image_error"]
+ok = ok and o["image_error_status"] == "ok" and im["views"] == 3 and 0 < im["rms_max"] < 2e-3
+ok = ok and im["rms_mean"] <= im["rms_max"] and 0 < im["coverage_mean"] < 1
+sys.exit(0 if ok else 1)
 P
 expect_ok "$SSS_STAT" --scene "$TMP/s.json" --time 1 --error --views 2
 contains "$TMP/out" "object 'bar' at t = 1 s (bend, theta 40 deg), 162 vertices, 2 views: per-frame q (tree gather, point weights)"
+contains "$TMP/out" "image RMS (section 3.3) over 2 views, 256x256"
 expect_fail "takes --error" "$SSS_STAT" --scene "$TMP/s.json" --time 1
 expect_fail "without FILE.sss" "$SSS_STAT" "$TMP/o/ball.sss" --scene "$TMP/s.json" --error
 # a field on a deforming object: read at the rest pose, the endpoints'
