@@ -22,3 +22,16 @@ if [ -n "${SSS_GL_PRELOAD:-}" ] && [ -n "${SSS_STAT:-}" ]; then
   sss_stat_preloaded() { LD_PRELOAD=$SSS_GL_PRELOAD "$SSS_STAT_BIN" "$@"; }
   SSS_STAT=sss_stat_preloaded
 fi
+# run_window_driver DRIVER SECONDS [SCREEN]: the window test's driver script
+# (which sources $WINDOW_LIB, window_lib.sh) inside a virtual X server,
+# within SECONDS; SCREEN defaults to 1024x768x24.
+run_window_driver() {
+  local drv=$1 secs=$2 screen=${3:-1024x768x24} rc
+  for tool in xvfb-run xauth xdotool; do
+    command -v "$tool" >/dev/null 2>&1 || fail "$tool is not installed (scripts/setup.sh installs it)"
+  done
+  export TMP SSS_VIEW SSS_VIEW_PRELOAD="${SSS_VIEW_PRELOAD:-}" WINDOW_LIB="$(dirname "${BASH_SOURCE[0]}")/window_lib.sh"
+  timeout "$secs" xvfb-run -a -e "$TMP/xvfb.err" -s "-screen 0 $screen -nolisten tcp" bash "$drv"
+  rc=$?
+  [ $rc -eq 0 ] || { cat "$TMP/xvfb.err" >&2; fail "window driver $(basename "$drv") failed (status $rc$([ $rc -eq 124 ] && echo ", timed out"))"; }
+}

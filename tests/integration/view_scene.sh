@@ -59,21 +59,12 @@ done
 # frame; a screenshot (P) is lit and the viewer quits on q
 if command -v xvfb-run >/dev/null && command -v xdotool >/dev/null && command -v xauth >/dev/null; then
   cat > "$TMP/driver.sh" <<'D'
-set -u
-if [ -n "${SSS_VIEW_PRELOAD:-}" ]; then export LD_PRELOAD=$SSS_VIEW_PRELOAD; fi
-"$SSS_VIEW" "$T/blob.sss" --scene "$T/both.json" --size 320x240 --screenshot "$T/win.png" 2>"$T/win.err" &
-pid=$!
-unset LD_PRELOAD
-wid=$(timeout 30 xdotool search --sync --onlyvisible --name '^sss-view' | head -n 1)
-[ -n "$wid" ] || { cat "$T/win.err" >&2; echo "no window" >&2; kill $pid; exit 1; }
-sleep 0.5
-xdotool key h key p
-for i in $(seq 300); do [ -e "$T/win.png" ] && break; sleep 0.05; done
-xdotool key q
-wait $pid
+. "$WINDOW_LIB"
+view_start 320 240 "$T/blob.sss" --scene "$T/both.json"
+shot win key h
+view_quit q
 D
-  T="$TMP" timeout 120 xvfb-run -a -s "-screen 0 640x480x24 -nolisten tcp" env T="$TMP" bash "$TMP/driver.sh" ||
-    fail "window mode with --scene failed: $(cat "$TMP/win.err")"
+  run_window_driver "$TMP/driver.sh" 120 640x480x24
   [ -e "$TMP/win.png" ] || fail "no screenshot from the window"
   read -r W H MEANW SD NONBG < <("$SSS_PNGSTATS" "$TMP/win.png")
   awk -v m="$MEANW" 'BEGIN { exit !(m > 5) }' || fail "window screenshot is dark (mean $MEANW)"
@@ -82,37 +73,24 @@ D
   # (348, 387) "point lights (shells)". Both off leave q = 0: the picture the
   # 2 key (scatter off) draws, reflection only, whatever time the moving
   # light has reached. The overlay and the panel (with its live frame-time
-  # graph) are hidden for every screenshot.
+  # graph) are hidden for every screenshot that is compared; the others
+  # (sync) only wait for a frame, so that the panel is drawn before the
+  # pointer moves onto it and each click has been through a frame,
+  # however long the frames take.
   cat > "$TMP/kinds.sh" <<'D'
-set -u
-if [ -n "${SSS_VIEW_PRELOAD:-}" ]; then export LD_PRELOAD=$SSS_VIEW_PRELOAD; fi
-"$SSS_VIEW" "$T/blob.sss" --scene "$T/both.json" --size 640x480 --screenshot "$T/k.png" 2>"$T/kinds.err" &
-pid=$!
-unset LD_PRELOAD
-wid=$(timeout 30 xdotool search --sync --onlyvisible --name '^sss-view' | head -n 1)
-[ -n "$wid" ] || { cat "$T/kinds.err" >&2; echo "no window" >&2; kill $pid; exit 1; }
-shot() {  # shot NAME [xdotool args]: do them, wait, save the window as NAME.png
-  local n=$1; shift
-  rm -f "$T/k.png"
-  [ $# -eq 0 ] || xdotool "$@"
-  sleep 0.5
-  xdotool key p
-  for i in $(seq 600); do [ -e "$T/k.png" ] && break; sleep 0.05; done
-  mv "$T/k.png" "$T/$n.png" || { kill $pid; exit 1; }
-}
-sleep 0.5
-xdotool mousemove --window "$wid" 320 240 key h
-click() { xdotool mousemove --window "$wid" "$1" "$2" sleep 0.3 click 1 sleep 0.3; }
-xdotool key g; sleep 0.3; click 348 364; click 348 387
+. "$WINDOW_LIB"
+view_start 640 480 "$T/blob.sss" --scene "$T/both.json"
+click() { shot sync mousemove --window "$wid" "$1" "$2"; shot sync click 1; }
+shot sync key h key g
+click 348 364; click 348 387
 shot off key g
-xdotool key g; sleep 0.3; click 348 364; click 348 387
+shot sync key g
+click 348 364; click 348 387
 shot on key g
 shot refl key 2
-xdotool key q
-wait $pid
+view_quit q
 D
-  T="$TMP" timeout 180 xvfb-run -a -s "-screen 0 800x600x24 -nolisten tcp" env T="$TMP" bash "$TMP/kinds.sh" ||
-    fail "the panel's light kinds in window mode: $(cat "$TMP/kinds.err")"
+  run_window_driver "$TMP/kinds.sh" 180 800x600x24
   [ "$("$SSS_PNGSTATS" "$TMP/off.png" "$TMP/refl.png")" = "0.000000" ] ||
     fail "both light kinds off in the panel should leave reflection only, as the 2 key does"
   [ "$("$SSS_PNGSTATS" "$TMP/on.png" "$TMP/off.png")" != "0.000000" ] ||

@@ -4,9 +4,6 @@
 # hangs, draws nothing or ignores input; also checks --help and the
 # one-line errors of window mode.
 . "$(dirname "$0")/lib.sh"
-for tool in xvfb-run xauth xdotool; do
-  command -v "$tool" >/dev/null 2>&1 || fail "$tool is not installed (scripts/setup.sh installs it)"
-done
 : "${SSS_VIEW:?}" "${SSS_PNGSTATS:?}"
 
 # --help lists the window controls
@@ -45,42 +42,8 @@ expect_exit1 "cannot open a window (no display?); use --offscreen" "$SSS_VIEW" "
 # the earlier picture byte for byte, which also shows that rendering is
 # deterministic, so "differs" really means "input was applied".
 cat > "$TMP/driver.sh" <<'EOF'
-set -u
-T=$TMP
-pid=
-fail() { echo "FAIL: $*" >&2; [ -n "$pid" ] && kill "$pid" 2>/dev/null; exit 1; }
-alive() { kill -0 "$pid" 2>/dev/null; }
-# SSS_VIEW_PRELOAD: sanitizer builds only, see tests/integration/CMakeLists.txt
-if [ -n "${SSS_VIEW_PRELOAD:-}" ]; then
-  LD_PRELOAD=$SSS_VIEW_PRELOAD "$SSS_VIEW" "$T/b.sss" --size 640x480 --screenshot "$T/shot.png" >"$T/view.out" 2>"$T/view.err" &
-else
-  "$SSS_VIEW" "$T/b.sss" --size 640x480 --screenshot "$T/shot.png" >"$T/view.out" 2>"$T/view.err" &
-fi
-pid=$!
-wid=$(timeout 30 xdotool search --sync --onlyvisible --name '^sss-view' 2>/dev/null | head -n 1)
-[ -n "$wid" ] || { alive || { cat "$T/view.err" >&2; fail "sss-view exited before showing a window"; }; fail "no sss-view window within 30 s"; }
-# Keys go to the focused window; with no window manager, focus it directly.
-# All pointer coordinates are relative to the window.
-xdotool mousemove --window "$wid" 320 240 windowfocus "$wid" || fail "xdotool could not reach the window"
-
-# shot NAME [XDOTOOL-COMMANDS...]: send the commands and then P in one
-# xdotool run (one X connection, so the server sees them in this order),
-# wait for the PNG (the viewer renames it into place when complete).
-shot() {
-  local name=$1; shift
-  rm -f "$T/shot.png"
-  xdotool "$@" key p || fail "xdotool failed: $*"
-  local i
-  for i in $(seq 300); do
-    [ -e "$T/shot.png" ] && break
-    alive || { cat "$T/view.err" >&2; fail "sss-view died during: $*"; }
-    sleep 0.05
-  done
-  [ -e "$T/shot.png" ] || fail "no screenshot 15 s after: $* P"
-  mv "$T/shot.png" "$T/$name.png"
-}
-same() { cmp -s "$T/$1.png" "$T/$2.png" || fail "$1.png and $2.png should be identical ($3)"; }
-differ() { cmp -s "$T/$1.png" "$T/$2.png" && fail "$1.png and $2.png should differ ($3)"; return 0; }
+. "$WINDOW_LIB"
+view_start 640 480 "$T/b.sss"
 
 shot overlay0 sleep 0.3                     # overlay on, as the user first sees it
 shot s0 key h                               # overlay off from here
@@ -181,19 +144,9 @@ shot overlay1 key h
 shot tiny windowsize "$wid" 1 1 sleep 0.3
 shot wide windowsize "$wid" 800 500 sleep 0.3 windowunmap --sync "$wid" sleep 0.3 windowmap --sync "$wid" sleep 0.3 mousemove --window "$wid" 400 250 windowfocus "$wid"
 
-xdotool key Escape || fail "xdotool could not send Escape"
-for i in $(seq 200); do alive || break; sleep 0.05; done
-alive && fail "sss-view still running 10 s after Escape"
-wait "$pid"; rc=$?
-pid=
-[ $rc -eq 0 ] || { cat "$T/view.err" >&2; fail "sss-view exited with status $rc"; }
-exit 0
+view_quit
 EOF
-
-export TMP SSS_VIEW SSS_VIEW_PRELOAD="${SSS_VIEW_PRELOAD:-}"
-timeout 360 xvfb-run -a -e "$TMP/xvfb.err" -s "-screen 0 1024x768x24 -nolisten tcp" bash "$TMP/driver.sh"
-rc=$?
-[ $rc -eq 0 ] || { cat "$TMP/xvfb.err" >&2; fail "window driver failed (status $rc$([ $rc -eq 124 ] && echo ", timed out"))"; }
+run_window_driver "$TMP/driver.sh" 360
 [ ! -s "$TMP/view.out" ] || fail "sss-view printed on stdout"
 contains "$TMP/view.err" "sss-view: saved $TMP/shot.png"
 
