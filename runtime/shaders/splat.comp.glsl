@@ -289,33 +289,14 @@ void main() {
     vec3 B = vec3(0.0);
     if (cb[i].w > 0.0) {
         B = bk[i].xyz;
-        if (u_k < u_K - 1 && u_field == 0) {
-            // Eq. 17: the four nearest coarse pixels, bilinear x exp(-lambda_z |dz| / R_w) (w_m = 1: one material)
+        if (u_k < u_K - 1) {
+            // Eq. 17: the four nearest coarse pixels, bilinear x exp(-lambda_z |dz| / R_w), and with a
+            // field the material weight w_m = exp(-lambda_m |R_P(x_o) - R_P(x_j)| / R_w) per channel,
+            // lambda_m = lambda_z = 8 and R_P over R_w as |dz| is (w_m = 1: one material)
             vec2 f = (vec2(t) + 0.5) * 0.5 - 0.5;
             ivec2 b0 = ivec2(floor(f));
             vec2 w = f - vec2(b0);
-            float zo = ca[i].w;
-            vec3 sum = vec3(0.0);
-            float ws = 0.0;
-            for (int k = 0; k < 4; k++) {
-                ivec2 o = ivec2(k & 1, k >> 1);
-                ivec2 c = clamp(b0 + o, ivec2(0), ivec2(u_size2) - 1);
-                uint s = u_off2 + uint(c.y) * u_size2.x + uint(c.x);
-                if (cb[s].w <= 0.0) continue;
-                float wp = (o.x == 1 ? w.x : 1.0 - w.x) * (o.y == 1 ? w.y : 1.0 - w.y);
-                float wk = wp * exp(-u_lambda_Rw * abs(zo - ca[s].w));
-                sum += wk * bk[s].xyz;
-                ws += wk;
-            }
-            if (ws > 0.0) B += sum / ws;
-        }
-        if (u_k < u_K - 1 && u_field != 0) {
-            // Eq. 17 with the material weight w_m = exp(-lambda_m |R_P(x_o) - R_P(x_j)| / R_w)
-            // per channel, lambda_m = lambda_z = 8 and R_P over R_w as |dz| is
-            vec2 f = (vec2(t) + 0.5) * 0.5 - 0.5;
-            ivec2 b0 = ivec2(floor(f));
-            vec2 w = f - vec2(b0);
-            float zo = ca[i].w, fo = mf[u_cfo + i];
+            float zo = ca[i].w, fo = u_field != 0 ? mf[u_cfo + i] : 0.0;
             vec3 sum = vec3(0.0), ws = vec3(0.0);
             for (int k = 0; k < 4; k++) {
                 ivec2 o = ivec2(k & 1, k >> 1);
@@ -324,9 +305,9 @@ void main() {
                 if (cb[s].w <= 0.0) continue;
                 float wp = (o.x == 1 ? w.x : 1.0 - w.x) * (o.y == 1 ? w.y : 1.0 - w.y);
                 float wk = wp * exp(-u_lambda_Rw * abs(zo - ca[s].w));
-                float fj = mf[u_cfo + s];
+                float fj = u_field != 0 ? mf[u_cfo + s] : 0.0;
                 for (uint ch = 0u; ch < u_C; ch++) {
-                    float wm = wk * exp(-u_lambda_Rw * abs(rp(ch, fo) - rp(ch, fj)) / u_mpu);
+                    float wm = u_field != 0 ? wk * exp(-u_lambda_Rw * abs(rp(ch, fo) - rp(ch, fj)) / u_mpu) : wk;
                     sum[ch] += wm * bk[s][ch];
                     ws[ch] += wm;
                 }

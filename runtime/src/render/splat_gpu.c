@@ -198,6 +198,34 @@ static sss_result build_tables(sss_splat_gpu *s, sss_error *err)
     return SSS_OK;
 }
 
+/* A raster's targets, w × h: position and normal (RGBA32F, attachments 0
+ * and 1), depth, and f of a spatially varying material (R32F, attachment
+ * 2: splat_raster.frag.glsl's o_c), for the irradiance and the camera
+ * buffers alike; 1 when the framebuffer is complete. */
+static int raster_targets(int w, int h, GLuint tex[3], GLuint *texf, GLuint *fbo)
+{
+    glGenTextures(3, tex);
+    for (int i = 0; i < 3; i++) {
+        glBindTexture(GL_TEXTURE_2D, tex[i]);
+        glTexStorage2D(GL_TEXTURE_2D, 1, i < 2 ? GL_RGBA32F : GL_DEPTH_COMPONENT32F, w, h);
+    }
+    glGenTextures(1, texf);
+    glBindTexture(GL_TEXTURE_2D, *texf);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32F, w, h);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glGenFramebuffers(1, fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, *fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[0], 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, tex[1], 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT2, GL_TEXTURE_2D, *texf, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, tex[2], 0);
+    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glDrawBuffers(3, bufs);
+    const int ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return ok;
+}
+
 sss_result sss_splat_gpu_create(sss_renderer *r, const sss_splat_options *opt, sss_splat_gpu **out, sss_error *err)
 {
     *out = NULL;
@@ -243,27 +271,7 @@ sss_result sss_splat_gpu_create(sss_renderer *r, const sss_splat_options *opt, s
     }
     /* the irradiance buffer: its raster and its levels */
     const GLsizei N = o.light_size;
-    glGenTextures(3, s->ltex);
-    for (int i = 0; i < 3; i++) {
-        glBindTexture(GL_TEXTURE_2D, s->ltex[i]);
-        glTexStorage2D(GL_TEXTURE_2D, 1, i < 2 ? GL_RGBA32F : GL_DEPTH_COMPONENT32F, N, N);
-    }
-    glBindTexture(GL_TEXTURE_2D, 0);
-    glGenFramebuffers(1, &s->lfbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, s->lfbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->ltex[0], 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, s->ltex[1], 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, s->ltex[2], 0);
-    /* f of a spatially varying material (splat_raster.frag.glsl's o_c) */
-    glGenTextures(1, &s->ltexf);
-    glBindTexture(GL_TEXTURE_2D, s->ltexf);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32F, N, N);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT2, GL_TEXTURE_2D, s->ltexf, 0);
-    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    glDrawBuffers(3, bufs);
-    ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    ok = raster_targets(N, N, s->ltex, &s->ltexf, &s->lfbo);
     if (!ok) {
         sss_splat_gpu_destroy(s);
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "splatting: a %dx%d float irradiance buffer is not supported", N, N);
@@ -324,29 +332,11 @@ static sss_result camera_ensure(sss_splat_gpu *s, int w, int h, sss_error *err)
 {
     if (s->cfbo && s->cw == w && s->ch == h) return SSS_OK;
     camera_free(s);
-    glGenTextures(3, s->ctex);
-    for (int i = 0; i < 3; i++) {
-        glBindTexture(GL_TEXTURE_2D, s->ctex[i]);
-        glTexStorage2D(GL_TEXTURE_2D, 1, i < 2 ? GL_RGBA32F : GL_DEPTH_COMPONENT32F, w, h);
-    }
     glGenTextures(1, &s->qtex);
     glBindTexture(GL_TEXTURE_2D, s->qtex);
     glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, w, h);
     glBindTexture(GL_TEXTURE_2D, 0);
-    glGenFramebuffers(1, &s->cfbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, s->cfbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->ctex[0], 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, s->ctex[1], 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, s->ctex[2], 0);
-    glGenTextures(1, &s->ctexf);
-    glBindTexture(GL_TEXTURE_2D, s->ctexf);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32F, w, h);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT2, GL_TEXTURE_2D, s->ctexf, 0);
-    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    glDrawBuffers(3, bufs);
-    int ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    const int ok = raster_targets(w, h, s->ctex, &s->ctexf, &s->cfbo);
     s->cw = w;
     s->ch = h;
     if (!ok) {
