@@ -71,15 +71,7 @@ static int state_open(const sss_pose_view *v, edit_state *s, sss_view_params *p)
     memset(s, 0, sizeof *s);
     s->v = v;
     sss_error err = {{0}};
-    if (sss_scene_load(v->scene, &s->sc, &err) != SSS_OK) {
-        sss_cli_printf(stderr, "%s: %s\n", T, err.msg);
-        return 2;
-    }
-    if (s->sc.nobjects != 1) {
-        sss_cli_printf(stderr, "%s: %s: /objects: %u objects: without a .sss file sss-view draws a scene of one "
-                       "editable object\n", T, v->scene, s->sc.nobjects);
-        return 2;
-    }
+    if (sss_pose_scene_one(v, "editable", &s->sc) != 0) return 2;
     const sss_scene_object *o = &s->sc.objects[0];
     if (sss_scene_object_deforms(o)) {
         sss_cli_printf(stderr, "%s: %s: /objects/0/editable: an editable object that deforms is not supported yet\n",

@@ -163,6 +163,21 @@ static int pose_frame(pose_state *s, double t)
     return 0;
 }
 
+int sss_pose_scene_one(const sss_pose_view *v, const char *what, sss_scene *sc)
+{
+    sss_error err = {{0}};
+    if (sss_scene_load(v->scene, sc, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: %s\n", v->tool, err.msg);
+        return 2;
+    }
+    if (sc->nobjects != 1) {
+        sss_cli_printf(stderr, "%s: %s: /objects: %u objects: without a .sss file sss-view draws a scene of one "
+                       "%s object\n", v->tool, v->scene, sc->nobjects, what);
+        return 2;
+    }
+    return 0;
+}
+
 /* Loads and checks the scene, imports the rest mesh and makes the pose at
  * v->time. Returns 0, or the exit status after a message (2: a scene it
  * cannot draw; 1: a failure). */
@@ -172,16 +187,7 @@ static int state_open(const sss_pose_view *v, pose_state *s)
     memset(s, 0, sizeof *s);
     s->v = v;
     sss_error err = {{0}};
-    if (sss_scene_load(v->scene, &s->sc, &err) != SSS_OK) {
-        sss_cli_printf(stderr, "%s: %s\n", T, err.msg);
-        return 2;
-    }
-    /* one object: the renderer draws one mesh (docs/deformable.md §6) */
-    if (s->sc.nobjects != 1) {
-        sss_cli_printf(stderr, "%s: %s: /objects: %u objects: without a .sss file sss-view draws a scene of one "
-                       "deforming object\n", T, v->scene, s->sc.nobjects);
-        return 2;
-    }
+    if (sss_pose_scene_one(v, "deforming", &s->sc) != 0) return 2;
     sss_scene_object *o = &s->sc.objects[0];
     /* the mesh at the first time (a glTF's rig posed there) */
     sss_import_report rep;

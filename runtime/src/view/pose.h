@@ -34,4 +34,10 @@ int sss_pose_offscreen(const sss_pose_view *v, sss_view_params *p);
  * the exit status as sss_pose_offscreen does. */
 int sss_pose_window(const sss_pose_view *v, sss_view_params *p);
 
+/* Loads v->scene into sc, which must hold one object (the renderer draws
+ * one mesh, docs/deformable.md §6); `what` names the object's kind in the
+ * refusal ("deforming", "editable"). 0, or 2 after a one-line message. */
+struct sss_scene;
+int sss_pose_scene_one(const sss_pose_view *v, const char *what, struct sss_scene *sc);
+
 #endif
