@@ -27,7 +27,7 @@
 
 /* the pictures' size; the brute-force estimate of the accelerations' test
  * costs (pixels × texels in reach), so that one draws smaller */
-static int W = 128, H = 128;
+static int W = 96, H = 96;
 
 /* A posed mesh drawn both ways: the renderer holds the file, sp the splatting. */
 typedef struct scene {
@@ -188,7 +188,7 @@ static void splatting_matches_object_space_on_sphere(void **state)
 /* Each acceleration alone (Chen et al. 2012 Table 1's columns): the
  * multiresolution splatting (3 levels, every texel a sample), the adaptive
  * selection (1 level), both; against the brute-force estimate (1 level,
- * every texel of the irradiance buffer a sample; drawn at 80² to keep it
+ * every texel of the irradiance buffer a sample; drawn at 64² to keep it
  * short) and against the object-space image. */
 #define ACCEL_CHANGE_MAX 0.005
 #define ACCEL_IMAGE_MAX 0.010
@@ -199,7 +199,7 @@ static void each_acceleration_changes_error_by_bounded_amount(void **state)
         {1, 0, "brute force"}, {3, 0, "multiresolution"}, {1, 1, "adaptive"}, {3, 1, "both"}};
     float *img[4] = {0}, *e = NULL;
     double err[4];
-    W = H = 80;
+    W = H = 64;
     for (int i = 0; i < 4; i++) {
         sss_mesh m;
         tube_pose(1.0, &m);
@@ -225,7 +225,7 @@ static void each_acceleration_changes_error_by_bounded_amount(void **state)
     for (int i = 1; i < 4; i++) assert_true(rel_rms(img[i], img[0], e, NULL) > 1e-4);
     for (int i = 0; i < 4; i++) free(img[i]);
     free(e);
-    W = H = 128;
+    W = H = 96;
 }
 
 /* Rotates positions by R (row-major) about the origin and moves them by t;
@@ -394,7 +394,7 @@ static void splatting_with_a_field_matches_object_space_on_bent_tube(void **stat
     assert_int_equal(sss_splat_gpu_set_field(s.sp, &h.inside, f, &err), SSS_ERR_ARG);
     assert_non_null(strstr(err.msg, "vertex 3"));
     scene_close(&s);
-    W = H = 128;
+    W = H = 96;
     free(f);
     sss_mesh_free(&rest);
 }
@@ -456,7 +456,7 @@ static void splatting_matches_object_space_on_bunny(void **state)
     free(e), free(g), free(ef), free(gf), free(f);
     sss_mesh_free(&rest);
     scene_close(&s);
-    W = H = 128;
+    W = H = 96;
 }
 
 int main(void)
