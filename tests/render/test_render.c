@@ -24,6 +24,7 @@
 #include "gl_fixture.h"
 #include "sss/dipole.h"
 #include "sss/vec3.h"
+#include "sss/scene.h"
 #include "test_util.h"
 
 static uint64_t rng = 12345;
@@ -419,6 +420,49 @@ static void offscreenBunnyMatchesCDecoderImage(void **state)
     sss_mesh_free(&m);
 }
 
+/* A scene camera (docs/scenes.md): the renderer's eye lands on its
+ * position, looks at its target, and keeps its up in the picture's up
+ * (here +z, a z-up scene, and a target off the object's centre). */
+static void sceneCameraPutsTheEyeAtItsPositionLookingAtItsTarget(void **state)
+{
+    (void)state;
+    sss_bake_file f;
+    memset(&f, 0, sizeof f);
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&f.mesh, 1.0, 2, &err), SSS_OK);
+    for (uint32_t v = 0; v < f.mesh.nv; v++) f.mesh.pos[3 * v] += 0.4f; /* the centre off the origin */
+    sss_scene sc;
+    memset(&sc, 0, sizeof sc);
+    sc.camera = (sss_scene_camera){.present = 1, .position = {3, -4, 1.5}, .target = {0.1, 0.2, -0.3},
+                                   .up = {0, 0, 1}, .fov_deg = 30};
+    sss_view_params p;
+    sss_view_params_default(&p);
+    sss_scene_camera_params(&sc, &f, &p);
+    double c[3], eye[3], right[3], up[3], fwd[3];
+    const double rad = sss_view_bounds(&f.mesh, c);
+    sss_view_frame(&p, c, rad, eye, right, up, fwd);
+    double d[3];
+    for (int k = 0; k < 3; k++) {
+        assert_true(fabs(eye[k] - sc.camera.position[k]) < 1e-9);
+        d[k] = sc.camera.target[k] - sc.camera.position[k];
+    }
+    sss_normalize3(d);
+    assert_true(sss_dot3(d, fwd) > 1 - 1e-12);
+    /* the target on the axis of view: no part of it across the picture */
+    double t[3];
+    for (int k = 0; k < 3; k++) t[k] = sc.camera.target[k] - eye[k];
+    assert_true(fabs(sss_dot3(t, right)) < 1e-9 && fabs(sss_dot3(t, up)) < 1e-9);
+    /* +z up: the right axis horizontal, up leaning to +z */
+    assert_true(fabs(right[2]) < 1e-12 && up[2] > 0.9);
+    assert_true(fabs(p.fov_deg - 30) < 1e-12);
+    /* no camera up given (0,0,0): +y, as before */
+    sss_view_params q;
+    sss_view_params_default(&q);
+    sss_view_frame(&q, c, rad, eye, right, up, fwd);
+    assert_true(fabs(right[1]) < 1e-12 && up[1] > 0.99);
+    sss_mesh_free(&f.mesh);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -430,6 +474,7 @@ int main(void)
         cmocka_unit_test(offscreenSphereMatchesCDecoderImage),
         cmocka_unit_test(offscreenCompressedSphereMatchesCDecoderImage),
         cmocka_unit_test(offscreenBunnyMatchesCDecoderImage),
+        cmocka_unit_test(sceneCameraPutsTheEyeAtItsPositionLookingAtItsTarget),
     };
     return cmocka_run_group_tests(tests, gl_setup, gl_teardown);
 }

@@ -111,6 +111,7 @@ typedef struct sss_view_params {
     double view[3];       /* from the object's centre towards the eye */
     double distance;      /* eye distance in bounding radii (0: default 3.6: the bounding sphere fits a 35° view) */
     double pan[2];        /* target offset in bounding radii, screen x/y */
+    double up[3];         /* the picture's up, world space (0,0,0: +y, or +z when looking along y); a scene camera's "up" */
     double fov_deg;       /* vertical field of view (0: default 35) */
     double exposure;      /* multiplies radiance before tone mapping (0: default 1) */
     int scatter;          /* draw the subsurface term (default on: set by sss_view_params_default) */
@@ -157,6 +158,11 @@ void sss_view_params_default(sss_view_params *p);
  * into centre, and returns the bounding radius about it (1 when m has no
  * extent). Needs no context. */
 double sss_view_bounds(const sss_mesh *m, double centre[3]);
+
+/* The camera of p about a bounding sphere (centre, radius): the eye, and
+ * the picture's right, up and forward directions (world space). */
+void sss_view_frame(const sss_view_params *p, const double centre[3], double radius, double eye[3], double right[3],
+                    double up[3], double fwd[3]);
 
 /* Applies the tone map t to one linear value x already multiplied by the
  * exposure: clamp to [0, 1], or x / (1 + x). Needs no context. */
@@ -355,8 +361,9 @@ unsigned sss_scene_eval_kinds_present(const sss_scene_eval *e);
 const char *sss_scene_eval_paths(const sss_scene_eval *e);
 
 /* The scene's camera (if any; p unchanged otherwise) as view parameters:
- * direction from the object's centre, distance in bounding radii, field of
- * view. */
+ * direction from the target, distance in bounding radii, the target as a
+ * pan off the object's centre, up and field of view, so that the eye sits
+ * at the camera's position and looks at its target (docs/scenes.md). */
 void sss_scene_camera_params(const sss_scene *sc, const sss_bake_file *f, sss_view_params *p);
 
 /* The scene's lights summed on the GPU: the same terms as

@@ -104,26 +104,34 @@ void sss_draw_destroy(sss_draw *d)
     }
 }
 
-/* The camera frame of p about m's bounding sphere (sss_renderer_camera). */
-static void camera(const sss_gpu_mesh *m, const sss_view_params *p, double eye[3], double right[3], double up[3],
-                   double fwd[3])
+/* render.h */
+void sss_view_frame(const sss_view_params *p, const double centre[3], double radius, double eye[3], double right[3],
+                    double up[3], double fwd[3])
 {
     double v[3] = {p->view[0], p->view[1], p->view[2]};
     sss_normalize3(v);
     if (!(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0.5)) v[0] = 0, v[1] = 0, v[2] = 1;
-    double dist = (p->distance > 0 ? p->distance : 3.6) * m->radius;
-    /* up: +y unless looking along it, then +z */
-    double wup[3] = {0, 1, 0};
-    if (fabs(v[1]) > 0.999) wup[1] = 0, wup[2] = 1;
+    double dist = (p->distance > 0 ? p->distance : 3.6) * radius;
+    /* up: the given one (a scene camera's), else +y; +z when looking along it */
+    double wup[3] = {p->up[0], p->up[1], p->up[2]};
+    if (!(sss_normalize3(wup) > 0) || fabs(sss_dot3(wup, v)) > 0.999) wup[0] = 0, wup[1] = 1, wup[2] = 0;
+    if (fabs(sss_dot3(wup, v)) > 0.999) wup[1] = 0, wup[2] = 1;
     for (int k = 0; k < 3; k++) fwd[k] = -v[k];
     sss_cross3(fwd, wup, right);
     sss_normalize3(right);
     sss_cross3(right, fwd, up);
     double target[3];
     for (int k = 0; k < 3; k++) {
-        target[k] = m->centre[k] + (p->pan[0] * right[k] + p->pan[1] * up[k]) * m->radius;
+        target[k] = centre[k] + (p->pan[0] * right[k] + p->pan[1] * up[k]) * radius;
         eye[k] = target[k] + v[k] * dist;
     }
+}
+
+/* The camera frame of p about m's bounding sphere (sss_renderer_camera). */
+static void camera(const sss_gpu_mesh *m, const sss_view_params *p, double eye[3], double right[3], double up[3],
+                   double fwd[3])
+{
+    sss_view_frame(p, m->centre, m->radius, eye, right, up, fwd);
 }
 
 void sss_renderer_camera(const sss_renderer *r, const sss_view_params *p, double eye[3], double right[3],

@@ -277,11 +277,23 @@ void sss_scene_camera_params(const sss_scene *sc, const sss_bake_file *f, sss_vi
     double c[3];
     const double rad = sss_view_bounds(&f->mesh, c);
     double d[3];
-    for (int k = 0; k < 3; k++) d[k] = sc->camera.position[k] - c[k];
+    for (int k = 0; k < 3; k++) d[k] = sc->camera.position[k] - sc->camera.target[k];
     const double dist = sss_normalize3(d);
-    if (dist > 0) {
-        memcpy(p->view, d, sizeof d);
-        p->distance = dist / rad;
-    }
+    memcpy(p->up, sc->camera.up, sizeof p->up);
     p->fov_deg = sc->camera.fov_deg;
+    if (!(dist > 0) || !(rad > 0)) return;
+    memcpy(p->view, d, sizeof d);
+    /* The renderer looks at the centre plus a pan in its screen plane
+     * (draw.c camera()): the target's offset from the centre splits into
+     * that pan and a part along the view, which moves the eye's distance,
+     * so the eye lands on the camera's position. */
+    sss_view_params frame = *p;
+    frame.pan[0] = frame.pan[1] = 0;
+    double eye[3], right[3], up[3], fwd[3], t[3];
+    sss_view_frame(&frame, c, rad, eye, right, up, fwd);
+    for (int k = 0; k < 3; k++) t[k] = sc->camera.target[k] - c[k];
+    p->pan[0] = sss_dot3(t, right) / rad;
+    p->pan[1] = sss_dot3(t, up) / rad;
+    /* a target far behind the centre would put the eye past it: kept in front */
+    p->distance = fmax(dist + sss_dot3(t, d), 1e-3 * rad) / rad;
 }
