@@ -99,20 +99,28 @@ static double clampd(double x, double lo, double hi) { return x < lo ? lo : x > 
 
 /* ---- camera and light edits -------------------------------------------- */
 
+/* The world's up: the view's (a scene camera's "up"), else +y. */
+static void world_up(const app *a, double u[3])
+{
+    memcpy(u, a->p.up, 3 * sizeof *u);
+    if (!(sss_normalize3(u) > 0)) u[0] = 0, u[1] = 1, u[2] = 0;
+}
+
 /* Orbit in azimuth/elevation: a horizontal drag turns around the world up
  * axis, a vertical one around the camera's right axis. The elevation stops
  * short of the poles because the renderer switches its up vector there,
  * which would flip the picture under the cursor. */
 static void orbit(app *a, double dx, double dy, double rad_per_px)
 {
-    double v[3] = {a->p.view[0], a->p.view[1], a->p.view[2]};
+    double u[3], v[3] = {a->p.view[0], a->p.view[1], a->p.view[2]};
+    world_up(a, u);
     sss_normalize3(v);
-    double el = asin(clampd(v[1], -1, 1)), az = atan2(v[0], v[2]);
-    az -= dx * rad_per_px;
-    el = clampd(el + dy * rad_per_px, -1.50, 1.50);
-    a->p.view[0] = cos(el) * sin(az);
-    a->p.view[1] = sin(el);
-    a->p.view[2] = cos(el) * cos(az);
+    const double el = clampd(asin(clampd(sss_dot3(v, u), -1, 1)) + dy * rad_per_px, -1.50, 1.50);
+    double h[3]; /* the view's horizontal part, turned about up */
+    for (int k = 0; k < 3; k++) h[k] = v[k] - sss_dot3(v, u) * u[k];
+    if (!(sss_normalize3(h) > 0)) return;
+    rotate3(h, u, -dx * rad_per_px);
+    for (int k = 0; k < 3; k++) a->p.view[k] = cos(el) * h[k] + sin(el) * u[k];
 }
 
 /* Pan so the point under the cursor follows it: the visible height at the
@@ -154,14 +162,14 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     if (a->panel && sss_panel_wants_keyboard(a->panel)) return; /* a value being typed into the panel */
     if (a->opt->key && a->opt->key(a->opt->user, key)) return;
     const double step = 5.0 * SSS_PI / 180.0;
-    const double world_up[3] = {0, 1, 0};
-    double eye[3], right[3], up[3], fwd[3];
+    double wup[3], eye[3], right[3], up[3], fwd[3];
+    world_up(a, wup);
     /* Continuous adjustments follow key repeat; toggles act once per press
      * so that holding a key does not make them flicker. */
     switch (key) {
     case GLFW_KEY_LEFT:
     case GLFW_KEY_RIGHT:
-        rotate3(a->p.light, world_up, key == GLFW_KEY_RIGHT ? step : -step);
+        rotate3(a->p.light, wup, key == GLFW_KEY_RIGHT ? step : -step);
         return;
     case GLFW_KEY_UP:
     case GLFW_KEY_DOWN:
