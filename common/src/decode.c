@@ -388,15 +388,15 @@ static void ref_values(const sss_bake_file *f, const double d[3], sss_interp int
 }
 
 /* Values of coded vertex k, all channels, into out[0 … C−1], from the
- * reference values R and the folded SH tables T (either may be NULL when
- * absent). The triangle and weights are shared by the channels: read once. */
-static inline void coded_values(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k,
+ * reference values R (NULL without references) and the vertex's SH sums
+ * sh[0 … C−1]. The triangle and weights are shared by the channels: read
+ * once. */
+static inline void coded_finish(const sss_bake_file *f, const float *R, const double *wt, size_t k, const float *sh,
                                 float *out)
 {
     const size_t C = f->channels;
     double w[3] = {0, 0, 0};
     const uint32_t *t = NULL;
-    float sh[SSS_MAX_CHANNELS] = {0};
     if (f->quant == SSS_QUANT_REFS) {
         if (wt) { /* coded_weights' values, tabulated per call (8-bit codes) */
             w[0] = wt[f->ref.w[2 * k]];
@@ -407,11 +407,118 @@ static inline void coded_values(const sss_bake_file *f, const float *R, const fl
         }
         t = f->ref.ref_tri + 3 * (size_t)f->ref.vtri[k];
     }
-    if (T && f->sh.ncoef) sh_sums(&f->sh, T, C, k, sh);
     for (size_t c = 0; c < C; c++) {
         float x = t ? (float)(w[0] * R[t[0] * C + c] + w[1] * R[t[1] * C + c] + w[2] * R[t[2] * C + c]) : 0.0f;
         x += sh[c];
         out[c] = x > 0.0f ? x : 0.0f;
+    }
+}
+
+/* coded_finish with the SH sums of the per-vertex loop (sh_sums); T may be
+ * NULL when there is no SH part. */
+static inline void coded_values(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k,
+                                float *out)
+{
+    float sh[SSS_MAX_CHANNELS] = {0};
+    if (T && f->sh.ncoef) sh_sums(&f->sh, T, f->channels, k, sh);
+    coded_finish(f, R, wt, k, sh, out);
+}
+
+/* ---- the load-time layout (sss_decode_prepare) ------------------------ *
+ * The file keeps each vertex's C·ncoef codes together (format.h), so the
+ * per-vertex loop above is one chain of dependent adds per channel.
+ * Transposed once at load, code e of every coded vertex contiguous, one
+ * step of the loop over e serves a block of vertices: the adds of
+ * different vertices are independent, and for the linear kinds (one
+ * product per code) the loop over the block is a vector loop, one vertex
+ * per lane. Each vertex's terms are still formed and added in coefficient
+ * order (a = 0; a += term_0; a += term_1 …), so the result is sh_sums's to
+ * the bit, and the GPU's (scatter_coded.comp.glsl). */
+
+int sss_decode_prepare(sss_bake_file *f)
+{
+    sss_shcode *s = &f->sh;
+    free(s->planes);
+    s->planes = NULL;
+    s->planes_of = NULL;
+    if ((f->quant != SSS_QUANT_SH && f->quant != SSS_QUANT_REFS) || !s->ncoef || !s->ncoded || !s->code ||
+        !sss_shq_levels(s->kind))
+        return 0;
+    const size_t n = s->ncoded, E = (size_t)f->channels * s->ncoef;
+    const int wide = s->kind == SSS_SHQ_LINEAR16;
+    void *p = malloc(n * E * (wide ? sizeof(int16_t) : 1));
+    if (!p) return -1;
+    for (size_t k = 0; k < n; k++)
+        for (size_t e = 0; e < E; e++) {
+            const uint32_t x = sss_shq_code(s->code, s->kind, (uint64_t)k * E + e);
+            if (wide) ((int16_t *)p)[e * n + k] = (int16_t)(uint16_t)x;
+            else ((uint8_t *)p)[e * n + k] = (uint8_t)x;
+        }
+    s->planes = p;
+    s->planes_of = s->code;
+    return 0;
+}
+
+/* Vertices per block: the block's C sums (3 KiB) stay in L1 while the
+ * loop walks the C·ncoef planes. */
+#define SH_BLOCK 256
+
+/* The SH sums of coded vertices [k0, k0 + nb), nb ≤ SH_BLOCK, from the
+ * planes: channel c of the block's vertex b into acc[c·SH_BLOCK + b]. */
+static void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc)
+{
+    const size_t n = s->ncoded, N = s->ncoef, L = sss_shq_levels(s->kind);
+    for (size_t c = 0; c < C; c++) {
+        float *a = acc + c * SH_BLOCK;
+        for (size_t b = 0; b < nb; b++) a[b] = 0.0f;
+        for (size_t i = 0; i < N; i++) {
+            const size_t e = c * N + i;
+            if (s->kind == SSS_SHQ_LINEAR16) {
+                /* l16_term: the product rounded, then added */
+                const int16_t *p = (const int16_t *)s->planes + e * n + k0;
+                const float t = T[e];
+                for (size_t b = 0; b < nb; b++) {
+                    const float prod = (float)p[b] * t;
+                    a[b] += prod;
+                }
+            } else {
+                const uint8_t *p = (const uint8_t *)s->planes + e * n + k0;
+                const float *Te = T + e * L;
+                for (size_t b = 0; b < nb; b++) a[b] += Te[p[b]];
+            }
+        }
+    }
+}
+
+/* Whether f's SH codes have a current load-time layout. */
+static int has_planes(const sss_bake_file *f)
+{
+    return f->sh.planes && f->sh.planes_of == f->sh.code && f->sh.ncoef;
+}
+
+/* decode_compressed's loop over coded vertices [k0, k1) through the
+ * planes, in blocks: coded vertex k's C values go to out + (v − first)·C,
+ * v its vertex. */
+static void coded_blocks(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k0,
+                         size_t k1, size_t first, float *out)
+{
+    const size_t C = f->channels;
+    const int refs = f->quant == SSS_QUANT_REFS;
+    const ptrdiff_t nblk = (ptrdiff_t)((k1 - k0 + SH_BLOCK - 1) / SH_BLOCK);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if ((ptrdiff_t)(k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
+#endif
+    for (ptrdiff_t blk = 0; blk < nblk; blk++) {
+        float acc[SSS_MAX_CHANNELS * SH_BLOCK];
+        const size_t kb = k0 + (size_t)blk * SH_BLOCK, nb = k1 - kb < SH_BLOCK ? k1 - kb : SH_BLOCK;
+        sh_block(&f->sh, T, C, kb, nb, acc);
+        for (size_t b = 0; b < nb; b++) {
+            const size_t k = kb + b;
+            float sh[SSS_MAX_CHANNELS];
+            for (size_t c = 0; c < C; c++) sh[c] = acc[c * SH_BLOCK + b];
+            const size_t v = refs ? f->ref.coded_vertex[k] : k;
+            coded_finish(f, R, wt, k, sh, out + (v - first) * C);
+        }
     }
 }
 
@@ -452,11 +559,17 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
             for (int x = 0; x < 256; x++) wt8[x] = r->w_lo + span * (x / 255.0);
             wt = wt8;
         }
+        if (T && has_planes(f)) {
+            coded_blocks(f, R, T, wt, (size_t)k0, (size_t)k1, first, out);
+        } else {
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if ((k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
-        for (ptrdiff_t k = k0; k < k1; k++)
-            coded_values(f, R, T, wt, (size_t)k, out + ((size_t)r->coded_vertex[k] - first) * C);
+            for (ptrdiff_t k = k0; k < k1; k++)
+                coded_values(f, R, T, wt, (size_t)k, out + ((size_t)r->coded_vertex[k] - first) * C);
+        }
+    } else if (T && has_planes(f)) {
+        coded_blocks(f, NULL, T, NULL, first, end, first, out);
     } else {
         const ptrdiff_t n = (ptrdiff_t)count;
 #ifdef _OPENMP

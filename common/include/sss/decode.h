@@ -55,6 +55,15 @@ void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_in
  * coefficient costs the float product (int16_t)code · T. */
 void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T);
 
+/* Builds the decoder's load-time layout of f's SH codes (f->sh.planes,
+ * coefficient-major; sss_file_decode and sss_file_read call it). The file's
+ * codes stay as they are; the layout only lets the per-frame sums run over
+ * many vertices at once, each vertex's terms added in the same order, so
+ * every decode gives the same floats with or without it. Call it again
+ * after changing f->sh.code in place. Returns 0, or −1 when out of memory
+ * (the decoder then keeps its per-vertex loop). */
+int sss_decode_prepare(sss_bake_file *f);
+
 /* q(x_v, ω) for one vertex into out[0 … channels−1], the same value
  * sss_decode_all writes for it (same arithmetic, same rounding). Any
  * storage form. v out of range, or a zero or non-finite light, gives 0. */
