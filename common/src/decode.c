@@ -268,14 +268,17 @@ static void coded_weights(const sss_refcode *r, size_t k, double w[3])
 void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
 {
     const sss_shcode *s = &f->sh;
-    const size_t L = sss_shq_levels(s->kind), ntab = (size_t)f->channels * s->ncoef;
+    const size_t L = sss_decode_fold_levels(s->kind), ntab = (size_t)f->channels * s->ncoef;
     double y[SSS_SH_MAX_COUNT];
     sss_sh_eval(s->order, d, y);
-    if (s->kind == SSS_SHQ_LINEAR16) {
-        /* one level, the step scale / 32767 times y_i, in double from the
-         * stored scale and rounded once: a coefficient then costs one
-         * product code · T */
-        for (size_t t = 0; t < ntab; t++) T[t] = (float)((double)s->scale[t] * y[t % s->ncoef] / 32767.0);
+    const uint32_t M = sss_shq_linear_max(s->kind);
+    if (M) {
+        /* the linear kinds: one level, the step scale / M times y_i, in
+         * double from the stored scale and rounded once; a coefficient then
+         * costs one product code · T, which for a block of vertices is a
+         * vector loop (decode.c's load-time layout) where a 256-entry table
+         * is one scalar load per code */
+        for (size_t t = 0; t < ntab; t++) T[t] = (float)((double)s->scale[t] * y[t % s->ncoef] / M);
         return;
     }
     for (size_t t = 0; t < ntab; t++) {
@@ -284,10 +287,12 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
     }
 }
 
+uint32_t sss_decode_fold_levels(uint32_t kind) { return sss_shq_linear_max(kind) ? 1 : sss_shq_levels(kind); }
+
 /* Folded SH tables for direction d, allocated (NULL when out of memory). */
 static float *fold_sh(const sss_bake_file *f, const double d[3])
 {
-    const size_t L = sss_shq_levels(f->sh.kind), ntab = (size_t)f->channels * f->sh.ncoef;
+    const size_t L = sss_decode_fold_levels(f->sh.kind), ntab = (size_t)f->channels * f->sh.ncoef;
     float *T = malloc((ntab * L + 1) * sizeof *T);
     if (T) sss_decode_fold_sh(f, d, T);
     return T;
@@ -319,10 +324,16 @@ static float *fold_sh(const sss_bake_file *f, const double d[3])
         }                                                                                                              \
     } while (0)
 
-/* LINEAR16: the product rounded, then summed (the GPU's precise order) */
+/* The linear kinds: the product rounded, then summed (the GPU's precise
+ * order) */
 static inline float l16_term(const uint8_t *p, const float *T, size_t e)
 {
     const float prod = (float)(int16_t)(uint16_t)(p[2 * e] | p[2 * e + 1] << 8) * T[e];
+    return prod;
+}
+static inline float l8_term(const uint8_t *p, const float *T, size_t e)
+{
+    const float prod = (float)(int8_t)p[e] * T[e];
     return prod;
 }
 
@@ -344,7 +355,14 @@ static inline void sh_sums(const sss_shcode *s, const float *T, size_t C, size_t
 #undef TERM_L4
         break;
     }
-    default: { /* the 8-bit kinds: one byte per code, 256 levels */
+    case SSS_SHQ_LINEAR8: {
+        const uint8_t *p = s->code + e0;
+#define TERM_L8(e) l8_term(p, T, (e))
+        SH_SUMS(TERM_L8);
+#undef TERM_L8
+        break;
+    }
+    default: { /* LLOYD8: one byte per code, 256 levels */
         const uint8_t *p = s->code + e0;
 #define TERM_B(e) T[(e) * 256 + p[(e)]]
         SH_SUMS(TERM_B);
@@ -387,30 +405,39 @@ static void ref_values(const sss_bake_file *f, const double d[3], sss_interp int
     }
 }
 
+/* The blend of coded vertex k's three reference values (§4.2), every
+ * channel, into x[0 … C−1]: weights from wt (8-bit codes, tabulated per
+ * call) or coded_weights, each channel's sum in double, rounded once. The
+ * triangle and weights are shared by the channels: read once. */
+static inline void coded_blend(const sss_bake_file *f, const float *R, const double *wt, size_t k, float *x)
+{
+    const sss_refcode *r = &f->ref;
+    const size_t C = f->channels;
+    double w[3];
+    if (wt) {
+        w[0] = wt[r->w[2 * k]];
+        w[1] = wt[r->w[2 * k + 1]];
+        w[2] = 1.0 - w[0] - w[1];
+    } else {
+        coded_weights(r, k, w);
+    }
+    const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
+    const float *R0 = R + t[0] * C, *R1 = R + t[1] * C, *R2 = R + t[2] * C;
+    for (size_t c = 0; c < C; c++) x[c] = (float)(w[0] * R0[c] + w[1] * R1[c] + w[2] * R2[c]);
+}
+
 /* Values of coded vertex k, all channels, into out[0 … C−1], from the
  * reference values R (NULL without references) and the vertex's SH sums
- * sh[0 … C−1]. The triangle and weights are shared by the channels: read
- * once. */
+ * sh[0 … C−1]: blend + SH delta (§4.3), clamped at 0. */
 static inline void coded_finish(const sss_bake_file *f, const float *R, const double *wt, size_t k, const float *sh,
                                 float *out)
 {
     const size_t C = f->channels;
-    double w[3] = {0, 0, 0};
-    const uint32_t *t = NULL;
-    if (f->quant == SSS_QUANT_REFS) {
-        if (wt) { /* coded_weights' values, tabulated per call (8-bit codes) */
-            w[0] = wt[f->ref.w[2 * k]];
-            w[1] = wt[f->ref.w[2 * k + 1]];
-            w[2] = 1.0 - w[0] - w[1];
-        } else {
-            coded_weights(&f->ref, k, w);
-        }
-        t = f->ref.ref_tri + 3 * (size_t)f->ref.vtri[k];
-    }
+    float x[SSS_MAX_CHANNELS] = {0};
+    if (f->quant == SSS_QUANT_REFS) coded_blend(f, R, wt, k, x);
     for (size_t c = 0; c < C; c++) {
-        float x = t ? (float)(w[0] * R[t[0] * C + c] + w[1] * R[t[1] * C + c] + w[2] * R[t[2] * C + c]) : 0.0f;
-        x += sh[c];
-        out[c] = x > 0.0f ? x : 0.0f;
+        x[c] += sh[c];
+        out[c] = x[c] > 0.0f ? x[c] : 0.0f;
     }
 }
 
@@ -463,30 +490,63 @@ int sss_decode_prepare(sss_bake_file *f)
  * loop walks the C·ncoef planes. */
 #define SH_BLOCK 256
 
+/* a[b] += term(plane i, b) for the m planes from p (n codes apart), for
+ * b < nb, plane after plane: three planes per pass over the block, each
+ * vertex's adds still one after the other in plane order, so that a[] is
+ * loaded and stored once per three terms. TERM(q, i, b) is code b of plane
+ * q's term (the folded step's product for the linear kinds, the folded
+ * table's entry for the Lloyd kinds). */
+#define PLANE_SUMS(NAME, CODE, TERM)                                                                                   \
+    static void NAME(float *restrict a, const CODE *restrict p, size_t n, const float *restrict T, size_t L, size_t m, \
+                     size_t nb)                                                                                        \
+    {                                                                                                                  \
+        (void)L;                                                                                                       \
+        size_t i = 0;                                                                                                  \
+        for (; i + 3 <= m; i += 3) {                                                                                   \
+            const CODE *restrict p0 = p + i * n, *restrict p1 = p0 + n, *restrict p2 = p1 + n;                         \
+            for (size_t b = 0; b < nb; b++) {                                                                          \
+                float x = a[b];                                                                                        \
+                const float y0 = TERM(p0, i, b);                                                                       \
+                x += y0;                                                                                               \
+                const float y1 = TERM(p1, i + 1, b);                                                                   \
+                x += y1;                                                                                               \
+                const float y2 = TERM(p2, i + 2, b);                                                                   \
+                x += y2;                                                                                               \
+                a[b] = x;                                                                                              \
+            }                                                                                                          \
+        }                                                                                                              \
+        for (; i < m; i++) {                                                                                           \
+            const CODE *restrict p0 = p + i * n;                                                                       \
+            for (size_t b = 0; b < nb; b++) {                                                                          \
+                const float y0 = TERM(p0, i, b);                                                                       \
+                a[b] += y0;                                                                                            \
+            }                                                                                                          \
+        }                                                                                                              \
+    }
+#define TERM_LINEAR(q, i, b) ((float)(q)[b] * T[i]) /* l8_term, l16_term */
+#define TERM_TABLE(q, i, b) (T[(i) * L + (q)[b]])
+PLANE_SUMS(planes_linear8, int8_t, TERM_LINEAR)
+PLANE_SUMS(planes_linear16, int16_t, TERM_LINEAR)
+PLANE_SUMS(planes_table, uint8_t, TERM_TABLE)
+#undef TERM_LINEAR
+#undef TERM_TABLE
+#undef PLANE_SUMS
+
 /* The SH sums of coded vertices [k0, k0 + nb), nb ≤ SH_BLOCK, from the
  * planes: channel c of the block's vertex b into acc[c·SH_BLOCK + b]. */
 static void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc)
 {
-    const size_t n = s->ncoded, N = s->ncoef, L = sss_shq_levels(s->kind);
+    const size_t n = s->ncoded, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
     for (size_t c = 0; c < C; c++) {
         float *a = acc + c * SH_BLOCK;
         for (size_t b = 0; b < nb; b++) a[b] = 0.0f;
-        for (size_t i = 0; i < N; i++) {
-            const size_t e = c * N + i;
-            if (s->kind == SSS_SHQ_LINEAR16) {
-                /* l16_term: the product rounded, then added */
-                const int16_t *p = (const int16_t *)s->planes + e * n + k0;
-                const float t = T[e];
-                for (size_t b = 0; b < nb; b++) {
-                    const float prod = (float)p[b] * t;
-                    a[b] += prod;
-                }
-            } else {
-                const uint8_t *p = (const uint8_t *)s->planes + e * n + k0;
-                const float *Te = T + e * L;
-                for (size_t b = 0; b < nb; b++) a[b] += Te[p[b]];
-            }
-        }
+        const size_t e = c * N; /* the channel's first code element */
+        if (s->kind == SSS_SHQ_LINEAR16)
+            planes_linear16(a, (const int16_t *)s->planes + e * n + k0, n, T + e, L, N, nb);
+        else if (s->kind == SSS_SHQ_LINEAR8)
+            planes_linear8(a, (const int8_t *)s->planes + e * n + k0, n, T + e, L, N, nb);
+        else
+            planes_table(a, (const uint8_t *)s->planes + e * n + k0, n, T + e * L, L, N, nb);
     }
 }
 
@@ -512,12 +572,44 @@ static void coded_blocks(const sss_bake_file *f, const float *R, const float *T,
         float acc[SSS_MAX_CHANNELS * SH_BLOCK];
         const size_t kb = k0 + (size_t)blk * SH_BLOCK, nb = k1 - kb < SH_BLOCK ? k1 - kb : SH_BLOCK;
         sh_block(&f->sh, T, C, kb, nb, acc);
+        if (!refs) {
+            /* coded_finish without references: the sums clamped at 0, a
+             * vector loop (a data-dependent branch per value cost more than
+             * the sums), then interleaved into the output */
+            for (size_t c = 0; c < C; c++) {
+                float *a = acc + c * SH_BLOCK;
+                for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
+            }
+            float *o = out + (kb - first) * C;
+            if (C == 3)
+                for (size_t b = 0; b < nb; b++) {
+                    o[3 * b] = acc[b];
+                    o[3 * b + 1] = acc[SH_BLOCK + b];
+                    o[3 * b + 2] = acc[2 * SH_BLOCK + b];
+                }
+            else
+                for (size_t c = 0; c < C; c++)
+                    for (size_t b = 0; b < nb; b++) o[b * C + c] = acc[c * SH_BLOCK + b];
+            continue;
+        }
+        /* coded_finish for the block: the blend of the three reference
+         * values plus the SH sum, then clamped as above, then scattered to
+         * the coded vertices' places */
         for (size_t b = 0; b < nb; b++) {
-            const size_t k = kb + b;
-            float sh[SSS_MAX_CHANNELS];
-            for (size_t c = 0; c < C; c++) sh[c] = acc[c * SH_BLOCK + b];
-            const size_t v = refs ? f->ref.coded_vertex[k] : k;
-            coded_finish(f, R, wt, k, sh, out + (v - first) * C);
+            float x[SSS_MAX_CHANNELS];
+            coded_blend(f, R, wt, kb + b, x);
+            for (size_t c = 0; c < C; c++) {
+                x[c] += acc[c * SH_BLOCK + b];
+                acc[c * SH_BLOCK + b] = x[c];
+            }
+        }
+        for (size_t c = 0; c < C; c++) {
+            float *a = acc + c * SH_BLOCK;
+            for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
+        }
+        for (size_t b = 0; b < nb; b++) {
+            float *o = out + ((size_t)f->ref.coded_vertex[kb + b] - first) * C;
+            for (size_t c = 0; c < C; c++) o[c] = acc[c * SH_BLOCK + b];
         }
     }
 }

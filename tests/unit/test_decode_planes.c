@@ -77,7 +77,7 @@ static int teardown(void **state)
 static void oracle_sh(const sss_bake_file *f, const double light[3], float *out)
 {
     const sss_shcode *s = &f->sh;
-    const size_t C = f->channels, N = s->ncoef, L = sss_shq_levels(s->kind);
+    const size_t C = f->channels, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
     const double len = sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
     const double d[3] = {light[0] / len, light[1] / len, light[2] / len};
     float *T = malloc(C * N * L * sizeof *T);
@@ -89,8 +89,9 @@ static void oracle_sh(const sss_bake_file *f, const double light[3], float *out)
             for (size_t i = 0; i < N; i++) {
                 const size_t e = c * N + i;
                 const uint32_t x = sss_shq_code(s->code, s->kind, (uint64_t)v * C * N + e);
-                if (s->kind == SSS_SHQ_LINEAR16) {
-                    const float prod = (float)(int16_t)(uint16_t)x * T[e];
+                if (s->kind == SSS_SHQ_LINEAR16 || s->kind == SSS_SHQ_LINEAR8) {
+                    const int code = s->kind == SSS_SHQ_LINEAR16 ? (int16_t)(uint16_t)x : (int8_t)(uint8_t)x;
+                    const float prod = (float)code * T[e];
                     a += prod;
                 } else {
                     a += T[e * L + x];

@@ -107,7 +107,7 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
         uint32_t *ref_tri = image(L, SSS_GPU_BUF_REF_TRI);
         double *wtab = image(L, SSS_GPU_BUF_WEIGHTS);
         const uint32_t N = L->f->sh.ncoef, Lv = L->sh_levels ? L->sh_levels : 256u;
-        const int lin16 = strstr(p1->defines, "SH_LINEAR16") != NULL;
+        const int lin16 = strstr(p1->defines, "SH_LINEAR16") != NULL, lin8 = strstr(p1->defines, "SH_LINEAR8") != NULL;
         const uint32_t BITS = strstr(p1->defines, "SH_NIBBLE") ? 4u : lin16 ? 16u : 8u, PER = 32u / BITS;
         const uint32_t W = (C * N + PER - 1u) / PER; /* words per coded vertex */
         if (N) assert_int_equal(L->buffer[SSS_GPU_BUF_SH_CODES].bytes, (uint64_t)fr->u_count[1] * W * 4);
@@ -129,9 +129,9 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
                     for (uint32_t j = 0; j < N; j++) {
                         const uint32_t e = ch * N + j;
                         const uint32_t code = (codes[(e / PER) * fr->u_count[1] + k] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
-                        if (lin16) {
-                            /* int(w << (16 − shift)) >> 16: the sign-extended code times the folded step */
-                            const float prod = (float)(int16_t)code * fr->sh[ch * N + j];
+                        if (lin16 || lin8) {
+                            /* int(w << (32 − BITS − shift)) >> (32 − BITS): the sign-extended code times the folded step */
+                            const float prod = (float)(lin16 ? (int16_t)code : (int8_t)code) * fr->sh[ch * N + j];
                             acc += prod;
                         } else {
                             acc += fr->sh[(ch * N + j) * Lv + code];

@@ -48,12 +48,17 @@ void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_in
 
 /* The SH tables of f's compressed form (f->sh) folded with the basis at
  * unit direction d: T[(c·ncoef + i)·L + x] = table[(c·ncoef + i)·L + x] ·
- * y_i(d), L = sss_shq_levels(f->sh.kind); T holds channels·ncoef·L floats.
- * Per frame, these make q̃ = Σ_i c_i y_i(d) (§4.1) one table load per
- * coefficient: the C decoder's and the GPU path's terms, to the bit.
- * LINEAR16 (L = 1): T[c·ncoef + i] = scale · y_i(d) / 32767, and a
- * coefficient costs the float product (int16_t)code · T. */
+ * y_i(d), L = sss_decode_fold_levels(f->sh.kind); T holds channels·ncoef·L
+ * floats. Per frame, these make q̃ = Σ_i c_i y_i(d) (§4.1) one table load
+ * per coefficient: the C decoder's and the GPU path's terms, to the bit.
+ * The linear kinds (L = 1): T[c·ncoef + i] = scale · y_i(d) / M (M = 127
+ * for LINEAR8, 32767 for LINEAR16, sss_shq_linear_max), and a coefficient
+ * costs the float product (int8_t or int16_t)code · T. */
 void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T);
+
+/* Levels per coefficient of sss_decode_fold_sh's tables: 1 for the linear
+ * kinds (the folded step), else sss_shq_levels (256 or 16). */
+uint32_t sss_decode_fold_levels(uint32_t kind);
 
 /* Builds the decoder's load-time layout of f's SH codes (f->sh.planes,
  * coefficient-major; sss_file_decode and sss_file_read call it). The file's
