@@ -281,6 +281,31 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
         for (size_t t = 0; t < ntab; t++) T[t] = (float)((double)s->scale[t] * y[t % s->ncoef] / M);
         return;
     }
+    if (s->kind == SSS_SHQ_LLOYD4) {
+        /* two coefficients a table: pair m of channel c (coefficients 2m,
+         * 2m + 1) at T[(c·P + m)·256 + (x0 | x1 << 4)] = t_2m[x0] + t_2m+1[x1],
+         * each term as below; an odd last coefficient's 16 levels after all
+         * pairs, at T[C·P·256 + c·16 + x]. A pair of codes then costs one
+         * load where it cost two (sss_decode_fold_floats). */
+        const size_t N = s->ncoef, P = N / 2, C = f->channels;
+        for (size_t c = 0; c < C; c++) {
+            for (size_t m = 0; m < P; m++) {
+                float t0[16], t1[16];
+                const float *l0 = s->table + (c * N + 2 * m) * 16, *l1 = l0 + 16;
+                for (size_t x = 0; x < 16; x++) {
+                    t0[x] = (float)(l0[x] * y[2 * m]);
+                    t1[x] = (float)(l1[x] * y[2 * m + 1]);
+                }
+                float *Tm = T + (c * P + m) * 256;
+                for (size_t x1 = 0; x1 < 16; x1++)
+                    for (size_t x0 = 0; x0 < 16; x0++) Tm[x0 | x1 << 4] = t0[x0] + t1[x1];
+            }
+            if (N & 1)
+                for (size_t x = 0; x < 16; x++)
+                    T[C * P * 256 + c * 16 + x] = (float)(s->table[(c * N + N - 1) * 16 + x] * y[N - 1]);
+        }
+        return;
+    }
     for (size_t t = 0; t < ntab; t++) {
         const double yi = y[t % s->ncoef];
         for (size_t x = 0; x < L; x++) T[t * L + x] = (float)(s->table[t * L + x] * yi);
@@ -289,11 +314,17 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
 
 uint32_t sss_decode_fold_levels(uint32_t kind) { return sss_shq_linear_max(kind) ? 1 : sss_shq_levels(kind); }
 
+uint64_t sss_decode_fold_floats(uint32_t kind, uint32_t channels, uint32_t ncoef)
+{
+    if (kind == SSS_SHQ_LLOYD4) return (uint64_t)channels * ((uint64_t)ncoef / 2 * 256 + (ncoef & 1u) * 16);
+    return (uint64_t)channels * ncoef * sss_decode_fold_levels(kind);
+}
+
 /* Folded SH tables for direction d, allocated (NULL when out of memory). */
 static float *fold_sh(const sss_bake_file *f, const double d[3])
 {
-    const size_t L = sss_decode_fold_levels(f->sh.kind), ntab = (size_t)f->channels * f->sh.ncoef;
-    float *T = malloc((ntab * L + 1) * sizeof *T);
+    const size_t n = (size_t)sss_decode_fold_floats(f->sh.kind, f->channels, f->sh.ncoef);
+    float *T = malloc((n + 1) * sizeof *T);
     if (T) sss_decode_fold_sh(f, d, T);
     return T;
 }
@@ -348,11 +379,17 @@ static inline void sh_sums(const sss_shcode *s, const float *T, size_t C, size_t
 #undef TERM_L16
         break;
     }
-    case SSS_SHQ_LLOYD4: {
-        const uint8_t *p = s->code;
-#define TERM_L4(e) T[(e) * 16 + ((p[(e0 + (e)) >> 1] >> (((e0 + (e)) & 1u) * 4u)) & 15u)]
-        SH_SUMS(TERM_L4);
-#undef TERM_L4
+    case SSS_SHQ_LLOYD4: { /* the pairs' tables, then an odd last coefficient's (sss_decode_fold_sh) */
+        const size_t P = ncoef / 2;
+        for (size_t c = 0; c < C; c++) {
+            const size_t e = e0 + c * ncoef;
+            float a = 0.0f;
+            for (size_t m = 0; m < P; m++)
+                a += T[(c * P + m) * 256 + (sss_shq_code(s->code, s->kind, e + 2 * m) |
+                                            sss_shq_code(s->code, s->kind, e + 2 * m + 1) << 4)];
+            if (ncoef & 1) a += T[C * P * 256 + c * 16 + sss_shq_code(s->code, s->kind, e + ncoef - 1)];
+            acc[c] = a;
+        }
         break;
     }
     case SSS_SHQ_LINEAR8: {
@@ -471,16 +508,32 @@ int sss_decode_prepare(sss_bake_file *f)
     if ((f->quant != SSS_QUANT_SH && f->quant != SSS_QUANT_REFS) || !s->ncoef || !s->ncoded || !s->code ||
         !sss_shq_levels(s->kind))
         return 0;
-    const size_t n = s->ncoded, E = (size_t)f->channels * s->ncoef;
+    const size_t n = s->ncoded, C = f->channels, N = s->ncoef, E = C * N;
     const int wide = s->kind == SSS_SHQ_LINEAR16;
     void *p = malloc(n * E * (wide ? sizeof(int16_t) : 1));
     if (!p) return -1;
-    for (size_t k = 0; k < n; k++)
-        for (size_t e = 0; e < E; e++) {
-            const uint32_t x = sss_shq_code(s->code, s->kind, (uint64_t)k * E + e);
-            if (wide) ((int16_t *)p)[e * n + k] = (int16_t)(uint16_t)x;
-            else ((uint8_t *)p)[e * n + k] = (uint8_t)x;
-        }
+    if (s->kind == SSS_SHQ_LLOYD4) {
+        /* one plane per pair of a channel's codes, the byte x0 | x1 << 4
+         * (the index into the pair's folded table), then an odd last code:
+         * channel c's planes from c·Q, Q = ⌈N / 2⌉ */
+        const size_t P = N / 2, Q = (N + 1) / 2;
+        uint8_t *b = p;
+        for (size_t k = 0; k < n; k++)
+            for (size_t c = 0; c < C; c++) {
+                const uint64_t e = (uint64_t)k * E + c * N;
+                for (size_t m = 0; m < P; m++)
+                    b[(c * Q + m) * n + k] = (uint8_t)(sss_shq_code(s->code, s->kind, e + 2 * m) |
+                                                       sss_shq_code(s->code, s->kind, e + 2 * m + 1) << 4);
+                if (N & 1) b[(c * Q + P) * n + k] = (uint8_t)sss_shq_code(s->code, s->kind, e + N - 1);
+            }
+    } else {
+        for (size_t k = 0; k < n; k++)
+            for (size_t e = 0; e < E; e++) {
+                const uint32_t x = sss_shq_code(s->code, s->kind, (uint64_t)k * E + e);
+                if (wide) ((int16_t *)p)[e * n + k] = (int16_t)(uint16_t)x;
+                else ((uint8_t *)p)[e * n + k] = (uint8_t)x;
+            }
+    }
     s->planes = p;
     s->planes_of = s->code;
     return 0;
@@ -545,7 +598,12 @@ static void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, s
             planes_linear16(a, (const int16_t *)s->planes + e * n + k0, n, T + e, L, N, nb);
         else if (s->kind == SSS_SHQ_LINEAR8)
             planes_linear8(a, (const int8_t *)s->planes + e * n + k0, n, T + e, L, N, nb);
-        else
+        else if (s->kind == SSS_SHQ_LLOYD4) { /* the pairs, then an odd last code (sss_decode_prepare) */
+            const size_t P = N / 2, Q = (N + 1) / 2;
+            const uint8_t *pl = (const uint8_t *)s->planes + c * Q * n + k0;
+            planes_table(a, pl, n, T + c * P * 256, 256, P, nb);
+            if (N & 1) planes_table(a, pl + P * n, n, T + (C * P * 256 + c * 16), 16, 1, nb);
+        } else
             planes_table(a, (const uint8_t *)s->planes + e * n + k0, n, T + e * L, L, N, nb);
     }
 }

@@ -166,7 +166,7 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
                                                         << (b % per_word * bits);
             one_block(&L->buffer[SSS_GPU_BUF_SH_CODES], "sh_codes", 0, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, words,
                       (uint64_t)L->ncoded * vwords * 4);
-            L->sh_bytes = (uint64_t)C * shc->ncoef * L->sh_levels * sizeof(float);
+            L->sh_bytes = sss_decode_fold_floats(shc->kind, C, shc->ncoef) * sizeof(float);
         }
     }
     if (refs) {

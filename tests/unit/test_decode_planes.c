@@ -73,22 +73,33 @@ static int teardown(void **state)
 /* §4.1 for an SH-only file, vertex by vertex: channel c of vertex v is
  * Σ_i T_c,i(code) in coefficient order, in float, clamped at 0; T the
  * folded tables (sss_decode_fold_sh), a linear code's term the float
- * product code · T. */
+ * product code · T, 4-bit codes two at a time from the pairs' tables. */
 static void oracle_sh(const sss_bake_file *f, const double light[3], float *out)
 {
     const sss_shcode *s = &f->sh;
     const size_t C = f->channels, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
     const double len = sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
     const double d[3] = {light[0] / len, light[1] / len, light[2] / len};
-    float *T = malloc(C * N * L * sizeof *T);
+    float *T = malloc(sss_decode_fold_floats(s->kind, (uint32_t)C, (uint32_t)N) * sizeof *T);
     assert_non_null(T);
     sss_decode_fold_sh(f, d, T);
     for (size_t v = 0; v < f->mesh.nv; v++)
         for (size_t c = 0; c < C; c++) {
             float a = 0.0f;
+            const uint8_t *code = s->code;
+            const uint64_t e0 = (uint64_t)v * C * N + c * N;
+            if (s->kind == SSS_SHQ_LLOYD4) { /* two codes a table, then an odd last one */
+                const size_t P = N / 2;
+                for (size_t m = 0; m < P; m++)
+                    a += T[(c * P + m) * 256 + (sss_shq_code(code, s->kind, e0 + 2 * m) |
+                                                sss_shq_code(code, s->kind, e0 + 2 * m + 1) << 4)];
+                if (N & 1) a += T[C * P * 256 + c * 16 + sss_shq_code(code, s->kind, e0 + N - 1)];
+                out[v * C + c] = a > 0.0f ? a : 0.0f;
+                continue;
+            }
             for (size_t i = 0; i < N; i++) {
                 const size_t e = c * N + i;
-                const uint32_t x = sss_shq_code(s->code, s->kind, (uint64_t)v * C * N + e);
+                const uint32_t x = sss_shq_code(code, s->kind, (uint64_t)v * C * N + e);
                 if (s->kind == SSS_SHQ_LINEAR16 || s->kind == SSS_SHQ_LINEAR8) {
                     const int code = s->kind == SSS_SHQ_LINEAR16 ? (int16_t)(uint16_t)x : (int8_t)(uint8_t)x;
                     const float prod = (float)code * T[e];

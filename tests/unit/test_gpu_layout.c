@@ -126,7 +126,15 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
                 if (rec) x = (float)(w0 * (double)refq[r0 + ch] + w1 * (double)refq[r1 + ch] + w2 * (double)refq[r2 + ch]);
                 if (N) {
                     float acc = 0.0f;
-                    for (uint32_t j = 0; j < N; j++) {
+#define CODE_AT(e) ((codes[((e) / PER) * fr->u_count[1] + k] >> (((e) % PER) * BITS)) & ((1u << BITS) - 1u))
+                    if (BITS == 4) { /* the pairs' tables, then an odd last code (sss_decode_fold_sh) */
+                        const uint32_t P = N / 2, e = ch * N;
+                        for (uint32_t m = 0; m < P; m++)
+                            acc += fr->sh[(ch * P + m) * 256 + (CODE_AT(e + 2 * m) | CODE_AT(e + 2 * m + 1) << 4)];
+                        if (N & 1) acc += fr->sh[C * P * 256 + ch * 16 + CODE_AT(e + N - 1)];
+                    }
+#undef CODE_AT
+                    for (uint32_t j = 0; j < N && BITS != 4; j++) {
                         const uint32_t e = ch * N + j;
                         const uint32_t code = (codes[(e / PER) * fr->u_count[1] + k] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
                         if (lin16 || lin8) {
