@@ -446,10 +446,9 @@ static void ref_values(const sss_bake_file *f, const double d[3], sss_interp int
  * channel, into x[0 … C−1]: weights from wt (8-bit codes, tabulated per
  * call) or coded_weights, each channel's sum in double, rounded once. The
  * triangle and weights are shared by the channels: read once. */
-static inline void coded_blend(const sss_bake_file *f, const float *R, const double *wt, size_t k, float *x)
+static inline void coded_blend(const sss_bake_file *f, const float *R, const double *wt, size_t k, size_t C, float *x)
 {
     const sss_refcode *r = &f->ref;
-    const size_t C = f->channels;
     double w[3];
     if (wt) {
         w[0] = wt[r->w[2 * k]];
@@ -471,7 +470,7 @@ static inline void coded_finish(const sss_bake_file *f, const float *R, const do
 {
     const size_t C = f->channels;
     float x[SSS_MAX_CHANNELS] = {0};
-    if (f->quant == SSS_QUANT_REFS) coded_blend(f, R, wt, k, x);
+    if (f->quant == SSS_QUANT_REFS) coded_blend(f, R, wt, k, C, x);
     for (size_t c = 0; c < C; c++) {
         x[c] += sh[c];
         out[c] = x[c] > 0.0f ? x[c] : 0.0f;
@@ -655,7 +654,9 @@ static void coded_blocks(const sss_bake_file *f, const float *R, const float *T,
          * the coded vertices' places */
         for (size_t b = 0; b < nb; b++) {
             float x[SSS_MAX_CHANNELS];
-            coded_blend(f, R, wt, kb + b, x);
+            /* RGB with the channel count a constant: the three sums unrolled */
+            if (C == 3) coded_blend(f, R, wt, kb + b, 3, x);
+            else coded_blend(f, R, wt, kb + b, C, x);
             for (size_t c = 0; c < C; c++) {
                 x[c] += acc[c * SH_BLOCK + b];
                 acc[c * SH_BLOCK + b] = x[c];
