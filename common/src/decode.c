@@ -276,7 +276,7 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
         /* the linear kinds: one level, the step scale / M times y_i, in
          * double from the stored scale and rounded once; a coefficient then
          * costs one product code · T, which for a block of vertices is a
-         * vector loop (decode.c's load-time layout) where a 256-entry table
+         * vector loop (the load-time layout below) where a 256-entry table
          * is one scalar load per code */
         for (size_t t = 0; t < ntab; t++) T[t] = (float)((double)s->scale[t] * y[t % s->ncoef] / M);
         return;
