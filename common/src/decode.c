@@ -268,14 +268,42 @@ static void coded_weights(const sss_refcode *r, size_t k, double w[3])
 void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
 {
     const sss_shcode *s = &f->sh;
-    const size_t L = sss_shq_levels(s->kind), ntab = (size_t)f->channels * s->ncoef;
+    const size_t L = sss_decode_fold_levels(s->kind), ntab = (size_t)f->channels * s->ncoef;
     double y[SSS_SH_MAX_COUNT];
     sss_sh_eval(s->order, d, y);
-    if (s->kind == SSS_SHQ_LINEAR16) {
-        /* one level, the step scale / 32767 times y_i, in double from the
-         * stored scale and rounded once: a coefficient then costs one
-         * product code · T */
-        for (size_t t = 0; t < ntab; t++) T[t] = (float)((double)s->scale[t] * y[t % s->ncoef] / 32767.0);
+    const uint32_t M = sss_shq_linear_max(s->kind);
+    if (M) {
+        /* the linear kinds: one level, the step scale / M times y_i, in
+         * double from the stored scale and rounded once; a coefficient then
+         * costs one product code · T, which for a block of vertices is a
+         * vector loop (the load-time layout below) where a 256-entry table
+         * is one scalar load per code */
+        for (size_t t = 0; t < ntab; t++) T[t] = (float)((double)s->scale[t] * y[t % s->ncoef] / M);
+        return;
+    }
+    if (s->kind == SSS_SHQ_LLOYD4) {
+        /* two coefficients a table: pair m of channel c (coefficients 2m,
+         * 2m + 1) at T[(c·P + m)·256 + (x0 | x1 << 4)] = t_2m[x0] + t_2m+1[x1],
+         * each term as below; an odd last coefficient's 16 levels after all
+         * pairs, at T[C·P·256 + c·16 + x]. A pair of codes then costs one
+         * load where it cost two (sss_decode_fold_floats). */
+        const size_t N = s->ncoef, P = N / 2, C = f->channels;
+        for (size_t c = 0; c < C; c++) {
+            for (size_t m = 0; m < P; m++) {
+                float t0[16], t1[16];
+                const float *l0 = s->table + (c * N + 2 * m) * 16, *l1 = l0 + 16;
+                for (size_t x = 0; x < 16; x++) {
+                    t0[x] = (float)(l0[x] * y[2 * m]);
+                    t1[x] = (float)(l1[x] * y[2 * m + 1]);
+                }
+                float *Tm = T + (c * P + m) * 256;
+                for (size_t x1 = 0; x1 < 16; x1++)
+                    for (size_t x0 = 0; x0 < 16; x0++) Tm[x0 | x1 << 4] = t0[x0] + t1[x1];
+            }
+            if (N & 1)
+                for (size_t x = 0; x < 16; x++)
+                    T[C * P * 256 + c * 16 + x] = (float)(s->table[(c * N + N - 1) * 16 + x] * y[N - 1]);
+        }
         return;
     }
     for (size_t t = 0; t < ntab; t++) {
@@ -284,11 +312,19 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
     }
 }
 
+uint32_t sss_decode_fold_levels(uint32_t kind) { return sss_shq_linear_max(kind) ? 1 : sss_shq_levels(kind); }
+
+uint64_t sss_decode_fold_floats(uint32_t kind, uint32_t channels, uint32_t ncoef)
+{
+    if (kind == SSS_SHQ_LLOYD4) return (uint64_t)channels * ((uint64_t)ncoef / 2 * 256 + (ncoef & 1u) * 16);
+    return (uint64_t)channels * ncoef * sss_decode_fold_levels(kind);
+}
+
 /* Folded SH tables for direction d, allocated (NULL when out of memory). */
 static float *fold_sh(const sss_bake_file *f, const double d[3])
 {
-    const size_t L = sss_shq_levels(f->sh.kind), ntab = (size_t)f->channels * f->sh.ncoef;
-    float *T = malloc((ntab * L + 1) * sizeof *T);
+    const size_t n = (size_t)sss_decode_fold_floats(f->sh.kind, f->channels, f->sh.ncoef);
+    float *T = malloc((n + 1) * sizeof *T);
     if (T) sss_decode_fold_sh(f, d, T);
     return T;
 }
@@ -319,10 +355,16 @@ static float *fold_sh(const sss_bake_file *f, const double d[3])
         }                                                                                                              \
     } while (0)
 
-/* LINEAR16: the product rounded, then summed (the GPU's precise order) */
+/* The linear kinds: the product rounded, then summed (the GPU's precise
+ * order) */
 static inline float l16_term(const uint8_t *p, const float *T, size_t e)
 {
     const float prod = (float)(int16_t)(uint16_t)(p[2 * e] | p[2 * e + 1] << 8) * T[e];
+    return prod;
+}
+static inline float l8_term(const uint8_t *p, const float *T, size_t e)
+{
+    const float prod = (float)(int8_t)p[e] * T[e];
     return prod;
 }
 
@@ -337,14 +379,27 @@ static inline void sh_sums(const sss_shcode *s, const float *T, size_t C, size_t
 #undef TERM_L16
         break;
     }
-    case SSS_SHQ_LLOYD4: {
-        const uint8_t *p = s->code;
-#define TERM_L4(e) T[(e) * 16 + ((p[(e0 + (e)) >> 1] >> (((e0 + (e)) & 1u) * 4u)) & 15u)]
-        SH_SUMS(TERM_L4);
-#undef TERM_L4
+    case SSS_SHQ_LLOYD4: { /* the pairs' tables, then an odd last coefficient's (sss_decode_fold_sh) */
+        const size_t P = ncoef / 2;
+        for (size_t c = 0; c < C; c++) {
+            const size_t e = e0 + c * ncoef;
+            float a = 0.0f;
+            for (size_t m = 0; m < P; m++)
+                a += T[(c * P + m) * 256 + (sss_shq_code(s->code, s->kind, e + 2 * m) |
+                                            sss_shq_code(s->code, s->kind, e + 2 * m + 1) << 4)];
+            if (ncoef & 1) a += T[C * P * 256 + c * 16 + sss_shq_code(s->code, s->kind, e + ncoef - 1)];
+            acc[c] = a;
+        }
         break;
     }
-    default: { /* the 8-bit kinds: one byte per code, 256 levels */
+    case SSS_SHQ_LINEAR8: {
+        const uint8_t *p = s->code + e0;
+#define TERM_L8(e) l8_term(p, T, (e))
+        SH_SUMS(TERM_L8);
+#undef TERM_L8
+        break;
+    }
+    default: { /* LLOYD8: one byte per code, 256 levels */
         const uint8_t *p = s->code + e0;
 #define TERM_B(e) T[(e) * 256 + p[(e)]]
         SH_SUMS(TERM_B);
@@ -387,31 +442,234 @@ static void ref_values(const sss_bake_file *f, const double d[3], sss_interp int
     }
 }
 
+/* The blend of coded vertex k's three reference values (§4.2), every
+ * channel, into x[0 … C−1]: weights from wt (8-bit codes, tabulated per
+ * call) or coded_weights, each channel's sum in double, rounded once. The
+ * triangle and weights are shared by the channels: read once. */
+static inline void coded_blend(const sss_bake_file *f, const float *R, const double *wt, size_t k, size_t C, float *x)
+{
+    const sss_refcode *r = &f->ref;
+    double w[3];
+    if (wt) {
+        w[0] = wt[r->w[2 * k]];
+        w[1] = wt[r->w[2 * k + 1]];
+        w[2] = 1.0 - w[0] - w[1];
+    } else {
+        coded_weights(r, k, w);
+    }
+    const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
+    const float *R0 = R + t[0] * C, *R1 = R + t[1] * C, *R2 = R + t[2] * C;
+    for (size_t c = 0; c < C; c++) x[c] = (float)(w[0] * R0[c] + w[1] * R1[c] + w[2] * R2[c]);
+}
+
 /* Values of coded vertex k, all channels, into out[0 … C−1], from the
- * reference values R and the folded SH tables T (either may be NULL when
- * absent). The triangle and weights are shared by the channels: read once. */
-static inline void coded_values(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k,
+ * reference values R (NULL without references) and the vertex's SH sums
+ * sh[0 … C−1]: blend + SH delta (§4.3), clamped at 0. */
+static inline void coded_finish(const sss_bake_file *f, const float *R, const double *wt, size_t k, const float *sh,
                                 float *out)
 {
     const size_t C = f->channels;
-    double w[3] = {0, 0, 0};
-    const uint32_t *t = NULL;
-    float sh[SSS_MAX_CHANNELS] = {0};
-    if (f->quant == SSS_QUANT_REFS) {
-        if (wt) { /* coded_weights' values, tabulated per call (8-bit codes) */
-            w[0] = wt[f->ref.w[2 * k]];
-            w[1] = wt[f->ref.w[2 * k + 1]];
-            w[2] = 1.0 - w[0] - w[1];
-        } else {
-            coded_weights(&f->ref, k, w);
-        }
-        t = f->ref.ref_tri + 3 * (size_t)f->ref.vtri[k];
-    }
-    if (T && f->sh.ncoef) sh_sums(&f->sh, T, C, k, sh);
+    float x[SSS_MAX_CHANNELS] = {0};
+    if (f->quant == SSS_QUANT_REFS) coded_blend(f, R, wt, k, C, x);
     for (size_t c = 0; c < C; c++) {
-        float x = t ? (float)(w[0] * R[t[0] * C + c] + w[1] * R[t[1] * C + c] + w[2] * R[t[2] * C + c]) : 0.0f;
-        x += sh[c];
-        out[c] = x > 0.0f ? x : 0.0f;
+        x[c] += sh[c];
+        out[c] = x[c] > 0.0f ? x[c] : 0.0f;
+    }
+}
+
+/* coded_finish with the SH sums of the per-vertex loop (sh_sums); T may be
+ * NULL when there is no SH part. */
+static inline void coded_values(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k,
+                                float *out)
+{
+    float sh[SSS_MAX_CHANNELS] = {0};
+    if (T && f->sh.ncoef) sh_sums(&f->sh, T, f->channels, k, sh);
+    coded_finish(f, R, wt, k, sh, out);
+}
+
+/* ---- the load-time layout (sss_decode_prepare) ------------------------ *
+ * The file keeps each vertex's C·ncoef codes together (format.h), so the
+ * per-vertex loop above is one chain of dependent adds per channel.
+ * Transposed once at load, code e of every coded vertex contiguous, one
+ * step of the loop over e serves a block of vertices: the adds of
+ * different vertices are independent, and for the linear kinds (one
+ * product per code) the loop over the block is a vector loop, one vertex
+ * per lane. Each vertex's terms are still formed and added in coefficient
+ * order (a = 0; a += term_0; a += term_1 …), so the result is sh_sums's to
+ * the bit, and the GPU's (scatter_coded.comp.glsl). */
+
+int sss_decode_prepare(sss_bake_file *f)
+{
+    sss_shcode *s = &f->sh;
+    free(s->planes);
+    s->planes = NULL;
+    s->planes_of = NULL;
+    if ((f->quant != SSS_QUANT_SH && f->quant != SSS_QUANT_REFS) || !s->ncoef || !s->ncoded || !s->code ||
+        !sss_shq_levels(s->kind))
+        return 0;
+    const size_t n = s->ncoded, C = f->channels, N = s->ncoef, E = C * N;
+    const int wide = s->kind == SSS_SHQ_LINEAR16;
+    void *p = malloc(n * E * (wide ? sizeof(int16_t) : 1));
+    if (!p) return -1;
+    if (s->kind == SSS_SHQ_LLOYD4) {
+        /* one plane per pair of a channel's codes, the byte x0 | x1 << 4
+         * (the index into the pair's folded table), then an odd last code:
+         * channel c's planes from c·Q, Q = ⌈N / 2⌉ */
+        const size_t P = N / 2, Q = (N + 1) / 2;
+        uint8_t *b = p;
+        for (size_t k = 0; k < n; k++)
+            for (size_t c = 0; c < C; c++) {
+                const uint64_t e = (uint64_t)k * E + c * N;
+                for (size_t m = 0; m < P; m++)
+                    b[(c * Q + m) * n + k] = (uint8_t)(sss_shq_code(s->code, s->kind, e + 2 * m) |
+                                                       sss_shq_code(s->code, s->kind, e + 2 * m + 1) << 4);
+                if (N & 1) b[(c * Q + P) * n + k] = (uint8_t)sss_shq_code(s->code, s->kind, e + N - 1);
+            }
+    } else {
+        for (size_t k = 0; k < n; k++)
+            for (size_t e = 0; e < E; e++) {
+                const uint32_t x = sss_shq_code(s->code, s->kind, (uint64_t)k * E + e);
+                if (wide) ((int16_t *)p)[e * n + k] = (int16_t)(uint16_t)x;
+                else ((uint8_t *)p)[e * n + k] = (uint8_t)x;
+            }
+    }
+    s->planes = p;
+    s->planes_of = s->code;
+    return 0;
+}
+
+/* Vertices per block: the block's C sums (3 KiB) stay in L1 while the
+ * loop walks the C·ncoef planes. */
+#define SH_BLOCK 256
+
+/* a[b] += term(plane i, b) for the m planes from p (n codes apart), for
+ * b < nb, plane after plane: three planes per pass over the block, each
+ * vertex's adds still one after the other in plane order, so that a[] is
+ * loaded and stored once per three terms. TERM(q, i, b) is code b of plane
+ * q's term (the folded step's product for the linear kinds, the folded
+ * table's entry for the Lloyd kinds). */
+#define PLANE_SUMS(NAME, CODE, TERM)                                                                                   \
+    static void NAME(float *restrict a, const CODE *restrict p, size_t n, const float *restrict T, size_t L, size_t m, \
+                     size_t nb)                                                                                        \
+    {                                                                                                                  \
+        (void)L;                                                                                                       \
+        size_t i = 0;                                                                                                  \
+        for (; i + 3 <= m; i += 3) {                                                                                   \
+            const CODE *restrict p0 = p + i * n, *restrict p1 = p0 + n, *restrict p2 = p1 + n;                         \
+            for (size_t b = 0; b < nb; b++) {                                                                          \
+                float x = a[b];                                                                                        \
+                const float y0 = TERM(p0, i, b);                                                                       \
+                x += y0;                                                                                               \
+                const float y1 = TERM(p1, i + 1, b);                                                                   \
+                x += y1;                                                                                               \
+                const float y2 = TERM(p2, i + 2, b);                                                                   \
+                x += y2;                                                                                               \
+                a[b] = x;                                                                                              \
+            }                                                                                                          \
+        }                                                                                                              \
+        for (; i < m; i++) {                                                                                           \
+            const CODE *restrict p0 = p + i * n;                                                                       \
+            for (size_t b = 0; b < nb; b++) {                                                                          \
+                const float y0 = TERM(p0, i, b);                                                                       \
+                a[b] += y0;                                                                                            \
+            }                                                                                                          \
+        }                                                                                                              \
+    }
+#define TERM_LINEAR(q, i, b) ((float)(q)[b] * T[i]) /* l8_term, l16_term */
+#define TERM_TABLE(q, i, b) (T[(i) * L + (q)[b]])
+PLANE_SUMS(planes_linear8, int8_t, TERM_LINEAR)
+PLANE_SUMS(planes_linear16, int16_t, TERM_LINEAR)
+PLANE_SUMS(planes_table, uint8_t, TERM_TABLE)
+#undef TERM_LINEAR
+#undef TERM_TABLE
+#undef PLANE_SUMS
+
+/* The SH sums of coded vertices [k0, k0 + nb), nb ≤ SH_BLOCK, from the
+ * planes: channel c of the block's vertex b into acc[c·SH_BLOCK + b]. */
+static void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc)
+{
+    const size_t n = s->ncoded, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
+    for (size_t c = 0; c < C; c++) {
+        float *a = acc + c * SH_BLOCK;
+        for (size_t b = 0; b < nb; b++) a[b] = 0.0f;
+        const size_t e = c * N; /* the channel's first code element */
+        if (s->kind == SSS_SHQ_LINEAR16)
+            planes_linear16(a, (const int16_t *)s->planes + e * n + k0, n, T + e, L, N, nb);
+        else if (s->kind == SSS_SHQ_LINEAR8)
+            planes_linear8(a, (const int8_t *)s->planes + e * n + k0, n, T + e, L, N, nb);
+        else if (s->kind == SSS_SHQ_LLOYD4) { /* the pairs, then an odd last code (sss_decode_prepare) */
+            const size_t P = N / 2, Q = (N + 1) / 2;
+            const uint8_t *pl = (const uint8_t *)s->planes + c * Q * n + k0;
+            planes_table(a, pl, n, T + c * P * 256, 256, P, nb);
+            if (N & 1) planes_table(a, pl + P * n, n, T + (C * P * 256 + c * 16), 16, 1, nb);
+        } else
+            planes_table(a, (const uint8_t *)s->planes + e * n + k0, n, T + e * L, L, N, nb);
+    }
+}
+
+/* Whether f's SH codes have a current load-time layout. */
+static int has_planes(const sss_bake_file *f)
+{
+    return f->sh.planes && f->sh.planes_of == f->sh.code && f->sh.ncoef;
+}
+
+/* decode_compressed's loop over coded vertices [k0, k1) through the
+ * planes, in blocks: coded vertex k's C values go to out + (v − first)·C,
+ * v its vertex. */
+static void coded_blocks(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k0,
+                         size_t k1, size_t first, float *out)
+{
+    const size_t C = f->channels;
+    const int refs = f->quant == SSS_QUANT_REFS;
+    const ptrdiff_t nblk = (ptrdiff_t)((k1 - k0 + SH_BLOCK - 1) / SH_BLOCK);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if ((ptrdiff_t)(k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
+#endif
+    for (ptrdiff_t blk = 0; blk < nblk; blk++) {
+        float acc[SSS_MAX_CHANNELS * SH_BLOCK];
+        const size_t kb = k0 + (size_t)blk * SH_BLOCK, nb = k1 - kb < SH_BLOCK ? k1 - kb : SH_BLOCK;
+        sh_block(&f->sh, T, C, kb, nb, acc);
+        if (!refs) {
+            /* coded_finish without references: the sums clamped at 0, a
+             * vector loop (a data-dependent branch per value cost more than
+             * the sums), then interleaved into the output */
+            for (size_t c = 0; c < C; c++) {
+                float *a = acc + c * SH_BLOCK;
+                for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
+            }
+            float *o = out + (kb - first) * C;
+            if (C == 3)
+                for (size_t b = 0; b < nb; b++) {
+                    o[3 * b] = acc[b];
+                    o[3 * b + 1] = acc[SH_BLOCK + b];
+                    o[3 * b + 2] = acc[2 * SH_BLOCK + b];
+                }
+            else
+                for (size_t c = 0; c < C; c++)
+                    for (size_t b = 0; b < nb; b++) o[b * C + c] = acc[c * SH_BLOCK + b];
+            continue;
+        }
+        /* coded_finish for the block: the blend of the three reference
+         * values plus the SH sum, then clamped as above, then scattered to
+         * the coded vertices' places */
+        for (size_t b = 0; b < nb; b++) {
+            float x[SSS_MAX_CHANNELS];
+            /* RGB with the channel count a constant: the three sums unrolled */
+            if (C == 3) coded_blend(f, R, wt, kb + b, 3, x);
+            else coded_blend(f, R, wt, kb + b, C, x);
+            for (size_t c = 0; c < C; c++) {
+                x[c] += acc[c * SH_BLOCK + b];
+                acc[c * SH_BLOCK + b] = x[c];
+            }
+        }
+        for (size_t c = 0; c < C; c++) {
+            float *a = acc + c * SH_BLOCK;
+            for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
+        }
+        for (size_t b = 0; b < nb; b++) {
+            float *o = out + ((size_t)f->ref.coded_vertex[kb + b] - first) * C;
+            for (size_t c = 0; c < C; c++) o[c] = acc[c * SH_BLOCK + b];
+        }
     }
 }
 
@@ -452,11 +710,17 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
             for (int x = 0; x < 256; x++) wt8[x] = r->w_lo + span * (x / 255.0);
             wt = wt8;
         }
+        if (T && has_planes(f)) {
+            coded_blocks(f, R, T, wt, (size_t)k0, (size_t)k1, first, out);
+        } else {
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if ((k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
-        for (ptrdiff_t k = k0; k < k1; k++)
-            coded_values(f, R, T, wt, (size_t)k, out + ((size_t)r->coded_vertex[k] - first) * C);
+            for (ptrdiff_t k = k0; k < k1; k++)
+                coded_values(f, R, T, wt, (size_t)k, out + ((size_t)r->coded_vertex[k] - first) * C);
+        }
+    } else if (T && has_planes(f)) {
+        coded_blocks(f, NULL, T, NULL, first, end, first, out);
     } else {
         const ptrdiff_t n = (ptrdiff_t)count;
 #ifdef _OPENMP

@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sss/decode.h"
 #include "sss/fileio.h"
 
 #include "sections/sections.h"
@@ -349,6 +350,9 @@ sss_result sss_file_decode(const void *buf, size_t len, const char *name, sss_ba
     static const uint8_t empty[1] = {0};
     sss_result r = decode_impl(buf ? buf : empty, len, name, f, err);
     if (r != SSS_OK) sss_file_free(f);
+    /* the decoder's load-time layout of SH codes; without memory for it
+     * the decoder takes its per-vertex loop (the same values, slower) */
+    else (void)sss_decode_prepare(f);
     return r;
 }
 

@@ -94,7 +94,7 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
         return SSS_OK;
     }
     const sss_shcode *shc = &f->sh;
-    L->sh_levels = (sh || refs) && shc->ncoef ? sss_shq_levels(shc->kind) : 0;
+    L->sh_levels = (sh || refs) && shc->ncoef ? sss_decode_fold_levels(shc->kind) : 0;
     if ((sh || refs) && shc->ncoef && !L->sh_levels) {
         memset(L, 0, sizeof *L);
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "gpu layout: SH code kind %u is not supported", shc->kind);
@@ -137,7 +137,10 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
         snprintf(L->pass[SSS_GPU_PASS_CODED].defines, sizeof L->pass[0].defines,
                  "#define CHANNELS %u\n#define NCOEF %u\n#define SH_LEVELS %u\n%s%s", C, shc->ncoef,
                  L->sh_levels ? L->sh_levels : 256u,
-                 shc->kind == SSS_SHQ_LLOYD4 ? "#define SH_NIBBLE 1\n" : shc->kind == SSS_SHQ_LINEAR16 ? "#define SH_LINEAR16 1\n" : "",
+                 shc->kind == SSS_SHQ_LLOYD4    ? "#define SH_NIBBLE 1\n"
+                 : shc->kind == SSS_SHQ_LINEAR16 ? "#define SH_LINEAR16 1\n"
+                 : shc->kind == SSS_SHQ_LINEAR8  ? "#define SH_LINEAR8 1\n"
+                                                 : "",
                  refs ? "#define REFS 1\n" : "");
     }
     if (sh || refs) {
@@ -163,7 +166,7 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
                                                         << (b % per_word * bits);
             one_block(&L->buffer[SSS_GPU_BUF_SH_CODES], "sh_codes", 0, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, words,
                       (uint64_t)L->ncoded * vwords * 4);
-            L->sh_bytes = (uint64_t)C * shc->ncoef * L->sh_levels * sizeof(float);
+            L->sh_bytes = sss_decode_fold_floats(shc->kind, C, shc->ncoef) * sizeof(float);
         }
     }
     if (refs) {

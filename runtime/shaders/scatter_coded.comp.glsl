@@ -4,6 +4,10 @@ const uint C = uint(CHANNELS), N = uint(NCOEF), L = uint(SH_LEVELS);
 const uint BITS = 4u;
 #elif defined(SH_LINEAR16)
 const uint BITS = 16u; // int16 codes (Hao-Varshney 2004 sec. 4.1), two's complement
+#define SH_LINEAR 1
+#elif defined(SH_LINEAR8)
+const uint BITS = 8u; // int8 codes, the step folded as for int16 (common/src/decode.c, l8_term)
+#define SH_LINEAR 1
 #else
 const uint BITS = 8u;
 #endif
@@ -15,7 +19,9 @@ layout(std430, binding = 3) writeonly buffer Q { float q[]; };
 // invocations read neighbouring words: code b of vertex k is in codes[(b / PER) * u_count + k]
 layout(std430, binding = 0) readonly buffer Codes { uint codes[]; };
 // dequantisation tables times y_i(light), rewritten per frame: sh_t[(c * N + i) * L + code];
-// SH_LINEAR16 (L = 1): sh_t[c * N + i] = scale * y_i / 32767, the coefficient is code * sh_t
+// SH_NIBBLE: two codes a table (common/src/decode.c, sss_decode_fold_sh), pair m of channel c
+// at sh_t[(c * P + m) * 256 + (x0 | x1 << 4)], an odd last code at sh_t[C * P * 256 + c * 16 + x];
+// linear kinds (L = 1): sh_t[c * N + i] = scale * y_i / M (M = 127 or 32767), the coefficient is code * sh_t
 layout(std430, binding = 4) readonly buffer ShTable { float sh_t[]; };
 #endif
 #ifdef REFS
@@ -52,12 +58,29 @@ void main() {
 #endif
 #if NCOEF > 0
         precise float acc = 0.0;
+#ifdef SH_NIBBLE
+        const uint P = N / 2u;
+        for (uint m = 0u; m < P; m++) {
+            uint e = ch * N + 2u * m;
+            if (e % PER == 0u) word = codes[(e / PER) * u_count + k]; // e walks 0 … C·N − 1 in order
+            uint x0 = (word >> ((e % PER) * BITS)) & 15u;
+            e++;
+            if (e % PER == 0u) word = codes[(e / PER) * u_count + k];
+            uint x1 = (word >> ((e % PER) * BITS)) & 15u;
+            acc += sh_t[(ch * P + m) * 256u + (x0 | (x1 << 4u))];
+        }
+        if (N % 2u == 1u) {
+            uint e = ch * N + N - 1u;
+            if (e % PER == 0u) word = codes[(e / PER) * u_count + k];
+            acc += sh_t[C * P * 256u + ch * 16u + ((word >> ((e % PER) * BITS)) & 15u)];
+        }
+#else
         for (uint j = 0u; j < N; j++) {
             uint e = ch * N + j;
             if (e % PER == 0u) word = codes[(e / PER) * u_count + k]; // e walks 0 … C·N − 1 in order
-#ifdef SH_LINEAR16
-            // the 16 bits, sign-extended: the C decoder's (int16_t) code
-            int code = int(word << (16u - (e % PER) * BITS)) >> 16;
+#ifdef SH_LINEAR
+            // the BITS bits, sign-extended: the C decoder's (int8_t) or (int16_t) code
+            int code = int(word << (32u - BITS - (e % PER) * BITS)) >> (32u - BITS);
             precise float p = float(code) * sh_t[ch * N + j];
             acc += p;
 #else
@@ -65,6 +88,7 @@ void main() {
             acc += sh_t[(ch * N + j) * L + code];
 #endif
         }
+#endif
         x += acc;
 #endif
         q[v * C + ch] = x > 0.0 ? x : 0.0; // q >= 0 physically; the C decoder clamps the same way

@@ -107,7 +107,7 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
         uint32_t *ref_tri = image(L, SSS_GPU_BUF_REF_TRI);
         double *wtab = image(L, SSS_GPU_BUF_WEIGHTS);
         const uint32_t N = L->f->sh.ncoef, Lv = L->sh_levels ? L->sh_levels : 256u;
-        const int lin16 = strstr(p1->defines, "SH_LINEAR16") != NULL;
+        const int lin16 = strstr(p1->defines, "SH_LINEAR16") != NULL, lin8 = strstr(p1->defines, "SH_LINEAR8") != NULL;
         const uint32_t BITS = strstr(p1->defines, "SH_NIBBLE") ? 4u : lin16 ? 16u : 8u, PER = 32u / BITS;
         const uint32_t W = (C * N + PER - 1u) / PER; /* words per coded vertex */
         if (N) assert_int_equal(L->buffer[SSS_GPU_BUF_SH_CODES].bytes, (uint64_t)fr->u_count[1] * W * 4);
@@ -126,12 +126,20 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
                 if (rec) x = (float)(w0 * (double)refq[r0 + ch] + w1 * (double)refq[r1 + ch] + w2 * (double)refq[r2 + ch]);
                 if (N) {
                     float acc = 0.0f;
-                    for (uint32_t j = 0; j < N; j++) {
+#define CODE_AT(e) ((codes[((e) / PER) * fr->u_count[1] + k] >> (((e) % PER) * BITS)) & ((1u << BITS) - 1u))
+                    if (BITS == 4) { /* the pairs' tables, then an odd last code (sss_decode_fold_sh) */
+                        const uint32_t P = N / 2, e = ch * N;
+                        for (uint32_t m = 0; m < P; m++)
+                            acc += fr->sh[(ch * P + m) * 256 + (CODE_AT(e + 2 * m) | CODE_AT(e + 2 * m + 1) << 4)];
+                        if (N & 1) acc += fr->sh[C * P * 256 + ch * 16 + CODE_AT(e + N - 1)];
+                    }
+#undef CODE_AT
+                    for (uint32_t j = 0; j < N && BITS != 4; j++) {
                         const uint32_t e = ch * N + j;
                         const uint32_t code = (codes[(e / PER) * fr->u_count[1] + k] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
-                        if (lin16) {
-                            /* int(w << (16 − shift)) >> 16: the sign-extended code times the folded step */
-                            const float prod = (float)(int16_t)code * fr->sh[ch * N + j];
+                        if (lin16 || lin8) {
+                            /* int(w << (32 − BITS − shift)) >> (32 − BITS): the sign-extended code times the folded step */
+                            const float prod = (float)(lin16 ? (int16_t)code : (int8_t)code) * fr->sh[ch * N + j];
                             acc += prod;
                         } else {
                             acc += fr->sh[(ch * N + j) * Lv + code];

@@ -48,12 +48,34 @@ void sss_decode_all_interp(const sss_bake_file *f, const double light[3], sss_in
 
 /* The SH tables of f's compressed form (f->sh) folded with the basis at
  * unit direction d: T[(c·ncoef + i)·L + x] = table[(c·ncoef + i)·L + x] ·
- * y_i(d), L = sss_shq_levels(f->sh.kind); T holds channels·ncoef·L floats.
- * Per frame, these make q̃ = Σ_i c_i y_i(d) (§4.1) one table load per
- * coefficient: the C decoder's and the GPU path's terms, to the bit.
- * LINEAR16 (L = 1): T[c·ncoef + i] = scale · y_i(d) / 32767, and a
- * coefficient costs the float product (int16_t)code · T. */
+ * y_i(d), L = sss_decode_fold_levels(f->sh.kind); T holds channels·ncoef·L
+ * floats (LLOYD4: sss_decode_fold_floats, paired). Per frame, these make
+ * q̃ = Σ_i c_i y_i(d) (§4.1) one table load per coefficient (per pair of
+ * 4-bit codes): the C decoder's and the GPU path's terms, to the bit.
+ * The linear kinds (L = 1): T[c·ncoef + i] = scale · y_i(d) / M (M = 127
+ * for LINEAR8, 32767 for LINEAR16, sss_shq_linear_max), and a coefficient
+ * costs the float product (int8_t or int16_t)code · T. */
 void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T);
+
+/* Levels per coefficient of sss_decode_fold_sh's tables: 1 for the linear
+ * kinds (the folded step), else sss_shq_levels (256 or 16). */
+uint32_t sss_decode_fold_levels(uint32_t kind);
+
+/* Floats of sss_decode_fold_sh's tables: channels·ncoef·levels, except
+ * LLOYD4, whose codes are summed two at a time: per channel ⌊ncoef / 2⌋
+ * tables of 256 (pair m: T[(c·P + m)·256 + (x0 | x1 << 4)] = term_2m(x0) +
+ * term_2m+1(x1), P = ⌊ncoef / 2⌋), then, for an odd ncoef, the last
+ * coefficient's 16 levels of every channel at T[C·P·256 + c·16 + x]. */
+uint64_t sss_decode_fold_floats(uint32_t kind, uint32_t channels, uint32_t ncoef);
+
+/* Builds the decoder's load-time layout of f's SH codes (f->sh.planes,
+ * coefficient-major; sss_file_decode and sss_file_read call it). The file's
+ * codes stay as they are; the layout only lets the per-frame sums run over
+ * many vertices at once, each vertex's terms added in the same order, so
+ * every decode gives the same floats with or without it. Call it again
+ * after changing f->sh.code in place. Returns 0, or −1 when out of memory
+ * (the decoder then keeps its per-vertex loop). */
+int sss_decode_prepare(sss_bake_file *f);
 
 /* q(x_v, ω) for one vertex into out[0 … channels−1], the same value
  * sss_decode_all writes for it (same arithmetic, same rounding). Any

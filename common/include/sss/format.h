@@ -93,6 +93,14 @@ typedef struct sss_shcode {
     uint8_t *code;         /* code bytes as in the file: element e = (k * channels + c) * ncoef + i,
                               one byte each (8-bit kinds), nibble e%2 of byte e/2 (LLOYD4) or bytes 2e, 2e+1
                               little-endian (LINEAR16); owned */
+    /* Not in the file: the decoder's load-time layout of the codes
+     * (sss_decode_prepare, docs/benchmarks.md "Compressed forms' per-frame
+     * cost"), coefficient-major: element e of coded vertex k at
+     * planes[e * ncoded + k], one code a byte (8-bit kinds, LLOYD4) or an
+     * int16_t (LINEAR16), so that one loop step serves a run of vertices.
+     * NULL when not built; used only while planes_of == code. Owned. */
+    void *planes;
+    const uint8_t *planes_of;
 } sss_shcode;
 
 /* Reference part (SSS_QUANT_REFS). */

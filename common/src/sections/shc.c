@@ -200,6 +200,7 @@ void sss_sec_shc_free(sss_bake_file *f)
     free(f->sh.table);
     free(f->sh.scale);
     free(f->sh.code);
+    free(f->sh.planes);
     memset(&f->sh, 0, sizeof f->sh);
 }
 

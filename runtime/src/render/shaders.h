@@ -29,8 +29,10 @@
  * §4.3): for every coded vertex and channel, the blend of its three
  * reference values (REFS) plus the SH sum Σ_i table[c, i, code] · y_i(light),
  * clamped at 0.
- * Defines expected in front: CHANNELS, NCOEF (0 … 64), SH_LEVELS (256 or
- * 16), SH_NIBBLE for 4-bit codes, REFS for the reference form. Every sum is
+ * Defines expected in front: CHANNELS, NCOEF (0 … 64), SH_LEVELS (256,
+ * 16, or 1 for the linear kinds), SH_NIBBLE for 4-bit codes, SH_LINEAR8 or
+ * SH_LINEAR16 for the linear kinds (code · folded step), REFS for the
+ * reference form. Every sum is
  * `precise` (no fused multiply-add, no reordering) and in the C decoder's
  * order, so the result is the C decoder's float, not merely close to it:
  * a coded vertex's value is often a small difference of larger terms
