@@ -58,7 +58,9 @@ typedef struct sss_field_kernel {
     uint32_t ncells;         /* 0: no cache, every pair marched */
     uint32_t *cell;          /* cell of every vertex (nv) */
     double far_mm, cell_mm;
-    double *excess;          /* ncells × ncells × C, 1/mm */
+    double *excess;          /* ncells × ncells × C, 1/mm: pair (a ≤ b) at (a·ncells + b)·C, filled on demand */
+    double *cell_centre;     /* ncells × 4: the centroid of each cell's vertices (world units), its count */
+    void *cell_state;        /* ncells × ncells atomic bytes: 2 where excess holds the pair (fieldweights.c) */
     double sigma_tr_ref[SSS_MAX_CHANNELS];
     /* The march's early-out (§4.2): the grid's cells grouped into bricks of
      * SSS_FIELD_BRICK³ cells, and per brick and channel a bound on any
