@@ -29,6 +29,8 @@ extern "C" {
 /* The far pairs' cache of a bake holds at most this many occupied cells
  * (their pairs' table: 1024² × 3 doubles, 24 MiB at most). */
 #define SSS_FIELD_FAR_CELLS 1024
+/* The march grid's early-out bricks have this many cells per side. */
+#define SSS_FIELD_BRICK 2
 
 typedef struct sss_field_kernel {
     const sss_hetero *h;     /* borrowed: the field, the inside material, the rest frame */
@@ -56,8 +58,19 @@ typedef struct sss_field_kernel {
     uint32_t ncells;         /* 0: no cache, every pair marched */
     uint32_t *cell;          /* cell of every vertex (nv) */
     double far_mm, cell_mm;
-    double *excess;          /* ncells × ncells × C, 1/mm */
+    double *excess;          /* ncells × ncells × C, 1/mm: pair (a ≤ b) at (a·ncells + b)·C, filled on demand */
+    double *cell_centre;     /* ncells × 4: the centroid of each cell's vertices (world units), its count */
+    void *cell_state;        /* ncells × ncells atomic bytes: 2 where excess holds the pair (fieldweights.c) */
     double sigma_tr_ref[SSS_MAX_CHANNELS];
+    /* The march's early-out (§4.2): the grid's cells grouped into bricks of
+     * SSS_FIELD_BRICK³ cells, and per brick and channel a bound on any
+     * trilinear read inside it: its nodes' largest σtr (exactly that value
+     * when all its nodes hold it, else 10⁻⁹ above it, more than the
+     * rounding of three lerps). A midpoint in a brick whose bound is at
+     * most the pair's mean σ̄tr adds exactly 0 to τ's sum, so it is not
+     * read. NULL: every midpoint is read (the plain march). */
+    double *brick_hi;        /* bn[0]·bn[1]·bn[2] × C, brick (i, j, k) at ((k·bn1 + j)·bn0 + i)·C */
+    uint32_t bn[3];
 } sss_field_kernel;
 
 /* Evaluates the field at every vertex of mesh (world units; h->xf maps to
@@ -87,6 +100,13 @@ void sss_field_kernel_free(sss_field_kernel *k);
  * every pair, and the difference is the cache's error (docs/heterogeneous.md
  * §7). */
 sss_result sss_field_kernel_far(sss_field_kernel *k, const sss_mesh *mesh, uint32_t max_cells, sss_error *err);
+
+/* The sum of τ's midpoint rule along the segment a → b (world units) in n
+ * equal steps (§4.2): Σ_j max(0, σtr_c(x_j) − mean_c) per channel into
+ * sum, σtr read trilinearly from the march grid; bricks whose bound is at
+ * most mean_c are skipped, with the same bits as the plain march. */
+void sss_field_march_sum(const sss_field_kernel *k, const double a[3], const double b[3], int n, const double *mean,
+                         double *sum);
 
 /* κ_c(o, i) for the pair (o, i), per channel (§4.1):
  *   κ = sqrt(P_o(r) P_i(r)) / P_ref(r) · τ(o, i),
