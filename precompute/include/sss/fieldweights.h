@@ -63,7 +63,9 @@ typedef struct sss_field_kernel {
 /* Evaluates the field at every vertex of mesh (world units; h->xf maps to
  * the rest frame), checks that the field covers the mesh (`name` in the
  * message), and derives the reference material and the search radius
- * with the neighbourhoods' radius rule for cutoff eps. */
+ * with the neighbourhoods' radius rule for cutoff eps. A surface texture
+ * (h->surface, docs/heterogeneous.md §4.4) gets τ ≡ 1 (step_mm 0): the
+ * endpoints' product alone. */
 sss_result sss_field_kernel_create(const sss_mesh *mesh, double mm_per_unit, const sss_material *base,
                                    const sss_hetero *h, uint32_t C, double eps, const char *name,
                                    sss_field_kernel *k, sss_error *err);

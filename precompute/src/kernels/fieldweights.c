@@ -160,7 +160,9 @@ static sss_result kernel_create(const sss_mesh *mesh, const float *at, int march
 sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_material *base, const sss_hetero *h,
                                    uint32_t C, double eps, const char *name, sss_field_kernel *k, sss_error *err)
 {
-    return kernel_create(mesh, mesh->pos, 1, s, base, h, C, eps, name, k, err);
+    /* a surface texture (Hao–Varshney 2004 §5) has no volume to march:
+     * the endpoints' profiles alone (docs/heterogeneous.md §4.4) */
+    return kernel_create(mesh, mesh->pos, !h->surface, s, base, h, C, eps, name, k, err);
 }
 
 sss_result sss_field_kernel_create_ends(const sss_mesh *mesh, const float *rest, double s, const sss_material *base,
