@@ -404,7 +404,7 @@ static void absorbingInclusionNeverBrightensAndDarkensWhatIsBehindIt(void **stat
     sss_file_free(&f);
     /* a stone that breaks the surface: the vertices inside it take the
      * stone's own profile (σa = 0.2 σ′s here, where the dipole's R_d(r)
-     * still falls with σa at every r: docs/heterogeneous.md §4.4) */
+     * still falls with σa at every r: docs/heterogeneous.md §4.1) */
     bake_scene(scene_text("ball.ply", "{\"procedural\":\"sphere\",\"centre_mm\":[0,0,10],\"radius_mm\":3,"
                           "\"edge_mm\":0.5}", "0,0,1", NULL), &f);
     uint32_t inside = 0;

@@ -16,7 +16,7 @@
  * segment holds beyond that mean, so material between the endpoints only
  * ever takes light away (τ ≤ 1): without the max, a thin absorbing skin
  * at one endpoint raised σ̄tr over the whole segment and brightened far
- * pairs by up to 23 % (docs/heterogeneous.md §4.4). A constant field gives
+ * pairs by up to 23 % (docs/heterogeneous.md §4.1). A constant field gives
  * κ = 1 exactly: sqrt(P²) = P in IEEE arithmetic and every difference
  * under the integral is 0.
  */
