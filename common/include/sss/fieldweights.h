@@ -4,8 +4,10 @@
  * by pair to the geometric mean of the endpoints' own profiles (seed 003's
  * SubEdit model) times the transmittance through the field between them
  * (seed 000's march). The bake's passes and the exact evaluator both scale
- * their rows with it, so a file's q is recomputed from the file alone.
- * Part of libsss_bake (kernels/fieldweights.c).
+ * their rows with it, so a file's q is recomputed from the file alone;
+ * the readers' run-time near terms scale their weights with it too
+ * (sss/nearterms.h), which is why it is part of libsss
+ * (common/src/fieldweights.c) and not of the bake's kernels.
  */
 #ifndef SSS_FIELDWEIGHTS_H
 #define SSS_FIELDWEIGHTS_H
