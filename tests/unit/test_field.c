@@ -26,6 +26,7 @@
 #include "sss/fieldweights.h"
 #include "sss/import.h"
 #include "sss/nbhd.h"
+#include "sss/nearterms.h"
 #include "sss/reference.h"
 #include "sss/transfer.h"
 #include "sss/vec3.h"
@@ -922,6 +923,80 @@ static void surfaceFlagRoundTripsAndBadValuesAreRefused(void **state)
     unload(&b);
 }
 
+/* ---- 5. readers' near terms with the field's kernel (docs/heterogeneous.md §4, §5) */
+
+/* q of row j of f's direction set plus the near terms nr for that
+ * direction (a convex ball: V = 1 wherever n·ω > 0, the bake's rule) */
+static void q_plus_near(const sss_bake_file *f, const sss_weights *nr, uint32_t j, float *out)
+{
+    const size_t n = (size_t)f->mesh.nv * f->channels;
+    memcpy(out, f->q + (size_t)j * n, n * sizeof *out);
+    float *gv = malloc(f->mesh.nv * sizeof *gv);
+    sss_near_transfer(f->mesh.nrm, f->mesh.nv, (float)f->material.eta, f->dirs.dir + 3 * (size_t)j, NULL, gv);
+    sss_near_add(nr, gv, out);
+    free(gv);
+}
+
+static void runTimeNearTermsOfAFieldFileAreTheBakedOnes(void **state)
+{
+    (void)state;
+    make_meshes();
+    /* a volume inclusion breaking the surface and a surface texture */
+    const char *fields[] = {"{\"procedural\":\"sphere\",\"centre_mm\":[0,0,8],\"radius_mm\":4,\"edge_mm\":1}",
+                            "{\"procedural\":\"veins\",\"seed\":5,\"scale_mm\":6,\"surface\":true}"};
+    for (int k = 0; k < 2; k++) {
+        char json[2400], base[2100];
+        snprintf(base, sizeof base, "%s", scene_text("ball.ply", fields[k], "0,0,1", NULL));
+        char *light = strstr(base, "\"direction\":[0,0,1]}");
+        assert_non_null(light);
+        /* a moving light (a direction set), float rows; near terms baked, then at run time */
+        snprintf(json, sizeof json, "%.*s\"direction\":[0,0,1],\"moving\":true}],\"bake\":{\"dirs\":24,"
+                 "\"compress\":\"none\",\"near_terms\":\"baked\"}}", (int)(light - base), base);
+        sss_bake_file baked_f, run;
+        bake_scene(json, &baked_f);
+        snprintf(json, sizeof json, "%.*s\"direction\":[0,0,1],\"moving\":true}],\"bake\":{\"dirs\":24,"
+                 "\"compress\":\"none\"}}", (int)(light - base), base);
+        bake_scene(json, &run);
+        assert_int_equal(baked_f.near_terms, 0);
+        assert_int_equal(run.near_terms, SSS_NEAR_TERMS_RUNTIME);
+        assert_non_null(baked_f.q);
+        assert_non_null(run.q);
+        assert_int_equal(run.dirs.n, baked_f.dirs.n);
+        sss_weights nr, hom;
+        sss_error err = {{0}};
+        if (sss_near_build_file(&run, &nr, &err) != SSS_OK) fail_msg("%s", err.msg);
+        /* what a reader that ignored FELD would add: the base's weights */
+        const sss_near_spec spec = {.radius_mm = run.near_radius_mm, .weights = run.weights, .eps = run.eps};
+        if (sss_near_build_spec(&run.mesh, &run.material, run.mm_per_unit, run.channels, &spec, NULL, &hom, &err) !=
+            SSS_OK)
+            fail_msg("%s", err.msg);
+        const size_t n = (size_t)run.mesh.nv * run.channels;
+        float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+        double qmax = 0.0, d = 0.0, dhom = 0.0;
+        for (uint32_t j = 0; j < run.dirs.n; j++) {
+            q_plus_near(&run, &nr, j, a);
+            q_plus_near(&run, &hom, j, b);
+            const float *want = baked_f.q + (size_t)j * n;
+            for (size_t e = 0; e < n; e++) {
+                qmax = fmax(qmax, want[e]);
+                d = fmax(d, fabs((double)a[e] - want[e]));
+                dhom = fmax(dhom, fabs((double)b[e] - want[e]));
+            }
+        }
+        print_message("%s: run-time near terms + rows vs rows with every term, %u directions: max |dq| %.3g of max q "
+                      "%.3g; with the base material's weights %.3g\n", k ? "texture" : "inclusion", run.dirs.n, d, qmax,
+                      dhom);
+        assert_true(d <= 1e-5 * qmax);    /* float rounding */
+        assert_true(dhom > 1e-3 * qmax);  /* the check can fail */
+        free(a);
+        free(b);
+        sss_weights_free(&nr);
+        sss_weights_free(&hom);
+        sss_file_free(&baked_f);
+        sss_file_free(&run);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -943,6 +1018,7 @@ int main(void)
         cmocka_unit_test(surfaceTextureIgnoresAnInclusionThatHoldsNoVertex),
         cmocka_unit_test(surfaceTextureBakeIsWhatTheExactEvaluatorRecomputesFromTheFile),
         cmocka_unit_test(surfaceFlagRoundTripsAndBadValuesAreRefused),
+        cmocka_unit_test(runTimeNearTermsOfAFieldFileAreTheBakedOnes),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

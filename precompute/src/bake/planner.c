@@ -381,12 +381,10 @@ static void rule_storage(const plan_in *in, sss_object_plan *p)
         decide(p, "weights", "point", "bake.weights asks for the paper's point weights, R_d at the vertex times its "
                "area (Hao-Varshney 2004 sec. 3.1)");
     const int dirset = p->pass_lights[SSS_PASS_DIR_SET] > 0;
-    p->near_runtime = dirset && b->near_terms != SSS_SCENE_NEAR_BAKED && p->noccluders == 0 &&
-                      p->field != SSS_PLAN_FIELD_BAKED;
-    if (dirset && p->field == SSS_PLAN_FIELD_BAKED)
-        decide(p, "near terms", "baked", "the field's kernel varies pair by pair, and the run-time near terms weigh "
-               "with the homogeneous profile: every term stays in the rows");
-    else if (!dirset)
+    /* a baked field's near terms too: readers weigh them with the file's
+     * kernel κ (sss_near_build_file, docs/heterogeneous.md §4) */
+    p->near_runtime = dirset && b->near_terms != SSS_SCENE_NEAR_BAKED && p->noccluders == 0;
+    if (!dirset)
         decide(p, "near terms", "baked", "no direction set: a static light's row is exact for its one direction, and "
                "point shells and the SH transfer have no run-time near pass; every term stays in the rows");
     else if (p->near_runtime)
