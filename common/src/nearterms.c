@@ -1,6 +1,7 @@
 /* nearterms.c: the vertex's own term of q, split off at bake time and added
  * back at run time (sss/nearterms.h; Hao–Varshney 2004 §3.1). */
 #include "sss/nearterms.h"
+#include "sss/fieldweights.h"
 #include "sss/hatweights.h"
 #include "sss/vec3.h"
 
@@ -227,9 +228,28 @@ sss_result sss_near_build(const sss_mesh *mesh, const sss_material *mat, double 
 
 sss_result sss_near_build_file(const sss_bake_file *f, sss_weights *out, sss_error *err)
 {
-    const sss_near_spec spec = {.rings = f->near_rings, .radius_mm = f->near_radius_mm, .weights = f->weights,
-                                .eps = f->eps};
-    return sss_near_build_spec(&f->mesh, &f->material, f->mm_per_unit, f->channels, &spec, NULL, out, err);
+    sss_near_spec spec = {.rings = f->near_rings, .radius_mm = f->near_radius_mm, .weights = f->weights,
+                          .eps = f->eps};
+    if (f->hetero.field.kind == SSS_FIELD_NONE)
+        return sss_near_build_spec(&f->mesh, &f->material, f->mm_per_unit, f->channels, &spec, NULL, out, err);
+    /* A field (section FELD): the kernel as bake_scene.c built it, over the
+     * file's mesh with its vertex areas (what the bake's mesh carries), the
+     * far pairs' cache included, so that κ is the rows' own to the bit */
+    if (out) memset(out, 0, sizeof *out);
+    sss_mesh ma = f->mesh;
+    double *area = malloc((size_t)f->mesh.nv * sizeof *area + 1);
+    if (!area) return sss_fail(err, SSS_ERR_NOMEM, "near terms: out of memory for %u vertices", f->mesh.nv);
+    sss_mesh_vertex_areas(&f->mesh, area);
+    ma.area = area;
+    sss_field_kernel k;
+    sss_result r = sss_field_kernel_create(&ma, f->mm_per_unit, &f->material, &f->hetero, f->channels, f->eps,
+                                           "section FELD", &k, err);
+    if (r == SSS_OK) r = sss_field_kernel_far(&k, &ma, SSS_FIELD_FAR_CELLS, err);
+    spec.field = &k;
+    if (r == SSS_OK) r = sss_near_build_spec(&ma, &k.ref, f->mm_per_unit, f->channels, &spec, NULL, out, err);
+    sss_field_kernel_free(&k);
+    free(area);
+    return r;
 }
 
 /* Entry of source i in row o of sorted rows h (0 when absent). */
@@ -248,6 +268,7 @@ sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, do
                                const sss_near_spec *spec, const sss_weights *hat_in, sss_weights *out, sss_error *err)
 {
     if (out) memset(out, 0, sizeof *out);
+    if (spec && spec->field) mat = &spec->field->ref; /* the rows' material (sss_near_spec) */
     const uint32_t rings = spec ? spec->rings : 0;
     const double radius = spec ? spec->radius_mm : 0.0;
     const int hat = spec && spec->weights == SSS_WEIGHTS_HAT;
@@ -372,7 +393,9 @@ sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, do
                 r = sss_fail(err, SSS_ERR_ARG, "near terms: invalid material in channel %u", c);
                 goto done;
             }
-        const double cut = sss_cutoff_radius_mm(mesh, s, dd, C, spec->eps, NULL);
+        /* a field's rows were searched with the kernel's radius, the larger
+         * of the radius rule at f_min and f_max (docs/heterogeneous.md §4) */
+        const double cut = spec->field ? spec->field->radius_mm : sss_cutoff_radius_mm(mesh, s, dd, C, spec->eps, NULL);
         cutoff2 = cut * cut;
         if (!hc) { /* the corrections of the rows' entries alone */
             sss_mesh ma = *mesh;
@@ -421,6 +444,9 @@ sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, do
     if (r == SSS_OK) {
         out->nrows = nv;
         out->channels = C;
+        /* κ(o, i) on every entry, as the bake scales its rows (hat
+         * corrections included) */
+        if (spec->field) r = sss_field_weights_apply(spec->field, mesh, out, NULL, err);
     }
     goto done;
 nomem:

@@ -484,7 +484,8 @@ static sss_result parse_deform(const ctx *c, const cJSON *d, const char *jpath, 
 }
 
 /* "field" (docs/heterogeneous.md §1): {"constant": c}, {"procedural":
- * KIND, ...} or {"vdb": FILE, "grid": NAME}. */
+ * KIND, ...} or {"vdb": FILE, "grid": NAME}, each with an optional
+ * "surface": true (a surface texture, §4.4). */
 static sss_result parse_field(const ctx *c, const cJSON *fj, const char *jpath, sss_scene_object *obj)
 {
     sss_field *f = &obj->hetero.field;
@@ -492,14 +493,16 @@ static sss_result parse_field(const ctx *c, const cJSON *fj, const char *jpath, 
     sss_result r;
     char p[512];
     if (cJSON_GetObjectItemCaseSensitive(fj, "constant")) {
-        static const char *const k[] = {"constant", NULL};
+        static const char *const k[] = {"constant", "surface", NULL};
         if ((r = only_keys(c, fj, jpath, k)) != SSS_OK) return r;
+        if ((r = get_bool(c, fj, jpath, "surface", &obj->hetero.surface)) != SSS_OK) return r;
         f->kind = SSS_FIELD_CONSTANT;
         return get_number(c, fj, jpath, "constant", 1, 0.0, 1.0, &f->value);
     }
     if (cJSON_GetObjectItemCaseSensitive(fj, "vdb")) {
-        static const char *const k[] = {"vdb", "grid", NULL};
+        static const char *const k[] = {"vdb", "grid", "surface", NULL};
         if ((r = only_keys(c, fj, jpath, k)) != SSS_OK) return r;
+        if ((r = get_bool(c, fj, jpath, "surface", &obj->hetero.surface)) != SSS_OK) return r;
         if ((r = get_path(c, fj, jpath, "vdb", obj->field_path)) != SSS_OK) return r;
         const cJSON *g = cJSON_GetObjectItemCaseSensitive(fj, "grid");
         join(p, sizeof p, jpath, "grid");
@@ -519,13 +522,15 @@ static sss_result parse_field(const ctx *c, const cJSON *fj, const char *jpath, 
     static const uint32_t kind_of[] = {0, SSS_FIELD_VEINS, SSS_FIELD_INCLUSIONS, SSS_FIELD_BOX, SSS_FIELD_SPHERE,
                                        SSS_FIELD_LAYERS};
     f->kind = kind_of[kind];
-    static const char *const kv[] = {"procedural", "seed", "scale_mm", NULL};
-    static const char *const ki[] = {"procedural", "seed", "scale_mm", "radius_mm", "edge_mm", NULL};
-    static const char *const kb[] = {"procedural", "centre_mm", "half_mm", "edge_mm", NULL};
-    static const char *const ks[] = {"procedural", "centre_mm", "radius_mm", "edge_mm", NULL};
-    static const char *const kl[] = {"procedural", "normal", "thickness_mm", "period_mm", "offset_mm", "edge_mm", NULL};
+    static const char *const kv[] = {"procedural", "seed", "scale_mm", "surface", NULL};
+    static const char *const ki[] = {"procedural", "seed", "scale_mm", "radius_mm", "edge_mm", "surface", NULL};
+    static const char *const kb[] = {"procedural", "centre_mm", "half_mm", "edge_mm", "surface", NULL};
+    static const char *const ks[] = {"procedural", "centre_mm", "radius_mm", "edge_mm", "surface", NULL};
+    static const char *const kl[] = {"procedural", "normal", "thickness_mm", "period_mm", "offset_mm", "edge_mm",
+                                     "surface", NULL};
     static const char *const *const keys[] = {NULL, kv, ki, kb, ks, kl};
     if ((r = only_keys(c, fj, jpath, keys[kind])) != SSS_OK) return r;
+    if ((r = get_bool(c, fj, jpath, "surface", &obj->hetero.surface)) != SSS_OK) return r;
     uint32_t seed = 0;
     if ((r = get_u32(c, fj, jpath, "seed", 0, UINT32_MAX, &seed)) != SSS_OK) return r;
     f->seed = seed;

@@ -1009,8 +1009,10 @@ static int summary(const char *path, const sss_bake_file *f, int json)
                                       ? "integrals over the vertices' hat functions (section QUAD, docs/physics.md 9)"
                                       : "point samples (Hao-Varshney 2004 3.1)");
         if (f->hetero.field.kind)
-            printf("  field: %s, inside sigma_a %g/%g/%g, sigma'_s %g/%g/%g (section FELD, docs/heterogeneous.md)\n",
-                   sss_field_kind_name(f->hetero.field.kind), f->hetero.inside.sigma_a[0], f->hetero.inside.sigma_a[1],
+            printf("  field: %s%s, inside sigma_a %g/%g/%g, sigma'_s %g/%g/%g (section FELD, docs/heterogeneous.md)\n",
+                   sss_field_kind_name(f->hetero.field.kind),
+                   f->hetero.surface ? " surface texture (endpoints only, sec. 4.4)" : "", f->hetero.inside.sigma_a[0],
+                   f->hetero.inside.sigma_a[1],
                    f->hetero.inside.sigma_a[2], f->hetero.inside.sigmap_s[0], f->hetero.inside.sigmap_s[1],
                    f->hetero.inside.sigmap_s[2]);
         printf("  %-6s %14s %12s %14s\n", "section", "bytes", "bytes/vertex", "count");

@@ -52,6 +52,24 @@ expect_fail "small.vdb: field: the grid spans" "$SSS_BAKE" --scene "$TMP/small.j
 scene far '{"procedural": "sphere", "centre_mm": [100, 0, 0], "radius_mm": 5}'
 expect_fail "far.json: /objects/0/material/field: field: the sphere" "$SSS_BAKE" --scene "$TMP/far.json" -o "$TMP/o4"
 [ -z "$(ls -A "$TMP/o4")" ] || fail "a failed bake should leave no file"
+# a surface texture (docs/heterogeneous.md §4.4): the planner's reason, the
+# flag in FELD (sss-stat), the reference refusing it, a bad value refused
+scene tex '{"procedural": "sphere", "centre_mm": [0, 0, 8], "radius_mm": 4, "edge_mm": 1, "surface": true}'
+expect_ok "$SSS_BAKE" --scene "$TMP/tex.json" --plan
+contains "$TMP/out" "field         baked              surface texture (seed 001 sec. 5): endpoints' profiles, no volume march"
+mkdir -p "$TMP/o5"
+# with a moving light (a direction set), which sss-stat --model-error measures
+sed 's/"direction": \[0, 0, 1\]}/"direction": [0, 0, 1], "moving": true}/' "$TMP/tex.json" > "$TMP/texm.json"
+expect_ok "$SSS_BAKE" --scene "$TMP/texm.json" -o "$TMP/o5"
+expect_ok "$SSS_STAT" "$TMP/o5/ball.sss"
+contains "$TMP/out" "field: sphere surface texture (endpoints only, sec. 4.4), inside sigma_a"
+expect_fail "ball.sss: reference: a surface texture (section FELD) has no volume for the paths to track" \
+  "$SSS_STAT" "$TMP/o5/ball.sss" --model-error --light 0,0,1 --view 0,0,1 --paths 16
+[ "$(wc -l < "$TMP/err")" -eq 1 ] || { cat "$TMP/err" >&2; fail "the error should be one line"; }
+scene texbad '{"procedural": "sphere", "centre_mm": [0, 0, 8], "radius_mm": 4, "surface": "on"}'
+expect_fail "texbad.json: /objects/0/material/field/surface: expected true or false" \
+  "$SSS_BAKE" --scene "$TMP/texbad.json" -o "$TMP/o4"
+[ -z "$(ls -A "$TMP/o4")" ] || fail "a refused scene should leave no file"
 # scene errors name the JSON path
 scene bad '{"procedural": "sphere", "centre_mm": [0, 0, 0]}'
 expect_fail "bad.json: /objects/0/material/field/radius_mm: missing" "$SSS_BAKE" --scene "$TMP/bad.json" --plan

@@ -14,7 +14,7 @@ complain() { echo "check_layers: $*"; bad=1; }
 # the stage of a precompute public header, by name
 declare -A hstage=(
   [import]=input [probe]=input [fieldio]=input [depthmap]=input
-  [nbhd]=kernels [fieldweights]=kernels [visibility]=kernels [transfer]=kernels [lloyd]=kernels
+  [nbhd]=kernels [visibility]=kernels [transfer]=kernels [lloyd]=kernels
   [gather]=gather
   [refs]=compress [compress]=compress
   [bake]=bake [planner]=bake [bake_scene]=bake [perframe]=bake [layer_depths]=bake

@@ -26,6 +26,8 @@
 #include "sss/fieldweights.h"
 #include "sss/import.h"
 #include "sss/nbhd.h"
+#include "sss/nearterms.h"
+#include "sss/reference.h"
 #include "sss/transfer.h"
 #include "sss/vec3.h"
 
@@ -403,7 +405,7 @@ static void absorbingInclusionNeverBrightensAndDarkensWhatIsBehindIt(void **stat
     sss_file_free(&f);
     /* a stone that breaks the surface: the vertices inside it take the
      * stone's own profile (σa = 0.2 σ′s here, where the dipole's R_d(r)
-     * still falls with σa at every r: docs/heterogeneous.md §4.4) */
+     * still falls with σa at every r: docs/heterogeneous.md §4.1) */
     bake_scene(scene_text("ball.ply", "{\"procedural\":\"sphere\",\"centre_mm\":[0,0,10],\"radius_mm\":3,"
                           "\"edge_mm\":0.5}", "0,0,1", NULL), &f);
     uint32_t inside = 0;
@@ -587,6 +589,40 @@ static void kernelIsSymmetricInItsEndpoints(void **state)
 
 /* ---- 4. the file and .vdb ---------------------------------------------------- */
 
+/* Section FELD of the encoded file buf: its bytes, and its entry in the
+ * section table (docs/format.md §2.2). */
+static uint8_t *feld_section(uint8_t *buf, uint8_t **entry, uint64_t *size)
+{
+    const uint32_t nsec = (uint32_t)(buf[12] | buf[13] << 8 | buf[14] << 16 | (uint32_t)buf[15] << 24);
+    for (uint32_t k = 0; k < nsec; k++) {
+        uint8_t *e = buf + 24 + 40 * (size_t)k;
+        if (memcmp(e, "FELD", 4)) continue;
+        uint64_t off = 0;
+        *size = 0;
+        for (int b = 7; b >= 0; b--) off = off << 8 | e[8 + b], *size = *size << 8 | e[16 + b];
+        *entry = e;
+        return buf + off;
+    }
+    fail_msg("no section FELD");
+    return NULL;
+}
+
+/* Writes v at byte `at` of section FELD of the encoded file buf and
+ * recomputes the section's and the header's CRCs (docs/format.md §2.2,
+ * §3), so that only the reader's own checks can refuse the result. */
+static void feld_put_u32(uint8_t *buf, size_t at, uint32_t v)
+{
+    uint8_t *e;
+    uint64_t size;
+    uint8_t *sec = feld_section(buf, &e, &size);
+    for (int b = 0; b < 4; b++) sec[at + b] = (uint8_t)(v >> 8 * b);
+    const uint32_t crc = sss_crc32(0, sec, (size_t)size);
+    for (int b = 0; b < 4; b++) e[32 + b] = (uint8_t)(crc >> 8 * b);
+    const uint32_t nsec = (uint32_t)(buf[12] | buf[13] << 8 | buf[14] << 16 | (uint32_t)buf[15] << 24);
+    const uint32_t hcrc = sss_crc32(0, buf, 24 + 40 * (size_t)nsec);
+    for (int b = 0; b < 4; b++) buf[24 + 40 * (size_t)nsec + b] = (uint8_t)(hcrc >> 8 * b);
+}
+
 static void fieldSectionRoundTripsAndRefusesABadGrid(void **state)
 {
     (void)state;
@@ -616,22 +652,7 @@ static void fieldSectionRoundTripsAndRefusesABadGrid(void **state)
     sss_file_free(&r);
     /* a hostile node count behind valid checksums: refused before any
      * allocation, naming the section (docs/format.md §2.2, §5.22) */
-    const uint32_t nsec = (uint32_t)(buf[12] | buf[13] << 8 | buf[14] << 16 | (uint32_t)buf[15] << 24);
-    int found = 0;
-    for (uint32_t k = 0; k < nsec; k++) {
-        uint8_t *e = buf + 24 + 40 * (size_t)k;
-        if (memcmp(e, "FELD", 4)) continue;
-        found = 1;
-        uint64_t off = 0, size = 0;
-        for (int b = 7; b >= 0; b--) off = off << 8 | e[8 + b], size = size << 8 | e[16 + b];
-        uint8_t *sec = buf + off;
-        for (int b = 0; b < 4; b++) sec[264 + b] = 0xff; /* n[0] = 2³² − 1 */
-        const uint32_t crc = sss_crc32(0, sec, (size_t)size);
-        for (int b = 0; b < 4; b++) e[32 + b] = (uint8_t)(crc >> 8 * b);
-    }
-    assert_true(found);
-    const uint32_t hcrc = sss_crc32(0, buf, 24 + 40 * (size_t)nsec);
-    for (int b = 0; b < 4; b++) buf[24 + 40 * (size_t)nsec + b] = (uint8_t)(hcrc >> 8 * b);
+    feld_put_u32(buf, 264, UINT32_MAX); /* n[0] = 2³² − 1 */
     assert_int_not_equal(sss_file_decode(buf, len, "hostile.sss", &r, &err), SSS_OK);
     print_message("%s\n", err.msg);
     assert_non_null(strstr(err.msg, "hostile.sss: section FELD: a grid of 4294967295 x"));
@@ -737,6 +758,245 @@ static void fieldOutsideTheMeshOrABadVdbFailsTheBakeNamingTheFile(void **state)
     unload(&b);
 }
 
+/* ---- 4. the surface texture (Hao–Varshney 2004 §5, docs/heterogeneous.md §4.4) -- */
+
+static void surfaceTextureOfAConstantIsTheHomogeneousBake(void **state)
+{
+    (void)state;
+    make_meshes();
+    sss_bake_file hom, in_hom, f;
+    bake_scene(scene_text("ball.ply", NULL, "0.3,0.2,0.9", NULL), &hom);
+    bake_scene("{\"objects\":[{\"mesh\":\"ball.ply\",\"material\":" INSIDE "}],"
+               "\"lights\":[{\"type\":\"directional\",\"direction\":[0.3,0.2,0.9]}]}", &in_hom);
+    /* c = 0 and c = 1: folded by the planner, as without the key */
+    bake_scene(scene_text("ball.ply", "{\"constant\":0,\"surface\":true}", "0.3,0.2,0.9", NULL), &f);
+    assert_int_equal(f.hetero.field.kind, SSS_FIELD_NONE);
+    same_q(&f, &hom);
+    sss_file_free(&f);
+    bake_scene(scene_text("ball.ply", "{\"constant\":1,\"surface\":true}", "0.3,0.2,0.9", NULL), &f);
+    same_q(&f, &in_hom);
+    sss_file_free(&f);
+    /* through the kernel without τ: f = 1 at every vertex (a box around
+     * the ball) is the inside's file, f = 0 (a stratum far away) the
+     * base's, bit for bit (sqrt(P·P)/P = 1) */
+    bake_scene(scene_text("ball.ply", "{\"procedural\":\"box\",\"centre_mm\":[0,0,0],\"half_mm\":[50,50,50],"
+                          "\"surface\":true}", "0.3,0.2,0.9", NULL), &f);
+    assert_int_equal(f.hetero.field.kind, SSS_FIELD_BOX);
+    assert_true(f.hetero.surface);
+    same_q(&f, &in_hom);
+    sss_file_free(&f);
+    bake_scene(scene_text("ball.ply", "{\"procedural\":\"layers\",\"normal\":[0,0,1],\"thickness_mm\":1,"
+                          "\"offset_mm\":500,\"surface\":true}", "0.3,0.2,0.9", NULL), &f);
+    assert_true(f.hetero.surface);
+    same_q(&f, &hom);
+    sss_file_free(&f);
+    sss_file_free(&hom);
+    sss_file_free(&in_hom);
+}
+
+static void surfaceTextureIgnoresAnInclusionThatHoldsNoVertex(void **state)
+{
+    (void)state;
+    make_meshes();
+    sss_bake_file hom, vol, tex;
+    const char *ball = "{\"procedural\":\"sphere\",\"centre_mm\":[0,0,0],\"radius_mm\":5,\"edge_mm\":1%s}";
+    char field[200];
+    bake_scene(scene_text("ball.ply", NULL, "0,0,1", NULL), &hom);
+    snprintf(field, sizeof field, ball, "");
+    bake_scene(scene_text("ball.ply", field, "0,0,1", NULL), &vol);
+    snprintf(field, sizeof field, ball, ",\"surface\":true");
+    bake_scene(scene_text("ball.ply", field, "0,0,1", NULL), &tex);
+    assert_true(tex.hetero.surface && !vol.hetero.surface);
+    /* every vertex lies 10 mm from the centre, outside the 5.5 mm ball and
+     * its edge: a texture reads f = 0 at every endpoint, the base's q */
+    same_q(&tex, &hom);
+    /* the volume field charges the segments that cross the ball */
+    uint32_t behind = 0;
+    double worst = 0.0;
+    for (uint32_t v = 0; v < vol.mesh.nv; v++)
+        if (vol.mesh.pos[3 * (size_t)v + 2] < -8.0f) {
+            behind++;
+            worst = fmax(worst, vol.fx.exact_q[v] / hom.fx.exact_q[v]);
+        }
+    print_message("texture: q bit for bit the homogeneous; volume behind the ball at most %.4f of it (%u vertices)\n",
+                  worst, behind);
+    assert_true(behind > 10 && worst < 0.9);
+    sss_file_free(&hom);
+    sss_file_free(&vol);
+    sss_file_free(&tex);
+}
+
+static void surfaceTextureBakeIsWhatTheExactEvaluatorRecomputesFromTheFile(void **state)
+{
+    (void)state;
+    make_meshes();
+    const double L[3] = {0.3, 0.2, 0.9};
+    sss_bake_file tex, vol;
+    const char *veins = "{\"procedural\":\"veins\",\"seed\":5,\"scale_mm\":6%s}";
+    char field[200];
+    snprintf(field, sizeof field, veins, ",\"surface\":true");
+    bake_scene(scene_text("ball.ply", field, "0.3,0.2,0.9", NULL), &tex);
+    snprintf(field, sizeof field, veins, "");
+    bake_scene(scene_text("ball.ply", field, "0.3,0.2,0.9", NULL), &vol);
+    const size_t n = (size_t)tex.mesh.nv * tex.channels;
+    float *q = exact_q(&tex, L);
+    double qmax = 0.0, d = 0.0, dvol = 0.0;
+    for (size_t k = 0; k < n; k++) qmax = fmax(qmax, tex.fx.exact_q[k]);
+    for (size_t k = 0; k < n; k++) d = fmax(d, fabs((double)q[k] - tex.fx.exact_q[k]));
+    for (size_t k = 0; k < n; k++) dvol = fmax(dvol, fabs((double)vol.fx.exact_q[k] - tex.fx.exact_q[k]));
+    free(q);
+    /* the flag is what the evaluator reads: cleared, it marches the volume */
+    tex.hetero.surface = 0;
+    q = exact_q(&tex, L);
+    double dflag = 0.0;
+    for (size_t k = 0; k < n; k++) dflag = fmax(dflag, fabs((double)q[k] - tex.fx.exact_q[k]));
+    free(q);
+    print_message("texture: bake vs exact %.3g, vs the volume bake %.3g, vs exact without the flag %.3g (max q %.3g)\n",
+                  d, dvol, dflag, qmax);
+    assert_true(d <= 1e-6 * qmax);
+    assert_true(dvol > 1e-3 * qmax);
+    assert_true(dflag > 1e-3 * qmax);
+    sss_file_free(&tex);
+    sss_file_free(&vol);
+}
+
+static void surfaceFlagRoundTripsAndBadValuesAreRefused(void **state)
+{
+    (void)state;
+    make_meshes();
+    sss_bake_file f, r;
+    sss_error err = {{0}};
+    bake_scene(scene_text("ball.ply", "{\"procedural\":\"sphere\",\"centre_mm\":[0,0,9],\"radius_mm\":3,"
+                          "\"surface\":true}", "0,0,1", NULL), &f);
+    assert_true(f.hetero.surface);
+    uint8_t *buf;
+    size_t len;
+    assert_int_equal(sss_file_encode(&f, &buf, &len, &err), SSS_OK);
+    /* a volume field writes the flag word 0: its bytes as before the flag */
+    f.hetero.surface = 0;
+    uint8_t *buf0;
+    size_t len0;
+    assert_int_equal(sss_file_encode(&f, &buf0, &len0, &err), SSS_OK);
+    assert_int_equal(len0, len);
+    size_t ndiff = 0;
+    for (size_t k = 0; k < len; k++) ndiff += buf[k] != buf0[k];
+    /* the flag's byte and the two CRCs it is under (section, header) */
+    assert_true(ndiff >= 2 && ndiff <= 9);
+    uint8_t *e;
+    uint64_t size;
+    assert_int_equal(feld_section(buf, &e, &size)[276], 1);
+    assert_int_equal(feld_section(buf0, &e, &size)[276], 0);
+    free(buf0);
+    /* a flag bit this reader does not know: refused by number */
+    feld_put_u32(buf, 276, 5u);
+    assert_int_equal(sss_file_decode(buf, len, "later.sss", &r, &err), SSS_ERR_UNSUPPORTED);
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "later.sss: section FELD: flag bit 2 is unknown to this reader"));
+    feld_put_u32(buf, 276, 1u);
+    if (sss_file_decode(buf, len, "mem.sss", &r, &err) != SSS_OK) fail_msg("%s", err.msg);
+    assert_true(r.hetero.surface);
+    sss_file_free(&r);
+    free(buf);
+    /* the path-traced reference cannot track a texture: refused in one line */
+    f.hetero.surface = 1;
+    sss_ref_medium med;
+    assert_int_equal(sss_ref_medium_from_material(&f.material, 0.0, &med, &err), SSS_OK);
+    med.hetero = &f.hetero;
+    assert_int_equal(sss_ref_medium_validate(&med, &err), SSS_ERR_UNSUPPORTED);
+    assert_non_null(strstr(err.msg, "a surface texture (section FELD) has no volume"));
+    assert_null(strchr(err.msg, '\n'));
+    f.hetero.surface = 0;
+    assert_int_equal(sss_ref_medium_validate(&med, &err), SSS_OK);
+    sss_file_free(&f);
+    /* scene values: a non-boolean, and a texture on an editable object */
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"inside\":\"ketchup\","
+                 "\"field\":{\"procedural\":\"veins\",\"scale_mm\":5,\"surface\":\"yes\"}}}]}",
+                 "scene.json: /objects/0/material/field/surface: expected true or false");
+    expect_error("{\"objects\":[{\"mesh\":\"a.ply\",\"material\":{\"preset\":\"marble\",\"inside\":\"ketchup\","
+                 "\"field\":{\"constant\":0.5,\"surface\":1}}}]}",
+                 "scene.json: /objects/0/material/field/surface: expected true or false");
+    baked b;
+    assert_int_not_equal(load(&b, scene_text("ball.ply", "{\"procedural\":\"veins\",\"scale_mm\":5,\"surface\":true}",
+                                             "0,0,1", ",\"editable\":true"), &err), SSS_OK);
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "scene.json: /objects/0/material/field/surface: a surface texture on an editable"));
+    unload(&b);
+}
+
+/* ---- 5. readers' near terms with the field's kernel (docs/heterogeneous.md §4, §5) */
+
+/* q of row j of f's direction set plus the near terms nr for that
+ * direction (a convex ball: V = 1 wherever n·ω > 0, the bake's rule) */
+static void q_plus_near(const sss_bake_file *f, const sss_weights *nr, uint32_t j, float *out)
+{
+    const size_t n = (size_t)f->mesh.nv * f->channels;
+    memcpy(out, f->q + (size_t)j * n, n * sizeof *out);
+    float *gv = malloc(f->mesh.nv * sizeof *gv);
+    sss_near_transfer(f->mesh.nrm, f->mesh.nv, (float)f->material.eta, f->dirs.dir + 3 * (size_t)j, NULL, gv);
+    sss_near_add(nr, gv, out);
+    free(gv);
+}
+
+static void runTimeNearTermsOfAFieldFileAreTheBakedOnes(void **state)
+{
+    (void)state;
+    make_meshes();
+    /* a volume inclusion breaking the surface and a surface texture */
+    const char *fields[] = {"{\"procedural\":\"sphere\",\"centre_mm\":[0,0,8],\"radius_mm\":4,\"edge_mm\":1}",
+                            "{\"procedural\":\"veins\",\"seed\":5,\"scale_mm\":6,\"surface\":true}"};
+    for (int k = 0; k < 2; k++) {
+        char json[2400], base[2100];
+        snprintf(base, sizeof base, "%s", scene_text("ball.ply", fields[k], "0,0,1", NULL));
+        char *light = strstr(base, "\"direction\":[0,0,1]}");
+        assert_non_null(light);
+        /* a moving light (a direction set), float rows; near terms baked, then at run time */
+        snprintf(json, sizeof json, "%.*s\"direction\":[0,0,1],\"moving\":true}],\"bake\":{\"dirs\":24,"
+                 "\"compress\":\"none\",\"near_terms\":\"baked\"}}", (int)(light - base), base);
+        sss_bake_file baked_f, run;
+        bake_scene(json, &baked_f);
+        snprintf(json, sizeof json, "%.*s\"direction\":[0,0,1],\"moving\":true}],\"bake\":{\"dirs\":24,"
+                 "\"compress\":\"none\"}}", (int)(light - base), base);
+        bake_scene(json, &run);
+        assert_int_equal(baked_f.near_terms, 0);
+        assert_int_equal(run.near_terms, SSS_NEAR_TERMS_RUNTIME);
+        assert_non_null(baked_f.q);
+        assert_non_null(run.q);
+        assert_int_equal(run.dirs.n, baked_f.dirs.n);
+        sss_weights nr, hom;
+        sss_error err = {{0}};
+        if (sss_near_build_file(&run, &nr, &err) != SSS_OK) fail_msg("%s", err.msg);
+        /* what a reader that ignored FELD would add: the base's weights */
+        const sss_near_spec spec = {.radius_mm = run.near_radius_mm, .weights = run.weights, .eps = run.eps};
+        if (sss_near_build_spec(&run.mesh, &run.material, run.mm_per_unit, run.channels, &spec, NULL, &hom, &err) !=
+            SSS_OK)
+            fail_msg("%s", err.msg);
+        const size_t n = (size_t)run.mesh.nv * run.channels;
+        float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+        double qmax = 0.0, d = 0.0, dhom = 0.0;
+        for (uint32_t j = 0; j < run.dirs.n; j++) {
+            q_plus_near(&run, &nr, j, a);
+            q_plus_near(&run, &hom, j, b);
+            const float *want = baked_f.q + (size_t)j * n;
+            for (size_t e = 0; e < n; e++) {
+                qmax = fmax(qmax, want[e]);
+                d = fmax(d, fabs((double)a[e] - want[e]));
+                dhom = fmax(dhom, fabs((double)b[e] - want[e]));
+            }
+        }
+        print_message("%s: run-time near terms + rows vs rows with every term, %u directions: max |dq| %.3g of max q "
+                      "%.3g; with the base material's weights %.3g\n", k ? "texture" : "inclusion", run.dirs.n, d, qmax,
+                      dhom);
+        assert_true(d <= 1e-5 * qmax);    /* float rounding */
+        assert_true(dhom > 1e-3 * qmax);  /* the check can fail */
+        free(a);
+        free(b);
+        sss_weights_free(&nr);
+        sss_weights_free(&hom);
+        sss_file_free(&baked_f);
+        sss_file_free(&run);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -754,6 +1014,11 @@ int main(void)
         cmocka_unit_test(fieldSectionRoundTripsAndRefusesABadGrid),
         cmocka_unit_test(vdbWrittenAndReadBackGivesTheSameField),
         cmocka_unit_test(fieldOutsideTheMeshOrABadVdbFailsTheBakeNamingTheFile),
+        cmocka_unit_test(surfaceTextureOfAConstantIsTheHomogeneousBake),
+        cmocka_unit_test(surfaceTextureIgnoresAnInclusionThatHoldsNoVertex),
+        cmocka_unit_test(surfaceTextureBakeIsWhatTheExactEvaluatorRecomputesFromTheFile),
+        cmocka_unit_test(surfaceFlagRoundTripsAndBadValuesAreRefused),
+        cmocka_unit_test(runTimeNearTermsOfAFieldFileAreTheBakedOnes),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

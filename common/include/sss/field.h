@@ -62,6 +62,11 @@ typedef struct sss_hetero {
     sss_field field;        /* kind SSS_FIELD_NONE: homogeneous */
     sss_material inside;    /* the material at f = 1; η is the base's (one surface) */
     double xf[12];          /* world (bake) units → rest-frame mm, row-major 3 × 4 */
+    /* 1: a surface texture (Hao–Varshney 2004 §5: "the marble texture is
+     * on-surface, and will affect both x_i and x_o"): f is read at the
+     * endpoints only and nothing is marched between them
+     * (docs/heterogeneous.md §4.4); 0: a volume field */
+    int surface;
 } sss_hetero;
 
 const char *sss_field_kind_name(uint32_t kind);

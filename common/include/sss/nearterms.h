@@ -132,6 +132,13 @@ typedef struct sss_near_spec {
      * nbhd.c's w (0 beyond the cutoff radius of eps) */
     uint32_t weights;
     double eps;       /* the bake's ε, for SSS_WEIGHTS_HAT */
+    /* NULL: a homogeneous object. Else the object's field kernel
+     * (sss/fieldweights.h, built over the same mesh): the weights are then
+     * those of the bake's rows, built for the kernel's reference material
+     * (the `mat` argument is not read) with its search radius as the hat
+     * weights' cutoff, every entry scaled by κ(o, i) (docs/heterogeneous.md
+     * §4), so that the terms a reader adds are the terms the rows lost. */
+    const struct sss_field_kernel *field;
 } sss_near_spec;
 
 /* The same for a spec. hat (may be NULL): the corrections of
@@ -141,7 +148,10 @@ sss_result sss_near_build_spec(const sss_mesh *mesh, const sss_material *mat, do
                                const sss_near_spec *spec, const sss_weights *hat, sss_weights *out, sss_error *err);
 
 /* The near terms a file's reader adds (OWNT with NRAD and QUAD): its rings
- * or radius, its weight rule and ε. */
+ * or radius, its weight rule and ε; with section FELD, the field's kernel
+ * as the scene bake built it (sss_field_kernel_create and its far pairs'
+ * cache, docs/heterogeneous.md §4.3), so that they equal the terms the
+ * bake split off. */
 sss_result sss_near_build_file(const sss_bake_file *f, sss_weights *out, sss_error *err);
 
 /* gv[v] = sss_near_g(η, n_v, d) · lit[v] for every vertex (lit NULL:

@@ -9,7 +9,7 @@
  *       thickness_mm, offset_mm, edge_mm,
  *   f64 xf[12] (mesh units → rest-frame mm, row-major 3 × 4),
  *   f64 inside sigma_a[3], sigmap_s[3],
- *   u32 n[3], u32 0, f64 origin_mm[3], voxel_mm,
+ *   u32 n[3], u32 flags (bit 0: a surface texture), f64 origin_mm[3], voxel_mm,
  *   f32 values[n0 · n1 · n2] (kind grid only; n = 0 otherwise).
  *
  * Required-flagged: a reader that ignored it would take the object for
@@ -21,6 +21,9 @@
 #include "sections.h"
 
 #define FELD_FIXED 312u
+/* flag bit 0: a surface texture (Hao–Varshney 2004 §5), the kernel
+ * without τ (docs/heterogeneous.md §4.4); the only bit 1.9 knows */
+#define FELD_SURFACE 1u
 
 static uint64_t nodes(const sss_field *fl)
 {
@@ -77,7 +80,7 @@ void sss_sec_feld_pack(const sss_bake_file *f, uint8_t *p)
     for (int a = 0; a < k; a++, q += 8) put_f64(q, v[a]);
     const int grid = fl->kind == SSS_FIELD_GRID;
     for (int a = 0; a < 3; a++, q += 4) put_u32(q, grid ? fl->n[a] : 0);
-    put_u32(q, 0);
+    put_u32(q, h->surface ? FELD_SURFACE : 0u); /* 0 for a volume field: its bytes as before the flag */
     q += 4;
     for (int a = 0; a < 3; a++, q += 8) put_f64(q, grid ? fl->origin_mm[a] : 0.0);
     put_f64(q, grid ? fl->voxel_mm : 0.0);
@@ -114,7 +117,18 @@ sss_result sss_sec_feld_parse(const uint8_t *p, uint64_t size, uint64_t count, c
     for (int a = 0; a < 3; a++) h->inside.sigmap_s[a] = v[k++];
     uint32_t n[3];
     for (int a = 0; a < 3; a++, q += 4) n[a] = get_u32(q);
+    const uint32_t flags = get_u32(q);
     q += 4;
+    if (flags & ~FELD_SURFACE) {
+        /* a later model of the field's kernel: recomputing it as this one
+         * would give another q (docs/format.md §5.22) */
+        uint32_t b = 0;
+        while (!((flags & ~FELD_SURFACE) >> b & 1u)) b++;
+        memset(h, 0, sizeof *h);
+        return sss_fail(err, SSS_ERR_UNSUPPORTED, "%s: section FELD: flag bit %u is unknown to this reader (format %d.%d)",
+                        name, b, SSS_FORMAT_MAJOR, SSS_FORMAT_MINOR);
+    }
+    h->surface = (flags & FELD_SURFACE) != 0;
     double origin[3], voxel;
     for (int a = 0; a < 3; a++, q += 8) origin[a] = get_f64(q);
     voxel = get_f64(q);

@@ -277,8 +277,12 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
         no.near_fraction = sss_near_fraction_default(c.C);
         no.near_radius_mm = sss_near_radius_bake(c.mesh, out->mm_per_unit, &p->material, c.C, no.near_fraction,
                                                  st.search_radius_mm, &st.near_capped, &st.near_fraction_held);
-        r = sss_near_terms_split(c.mesh, &p->material, &no, c.C, &out->dirs, c.hat, p->self_shadow, out->q, &st.rays,
-                                 &st.near_entries, err);
+        /* a field's rows hold κ-scaled terms: the same taken off
+         * (docs/heterogeneous.md §4, sss_near_build_file adds them back) */
+        r = fk.f ? sss_near_terms_split_field(c.mesh, &fk, &no, c.C, &out->dirs, p->self_shadow, out->q, &st.rays,
+                                              &st.near_entries, err)
+                 : sss_near_terms_split(c.mesh, &p->material, &no, c.C, &out->dirs, c.hat, p->self_shadow, out->q,
+                                        &st.rays, &st.near_entries, err);
         if (r != SSS_OK) goto done;
         out->near_terms = SSS_NEAR_TERMS_RUNTIME;
         out->near_rings = 0;

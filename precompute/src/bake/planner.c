@@ -163,6 +163,12 @@ static void rule_field(const plan_in *in, sss_object_plan *p)
         return;
     }
     p->field = SSS_PLAN_FIELD_BAKED;
+    if (ob->hetero.surface) {
+        decide(p, "field", "baked", "surface texture (seed 001 sec. 5): endpoints' profiles, no volume march: the "
+               "%s field is read at the vertices only, each pair's weight the geometric mean of its endpoints' "
+               "profiles (docs/heterogeneous.md sec. 4.4); stored in section FELD", sss_field_kind_name(f->kind));
+        return;
+    }
     decide(p, "field", "baked", "static object with a %s field: every pair's weight takes the geometric mean of its "
            "endpoints' dipole profiles and the transmittance through the field between them (docs/heterogeneous.md "
            "sec. 4), stored with the field (section FELD)", sss_field_kind_name(f->kind));
@@ -375,12 +381,10 @@ static void rule_storage(const plan_in *in, sss_object_plan *p)
         decide(p, "weights", "point", "bake.weights asks for the paper's point weights, R_d at the vertex times its "
                "area (Hao-Varshney 2004 sec. 3.1)");
     const int dirset = p->pass_lights[SSS_PASS_DIR_SET] > 0;
-    p->near_runtime = dirset && b->near_terms != SSS_SCENE_NEAR_BAKED && p->noccluders == 0 &&
-                      p->field != SSS_PLAN_FIELD_BAKED;
-    if (dirset && p->field == SSS_PLAN_FIELD_BAKED)
-        decide(p, "near terms", "baked", "the field's kernel varies pair by pair, and the run-time near terms weigh "
-               "with the homogeneous profile: every term stays in the rows");
-    else if (!dirset)
+    /* a baked field's near terms too: readers weigh them with the file's
+     * kernel κ (sss_near_build_file, docs/heterogeneous.md §4) */
+    p->near_runtime = dirset && b->near_terms != SSS_SCENE_NEAR_BAKED && p->noccluders == 0;
+    if (!dirset)
         decide(p, "near terms", "baked", "no direction set: a static light's row is exact for its one direction, and "
                "point shells and the SH transfer have no run-time near pass; every term stays in the rows");
     else if (p->near_runtime)
@@ -587,6 +591,13 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
                 sss_plan_free(out);
                 return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/editable: an editable object that deforms is not "
                                 "supported yet (docs/heterogeneous.md sec. 9)", scene->path, i);
+            }
+            /* the run-time path marches the volume between the surfaces
+             * (docs/heterogeneous.md §9.2): it has no surface-only model */
+            if (scene->objects[i].hetero.surface && scene->objects[i].hetero.field.kind != SSS_FIELD_NONE) {
+                sss_plan_free(out);
+                return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/material/field/surface: a surface texture on an "
+                                "editable object is not supported (docs/heterogeneous.md sec. 9)", scene->path, i);
             }
             for (size_t r = 0; r < sizeof rules_editable / sizeof rules_editable[0]; r++) rules_editable[r](&in, p);
             continue;

@@ -18,6 +18,7 @@
 #include <stddef.h>
 
 #include "sss/bake_scene.h"
+#include "sss/fieldweights.h"
 #include "sss/transfer.h"
 
 struct cJSON;
@@ -99,6 +100,14 @@ sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, c
 sss_result sss_near_terms_split_vector(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
                                        uint32_t C, const sss_dirset *ds, const sss_weights *hat, float *q, float *qvec,
                                        uint64_t *rays, uint64_t *entries, sss_error *err);
+/* The same for a heterogeneous object's rows (docs/heterogeneous.md §4):
+ * the terms weighed as the rows are, for the kernel's reference material
+ * and scaled by κ (sss_near_spec.field), the hat corrections recomputed
+ * for the terms' entries (the bake's own are already scaled), so that a
+ * reader's sss_near_build_file adds back what this takes off. */
+sss_result sss_near_terms_split_field(const sss_mesh *mesh, const sss_field_kernel *field, const sss_bake_options *o,
+                                      uint32_t C, const sss_dirset *ds, int self_shadow, float *q, uint64_t *rays,
+                                      uint64_t *entries, sss_error *err);
 
 /* The units (one file each). */
 extern const sss_effect_unit sss_effect_dir_exact;    /* dir_exact.c */

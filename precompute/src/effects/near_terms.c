@@ -19,14 +19,14 @@
  * the readers' float sum (sss_near_sum), so that a reader adding the terms
  * back at ω_j restores q_j up to rounding (and the clamp at 0 below).
  * Independent elements: the result does not depend on the thread count. */
-static sss_result split(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o, uint32_t C,
-                        const sss_dirset *ds, const sss_weights *hat, int self_shadow, float *q, float *qvec,
-                        uint64_t *rays, uint64_t *entries, sss_error *err)
+static sss_result split(const sss_mesh *mesh, const sss_material *mat, const sss_field_kernel *field,
+                        const sss_bake_options *o, uint32_t C, const sss_dirset *ds, const sss_weights *hat,
+                        int self_shadow, float *q, float *qvec, uint64_t *rays, uint64_t *entries, sss_error *err)
 {
     const uint32_t nv = mesh->nv, D = ds->n;
     sss_weights nr;
     const sss_near_spec spec = {.rings = o->near_radius_mm > 0.0 ? 0 : o->near_rings, .radius_mm = o->near_radius_mm,
-                                .weights = o->weights, .eps = o->eps};
+                                .weights = o->weights, .eps = o->eps, .field = field};
     sss_result r = sss_near_build_spec(mesh, mat, o->mm_per_unit, C, &spec, hat, &nr, err);
     if (r != SSS_OK) return r;
     if (entries) *entries = nr.start[nv];
@@ -92,12 +92,19 @@ sss_result sss_near_terms_split(const sss_mesh *mesh, const sss_material *mat, c
                                 const sss_dirset *ds, const sss_weights *hat, int self_shadow, float *q,
                                 uint64_t *rays, uint64_t *entries, sss_error *err)
 {
-    return split(mesh, mat, o, C, ds, hat, self_shadow, q, NULL, rays, entries, err);
+    return split(mesh, mat, NULL, o, C, ds, hat, self_shadow, q, NULL, rays, entries, err);
+}
+
+sss_result sss_near_terms_split_field(const sss_mesh *mesh, const sss_field_kernel *field, const sss_bake_options *o,
+                                      uint32_t C, const sss_dirset *ds, int self_shadow, float *q, uint64_t *rays,
+                                      uint64_t *entries, sss_error *err)
+{
+    return split(mesh, &field->ref, field, o, C, ds, NULL, self_shadow, q, NULL, rays, entries, err);
 }
 
 sss_result sss_near_terms_split_vector(const sss_mesh *mesh, const sss_material *mat, const sss_bake_options *o,
                                        uint32_t C, const sss_dirset *ds, const sss_weights *hat, float *q, float *qvec,
                                        uint64_t *rays, uint64_t *entries, sss_error *err)
 {
-    return split(mesh, mat, o, C, ds, hat, 1, q, qvec, rays, entries, err);
+    return split(mesh, mat, NULL, o, C, ds, hat, 1, q, qvec, rays, entries, err);
 }

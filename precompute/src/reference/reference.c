@@ -39,6 +39,12 @@ sss_result sss_ref_medium_validate(const sss_ref_medium *m, sss_error *err)
     if (!(m->eta >= SSS_ETA_MIN && m->eta <= SSS_ETA_MAX))
         return sss_fail(err, SSS_ERR_ARG, "medium: eta %g must lie in [%g, %g]", m->eta, SSS_ETA_MIN, SSS_ETA_MAX);
     if (m->hetero && m->hetero->field.kind != SSS_FIELD_NONE) {
+        /* a surface texture (Hao–Varshney 2004 §5) changes the material at
+         * the surface points only: a medium whose paths go between them
+         * has no such material to track (docs/reference.md §3.1) */
+        if (m->hetero->surface)
+            return sss_fail(err, SSS_ERR_UNSUPPORTED, "a surface texture (section FELD) has no volume for the paths to "
+                            "track: no reference for it (docs/reference.md sec. 3.1)");
         sss_result r = sss_field_check(&m->hetero->field, err);
         if (r != SSS_OK) return r;
         const sss_material *in = &m->hetero->inside;

@@ -16,7 +16,7 @@
  * segment holds beyond that mean, so material between the endpoints only
  * ever takes light away (τ ≤ 1): without the max, a thin absorbing skin
  * at one endpoint raised σ̄tr over the whole segment and brightened far
- * pairs by up to 23 % (docs/heterogeneous.md §4.4). A constant field gives
+ * pairs by up to 23 % (docs/heterogeneous.md §4.1). A constant field gives
  * κ = 1 exactly: sqrt(P²) = P in IEEE arithmetic and every difference
  * under the integral is 0.
  */
@@ -206,7 +206,9 @@ static sss_result kernel_create(const sss_mesh *mesh, const float *at, int march
 sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_material *base, const sss_hetero *h,
                                    uint32_t C, double eps, const char *name, sss_field_kernel *k, sss_error *err)
 {
-    return kernel_create(mesh, mesh->pos, 1, s, base, h, C, eps, name, k, err);
+    /* a surface texture (Hao–Varshney 2004 §5) has no volume to march:
+     * the endpoints' profiles alone (docs/heterogeneous.md §4.4) */
+    return kernel_create(mesh, mesh->pos, !h->surface, s, base, h, C, eps, name, k, err);
 }
 
 sss_result sss_field_kernel_create_ends(const sss_mesh *mesh, const float *rest, double s, const sss_material *base,

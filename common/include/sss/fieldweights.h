@@ -4,8 +4,10 @@
  * by pair to the geometric mean of the endpoints' own profiles (seed 003's
  * SubEdit model) times the transmittance through the field between them
  * (seed 000's march). The bake's passes and the exact evaluator both scale
- * their rows with it, so a file's q is recomputed from the file alone.
- * Part of libsss_bake (kernels/fieldweights.c).
+ * their rows with it, so a file's q is recomputed from the file alone;
+ * the readers' run-time near terms scale their weights with it too
+ * (sss/nearterms.h), which is why it is part of libsss
+ * (common/src/fieldweights.c) and not of the bake's kernels.
  */
 #ifndef SSS_FIELDWEIGHTS_H
 #define SSS_FIELDWEIGHTS_H
@@ -76,7 +78,9 @@ typedef struct sss_field_kernel {
 /* Evaluates the field at every vertex of mesh (world units; h->xf maps to
  * the rest frame), checks that the field covers the mesh (`name` in the
  * message), and derives the reference material and the search radius
- * with the neighbourhoods' radius rule for cutoff eps. */
+ * with the neighbourhoods' radius rule for cutoff eps. A surface texture
+ * (h->surface, docs/heterogeneous.md §4.4) gets τ ≡ 1 (step_mm 0): the
+ * endpoints' product alone. */
 sss_result sss_field_kernel_create(const sss_mesh *mesh, double mm_per_unit, const sss_material *base,
                                    const sss_hetero *h, uint32_t C, double eps, const char *name,
                                    sss_field_kernel *k, sss_error *err);
