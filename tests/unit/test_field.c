@@ -321,36 +321,50 @@ static void same_q(const sss_bake_file *a, const sss_bake_file *b)
     assert_memory_equal(a->fx.exact_q, b->fx.exact_q, (size_t)a->mesh.nv * a->channels * sizeof(float));
 }
 
-static void constantFieldsReduceToTheHomogeneousBakes(void **state)
+/* Constant fields c = 0 and c = 1 give the base's and the inside's q bit
+ * for bit: as constants (folded by the planner, no section FELD) and
+ * through the kernel (a box holding the whole ball is f = 1 everywhere, a
+ * stratum far away f = 0; sqrt(P·P)/P = 1). surface: the same as surface
+ * textures (docs/heterogeneous.md §4.4). */
+static void constants_reduce_to_the_homogeneous_bakes(int surface)
 {
-    (void)state;
     make_meshes();
+    const char *tail = surface ? ",\"surface\":true}" : "}";
+    char field[256];
     sss_bake_file hom, in_hom, f;
     bake_scene(scene_text("ball.ply", NULL, "0.3,0.2,0.9", NULL), &hom);
     bake_scene("{\"objects\":[{\"mesh\":\"ball.ply\",\"material\":" INSIDE "}],"
                "\"lights\":[{\"type\":\"directional\",\"direction\":[0.3,0.2,0.9]}]}", &in_hom);
-    /* c = 0 and c = 1 as constants: folded by the planner, no section FELD */
-    bake_scene(scene_text("ball.ply", "{\"constant\":0}", "0.3,0.2,0.9", NULL), &f);
+    snprintf(field, sizeof field, "{\"constant\":0%s", tail);
+    bake_scene(scene_text("ball.ply", field, "0.3,0.2,0.9", NULL), &f);
     assert_int_equal(f.hetero.field.kind, SSS_FIELD_NONE);
     same_q(&f, &hom);
     sss_file_free(&f);
-    bake_scene(scene_text("ball.ply", "{\"constant\":1}", "0.3,0.2,0.9", NULL), &f);
+    snprintf(field, sizeof field, "{\"constant\":1%s", tail);
+    bake_scene(scene_text("ball.ply", field, "0.3,0.2,0.9", NULL), &f);
     same_q(&f, &in_hom);
     sss_file_free(&f);
-    /* the same fields through the kernel (a box holding the whole ball is
-     * f = 1 everywhere, a stratum far away f = 0): bit for bit too */
-    bake_scene(scene_text("ball.ply", "{\"procedural\":\"box\",\"centre_mm\":[0,0,0],\"half_mm\":[50,50,50]}",
-                          "0.3,0.2,0.9", NULL), &f);
+    snprintf(field, sizeof field, "{\"procedural\":\"box\",\"centre_mm\":[0,0,0],\"half_mm\":[50,50,50]%s", tail);
+    bake_scene(scene_text("ball.ply", field, "0.3,0.2,0.9", NULL), &f);
     assert_int_equal(f.hetero.field.kind, SSS_FIELD_BOX);
+    assert_int_equal(f.hetero.surface, surface);
     same_q(&f, &in_hom);
     sss_file_free(&f);
-    bake_scene(scene_text("ball.ply", "{\"procedural\":\"layers\",\"normal\":[0,0,1],\"thickness_mm\":1,"
-                          "\"offset_mm\":500}", "0.3,0.2,0.9", NULL), &f);
+    snprintf(field, sizeof field,
+             "{\"procedural\":\"layers\",\"normal\":[0,0,1],\"thickness_mm\":1,\"offset_mm\":500%s", tail);
+    bake_scene(scene_text("ball.ply", field, "0.3,0.2,0.9", NULL), &f);
     assert_int_equal(f.hetero.field.kind, SSS_FIELD_LAYERS);
+    assert_int_equal(f.hetero.surface, surface);
     same_q(&f, &hom);
     sss_file_free(&f);
     sss_file_free(&hom);
     sss_file_free(&in_hom);
+}
+
+static void constantFieldsReduceToTheHomogeneousBakes(void **state)
+{
+    (void)state;
+    constants_reduce_to_the_homogeneous_bakes(0);
 }
 
 /* q of the file recomputed by the exact evaluator from the file alone */
@@ -763,35 +777,7 @@ static void fieldOutsideTheMeshOrABadVdbFailsTheBakeNamingTheFile(void **state)
 static void surfaceTextureOfAConstantIsTheHomogeneousBake(void **state)
 {
     (void)state;
-    make_meshes();
-    sss_bake_file hom, in_hom, f;
-    bake_scene(scene_text("ball.ply", NULL, "0.3,0.2,0.9", NULL), &hom);
-    bake_scene("{\"objects\":[{\"mesh\":\"ball.ply\",\"material\":" INSIDE "}],"
-               "\"lights\":[{\"type\":\"directional\",\"direction\":[0.3,0.2,0.9]}]}", &in_hom);
-    /* c = 0 and c = 1: folded by the planner, as without the key */
-    bake_scene(scene_text("ball.ply", "{\"constant\":0,\"surface\":true}", "0.3,0.2,0.9", NULL), &f);
-    assert_int_equal(f.hetero.field.kind, SSS_FIELD_NONE);
-    same_q(&f, &hom);
-    sss_file_free(&f);
-    bake_scene(scene_text("ball.ply", "{\"constant\":1,\"surface\":true}", "0.3,0.2,0.9", NULL), &f);
-    same_q(&f, &in_hom);
-    sss_file_free(&f);
-    /* through the kernel without τ: f = 1 at every vertex (a box around
-     * the ball) is the inside's file, f = 0 (a stratum far away) the
-     * base's, bit for bit (sqrt(P·P)/P = 1) */
-    bake_scene(scene_text("ball.ply", "{\"procedural\":\"box\",\"centre_mm\":[0,0,0],\"half_mm\":[50,50,50],"
-                          "\"surface\":true}", "0.3,0.2,0.9", NULL), &f);
-    assert_int_equal(f.hetero.field.kind, SSS_FIELD_BOX);
-    assert_true(f.hetero.surface);
-    same_q(&f, &in_hom);
-    sss_file_free(&f);
-    bake_scene(scene_text("ball.ply", "{\"procedural\":\"layers\",\"normal\":[0,0,1],\"thickness_mm\":1,"
-                          "\"offset_mm\":500,\"surface\":true}", "0.3,0.2,0.9", NULL), &f);
-    assert_true(f.hetero.surface);
-    same_q(&f, &hom);
-    sss_file_free(&f);
-    sss_file_free(&hom);
-    sss_file_free(&in_hom);
+    constants_reduce_to_the_homogeneous_bakes(1);
 }
 
 static void surfaceTextureIgnoresAnInclusionThatHoldsNoVertex(void **state)
