@@ -390,7 +390,9 @@ static void rule_storage(const plan_in *in, sss_object_plan *p)
     else if (p->near_runtime)
         decide(p, "near terms", "runtime", "direction set: the terms within the material's radius (95 %% of "
                "R_d,total, 97 %% for one channel) are added at run time for the light's actual direction, without "
-               "the direction set's interpolation error, as in plain bakes; the other effects keep theirs baked");
+               "the direction set's interpolation error, as in plain bakes%s; the other effects keep theirs baked",
+               p->field == SSS_PLAN_FIELD_BAKED ? ", each weighed with the field's kernel kappa rebuilt from the file "
+               "(docs/heterogeneous.md sec. 4)" : "");
     else if (b->near_terms == SSS_SCENE_NEAR_BAKED)
         decide(p, "near terms", "baked", "bake.near_terms is \"baked\": every term stays in the rows");
     else
