@@ -572,7 +572,7 @@ static void check_count(const sss_refs *r, double fraction, uint32_t nv, const c
         fail_msg("%s, fraction %g: %u references, expected %ld +- %ld", what, fraction, r->nref, want, tol);
 }
 
-/* Issue 6's importer keeps one triangle of each reversed pair, so the flaps
+/* The importer (docs/robustness.md) keeps one triangle of each reversed pair, so the flaps
  * no longer cancel: split into manifold pieces, each fin pinned its vertices
  * (a lone triangle, or a rim of three where it cut a surface triangle
  * loose), and the decimation stalled far above the target, whatever was

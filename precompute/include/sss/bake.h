@@ -141,7 +141,7 @@ typedef struct sss_bake_stats {
     uint32_t thin_vertices;
     double thin_limit_mm;
     double thinnest_mm;                  /* smallest thickness found (∞: no ray hit) */
-    /* Issue 8: the gather used, its measurements and the memory. */
+    /* The gather used (docs/benchmarks.md, "Bake at scale"), its measurements and the memory. */
     int gather;                          /* SSS_GATHER_DIRECT or SSS_GATHER_TREE */
     double theta;
     double t_tree;                       /* tree build (Morton order, nodes, moments) */
