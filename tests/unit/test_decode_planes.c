@@ -184,24 +184,27 @@ static void check_form(const sss_bake_file *src, uint32_t order, double fraction
 
 static const uint32_t kinds[] = {SSS_SHQ_LINEAR8, SSS_SHQ_LLOYD8, SSS_SHQ_LLOYD4, SSS_SHQ_LINEAR16};
 
+/* check_form for every code kind, orders 3 and 7, RGB and grey; fraction:
+ * the share of reference points (0: SH only) */
+static void check_every_form(double fraction)
+{
+    for (size_t k = 0; k < sizeof kinds / sizeof *kinds; k++)
+        for (uint32_t order = 3; order <= 7; order += 4) {
+            check_form(&g_rgb, order, fraction, kinds[k]);
+            check_form(&g_grey, order, fraction, kinds[k]);
+        }
+}
+
 static void shOnlyLayoutIsThePerVertexSum(void **state)
 {
     (void)state;
-    for (size_t k = 0; k < sizeof kinds / sizeof *kinds; k++)
-        for (uint32_t order = 3; order <= 7; order += 4) {
-            check_form(&g_rgb, order, 0.0, kinds[k]);
-            check_form(&g_grey, order, 0.0, kinds[k]);
-        }
+    check_every_form(0.0);
 }
 
 static void referencesLayoutIsThePerVertexSum(void **state)
 {
     (void)state;
-    for (size_t k = 0; k < sizeof kinds / sizeof *kinds; k++)
-        for (uint32_t order = 3; order <= 7; order += 4) {
-            check_form(&g_rgb, order, 0.05, kinds[k]);
-            check_form(&g_grey, order, 0.05, kinds[k]);
-        }
+    check_every_form(0.05);
 }
 
 /* A layout built from other codes is not used: after the codes are
