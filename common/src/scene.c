@@ -490,19 +490,20 @@ static sss_result parse_field(const ctx *c, const cJSON *fj, const char *jpath, 
 {
     sss_field *f = &obj->hetero.field;
     if (!cJSON_IsObject(fj)) return fail_at(c, jpath, "expected an object {constant}, {procedural, ...} or {vdb, grid}");
-    sss_result r;
+    /* "surface" is a key of every kind: read once (unknown keys are still
+     * refused per kind below) */
+    sss_result r = get_bool(c, fj, jpath, "surface", &obj->hetero.surface);
+    if (r != SSS_OK) return r;
     char p[512];
     if (cJSON_GetObjectItemCaseSensitive(fj, "constant")) {
         static const char *const k[] = {"constant", "surface", NULL};
         if ((r = only_keys(c, fj, jpath, k)) != SSS_OK) return r;
-        if ((r = get_bool(c, fj, jpath, "surface", &obj->hetero.surface)) != SSS_OK) return r;
         f->kind = SSS_FIELD_CONSTANT;
         return get_number(c, fj, jpath, "constant", 1, 0.0, 1.0, &f->value);
     }
     if (cJSON_GetObjectItemCaseSensitive(fj, "vdb")) {
         static const char *const k[] = {"vdb", "grid", "surface", NULL};
         if ((r = only_keys(c, fj, jpath, k)) != SSS_OK) return r;
-        if ((r = get_bool(c, fj, jpath, "surface", &obj->hetero.surface)) != SSS_OK) return r;
         if ((r = get_path(c, fj, jpath, "vdb", obj->field_path)) != SSS_OK) return r;
         const cJSON *g = cJSON_GetObjectItemCaseSensitive(fj, "grid");
         join(p, sizeof p, jpath, "grid");
@@ -530,7 +531,6 @@ static sss_result parse_field(const ctx *c, const cJSON *fj, const char *jpath, 
                                      "surface", NULL};
     static const char *const *const keys[] = {NULL, kv, ki, kb, ks, kl};
     if ((r = only_keys(c, fj, jpath, keys[kind])) != SSS_OK) return r;
-    if ((r = get_bool(c, fj, jpath, "surface", &obj->hetero.surface)) != SSS_OK) return r;
     uint32_t seed = 0;
     if ((r = get_u32(c, fj, jpath, "seed", 0, UINT32_MAX, &seed)) != SSS_OK) return r;
     f->seed = seed;
