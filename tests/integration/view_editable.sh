@@ -27,6 +27,18 @@ sed 's/"field": {[^}]*}/"field": {"constant": 0}/' "$TMP/edit.json" > "$TMP/plai
 expect_ok VIEW --scene "$TMP/plain.json" --offscreen --out "$TMP/plain.exr" --size 96x72 --exposure 100
 read -r D MA MB < <("$SSS_EXRSTATS" "$TMP/box.exr" "$TMP/plain.exr")
 awk -v a="$MA" -v b="$MB" 'BEGIN { exit !(a > 0 && a < 0.9 * b) }' || fail "the box's mean $MA against $MB without it"
+# a second directional light adds its own pass (brighter), a point light is
+# said not to be drawn
+sed 's|"lights": \[|"lights": [{"type": "directional", "direction": [1, 0.3, 0.2], "intensity": 0.5}, {"type": "point", "position": [0, 0, 3], "intensity": 1},|' \
+  "$TMP/edit.json" > "$TMP/two.json"
+expect_ok "$SSS_BAKE" --scene "$TMP/two.json" --plan
+contains "$TMP/out" "light 0       run-time           directional light: its light-space map is rendered each frame, the lights' q summed"
+contains "$TMP/out" "light 1       none               the run-time path takes directional lights only (a point light"
+contains "$TMP/out" "light 2       run-time"
+expect_ok VIEW --scene "$TMP/two.json" --offscreen --out "$TMP/two.exr" --size 96x72 --exposure 100
+contains "$TMP/err" "/lights: 1 light(s) not drawn: the run-time path sums up to 8 directional lights and no point"
+read -r D MA MB < <("$SSS_EXRSTATS" "$TMP/two.exr" "$TMP/box.exr")
+awk -v a="$MA" -v b="$MB" 'BEGIN { exit !(a > 1.1 * b) }' || fail "two lights' mean $MA against $MB for one"
 # refused in one line
 sed 's/"editable": true/"editable": "yes"/' "$TMP/edit.json" > "$TMP/bad.json"
 expect_fail "bad.json: /objects/0/editable: expected true or false" "$SSS_BAKE" --scene "$TMP/bad.json" --plan

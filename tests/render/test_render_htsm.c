@@ -5,7 +5,8 @@
  * GPU's own exit point from the GPU's own light-space map (read back, its
  * mips rebuilt), and must agree within a bound; an edit of the inside
  * material shows in the next frame, darkens the picture and undoes
- * exactly; strength 0 is the homogeneous pass. */
+ * exactly; strength 0 is the homogeneous pass; two lights give the sum of
+ * each alone. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -14,6 +15,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "genmesh.h"
 #include "gl_fixture.h"
@@ -197,11 +199,64 @@ static void liveEditsShowAtOnceAndUndo(void **state)
     block_free(&b);
 }
 
+/* Two directional lights (p's from behind, one more from the side): q is
+ * each light's frame alone added, float for float (the second pass is
+ * blended one-to-one onto the first), and x_o is the same. */
+static void twoLightsGiveTheSumOfEachAlone(void **state)
+{
+    (void)state;
+    block b;
+    block_make(&b);
+    sss_htsm_gpu *g = NULL;
+    sss_error err = {{0}};
+    if (sss_htsm_gpu_create(b.r, &b.h, MAP, 5, &g, &err) != SSS_OK) fail_msg("htsm: %s", err.msg);
+    sss_view_params p, p2;
+    params(&p);
+    p2 = p;
+    const double side[3] = {0.8, 0.3, 0.5}, rgb[3] = {0.5, 0.7, 0.9};
+    memcpy(p2.light, side, sizeof side);
+    memcpy(p2.light_rgb, rgb, sizeof rgb);
+    sss_htsm_view v;
+    view(&b, 5, 8, &v);
+    sss_htsm_map map;
+    float *q[3], *x[3];
+    frame(g, &v, &p);
+    assert_int_equal(sss_htsm_gpu_read(g, &map, &q[0], &x[0], &err), SSS_OK);
+    sss_htsm_map_free(&map);
+    frame(g, &v, &p2);
+    assert_int_equal(sss_htsm_gpu_read(g, &map, &q[1], &x[1], &err), SSS_OK);
+    sss_htsm_map_free(&map);
+    v.nmore = 1;
+    memcpy(v.more_light[0], side, sizeof side);
+    memcpy(v.more_rgb[0], rgb, sizeof rgb);
+    frame(g, &v, &p);
+    assert_int_equal(sss_htsm_gpu_read(g, &map, &q[2], &x[2], &err), SSS_OK);
+    sss_htsm_map_free(&map);
+    int drawn = 0, lit[2] = {0, 0};
+    for (int i = 0; i < W * H; i++) {
+        for (int c = 0; c < 4; c++) assert_true(x[2][4 * i + c] == x[0][4 * i + c]);
+        if (x[0][4 * i + 3] != 1.0f) continue;
+        drawn++;
+        for (int c = 0; c < 3; c++) {
+            assert_true(q[2][4 * i + c] == q[0][4 * i + c] + q[1][4 * i + c]);
+            lit[0] += c == 0 && q[0][4 * i] > 0.0f, lit[1] += c == 0 && q[1][4 * i] > 0.0f;
+        }
+    }
+    printf("%d pixels, lit by the back light %d, by the side light %d: the pair is their sum\n", drawn, lit[0], lit[1]);
+    assert_true(drawn > W * H / 4 && lit[0] > drawn / 2 && lit[1] > drawn / 2);
+    v.nmore = SSS_HTSM_MAX_LIGHTS;
+    assert_int_not_equal(sss_htsm_gpu_frame(g, &v, &p, W, H, NULL, &err), SSS_OK);
+    for (int k = 0; k < 3; k++) free(q[k]), free(x[k]);
+    sss_htsm_gpu_destroy(g);
+    block_free(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(perPixelAgreesWithTheCpuOracle),
         cmocka_unit_test(liveEditsShowAtOnceAndUndo),
+        cmocka_unit_test(twoLightsGiveTheSumOfEachAlone),
     };
     return cmocka_run_group_tests(tests, gl_setup, gl_teardown);
 }

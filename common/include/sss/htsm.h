@@ -39,6 +39,7 @@ extern "C" {
 #define SSS_HTSM_MAX_LEVELS 16
 #define SSS_HTSM_MAX_SAMPLES 13  /* the thesis's largest pattern (Fig. 5.7) */
 #define SSS_HTSM_MAX_STEPS 1024
+#define SSS_HTSM_MAX_LIGHTS 8 /* directional lights summed per frame (docs/heterogeneous.md §9.1) */
 
 /* The light-space map: `levels` mip levels, level l of size >> l texels
  * per side, 4 floats per texel in each of the three images. */

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "effects/effect.h"
+#include "sss/htsm.h"
 #include "sss/memory.h"
 #include "sss/jsontext.h"
 #include "sss/probe.h"
@@ -190,16 +191,22 @@ static void rule_editable(const plan_in *in, sss_object_plan *p)
            "sums, per pixel, the thesis's hierarchical samples, each marched through the field's mipmapped 3D "
            "texture (docs/heterogeneous.md sec. 9)", ob->hetero.field.kind != SSS_FIELD_NONE ?
            sss_field_kind_name(ob->hetero.field.kind) : "no");
+    uint32_t drawn = 0;
     for (uint32_t l = 0; l < s->nlights; l++) {
         const sss_scene_light *L = &s->lights[l];
         char eff[32];
         snprintf(eff, sizeof eff, "light %u", l);
         p->light_pass[l] = UINT32_MAX;
-        if (L->kind == SSS_LIGHT_DIRECTIONAL && L->intensity != 0.0)
-            decide(p, eff, "run-time", "directional light: its light-space map is rendered each frame");
-        else
+        if (L->intensity == 0.0)
+            decide(p, eff, "none", "intensity 0");
+        else if (L->kind != SSS_LIGHT_DIRECTIONAL)
             decide(p, eff, "none", "the run-time path takes directional lights only (a %s light is not drawn on "
                    "the object)", sss_light_kind_name(L->kind));
+        else if (drawn++ >= SSS_HTSM_MAX_LIGHTS)
+            decide(p, eff, "none", "the run-time path sums the first %d directional lights", SSS_HTSM_MAX_LIGHTS);
+        else
+            decide(p, eff, "run-time", "directional light: its light-space map is rendered each frame, the lights' "
+                   "q summed (docs/heterogeneous.md sec. 9.1)");
     }
 }
 

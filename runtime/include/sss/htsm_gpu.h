@@ -27,6 +27,11 @@ typedef struct sss_htsm_view {
     uint32_t steps;        /* march steps per sample, 1 … SSS_HTSM_MAX_STEPS */
     double r0_mm;          /* the pattern's inner radius (sss_htsm_pattern_make); 0: the bounding radius / 4 */
     sss_htsm_material mat; /* base, inside, strength, mm per unit: edited live */
+    /* directional lights added to p's (a scene's second and later ones):
+     * towards the light, and the irradiance E per channel; each takes its
+     * own map and pass, and q is their sum (docs/heterogeneous.md §9.1) */
+    uint32_t nmore;
+    double more_light[SSS_HTSM_MAX_LIGHTS - 1][3], more_rgb[SSS_HTSM_MAX_LIGHTS - 1][3];
 } sss_htsm_view;
 
 /* n = 13, 4 steps, r0 from the radius, the file's material as the base and
@@ -44,12 +49,14 @@ sss_result sss_htsm_gpu_create(sss_renderer *r, const sss_hetero *h, uint32_t ma
 void sss_htsm_gpu_destroy(sss_htsm_gpu *g);
 
 /* The frame's image as sss_renderer_render_q_image returns it, q per pixel
- * from the pass for p's light (direction and light_rgb) and camera. */
+ * from the pass for p's light (direction and light_rgb), v's more lights
+ * and p's camera. */
 sss_result sss_htsm_gpu_render_image(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, int width,
                                      int height, float **rgb, float **hdr, sss_error *err);
 
 /* The pass alone for p at width × height (its q texture filled), and the
- * wall time it took between glFinish calls, ms. */
+ * wall time it took between glFinish calls, ms: p's light, then each of
+ * v's more lights added into the same q (x_o is the same in each). */
 sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, int width,
                               int height, double *ms, sss_error *err);
 

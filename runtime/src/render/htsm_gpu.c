@@ -271,23 +271,21 @@ static void unbind_units(void)
     glActiveTexture(GL_TEXTURE0);
 }
 
-sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, int width,
-                              int height, double *ms, sss_error *err)
+/* One light's two draws (§9.1): its map along l, then q and x_o from the
+ * camera, which the first light's pass clears and each later one adds to:
+ * q blended one-to-one, the depth buffer already the nearest surface's, so
+ * only that surface's fragments pass (GL_LEQUAL) and x_o is written again
+ * with the same values. */
+static sss_result light_pass(sss_htsm_gpu *g, const sss_htsm_view *v, const double light[3], const double rgb[3],
+                             const float mvp[16], int width, int height, int add, sss_error *err)
 {
     const sss_gpu_mesh *m = &g->r->mesh;
-    sss_result res = q_ensure(g, width, height, err);
-    if (res != SSS_OK) return res;
-    double l[3] = {p->light[0], p->light[1], p->light[2]};
+    double l[3] = {light[0], light[1], light[2]};
     sss_normalize3(l);
     const float lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
     float clip[16];
     if (!sss_shadow_frame(m->centre, m->radius * (1.0 + SSS_SHADOW_MARGIN), lf, clip, g->lookup))
         return sss_fail(err, SSS_ERR_ARG, "the light has no direction");
-    GLint prev = 0, vp[4];
-    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev);
-    glGetIntegerv(GL_VIEWPORT, vp);
-    glFinish();
-    const double t0 = sss_now();
     /* 1. the map along the light: every surface, the nearest to the light */
     glBindFramebuffer(GL_FRAMEBUFFER, g->map_fbo);
     const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
@@ -296,15 +294,13 @@ sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss
     glClearColor(0, 0, 0, 0);
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
     glDepthFunc(GL_LESS);
-    glDisable(GL_CULL_FACE);
     glUseProgram(g->prog_map);
     glUniformMatrix4fv(glGetUniformLocation(g->prog_map, "u_mat"), 1, GL_FALSE, clip);
     uni_v3(g->prog_map, "u_l", l);
-    uni_v3(g->prog_map, "u_light_rgb", p->light_rgb);
+    uni_v3(g->prog_map, "u_light_rgb", rgb);
     uni_f(g->prog_map, "u_eta", (float)v->mat.base.eta);
-    glBindVertexArray(m->vao);
     glDrawElements(GL_TRIANGLES, (GLsizei)(3 * m->nf), GL_UNSIGNED_INT, NULL);
     for (int i = 0; i < 3; i++) {
         glBindTexture(GL_TEXTURE_2D, g->map_tex[i]);
@@ -312,18 +308,49 @@ sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss
     }
     glBindTexture(GL_TEXTURE_2D, 0);
     /* 2. q and x_o per pixel from the camera */
-    double eye[3];
-    float mvp[16];
-    sss_draw_camera_mvp(m, p, width, height, eye, mvp);
     glBindFramebuffer(GL_FRAMEBUFFER, g->q_fbo);
     glDrawBuffers(2, bufs);
     glViewport(0, 0, width, height);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (add) {
+        glDepthFunc(GL_LEQUAL);
+        glEnablei(GL_BLEND, 0);
+        glBlendEquationi(0, GL_FUNC_ADD);
+        glBlendFunci(0, GL_ONE, GL_ONE);
+    } else {
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
     glUseProgram(g->prog_q);
     glUniformMatrix4fv(glGetUniformLocation(g->prog_q, "u_mat"), 1, GL_FALSE, mvp);
-    res = set_estimator(g, v, err);
+    sss_result res = set_estimator(g, v, err);
     if (res == SSS_OK) glDrawElements(GL_TRIANGLES, (GLsizei)(3 * m->nf), GL_UNSIGNED_INT, NULL);
     unbind_units();
+    glDisable(GL_BLEND);
+    glDepthFunc(GL_LESS);
+    return res;
+}
+
+sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, int width,
+                              int height, double *ms, sss_error *err)
+{
+    const sss_gpu_mesh *m = &g->r->mesh;
+    if (v->nmore > SSS_HTSM_MAX_LIGHTS - 1)
+        return sss_fail(err, SSS_ERR_ARG, "%u more lights: at most %d", v->nmore, SSS_HTSM_MAX_LIGHTS - 1);
+    sss_result res = q_ensure(g, width, height, err);
+    if (res != SSS_OK) return res;
+    GLint prev = 0, vp[4];
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev);
+    glGetIntegerv(GL_VIEWPORT, vp);
+    double eye[3];
+    float mvp[16];
+    sss_draw_camera_mvp(m, p, width, height, eye, mvp);
+    glFinish();
+    const double t0 = sss_now();
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glBindVertexArray(m->vao);
+    res = light_pass(g, v, p->light, p->light_rgb, mvp, width, height, 0, err);
+    for (uint32_t k = 0; res == SSS_OK && k < v->nmore; k++)
+        res = light_pass(g, v, v->more_light[k], v->more_rgb[k], mvp, width, height, 1, err);
     glBindVertexArray(0);
     glUseProgram(0);
     glFinish();
