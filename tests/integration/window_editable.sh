@@ -3,6 +3,9 @@
 # window_deform.sh), checked through the viewer's screenshots (P). K (the
 # inside's absorption x1.5) changes the picture at once and J gives it back;
 # U (the field's strength) and Y (the base's transport colour) change it too.
+# The panel (G) shows the live material: a click at the strength slider's
+# low end fades the box, so the picture, the panel closed again, is
+# brighter.
 . "$(dirname "$0")/lib.sh"
 : "${SSS_VIEW:?}" "${SSS_PNGSTATS:?}"
 expect_ok "$SSS_GENMESH" cube 8 "$TMP/block.ply" 2
@@ -22,6 +25,12 @@ shot p2 key j sleep 0.3                    # and back
 shot p3 key u sleep 0.3                    # strength /1.25 (the box's f = 1 falls to 0.8)
 shot p4 key i key y sleep 0.3              # strength back, the next transport colour
 view_quit
+view_start 560 320 --scene "$T/edit.json" --exposure 60
+shot s0 key h                              # overlay off
+shot s1 key g                              # the panel: its live material under Light
+shot s2 mousemove --window "$wid" 270 205 sleep 0.2 click 1   # strength slider, low end (1/64 ... 64, logarithmic)
+shot s3 key g                              # the panel closed, the edit kept
+view_quit
 EOF
 run_window_driver "$TMP/driver.sh" 300
 diff_px() { "$SSS_PNGSTATS" "$TMP/$1.png" "$TMP/$2.png"; }
@@ -29,6 +38,9 @@ F=$(diff_px p0 p1); awk -v f="$F" 'BEGIN { exit !(f > 0.01) }' || fail "K change
 F=$(diff_px p0 p2); awk -v f="$F" 'BEGIN { exit !(f < 0.002) }' || fail "J should give the picture back ($F differ)"
 F=$(diff_px p0 p3); awk -v f="$F" 'BEGIN { exit !(f > 0.01) }' || fail "U changed only $F of the pixels"
 F=$(diff_px p0 p4); awk -v f="$F" 'BEGIN { exit !(f > 0.01) }' || fail "Y changed only $F of the pixels"
+read -r w h M0 sd nonbg < <("$SSS_PNGSTATS" "$TMP/s0.png")
+read -r w h M3 sd nonbg < <("$SSS_PNGSTATS" "$TMP/s3.png")
+awk -v a="$M3" -v b="$M0" 'BEGIN { exit !(a > 1.05 * b) }' || fail "the panel's strength slider: mean $M3 against $M0 before"
 read -r w h mean sd nonbg < <("$SSS_PNGSTATS" "$TMP/p0.png")
 awk -v n="$nonbg" 'BEGIN { exit !(n > 0.02) }' || fail "p0.png is nearly empty ($nonbg of the pixels drawn)"
 echo ok

@@ -509,7 +509,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
     if (!a.panel) sss_cli_printf(stderr, "%s: no panel (G): %s\n", TOOL, err.msg);
     sss_panel_info pinfo = {f, opt->file_path, a.storage, sss_renderer_bytes_per_vertex(a.r), NULL,
                             opt->frame_q != NULL || opt->frame_gpu != NULL, a.initial.exposure, {0, 0, 0}, 0.0,
-                            opt->scene_eval};
+                            opt->scene_eval, opt->edit, opt->transport_mm};
     float *scene_q = opt->frame_q ? malloc((size_t)f->mesh.nv * f->channels * sizeof(float) + 1) : NULL;
 
     while (!glfwWindowShouldClose(win)) {

@@ -2,6 +2,7 @@
 #ifndef SSS_APP_H
 #define SSS_APP_H
 
+#include "sss/htsm.h"
 #include "sss/render.h"
 
 typedef struct sss_app_options {
@@ -27,6 +28,10 @@ typedef struct sss_app_options {
      * before the window's own table; returns 1 when it did (sss-view on an
      * editable object: the live material keys, edit.c). */
     int (*key)(void *user, int key);
+    /* Optional: an editable object's live material, which the panel edits
+     * as the keys do (edit.c), and its transport distance, mm. */
+    sss_htsm_material *edit;
+    double transport_mm;
 } sss_app_options;
 
 /* Opens a window, runs the event loop until closed (Esc / Q / window close),

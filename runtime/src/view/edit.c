@@ -229,7 +229,9 @@ int sss_edit_window(const sss_pose_view *v, sss_view_params *p)
     edit_state s;
     int rc = state_open(v, &s, p);
     if (rc == 0) {
-        sss_app_options ao = {v->scene, v->width, v->height, v->shot, NULL, &s, window_frame, NULL, on_key};
+        sss_app_options ao = {.file_path = v->scene, .width = v->width, .height = v->height,
+                              .screenshot_path = v->shot, .user = &s, .frame_gpu = window_frame, .key = on_key,
+                              .edit = &s.hv.mat, .transport_mm = TRANSPORT_MM};
         rc = sss_app_run(&s.f, p, &ao);
     }
     sss_htsm_gpu_destroy(s.g);

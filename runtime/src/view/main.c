@@ -612,7 +612,8 @@ static int scene_window(const sss_bake_file *f, view_args *a)
     if (scene_open(f, a, &a->p, &sc, &ev) != 0) return 2;
     a->p.background[0] = a->p.background[1] = a->p.background[2] = 0.02f;
     scene_win sw = {f, ev, NULL, a->p.path == SSS_EVAL_CPU, "", !a->scene};
-    sss_app_options ao = {a->path, a->size[0], a->size[1], a->shot, scene_frame, &sw, scene_frame_gpu, ev, NULL};
+    sss_app_options ao = {.file_path = a->path, .width = a->size[0], .height = a->size[1], .screenshot_path = a->shot,
+                          .frame_q = scene_frame, .user = &sw, .frame_gpu = scene_frame_gpu, .scene_eval = ev};
     int rc = sss_app_run(f, &a->p, &ao);
     sss_scene_eval_destroy(ev);
     sss_scene_free(&sc);
@@ -623,7 +624,7 @@ static int scene_window(const sss_bake_file *f, view_args *a)
  * the mouse moves (app.c). */
 static int window(const sss_bake_file *f, view_args *a)
 {
-    sss_app_options ao = {a->path, a->size[0], a->size[1], a->shot, NULL, NULL, NULL, NULL, NULL};
+    sss_app_options ao = {.file_path = a->path, .width = a->size[0], .height = a->size[1], .screenshot_path = a->shot};
     a->p.background[0] = a->p.background[1] = a->p.background[2] = 0.02f;
     return sss_app_run(f, &a->p, &ao);
 }

@@ -18,6 +18,7 @@
 extern "C" {
 #include "sss/decode.h"
 #include "sss/dipole.h"
+#include "sss/field.h"
 #include "sss/format.h"
 #include "sss/vec3.h"
 }
@@ -99,7 +100,8 @@ void bytes_text(const char *label, uint64_t b)
 }
 
 // Light: direction, irradiance E per channel as intensity × colour. A
-// scene's lights keep the directions and places its file gives them.
+// scene's baked lights keep the directions and places its file gives them;
+// an editable object's first light turns (docs/heterogeneous.md §9.1).
 void light_section(sss_view_params *p, int scene)
 {
     float az, el;
@@ -172,7 +174,8 @@ void effects_section(sss_view_params *p, const sss_panel_info *in)
     }
     if (in->scene) {
         ImGui::TextWrapped("scene lights: %s", in->scene_desc ? in->scene_desc : "summed on the CPU");
-        note("each light from the effect the file baked for it");
+        if (in->edit) note("each directional light by the run-time path, its own light-space map per frame");
+        else note("each light from the effect the file baked for it");
     }
     if (in->scene_eval) {
         // one switch per light kind the scene has (sss_scene_eval_set_kinds):
@@ -204,10 +207,40 @@ void effects_section(sss_view_params *p, const sss_panel_info *in)
     if (ImGui::RadioButton("4 nearest", &ip, SSS_INTERP_NEAREST4)) p->interp = SSS_INTERP_NEAREST4;
 }
 
-// The material is baked into q: only the exit term is the viewer's.
-void material_section(sss_view_params *p, const sss_bake_file *f)
+// An editable object's live material (docs/heterogeneous.md §9.1): the
+// inside's absorption, the field's strength and the base's transport
+// colour, the keys' edits (J / K, U / I, Y) as sliders, read back from the
+// material every frame so that keys and sliders agree.
+void edit_section(sss_htsm_material *m, double transport_mm)
 {
-    const sss_material *m = &f->material;
+    float sa[3];
+    for (int c = 0; c < 3; c++) sa[c] = (float)m->inside.sigma_a[c];
+    if (ImGui::SliderFloat3("inside s_a", sa, 1e-4f, 10.0f, "%.3g", ImGuiSliderFlags_Logarithmic))
+        for (int c = 0; c < 3; c++) m->inside.sigma_a[c] = std::fmin(10.0, std::fmax(1e-4, (double)sa[c]));
+    float s = (float)m->strength;
+    if (ImGui::SliderFloat("strength", &s, 1.0f / 64, 64.0f, "%.3g", ImGuiSliderFlags_Logarithmic))
+        m->strength = std::fmin(64.0, std::fmax(1.0 / 64, (double)s));
+    // T_c = exp(-sigma_tr T_d) of the base (the inverse of sss_transport_sigma_a)
+    float tc[3];
+    for (int c = 0; c < 3; c++) tc[c] = (float)std::exp(-sss_material_sigma_tr(&m->base, &m->base, 0.0, (uint32_t)c) *
+                                                        transport_mm);
+    if (ImGui::ColorEdit3("transport", tc, ImGuiColorEditFlags_Float)) {
+        double col[3], out[3];
+        for (int c = 0; c < 3; c++) col[c] = std::fmin(0.99, std::fmax(0.01, (double)tc[c]));
+        sss_error err = {{0}};
+        if (sss_transport_sigma_a(col, transport_mm, m->base.sigmap_s, out, &err) == SSS_OK)
+            std::memcpy(m->base.sigma_a, out, sizeof out);
+    }
+    note("the base's colour after %.3g mm sets its sigma_a; the inside's sigma'_s %.3g %.3g %.3g /mm", transport_mm,
+         m->inside.sigmap_s[0], m->inside.sigmap_s[1], m->inside.sigmap_s[2]);
+}
+
+// The material is baked into q: only the exit term is the viewer's (an
+// editable object's base is the live one, edited above).
+void material_section(sss_view_params *p, const sss_panel_info *in)
+{
+    const sss_bake_file *f = in->f;
+    const sss_material *m = in->edit ? &in->edit->base : &f->material;
     ImGui::Text("%.31s   eta %.3f", m->name, m->eta);
     if (f->channels == 3) {
         ImGui::Text("sigma_a   %.4g %.4g %.4g /mm", m->sigma_a[0], m->sigma_a[1], m->sigma_a[2]);
@@ -221,8 +254,11 @@ void material_section(sss_view_params *p, const sss_bake_file *f)
     if (ImGui::RadioButton("F_t", &x, 0)) p->exit_normalised = 0;
     ImGui::SameLine();
     if (ImGui::RadioButton("F_t / c(eta)", &x, 1)) p->exit_normalised = 1;
-    note("c(eta) = %.4f. eta, sigma_a and sigma'_s are baked into q: change them with sss-bake",
-         sss_exit_norm(m->eta));
+    if (in->edit)
+        note("c(eta) = %.4f. q is computed each frame from the live material", sss_exit_norm(m->eta));
+    else
+        note("c(eta) = %.4f. eta, sigma_a and sigma'_s are baked into q: change them with sss-bake",
+             sss_exit_norm(m->eta));
 }
 
 // The stage times of the last kHistory frames stacked bottom to top
@@ -363,10 +399,12 @@ void sss_panel_frame(sss_panel *pn, int show, sss_view_params *p, const sss_pane
                                    ImGuiWindowFlags_NoFocusOnAppearing;
     if (ImGui::Begin("sss-view  (G hides)", nullptr, flags)) {
         ImGui::PushItemWidth(-90.0f);  // labels right of the controls get 90 px
-        if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_section(p, in->scene);
+        if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_section(p, in->scene && !in->edit);
+        if (in->edit && ImGui::CollapsingHeader("Live material", ImGuiTreeNodeFlags_DefaultOpen))
+            edit_section(in->edit, in->transport_mm);
         if (ImGui::CollapsingHeader("Image", ImGuiTreeNodeFlags_DefaultOpen)) image_section(p);
         if (ImGui::CollapsingHeader("Effects", ImGuiTreeNodeFlags_DefaultOpen)) effects_section(p, in);
-        if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) material_section(p, in->f);
+        if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) material_section(p, in);
         if (ImGui::CollapsingHeader("Frame time by stage", ImGuiTreeNodeFlags_DefaultOpen)) times_section(pn, in);
         if (ImGui::CollapsingHeader("File", ImGuiTreeNodeFlags_DefaultOpen)) file_section(in);
         ImGui::PopItemWidth();

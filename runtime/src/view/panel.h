@@ -3,7 +3,8 @@
  * The panel shows what the file holds (docs/viewer.md, "The panel") and
  * edits the sss_view_params the app draws with: light direction, intensity
  * and colour, exposure and tone map, the effects the file carries, the exit
- * term, and a graph of the frame time per stage. It exists in the window
+ * term, and a graph of the frame time per stage; for an editable object,
+ * its live material. It exists in the window
  * only (app.c); offscreen rendering never creates it.
  *
  * Per frame: sss_panel_frame before the scene is evaluated (its edits apply
@@ -17,6 +18,7 @@
 #ifndef SSS_PANEL_H
 #define SSS_PANEL_H
 
+#include "sss/htsm.h"
 #include "sss/render.h"
 
 #ifdef __cplusplus
@@ -38,6 +40,10 @@ typedef struct sss_panel_info {
     sss_frame_times times;     /* the previous frame's, as sss_renderer_times gives them */
     double frame_ms;           /* the previous frame's wall-clock time */
     sss_scene_eval *scene_eval; /* the scene's sum (NULL without one): its light kinds are switched here */
+    /* an editable object's live material (edit.c, docs/heterogeneous.md
+     * §9.1), edited here as by its keys; NULL otherwise */
+    sss_htsm_material *edit;
+    double transport_mm;       /* the distance at which edit's base reaches its transport colour */
 } sss_panel_info;
 
 /* Creates the ImGui context on win (whose GL context is current) and installs

@@ -379,7 +379,8 @@ int sss_pose_window(const sss_pose_view *v, sss_view_params *p)
     if (rc == 0) {
         view_params(&s, p);
         s.shown_t = NAN; /* the first frame uploads the pose */
-        sss_app_options ao = {v->scene, v->width, v->height, v->shot, NULL, &s, window_frame, NULL, NULL};
+        sss_app_options ao = {.file_path = v->scene, .width = v->width, .height = v->height,
+                              .screenshot_path = v->shot, .user = &s, .frame_gpu = window_frame};
         rc = sss_app_run(&s.f, p, &ao);
     }
     state_free(&s);
