@@ -204,6 +204,23 @@ double sss_rd_disk(const sss_dipole *d, double R)
     return 0.5 * d->alpha_p * (disk_term(d->sigma_tr, d->z_r, R) + disk_term(d->sigma_tr, d->z_v, R));
 }
 
+/* A disk at height h on the axis: with D = sqrt(s² + h² + z²) and
+ * s ds = D dD, ∫_0^R z (1 + σD) e^{−σD}/D³ 2πs ds = 2π z [e^{−σD}/D] from
+ * D₁ = sqrt(R² + D₀²) to D₀ = sqrt(h² + z²); disk_term's form with z → D₀
+ * and the factor z/D₀ (δ = D₁ − D₀ = R²/(D₁ + D₀)). */
+double sss_rd_disk_axis(const sss_dipole *d, double h, double R)
+{
+    if (!(R > 0.0)) return 0.0;
+    double s = 0.0;
+    const double z[2] = {d->z_r, d->z_v};
+    for (int k = 0; k < 2; k++) {
+        const double D0 = sqrt(h * h + z[k] * z[k]), D1 = sqrt(R * R + D0 * D0);
+        const double delta = R * R / (D1 + D0);
+        s += z[k] / D0 * -exp(-d->sigma_tr * D0) * expm1(-d->sigma_tr * delta - log1p(delta / D0));
+    }
+    return 0.5 * d->alpha_p * s;
+}
+
 /* 16-point Gauss–Legendre nodes and weights on [−1, 1] (positive half). */
 static const double GL_X[8] = {0.0950125098376374, 0.2816035507792589, 0.4580167776572274, 0.6178762444026438,
                                0.7554044083550030, 0.8656312023878318, 0.9445750230732326, 0.9894009349916499};

@@ -219,13 +219,15 @@ static void map_read(const sss_htsm_map *m, uint32_t l, double s, double t, doub
     }
 }
 
-static double rd_at(const sss_htsm_material *mat, double f, int c, double r)
+/* ∫ R_d dA of the blend at f over the sample's disk (radius ρ, at distance
+ * d on its axis; docs/heterogeneous.md §9.2). */
+static double disk_at(const sss_htsm_material *mat, double f, int c, double d, double rho)
 {
     sss_material b;
     sss_material_blend(&mat->base, &mat->inside, f, &b);
-    sss_dipole d;
-    if (sss_dipole_init(&d, b.sigma_a[c], b.sigmap_s[c], b.eta) != SSS_OK) return 0.0;
-    return sss_rd(&d, r);
+    sss_dipole dp;
+    if (sss_dipole_init(&dp, b.sigma_a[c], b.sigmap_s[c], b.eta) != SSS_OK) return 0.0;
+    return sss_rd_disk_axis(&dp, d, rho);
 }
 
 /* The blend's weight at x on level l: the field scaled by the strength. */
@@ -254,9 +256,6 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
         const double xi[3] = {pos[0] / pos[3], pos[1] / pos[3], pos[2] / pos[3]};
         const double dx[3] = {xo[0] - xi[0], xo[1] - xi[1], xo[2] - xi[2]};
         const double d = sqrt(sss_dot3(dx, dx)) * mm;
-        /* the sample stands for a disk of radius ρ: the mean square
-         * distance from x_o to its points is d² + ρ²/2 */
-        const double r = sqrt(d * d + 0.5 * pat->rho[i] * pat->rho[i]);
         const uint32_t lv = pat->vol_level[i];
         const double fi = weight_at(vol, mat, lv, xi);
         double tau_sum[3] = {0, 0, 0};
@@ -278,9 +277,12 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
         }
         for (int c = 0; c < 3; c++) {
             const double tau = exp(-tau_sum[c] * d / steps);
-            const double P = sqrt(rd_at(mat, fo, c, r) * rd_at(mat, fi, c, r));
+            /* the sample stands for a disk of radius ρ (area A_i) at distance
+             * d: each endpoint's profile integrated over it, their geometric
+             * mean (§9.2) */
+            const double P = sqrt(disk_at(mat, fo, c, d, pat->rho[i]) * disk_at(mat, fi, c, d, pat->rho[i]));
             /* the baked weight's 1/π (docs/physics.md §4): q in the bake's units */
-            q[c] += pat->area[i] * E[c] * P * tau / SSS_PI;
+            q[c] += E[c] * P * tau / SSS_PI;
         }
     }
 }

@@ -12,8 +12,7 @@ uniform int u_ht_size;           // the map's level-0 texels per side
 uniform int u_ht_n;              // samples: 1, 5, 9, 13
 uniform int u_ht_steps;          // march steps per sample
 uniform vec2 u_ht_off[HT_MAX];   // sample offsets along s, t, mm
-uniform float u_ht_area[HT_MAX]; // mm² across the light
-uniform float u_ht_rho[HT_MAX];  // sqrt(area / pi), mm
+uniform float u_ht_rho[HT_MAX];  // the radius of the disk a sample stands for, sqrt(area / pi), mm
 uniform int u_ht_mlev[HT_MAX];   // the map's mip level of each sample
 uniform int u_ht_vlev[HT_MAX];   // the field's mip level of each sample
 uniform vec3 u_ht_base_sa, u_ht_base_ss, u_ht_in_sa, u_ht_in_ss; // 1/mm
@@ -52,15 +51,18 @@ vec3 ht_tr(float f) {
     vec3 sa = mix(u_ht_base_sa, u_ht_in_sa, f), ss = mix(u_ht_base_ss, u_ht_in_ss, f);
     return sqrt(3.0 * sa * (sa + ss));
 }
-vec3 ht_term(vec3 tr, vec3 z, float r) {
-    vec3 d = sqrt(r * r + z * z);
-    return z * (1.0 + tr * d) * exp(-tr * d) / (d * d * d);
+// one source over the disk: z (e^{-tr D0}/D0 - e^{-tr D1}/D1), sss_rd_disk_axis's
+// closed form (the C side in a form without cancellation)
+vec3 ht_term(vec3 tr, vec3 z, float h, float R) {
+    vec3 D0 = sqrt(h * h + z * z), D1 = sqrt(R * R + D0 * D0);
+    return z * (exp(-tr * D0) / D0 - exp(-tr * D1) / D1);
 }
-// sss_rd of the blend at f (docs/physics.md §2)
-vec3 ht_rd(float f, float r) {
+// sss_rd_disk_axis of the blend at f: R_d (docs/physics.md §2) over the
+// sample's disk of radius R at distance h on its axis (docs/heterogeneous.md §9.2)
+vec3 ht_disk(float f, float h, float R) {
     vec3 sa = mix(u_ht_base_sa, u_ht_in_sa, f), ss = mix(u_ht_base_ss, u_ht_in_ss, f);
     vec3 st = sa + ss, tr = sqrt(3.0 * sa * st), zr = 1.0 / st, zv = zr + 4.0 * u_ht_A / (3.0 * st);
-    return ss / st / (4.0 * PI_HT) * (ht_term(tr, zr, r) + ht_term(tr, zv, r));
+    return 0.5 * ss / st * (ht_term(tr, zr, h, R) + ht_term(tr, zv, h, R));
 }
 // the map's bilinear mean at (s, t) on level l, texels outside empty (map_read)
 void ht_map(int l, vec2 st, out vec4 pos, out vec3 irr) {
@@ -87,7 +89,6 @@ void main() {
         if (!(pos.w > 1e-6)) continue; // nothing lit there
         vec3 xi = pos.xyz / pos.w, dx = v_pos - xi;
         float d = length(dx) * u_ht_mm;
-        float r = sqrt(d * d + 0.5 * u_ht_rho[i] * u_ht_rho[i]);
         int lv = u_ht_vlev[i];
         float fi = ht_f(lv, xi);
         vec3 sbar = 0.5 * (tro + ht_tr(fi)), ts = vec3(0.0);
@@ -95,7 +96,7 @@ void main() {
             for (int j = 0; j < u_ht_steps; j++)
                 ts += max(vec3(0.0), ht_tr(ht_f(lv, xi + ((float(j) + 0.5) / float(u_ht_steps)) * dx)) - sbar);
         vec3 tau = exp(-ts * d / float(u_ht_steps));
-        q += u_ht_area[i] * E * sqrt(ht_rd(fo, r) * ht_rd(fi, r)) * tau / PI_HT; // the bake's 1/pi
+        q += E * sqrt(ht_disk(fo, d, u_ht_rho[i]) * ht_disk(fi, d, u_ht_rho[i])) * tau / PI_HT; // the bake's 1/pi
     }
     o_q = vec4(q, 1.0);
     o_x = vec4(v_pos, 1.0);

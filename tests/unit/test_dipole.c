@@ -13,7 +13,8 @@
 #include "sss/vec3.h"
 
 static const sss_dipole *g_dip;
-static double integrand(double r) { return sss_rd(g_dip, r) * 2.0 * SSS_PI * r; }
+static double g_h; /* the disk's height on its axis (0: in the plane) */
+static double integrand(double r) { return sss_rd(g_dip, sqrt(g_h * g_h + r * r)) * 2.0 * SSS_PI * r; }
 
 /* Adaptive Simpson on [a, b]. */
 static double simpson(double a, double b, double fa, double fm, double fb, double whole, double tol, int depth)
@@ -61,6 +62,38 @@ static void diskIntegralMatchesQuadratureForEveryPreset(void **state)
                 if (rel > 1e-6) fail_msg("%s ch %d R %g: closed %.12g quadrature %.12g rel %.3g", sss_material_preset_name(i), c, radii[k], exact, num, rel);
             }
         }
+}
+
+/* A disk at height h on the axis (seed 000's run-time samples,
+ * docs/heterogeneous.md §9.2): sss_rd_disk to the bit at h = 0, and against
+ * quadrature of R_d(sqrt(h² + s²)) 2πs elsewhere, from a
+ * back-lit slab's depths to a disk far smaller than its distance (the
+ * same adaptive Simpson rule as the plane's disk, on R_d(sqrt(h² + s²))). */
+static void axisDiskIntegralMatchesQuadrature(void **state)
+{
+    (void)state;
+    for (int i = 0; i < sss_material_preset_count(); i++)
+        for (int c = 0; c < 3; c++) {
+            sss_dipole d;
+            dipole_preset(sss_material_preset_name(i), c, &d);
+            const double radii[] = {0.01, 0.5, 4.0, 20.0};
+            for (size_t k = 0; k < 4; k++) {
+                assert_true(sss_rd_disk_axis(&d, 0.0, radii[k]) == sss_rd_disk(&d, radii[k]));
+                const double hs[] = {0.05, 1.0, 6.0, 20.0};
+                for (size_t t = 0; t < 4; t++) {
+                    g_h = hs[t];
+                    const double R = radii[k], h = hs[t], num = quad_disk(&d, R);
+                    g_h = 0.0;
+                    const double got = sss_rd_disk_axis(&d, h, R), rel = fabs(got - num) / num;
+                    if (!(rel < 1e-6))
+                        fail_msg("%s ch %d h %g R %g: closed %.12g quadrature %.12g rel %.3g",
+                                 sss_material_preset_name(i), c, h, R, got, num, rel);
+                }
+            }
+        }
+    sss_dipole d;
+    dipole_preset("marble", 0, &d);
+    assert_true(sss_rd_disk_axis(&d, 1.0, 0.0) == 0.0);
 }
 
 /* Brute force: midpoint rule on an n × n grid over the disk's bounding
@@ -328,6 +361,7 @@ int main(void)
         cmocka_unit_test(diskIntegralMatchesQuadratureForEveryPreset),
         cmocka_unit_test(diskIntegralApproachesClosedFormTotalForEveryPreset),
         cmocka_unit_test(offsetDiskIntegralMatchesQuadrature),
+        cmocka_unit_test(axisDiskIntegralMatchesQuadrature),
         cmocka_unit_test(fresnelDiffuseReflectanceMatchesSheetAt1_3),
         cmocka_unit_test(sanityValuesMatchSheet),
         cmocka_unit_test(fresnelTransmittanceLimits),

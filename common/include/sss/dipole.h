@@ -108,6 +108,12 @@ double sss_rd(const sss_dipole *d, double r);
 /* ∫_0^R R_d(r) 2πr dr, exact closed form (dimensionless). */
 double sss_rd_disk(const sss_dipole *d, double R);
 
+/* ∫ R_d(|y|) dA over a disk of radius R on the axis through the origin, at
+ * distance h from it (its plane perpendicular to the axis; dimensionless):
+ * closed form, sss_rd_disk(R) at h = 0. Seed 000's run-time samples stand
+ * for such disks (docs/heterogeneous.md §9.2). */
+double sss_rd_disk_axis(const sss_dipole *d, double h, double R);
+
 /* ∫ R_d(|y|) dA over a disk of radius rho whose centre lies at distance r
  * from the origin (dimensionless): the contribution of a neighbour's area
  * ΔA = π rho² at distance r without point-sampling R_d, whose peak at 0 a

@@ -218,12 +218,11 @@ static sss_result set_estimator(const sss_htsm_gpu *g, const sss_htsm_view *v, s
     if (res != SSS_OK) return res;
     if (v->steps < 1 || v->steps > SSS_HTSM_MAX_STEPS)
         return sss_fail(err, SSS_ERR_ARG, "march of %u steps: 1 to %d", v->steps, SSS_HTSM_MAX_STEPS);
-    float off[2 * SSS_HTSM_MAX_SAMPLES], area[SSS_HTSM_MAX_SAMPLES], rho[SSS_HTSM_MAX_SAMPLES];
+    float off[2 * SSS_HTSM_MAX_SAMPLES], rho[SSS_HTSM_MAX_SAMPLES];
     GLint ml[SSS_HTSM_MAX_SAMPLES], vl[SSS_HTSM_MAX_SAMPLES];
     for (uint32_t i = 0; i < pat.n; i++) {
         off[2 * i] = (float)pat.off[i][0];
         off[2 * i + 1] = (float)pat.off[i][1];
-        area[i] = (float)pat.area[i];
         rho[i] = (float)pat.rho[i];
         ml[i] = (GLint)pat.map_level[i];
         vl[i] = (GLint)pat.vol_level[i];
@@ -235,7 +234,6 @@ static sss_result set_estimator(const sss_htsm_gpu *g, const sss_htsm_view *v, s
     uni_i(p, "u_ht_n", (int)pat.n);
     uni_i(p, "u_ht_steps", (int)v->steps);
     glUniform2fv(glGetUniformLocation(p, "u_ht_off"), (GLsizei)pat.n, off);
-    glUniform1fv(glGetUniformLocation(p, "u_ht_area"), (GLsizei)pat.n, area);
     glUniform1fv(glGetUniformLocation(p, "u_ht_rho"), (GLsizei)pat.n, rho);
     glUniform1iv(glGetUniformLocation(p, "u_ht_mlev"), (GLsizei)pat.n, ml);
     glUniform1iv(glGetUniformLocation(p, "u_ht_vlev"), (GLsizei)pat.n, vl);
