@@ -159,10 +159,16 @@ double sss_htsm_volume_at(const sss_htsm_volume *v, uint32_t level, const double
 
 /* --- the pattern -------------------------------------------------------- */
 
+/* The level whose bilinear read, a tent two texels wide each way, spans
+ * about `area`: texel side nearest sqrt(area)/2. The centre sample reads
+ * its own disk's (a wider read pulled in the rings' light and empty texels
+ * near an edge); a ring sample the area of 4 samples, which blurs the
+ * images of an inclusion that its offset would otherwise repeat around it
+ * (docs/heterogeneous.md §9.2). */
 static uint32_t level_for(double area, double texel_mm, uint32_t levels)
 {
     if (!(texel_mm > 0.0)) return 0;
-    const double l = floor(log2(sqrt(area) / texel_mm) + 0.5);
+    const double l = floor(log2(0.5 * sqrt(area) / texel_mm) + 0.5);
     return l < 0.0 ? 0u : l > (double)(levels - 1) ? levels - 1 : (uint32_t)l;
 }
 
@@ -192,7 +198,7 @@ sss_result sss_htsm_pattern_make(uint32_t n, double r0_mm, double texel_mm, uint
     }
     for (uint32_t i = 0; i < n; i++) {
         p->rho[i] = sqrt(p->area[i] / SSS_PI);
-        p->map_level[i] = level_for(p->area[i], texel_mm, map_levels);
+        p->map_level[i] = level_for(i ? 4.0 * p->area[i] : p->area[i], texel_mm, map_levels);
     }
     return SSS_OK;
 }
@@ -219,15 +225,21 @@ static void map_read(const sss_htsm_map *m, uint32_t l, double s, double t, doub
     }
 }
 
-/* ∫ R_d dA of the blend at f over the sample's disk (radius ρ, at distance
- * d on its axis; docs/heterogeneous.md §9.2). */
-static double disk_at(const sss_htsm_material *mat, double f, int c, double d, double rho)
+/* ∫ R_d dA of the blend at f over the sample's disk (radius ρ across the
+ * light, x_o at height h above its plane and ℓ from its centre along it;
+ * docs/heterogeneous.md §9.2): where x_o's foot lies inside the disk, the
+ * disk about the foot that fits inside (radius ρ − ℓ) exactly, and the
+ * crescent left as a share of the disk at ρ from the foot; beyond, the disk
+ * on its axis at the whole distance. */
+static double disk_at(const sss_htsm_material *mat, double f, int c, double h, double l, double rho)
 {
     sss_material b;
     sss_material_blend(&mat->base, &mat->inside, f, &b);
     sss_dipole dp;
     if (sss_dipole_init(&dp, b.sigma_a[c], b.sigmap_s[c], b.eta) != SSS_OK) return 0.0;
-    return sss_rd_disk_axis(&dp, d, rho);
+    if (!(l < rho)) return sss_rd_disk_axis(&dp, sqrt(h * h + l * l), rho);
+    const double in = (rho - l) / rho;
+    return sss_rd_disk_axis(&dp, h, rho - l) + (1.0 - in * in) * sss_rd_disk_axis(&dp, sqrt(h * h + rho * rho), rho);
 }
 
 /* The blend's weight at x on level l: the field scaled by the strength. */
@@ -256,6 +268,11 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
         const double xi[3] = {pos[0] / pos[3], pos[1] / pos[3], pos[2] / pos[3]};
         const double dx[3] = {xo[0] - xi[0], xo[1] - xi[1], xo[2] - xi[2]};
         const double d = sqrt(sss_dot3(dx, dx)) * mm;
+        /* ℓ along the map (across the light), h along the light */
+        const double si = L[0] * xi[0] + L[4] * xi[1] + L[8] * xi[2] + L[12];
+        const double ti = L[1] * xi[0] + L[5] * xi[1] + L[9] * xi[2] + L[13];
+        const double l = sqrt((so - si) * (so - si) + (to - ti) * (to - ti)) * span;
+        const double h = sqrt(fmax(0.0, d * d - l * l));
         const uint32_t lv = pat->vol_level[i];
         const double fi = weight_at(vol, mat, lv, xi);
         double tau_sum[3] = {0, 0, 0};
@@ -280,7 +297,7 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
             /* the sample stands for a disk of radius ρ (area A_i) at distance
              * d: each endpoint's profile integrated over it, their geometric
              * mean (§9.2) */
-            const double P = sqrt(disk_at(mat, fo, c, d, pat->rho[i]) * disk_at(mat, fi, c, d, pat->rho[i]));
+            const double P = sqrt(disk_at(mat, fo, c, h, l, pat->rho[i]) * disk_at(mat, fi, c, h, l, pat->rho[i]));
             /* the baked weight's 1/π (docs/physics.md §4): q in the bake's units */
             q[c] += E[c] * P * tau / SSS_PI;
         }

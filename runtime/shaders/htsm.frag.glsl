@@ -57,12 +57,19 @@ vec3 ht_term(vec3 tr, vec3 z, float h, float R) {
     vec3 D0 = sqrt(h * h + z * z), D1 = sqrt(R * R + D0 * D0);
     return z * (exp(-tr * D0) / D0 - exp(-tr * D1) / D1);
 }
-// sss_rd_disk_axis of the blend at f: R_d (docs/physics.md §2) over the
-// sample's disk of radius R at distance h on its axis (docs/heterogeneous.md §9.2)
-vec3 ht_disk(float f, float h, float R) {
+// sss_rd_disk_axis of the blend at f: R_d (docs/physics.md §2) over a disk
+// of radius R at distance h on its axis
+vec3 ht_axis(float f, float h, float R) {
     vec3 sa = mix(u_ht_base_sa, u_ht_in_sa, f), ss = mix(u_ht_base_ss, u_ht_in_ss, f);
     vec3 st = sa + ss, tr = sqrt(3.0 * sa * st), zr = 1.0 / st, zv = zr + 4.0 * u_ht_A / (3.0 * st);
     return 0.5 * ss / st * (ht_term(tr, zr, h, R) + ht_term(tr, zv, h, R));
+}
+// htsm.c's disk_at: the sample's disk (radius R across the light), x_o at
+// height h above it and l from its centre along it (docs/heterogeneous.md §9.2)
+vec3 ht_disk(float f, float h, float l, float R) {
+    if (!(l < R)) return ht_axis(f, sqrt(h * h + l * l), R);
+    float in_ = (R - l) / R;
+    return ht_axis(f, h, R - l) + (1.0 - in_ * in_) * ht_axis(f, sqrt(h * h + R * R), R);
 }
 // the map's bilinear mean at (s, t) on level l, texels outside empty (map_read)
 void ht_map(int l, vec2 st, out vec4 pos, out vec3 irr) {
@@ -89,6 +96,8 @@ void main() {
         if (!(pos.w > 1e-6)) continue; // nothing lit there
         vec3 xi = pos.xyz / pos.w, dx = v_pos - xi;
         float d = length(dx) * u_ht_mm;
+        float l = length(so - (u_ht_lookup * vec4(xi, 1.0)).xy) * u_ht_span; // along the map
+        float h = sqrt(max(0.0, d * d - l * l));                              // along the light
         int lv = u_ht_vlev[i];
         float fi = ht_f(lv, xi);
         vec3 sbar = 0.5 * (tro + ht_tr(fi)), ts = vec3(0.0);
@@ -96,7 +105,7 @@ void main() {
             for (int j = 0; j < u_ht_steps; j++)
                 ts += max(vec3(0.0), ht_tr(ht_f(lv, xi + ((float(j) + 0.5) / float(u_ht_steps)) * dx)) - sbar);
         vec3 tau = exp(-ts * d / float(u_ht_steps));
-        q += E * sqrt(ht_disk(fo, d, u_ht_rho[i]) * ht_disk(fi, d, u_ht_rho[i])) * tau / PI_HT; // the bake's 1/pi
+        q += E * sqrt(ht_disk(fo, h, l, u_ht_rho[i]) * ht_disk(fi, h, l, u_ht_rho[i])) * tau / PI_HT; // the bake's 1/pi
     }
     o_q = vec4(q, 1.0);
     o_x = vec4(v_pos, 1.0);
