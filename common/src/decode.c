@@ -542,6 +542,15 @@ int sss_decode_prepare(sss_bake_file *f)
  * loop walks the C·ncoef planes. */
 #define SH_BLOCK 256
 
+/* The block loops below are compiled once per instruction set (coded_block
+ * and its callers, forced inline into block_baseline, block_avx2 and
+ * block_avx512), so each copy is vectorised for its set. */
+#if defined(__GNUC__)
+#define BLOCK_INLINE static inline __attribute__((always_inline))
+#else
+#define BLOCK_INLINE static inline
+#endif
+
 /* a[b] += term(plane i, b) for the m planes from p (n codes apart), for
  * b < nb, plane after plane: three planes per pass over the block, each
  * vertex's adds still one after the other in plane order, so that a[] is
@@ -549,7 +558,7 @@ int sss_decode_prepare(sss_bake_file *f)
  * q's term (the folded step's product for the linear kinds, the folded
  * table's entry for the Lloyd kinds). */
 #define PLANE_SUMS(NAME, CODE, TERM)                                                                                   \
-    static void NAME(float *restrict a, const CODE *restrict p, size_t n, const float *restrict T, size_t L, size_t m, \
+    BLOCK_INLINE void NAME(float *restrict a, const CODE *restrict p, size_t n, const float *restrict T, size_t L, size_t m, \
                      size_t nb)                                                                                        \
     {                                                                                                                  \
         (void)L;                                                                                                       \
@@ -586,7 +595,7 @@ PLANE_SUMS(planes_table, uint8_t, TERM_TABLE)
 
 /* The SH sums of coded vertices [k0, k0 + nb), nb ≤ SH_BLOCK, from the
  * planes: channel c of the block's vertex b into acc[c·SH_BLOCK + b]. */
-static void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc)
+BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc)
 {
     const size_t n = s->ncoded, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
     for (size_t c = 0; c < C; c++) {
@@ -613,63 +622,173 @@ static int has_planes(const sss_bake_file *f)
     return f->sh.planes && f->sh.planes_of == f->sh.code && f->sh.ncoef;
 }
 
+/* The references' blend for coded vertices [kb, kb + nb) (§4.2–4.3), added
+ * to their SH sums acc[c·SH_BLOCK + b]: coded_blend's arithmetic (each
+ * channel's blend in double from the weights as coded_weights or wt gives
+ * them, rounded once, then the SH sum added in float), split in two loops:
+ * the scattered loads of each vertex's weights and triangle first, then per
+ * channel one loop over the block whose lanes are vertices. */
+BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const double *wt, size_t kb, size_t nb,
+                              float *acc)
+{
+    const sss_refcode *r = &f->ref;
+    const size_t C = f->channels;
+    double w0[SH_BLOCK], w1[SH_BLOCK];
+    uint32_t t0[SH_BLOCK], t1[SH_BLOCK], t2[SH_BLOCK];
+    for (size_t b = 0; b < nb; b++) {
+        const size_t k = kb + b;
+        if (wt) {
+            w0[b] = wt[r->w[2 * k]];
+            w1[b] = wt[r->w[2 * k + 1]];
+        } else {
+            double w[3];
+            coded_weights(r, k, w);
+            w0[b] = w[0];
+            w1[b] = w[1];
+        }
+        const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
+        t0[b] = t[0], t1[b] = t[1], t2[b] = t[2];
+    }
+    for (size_t c = 0; c < C; c++) {
+        float *a = acc + c * SH_BLOCK;
+        const float *Rc = R + c;
+        for (size_t b = 0; b < nb; b++) {
+            const double w2 = 1.0 - w0[b] - w1[b];
+            float x = (float)(w0[b] * Rc[(size_t)t0[b] * C] + w1[b] * Rc[(size_t)t1[b] * C] +
+                              w2 * Rc[(size_t)t2[b] * C]);
+            x += a[b];
+            a[b] = x;
+        }
+    }
+}
+
+/* Coded vertices [kb, kb + nb), nb ≤ SH_BLOCK, through the planes: the SH
+ * sums, the references' blend (R non-NULL), the clamp at 0 as a vector
+ * loop (a data-dependent branch per value cost more than the sums), then
+ * coded vertex k's C values to out + (v − first)·C, v its vertex. */
+BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t kb,
+                              size_t nb, size_t first, float *out)
+{
+    const size_t C = f->channels;
+    float acc[SSS_MAX_CHANNELS * SH_BLOCK];
+    sh_block(&f->sh, T, C, kb, nb, acc);
+    if (R) blend_block(f, R, wt, kb, nb, acc);
+    for (size_t c = 0; c < C; c++) {
+        float *a = acc + c * SH_BLOCK;
+        for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
+    }
+    if (R) {
+        for (size_t b = 0; b < nb; b++) {
+            float *o = out + ((size_t)f->ref.coded_vertex[kb + b] - first) * C;
+            for (size_t c = 0; c < C; c++) o[c] = acc[c * SH_BLOCK + b];
+        }
+        return;
+    }
+    float *o = out + (kb - first) * C;
+    if (C == 3)
+        for (size_t b = 0; b < nb; b++) {
+            o[3 * b] = acc[b];
+            o[3 * b + 1] = acc[SH_BLOCK + b];
+            o[3 * b + 2] = acc[2 * SH_BLOCK + b];
+        }
+    else
+        for (size_t c = 0; c < C; c++)
+            for (size_t b = 0; b < nb; b++) o[b * C + c] = acc[c * SH_BLOCK + b];
+}
+
+/* ---- run-time instruction sets (sss_decode_isa) ------------------------ *
+ * The project builds for the x86-64 baseline (SSE2), where an int8 → float
+ * conversion takes three instructions per four vertices and no table load
+ * vectorises. The CPU running it may have more: coded_block is compiled
+ * again for AVX2 and for AVX-512 and the widest present is taken per call.
+ * The copies must give the same floats (the decoded q, and the GPU path's
+ * equality to this decoder, may not depend on the CPU): the same C, every
+ * operation IEEE-rounded in the same order. Neither copy may contract a
+ * product and a sum into a fused multiply-add: "avx2" does not enable FMA,
+ * but AVX-512F includes it, so this unit is compiled with
+ * -ffp-contract=off (common/CMakeLists.txt). */
+typedef void (*block_fn)(const sss_bake_file *, const float *, const float *, const double *, size_t, size_t, size_t,
+                         float *);
+
+static void block_baseline(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t kb,
+                           size_t nb, size_t first, float *out)
+{
+    coded_block(f, R, T, wt, kb, nb, first, out);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define DECODE_X86 1
+__attribute__((target("avx2"))) static void block_avx2(const sss_bake_file *f, const float *R, const float *T,
+                                                      const double *wt, size_t kb, size_t nb, size_t first,
+                                                      float *out)
+{
+    coded_block(f, R, T, wt, kb, nb, first, out);
+}
+
+__attribute__((target("avx512f"))) static void block_avx512(const sss_bake_file *f, const float *R, const float *T,
+                                                           const double *wt, size_t kb, size_t nb, size_t first,
+                                                           float *out)
+{
+    coded_block(f, R, T, wt, kb, nb, first, out);
+}
+#endif
+
+static int cpu_has(int isa)
+{
+#ifdef DECODE_X86
+    __builtin_cpu_init();
+    if (isa == SSS_DECODE_ISA_AVX512) return __builtin_cpu_supports("avx512f");
+    if (isa == SSS_DECODE_ISA_AVX2) return __builtin_cpu_supports("avx2");
+#endif
+    return isa == SSS_DECODE_ISA_BASELINE;
+}
+
+static int g_isa_forced = -1;
+
+int sss_decode_force_isa(int isa)
+{
+    if (isa != -1 && !cpu_has(isa)) return -1;
+    g_isa_forced = isa;
+    return 0;
+}
+
+int sss_decode_isa(void)
+{
+    if (g_isa_forced >= 0) return g_isa_forced;
+    static const char *const names[] = {"baseline", "avx2", "avx512"};
+    const char *e = getenv("SSS_DECODE_ISA");
+    if (e)
+        for (int i = 0; i < 3; i++)
+            if (!strcmp(e, names[i]) && cpu_has(i)) return i;
+    return cpu_has(SSS_DECODE_ISA_AVX512) ? SSS_DECODE_ISA_AVX512
+           : cpu_has(SSS_DECODE_ISA_AVX2) ? SSS_DECODE_ISA_AVX2
+                                          : SSS_DECODE_ISA_BASELINE;
+}
+
+static block_fn block_for(int isa)
+{
+#ifdef DECODE_X86
+    if (isa == SSS_DECODE_ISA_AVX512) return block_avx512;
+    if (isa == SSS_DECODE_ISA_AVX2) return block_avx2;
+#endif
+    (void)isa;
+    return block_baseline;
+}
+
 /* decode_compressed's loop over coded vertices [k0, k1) through the
- * planes, in blocks: coded vertex k's C values go to out + (v − first)·C,
- * v its vertex. */
+ * planes, in blocks (coded_block); R NULL without references. */
 static void coded_blocks(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k0,
                          size_t k1, size_t first, float *out)
 {
     const size_t C = f->channels;
-    const int refs = f->quant == SSS_QUANT_REFS;
+    const block_fn block = block_for(sss_decode_isa());
     const ptrdiff_t nblk = (ptrdiff_t)((k1 - k0 + SH_BLOCK - 1) / SH_BLOCK);
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if ((ptrdiff_t)(k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
     for (ptrdiff_t blk = 0; blk < nblk; blk++) {
-        float acc[SSS_MAX_CHANNELS * SH_BLOCK];
         const size_t kb = k0 + (size_t)blk * SH_BLOCK, nb = k1 - kb < SH_BLOCK ? k1 - kb : SH_BLOCK;
-        sh_block(&f->sh, T, C, kb, nb, acc);
-        if (!refs) {
-            /* coded_finish without references: the sums clamped at 0, a
-             * vector loop (a data-dependent branch per value cost more than
-             * the sums), then interleaved into the output */
-            for (size_t c = 0; c < C; c++) {
-                float *a = acc + c * SH_BLOCK;
-                for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
-            }
-            float *o = out + (kb - first) * C;
-            if (C == 3)
-                for (size_t b = 0; b < nb; b++) {
-                    o[3 * b] = acc[b];
-                    o[3 * b + 1] = acc[SH_BLOCK + b];
-                    o[3 * b + 2] = acc[2 * SH_BLOCK + b];
-                }
-            else
-                for (size_t c = 0; c < C; c++)
-                    for (size_t b = 0; b < nb; b++) o[b * C + c] = acc[c * SH_BLOCK + b];
-            continue;
-        }
-        /* coded_finish for the block: the blend of the three reference
-         * values plus the SH sum, then clamped as above, then scattered to
-         * the coded vertices' places */
-        for (size_t b = 0; b < nb; b++) {
-            float x[SSS_MAX_CHANNELS];
-            /* RGB with the channel count a constant: the three sums unrolled */
-            if (C == 3) coded_blend(f, R, wt, kb + b, 3, x);
-            else coded_blend(f, R, wt, kb + b, C, x);
-            for (size_t c = 0; c < C; c++) {
-                x[c] += acc[c * SH_BLOCK + b];
-                acc[c * SH_BLOCK + b] = x[c];
-            }
-        }
-        for (size_t c = 0; c < C; c++) {
-            float *a = acc + c * SH_BLOCK;
-            for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
-        }
-        for (size_t b = 0; b < nb; b++) {
-            float *o = out + ((size_t)f->ref.coded_vertex[kb + b] - first) * C;
-            for (size_t c = 0; c < C; c++) o[c] = acc[c * SH_BLOCK + b];
-        }
+        block(f, R, T, wt, kb, nb, first, out);
     }
 }
 

@@ -77,6 +77,25 @@ uint64_t sss_decode_fold_floats(uint32_t kind, uint32_t channels, uint32_t ncoef
  * (the decoder then keeps its per-vertex loop). */
 int sss_decode_prepare(sss_bake_file *f);
 
+/* Instruction sets of the compressed forms' block loops (the load-time
+ * layout's per-frame sums and the references' blend), chosen at run time
+ * from what the CPU has: the same C loop compiled for each, the same float
+ * operations in the same order, so every decoded value is the same on
+ * every choice (docs/benchmarks.md, "Run-time instruction sets"). */
+enum { SSS_DECODE_ISA_BASELINE = 0, SSS_DECODE_ISA_AVX2 = 1, SSS_DECODE_ISA_AVX512 = 2 };
+
+/* The set the block loops use now: the one forced by sss_decode_force_isa,
+ * else the one named by the environment variable SSS_DECODE_ISA
+ * ("baseline", "avx2", "avx512") when the CPU has it, else the widest the
+ * CPU has. */
+int sss_decode_isa(void);
+
+/* Forces the block loops onto isa (for tests and benchmarks; call it
+ * before decoding, not while another thread decodes), or back to the
+ * automatic choice with −1. Returns 0, or −1 when the CPU lacks isa
+ * (nothing changed). */
+int sss_decode_force_isa(int isa);
+
 /* q(x_v, ω) for one vertex into out[0 … channels−1], the same value
  * sss_decode_all writes for it (same arithmetic, same rounding). Any
  * storage form. v out of range, or a zero or non-finite light, gives 0. */
