@@ -627,39 +627,49 @@ static int has_planes(const sss_bake_file *f)
  * channel's blend in double from the weights as coded_weights or wt gives
  * them, rounded once, then the SH sum added in float), split in two loops:
  * the scattered loads of each vertex's weights and triangle first, then per
- * channel one loop over the block whose lanes are vertices. */
-BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const double *wt, size_t kb, size_t nb,
-                              float *acc)
+ * channel one loop over the block whose lanes are vertices, the reference
+ * values a vector gather (32-bit offsets: decode_compressed takes this
+ * path only when nref·C fits). C is a constant in the RGB copy. */
+BLOCK_INLINE void blend_block_c(const sss_bake_file *f, const float *R, const double *wt, size_t kb, size_t nb,
+                                float *acc, size_t C)
 {
     const sss_refcode *r = &f->ref;
-    const size_t C = f->channels;
-    double w0[SH_BLOCK], w1[SH_BLOCK];
-    uint32_t t0[SH_BLOCK], t1[SH_BLOCK], t2[SH_BLOCK];
-    for (size_t b = 0; b < nb; b++) {
-        const size_t k = kb + b;
-        if (wt) {
-            w0[b] = wt[r->w[2 * k]];
-            w1[b] = wt[r->w[2 * k + 1]];
-        } else {
-            double w[3];
-            coded_weights(r, k, w);
-            w0[b] = w[0];
-            w1[b] = w[1];
+    double w0[SH_BLOCK], w1[SH_BLOCK], w2[SH_BLOCK];
+    int32_t o0[SH_BLOCK], o1[SH_BLOCK], o2[SH_BLOCK];
+    const uint16_t *wc = r->w + 2 * kb;
+    if (wt) {
+        for (size_t b = 0; b < nb; b++) w0[b] = wt[wc[2 * b]], w1[b] = wt[wc[2 * b + 1]];
+    } else {
+        /* coded_weights's expression, as a loop over the block (a vector
+         * division instead of two scalar ones per vertex) */
+        const double lo = r->w_lo, span = (double)r->w_hi - r->w_lo, wmax = r->wbits == 16 ? 65535.0 : 255.0;
+        for (size_t b = 0; b < nb; b++) {
+            w0[b] = lo + span * (wc[2 * b] / wmax);
+            w1[b] = lo + span * (wc[2 * b + 1] / wmax);
         }
-        const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
-        t0[b] = t[0], t1[b] = t[1], t2[b] = t[2];
+    }
+    for (size_t b = 0; b < nb; b++) w2[b] = 1.0 - w0[b] - w1[b];
+    const uint32_t *vt = r->vtri + kb;
+    for (size_t b = 0; b < nb; b++) {
+        const uint32_t *t = r->ref_tri + 3 * (size_t)vt[b];
+        o0[b] = (int32_t)(t[0] * C), o1[b] = (int32_t)(t[1] * C), o2[b] = (int32_t)(t[2] * C);
     }
     for (size_t c = 0; c < C; c++) {
         float *a = acc + c * SH_BLOCK;
         const float *Rc = R + c;
         for (size_t b = 0; b < nb; b++) {
-            const double w2 = 1.0 - w0[b] - w1[b];
-            float x = (float)(w0[b] * Rc[(size_t)t0[b] * C] + w1[b] * Rc[(size_t)t1[b] * C] +
-                              w2 * Rc[(size_t)t2[b] * C]);
+            float x = (float)(w0[b] * Rc[o0[b]] + w1[b] * Rc[o1[b]] + w2[b] * Rc[o2[b]]);
             x += a[b];
             a[b] = x;
         }
     }
+}
+
+BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const double *wt, size_t kb, size_t nb,
+                              float *acc)
+{
+    if (f->channels == 3) blend_block_c(f, R, wt, kb, nb, acc, 3);
+    else blend_block_c(f, R, wt, kb, nb, acc, f->channels);
 }
 
 /* Coded vertices [kb, kb + nb), nb ≤ SH_BLOCK, through the planes: the SH
@@ -829,7 +839,7 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
             for (int x = 0; x < 256; x++) wt8[x] = r->w_lo + span * (x / 255.0);
             wt = wt8;
         }
-        if (T && has_planes(f)) {
+        if (T && has_planes(f) && (size_t)r->nref * C <= INT32_MAX) { /* blend_block's offsets */
             coded_blocks(f, R, T, wt, (size_t)k0, (size_t)k1, first, out);
         } else {
 #ifdef _OPENMP
