@@ -21,6 +21,11 @@
 #include "sss/dirset.h"
 #include "sss/sh.h"
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#define DECODE_X86 1 /* the wider copies of the block loops (sss_decode_isa) */
+#include <immintrin.h>
+#endif
+
 float sss_decode_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t c)
 {
     assert(j < f->dirs.n && v < f->mesh.nv && c < f->channels);
@@ -265,7 +270,10 @@ static void coded_weights(const sss_refcode *r, size_t k, double w[3])
     w[2] = 1.0 - w[0] - w[1];
 }
 
-void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
+/* sss_decode_fold_sh, and for LLOYD4 each coefficient's 16 folded levels
+ * into terms[(c·ncoef + i)·16 + x] (NULL: not wanted), the terms every pair
+ * table entry is the float sum of. */
+static void fold_sh_terms(const sss_bake_file *f, const double d[3], float *T, float *terms)
 {
     const sss_shcode *s = &f->sh;
     const size_t L = sss_decode_fold_levels(s->kind), ntab = (size_t)f->channels * s->ncoef;
@@ -288,21 +296,19 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
          * pairs, at T[C·P·256 + c·16 + x]. A pair of codes then costs one
          * load where it cost two (sss_decode_fold_floats). */
         const size_t N = s->ncoef, P = N / 2, C = f->channels;
+        float own[SSS_MAX_CHANNELS * SSS_SH_MAX_COUNT * 16];
+        float *t = terms ? terms : own;
+        for (size_t e = 0; e < C * N; e++)
+            for (size_t x = 0; x < 16; x++) t[e * 16 + x] = (float)(s->table[e * 16 + x] * y[e % N]);
         for (size_t c = 0; c < C; c++) {
             for (size_t m = 0; m < P; m++) {
-                float t0[16], t1[16];
-                const float *l0 = s->table + (c * N + 2 * m) * 16, *l1 = l0 + 16;
-                for (size_t x = 0; x < 16; x++) {
-                    t0[x] = (float)(l0[x] * y[2 * m]);
-                    t1[x] = (float)(l1[x] * y[2 * m + 1]);
-                }
+                const float *t0 = t + (c * N + 2 * m) * 16, *t1 = t0 + 16;
                 float *Tm = T + (c * P + m) * 256;
                 for (size_t x1 = 0; x1 < 16; x1++)
                     for (size_t x0 = 0; x0 < 16; x0++) Tm[x0 | x1 << 4] = t0[x0] + t1[x1];
             }
             if (N & 1)
-                for (size_t x = 0; x < 16; x++)
-                    T[C * P * 256 + c * 16 + x] = (float)(s->table[(c * N + N - 1) * 16 + x] * y[N - 1]);
+                for (size_t x = 0; x < 16; x++) T[C * P * 256 + c * 16 + x] = t[(c * N + N - 1) * 16 + x];
         }
         return;
     }
@@ -312,6 +318,8 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
     }
 }
 
+void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T) { fold_sh_terms(f, d, T, NULL); }
+
 uint32_t sss_decode_fold_levels(uint32_t kind) { return sss_shq_linear_max(kind) ? 1 : sss_shq_levels(kind); }
 
 uint64_t sss_decode_fold_floats(uint32_t kind, uint32_t channels, uint32_t ncoef)
@@ -320,12 +328,16 @@ uint64_t sss_decode_fold_floats(uint32_t kind, uint32_t channels, uint32_t ncoef
     return (uint64_t)channels * ncoef * sss_decode_fold_levels(kind);
 }
 
-/* Folded SH tables for direction d, allocated (NULL when out of memory). */
+/* Folded SH tables for direction d, allocated (NULL when out of memory);
+ * for LLOYD4 followed by the 16-level term tables (fold_sh_terms) at
+ * T + sss_decode_fold_floats, which the wider copies of the block loops
+ * look up with vector permutes (planes_nibble_avx2, _avx512). */
 static float *fold_sh(const sss_bake_file *f, const double d[3])
 {
     const size_t n = (size_t)sss_decode_fold_floats(f->sh.kind, f->channels, f->sh.ncoef);
-    float *T = malloc((n + 1) * sizeof *T);
-    if (T) sss_decode_fold_sh(f, d, T);
+    const size_t nt = f->sh.kind == SSS_SHQ_LLOYD4 ? (size_t)f->channels * f->sh.ncoef * 16 : 0;
+    float *T = malloc((n + nt + 1) * sizeof *T);
+    if (T) fold_sh_terms(f, d, T, nt ? T + n : NULL);
     return T;
 }
 
@@ -593,9 +605,91 @@ PLANE_SUMS(planes_table, uint8_t, TERM_TABLE)
 #undef TERM_TABLE
 #undef PLANE_SUMS
 
+/* 4-bit codes on the wider sets: a[b] += t_2m[x0] + t_2m+1[x1] for each
+ * pair plane m < P of the channel (codes x0 | x1 << 4, planes n apart from
+ * p), then a[b] += t_N−1[x] for an odd last plane (odd), t the channel's
+ * 16-level term tables (t + i·16 for coefficient i). The pair tables hold
+ * exactly these float sums t_2m[x0] + t_2m+1[x1] (fold_sh_terms), so this is
+ * planes_table's sum to the bit, with the 16-entry lookups done by vector
+ * permutes (16 lanes in one on AVX-512, two of 8 and a blend on AVX2) where
+ * no baseline instruction looks up a table. Vertices past the last full
+ * vector: the same sums, one at a time. */
+#ifdef DECODE_X86
+static inline void nibble_tail(float *restrict a, const uint8_t *restrict p, size_t n, const float *restrict t,
+                               size_t P, int odd, size_t b0, size_t nb)
+{
+    for (size_t b = b0; b < nb; b++) {
+        float x = a[b];
+        for (size_t m = 0; m < P; m++) {
+            const uint8_t v = p[m * n + b];
+            const float y = t[2 * m * 16 + (v & 15u)] + t[(2 * m + 1) * 16 + (v >> 4)];
+            x += y;
+        }
+        if (odd) x += t[2 * P * 16 + p[P * n + b]];
+        a[b] = x;
+    }
+}
+
+__attribute__((target("avx2"))) static void planes_nibble_avx2(float *restrict a, const uint8_t *restrict p, size_t n,
+                                                              const float *restrict t, size_t P, int odd, size_t nb)
+{
+    const __m256i lo4 = _mm256_set1_epi32(15);
+    size_t b = 0;
+    for (; b + 8 <= nb; b += 8) {
+        __m256 x = _mm256_loadu_ps(a + b);
+        for (size_t m = 0; m <= P; m++) {
+            if (m == P && !odd) break;
+            const __m256i v = _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(p + m * n + b)));
+            /* 16 levels as two 8-lane permutes, bit 3 of the code picks the half */
+            const float *t0 = t + (m == P ? 2 * P : 2 * m) * 16;
+            const __m256i x0 = m == P ? v : _mm256_and_si256(v, lo4);
+            __m256 y = _mm256_blendv_ps(_mm256_permutevar8x32_ps(_mm256_loadu_ps(t0), x0),
+                                        _mm256_permutevar8x32_ps(_mm256_loadu_ps(t0 + 8), x0),
+                                        _mm256_castsi256_ps(_mm256_slli_epi32(x0, 28)));
+            if (m < P) {
+                const float *t1 = t0 + 16;
+                const __m256i x1 = _mm256_srli_epi32(v, 4);
+                const __m256 y1 = _mm256_blendv_ps(_mm256_permutevar8x32_ps(_mm256_loadu_ps(t1), x1),
+                                                   _mm256_permutevar8x32_ps(_mm256_loadu_ps(t1 + 8), x1),
+                                                   _mm256_castsi256_ps(_mm256_slli_epi32(x1, 28)));
+                y = _mm256_add_ps(y, y1);
+            }
+            x = _mm256_add_ps(x, y);
+        }
+        _mm256_storeu_ps(a + b, x);
+    }
+    nibble_tail(a, p, n, t, P, odd, b, nb);
+}
+
+__attribute__((target("avx512f"))) static void planes_nibble_avx512(float *restrict a, const uint8_t *restrict p,
+                                                                   size_t n, const float *restrict t, size_t P, int odd,
+                                                                   size_t nb)
+{
+    const __m512i lo4 = _mm512_set1_epi32(15);
+    size_t b = 0;
+    for (; b + 16 <= nb; b += 16) {
+        __m512 x = _mm512_loadu_ps(a + b);
+        for (size_t m = 0; m < P; m++) {
+            const __m512i v = _mm512_cvtepu8_epi32(_mm_loadu_si128((const __m128i *)(p + m * n + b)));
+            const float *t0 = t + 2 * m * 16;
+            const __m512 y = _mm512_add_ps(_mm512_permutexvar_ps(_mm512_and_si512(v, lo4), _mm512_loadu_ps(t0)),
+                                           _mm512_permutexvar_ps(_mm512_srli_epi32(v, 4), _mm512_loadu_ps(t0 + 16)));
+            x = _mm512_add_ps(x, y);
+        }
+        if (odd) {
+            const __m512i v = _mm512_cvtepu8_epi32(_mm_loadu_si128((const __m128i *)(p + P * n + b)));
+            x = _mm512_add_ps(x, _mm512_permutexvar_ps(v, _mm512_loadu_ps(t + 2 * P * 16)));
+        }
+        _mm512_storeu_ps(a + b, x);
+    }
+    nibble_tail(a, p, n, t, P, odd, b, nb);
+}
+#endif
+
 /* The SH sums of coded vertices [k0, k0 + nb), nb ≤ SH_BLOCK, from the
- * planes: channel c of the block's vertex b into acc[c·SH_BLOCK + b]. */
-BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc)
+ * planes: channel c of the block's vertex b into acc[c·SH_BLOCK + b]. isa
+ * is the copy's instruction set (a constant once inlined); T is fold_sh's. */
+BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc, int isa)
 {
     const size_t n = s->ncoded, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
     for (size_t c = 0; c < C; c++) {
@@ -609,6 +703,18 @@ BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t
         else if (s->kind == SSS_SHQ_LLOYD4) { /* the pairs, then an odd last code (sss_decode_prepare) */
             const size_t P = N / 2, Q = (N + 1) / 2;
             const uint8_t *pl = (const uint8_t *)s->planes + c * Q * n + k0;
+#ifdef DECODE_X86
+            const float *terms = T + sss_decode_fold_floats(s->kind, (uint32_t)C, (uint32_t)N) + e * 16;
+            if (isa == SSS_DECODE_ISA_AVX512) {
+                planes_nibble_avx512(a, pl, n, terms, P, (int)(N & 1), nb);
+                continue;
+            }
+            if (isa == SSS_DECODE_ISA_AVX2) {
+                planes_nibble_avx2(a, pl, n, terms, P, (int)(N & 1), nb);
+                continue;
+            }
+#endif
+            (void)isa;
             planes_table(a, pl, n, T + c * P * 256, 256, P, nb);
             if (N & 1) planes_table(a, pl + P * n, n, T + (C * P * 256 + c * 16), 16, 1, nb);
         } else
@@ -677,11 +783,11 @@ BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const doub
  * loop (a data-dependent branch per value cost more than the sums), then
  * coded vertex k's C values to out + (v − first)·C, v its vertex. */
 BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t kb,
-                              size_t nb, size_t first, float *out)
+                              size_t nb, size_t first, float *out, int isa)
 {
     const size_t C = f->channels;
     float acc[SSS_MAX_CHANNELS * SH_BLOCK];
-    sh_block(&f->sh, T, C, kb, nb, acc);
+    sh_block(&f->sh, T, C, kb, nb, acc, isa);
     if (R) blend_block(f, R, wt, kb, nb, acc);
     for (size_t c = 0; c < C; c++) {
         float *a = acc + c * SH_BLOCK;
@@ -723,23 +829,22 @@ typedef void (*block_fn)(const sss_bake_file *, const float *, const float *, co
 static void block_baseline(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t kb,
                            size_t nb, size_t first, float *out)
 {
-    coded_block(f, R, T, wt, kb, nb, first, out);
+    coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_BASELINE);
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#define DECODE_X86 1
+#ifdef DECODE_X86
 __attribute__((target("avx2"))) static void block_avx2(const sss_bake_file *f, const float *R, const float *T,
                                                       const double *wt, size_t kb, size_t nb, size_t first,
                                                       float *out)
 {
-    coded_block(f, R, T, wt, kb, nb, first, out);
+    coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_AVX2);
 }
 
 __attribute__((target("avx512f"))) static void block_avx512(const sss_bake_file *f, const float *R, const float *T,
                                                            const double *wt, size_t kb, size_t nb, size_t first,
                                                            float *out)
 {
-    coded_block(f, R, T, wt, kb, nb, first, out);
+    coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_AVX512);
 }
 #endif
 
