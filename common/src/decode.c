@@ -261,13 +261,19 @@ void sss_decode_vector_range(const sss_bake_file *f, const double light[3], sss_
  * delta (§4.3). q is physically ≥ 0, so the sum is clamped at 0; the GPU
  * path does the same. */
 
-/* Weights of coded vertex k: w_lo + (w_hi − w_lo) · code / (2^bits − 1). */
-static void coded_weights(const sss_refcode *r, size_t k, double w[3])
+float sss_decode_ref_weight(const sss_refcode *r, uint32_t code)
 {
     const double span = (double)r->w_hi - r->w_lo, wmax = r->wbits == 16 ? 65535.0 : 255.0;
-    w[0] = r->w_lo + span * (r->w[2 * k] / wmax);
-    w[1] = r->w_lo + span * (r->w[2 * k + 1] / wmax);
-    w[2] = 1.0 - w[0] - w[1];
+    return (float)(r->w_lo + span * (code / wmax));
+}
+
+/* Weights of coded vertex k (sss_decode_ref_weight), the third
+ * 1 − w0 − w1 in float. */
+static void coded_weights(const sss_refcode *r, size_t k, float w[3])
+{
+    w[0] = sss_decode_ref_weight(r, r->w[2 * k]);
+    w[1] = sss_decode_ref_weight(r, r->w[2 * k + 1]);
+    w[2] = 1.0f - w[0] - w[1];
 }
 
 /* sss_decode_fold_sh, and for LLOYD4 each coefficient's 16 folded levels
@@ -456,28 +462,32 @@ static void ref_values(const sss_bake_file *f, const double d[3], sss_interp int
 
 /* The blend of coded vertex k's three reference values (§4.2), every
  * channel, into x[0 … C−1]: weights from wt (8-bit codes, tabulated per
- * call) or coded_weights, each channel's sum in double, rounded once. The
+ * call) or coded_weights, each channel's sum in float, the products and
+ * sums in this order (the coded shader's). Float, not double: its rounding
+ * (a few float ulps of the largest reference value) is far below the
+ * reference values' 8-bit quantisation (docs/benchmarks.md, "Run-time
+ * instruction sets"), and a software GPU emulates double lane by lane. The
  * triangle and weights are shared by the channels: read once. */
-static inline void coded_blend(const sss_bake_file *f, const float *R, const double *wt, size_t k, size_t C, float *x)
+static inline void coded_blend(const sss_bake_file *f, const float *R, const float *wt, size_t k, size_t C, float *x)
 {
     const sss_refcode *r = &f->ref;
-    double w[3];
+    float w[3];
     if (wt) {
         w[0] = wt[r->w[2 * k]];
         w[1] = wt[r->w[2 * k + 1]];
-        w[2] = 1.0 - w[0] - w[1];
+        w[2] = 1.0f - w[0] - w[1];
     } else {
         coded_weights(r, k, w);
     }
     const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
     const float *R0 = R + t[0] * C, *R1 = R + t[1] * C, *R2 = R + t[2] * C;
-    for (size_t c = 0; c < C; c++) x[c] = (float)(w[0] * R0[c] + w[1] * R1[c] + w[2] * R2[c]);
+    for (size_t c = 0; c < C; c++) x[c] = w[0] * R0[c] + w[1] * R1[c] + w[2] * R2[c];
 }
 
 /* Values of coded vertex k, all channels, into out[0 … C−1], from the
  * reference values R (NULL without references) and the vertex's SH sums
  * sh[0 … C−1]: blend + SH delta (§4.3), clamped at 0. */
-static inline void coded_finish(const sss_bake_file *f, const float *R, const double *wt, size_t k, const float *sh,
+static inline void coded_finish(const sss_bake_file *f, const float *R, const float *wt, size_t k, const float *sh,
                                 float *out)
 {
     const size_t C = f->channels;
@@ -491,7 +501,7 @@ static inline void coded_finish(const sss_bake_file *f, const float *R, const do
 
 /* coded_finish with the SH sums of the per-vertex loop (sh_sums); T may be
  * NULL when there is no SH part. */
-static inline void coded_values(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k,
+static inline void coded_values(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t k,
                                 float *out)
 {
     float sh[SSS_MAX_CHANNELS] = {0};
@@ -729,32 +739,31 @@ static int has_planes(const sss_bake_file *f)
 }
 
 /* The references' blend for coded vertices [kb, kb + nb) (§4.2–4.3), added
- * to their SH sums acc[c·SH_BLOCK + b]: coded_blend's arithmetic (each
- * channel's blend in double from the weights as coded_weights or wt gives
- * them, rounded once, then the SH sum added in float), split in two loops:
- * the scattered loads of each vertex's weights and triangle first, then per
- * channel one loop over the block whose lanes are vertices, the reference
- * values a vector gather (32-bit offsets: decode_compressed takes this
- * path only when nref·C fits). C is a constant in the RGB copy. */
-BLOCK_INLINE void blend_block_c(const sss_bake_file *f, const float *R, const double *wt, size_t kb, size_t nb,
+ * to their SH sums acc[c·SH_BLOCK + b]: coded_blend's arithmetic, split in
+ * loops: each vertex's weights (a table look-up, or coded_weights's
+ * expression over the block), the third weight, the triangle's offsets
+ * (32-bit: decode_compressed takes this path only when nref·C fits), then
+ * per channel one loop over the block whose lanes are vertices. C is a
+ * constant in the RGB copy. */
+BLOCK_INLINE void blend_block_c(const sss_bake_file *f, const float *R, const float *wt, size_t kb, size_t nb,
                                 float *acc, size_t C)
 {
     const sss_refcode *r = &f->ref;
-    double w0[SH_BLOCK], w1[SH_BLOCK], w2[SH_BLOCK];
+    float w0[SH_BLOCK], w1[SH_BLOCK], w2[SH_BLOCK];
     int32_t o0[SH_BLOCK], o1[SH_BLOCK], o2[SH_BLOCK];
     const uint16_t *wc = r->w + 2 * kb;
     if (wt) {
         for (size_t b = 0; b < nb; b++) w0[b] = wt[wc[2 * b]], w1[b] = wt[wc[2 * b + 1]];
     } else {
-        /* coded_weights's expression, as a loop over the block (a vector
-         * division instead of two scalar ones per vertex) */
+        /* sss_decode_ref_weight's expression, as a loop over the block (a
+         * vector division instead of two scalar ones per vertex) */
         const double lo = r->w_lo, span = (double)r->w_hi - r->w_lo, wmax = r->wbits == 16 ? 65535.0 : 255.0;
         for (size_t b = 0; b < nb; b++) {
-            w0[b] = lo + span * (wc[2 * b] / wmax);
-            w1[b] = lo + span * (wc[2 * b + 1] / wmax);
+            w0[b] = (float)(lo + span * (wc[2 * b] / wmax));
+            w1[b] = (float)(lo + span * (wc[2 * b + 1] / wmax));
         }
     }
-    for (size_t b = 0; b < nb; b++) w2[b] = 1.0 - w0[b] - w1[b];
+    for (size_t b = 0; b < nb; b++) w2[b] = 1.0f - w0[b] - w1[b];
     const uint32_t *vt = r->vtri + kb;
     for (size_t b = 0; b < nb; b++) {
         const uint32_t *t = r->ref_tri + 3 * (size_t)vt[b];
@@ -764,14 +773,14 @@ BLOCK_INLINE void blend_block_c(const sss_bake_file *f, const float *R, const do
         float *a = acc + c * SH_BLOCK;
         const float *Rc = R + c;
         for (size_t b = 0; b < nb; b++) {
-            float x = (float)(w0[b] * Rc[o0[b]] + w1[b] * Rc[o1[b]] + w2[b] * Rc[o2[b]]);
+            float x = w0[b] * Rc[o0[b]] + w1[b] * Rc[o1[b]] + w2[b] * Rc[o2[b]];
             x += a[b];
             a[b] = x;
         }
     }
 }
 
-BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const double *wt, size_t kb, size_t nb,
+BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const float *wt, size_t kb, size_t nb,
                               float *acc)
 {
     if (f->channels == 3) blend_block_c(f, R, wt, kb, nb, acc, 3);
@@ -782,7 +791,7 @@ BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const doub
  * sums, the references' blend (R non-NULL), the clamp at 0 as a vector
  * loop (a data-dependent branch per value cost more than the sums), then
  * coded vertex k's C values to out + (v − first)·C, v its vertex. */
-BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t kb,
+BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t kb,
                               size_t nb, size_t first, float *out, int isa)
 {
     const size_t C = f->channels;
@@ -823,10 +832,10 @@ BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const floa
  * product and a sum into a fused multiply-add: "avx2" does not enable FMA,
  * but AVX-512F includes it, so this unit is compiled with
  * -ffp-contract=off (common/CMakeLists.txt). */
-typedef void (*block_fn)(const sss_bake_file *, const float *, const float *, const double *, size_t, size_t, size_t,
+typedef void (*block_fn)(const sss_bake_file *, const float *, const float *, const float *, size_t, size_t, size_t,
                          float *);
 
-static void block_baseline(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t kb,
+static void block_baseline(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t kb,
                            size_t nb, size_t first, float *out)
 {
     coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_BASELINE);
@@ -834,14 +843,14 @@ static void block_baseline(const sss_bake_file *f, const float *R, const float *
 
 #ifdef DECODE_X86
 __attribute__((target("avx2"))) static void block_avx2(const sss_bake_file *f, const float *R, const float *T,
-                                                      const double *wt, size_t kb, size_t nb, size_t first,
+                                                      const float *wt, size_t kb, size_t nb, size_t first,
                                                       float *out)
 {
     coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_AVX2);
 }
 
 __attribute__((target("avx512f"))) static void block_avx512(const sss_bake_file *f, const float *R, const float *T,
-                                                           const double *wt, size_t kb, size_t nb, size_t first,
+                                                           const float *wt, size_t kb, size_t nb, size_t first,
                                                            float *out)
 {
     coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_AVX512);
@@ -892,7 +901,7 @@ static block_fn block_for(int isa)
 
 /* decode_compressed's loop over coded vertices [k0, k1) through the
  * planes, in blocks (coded_block); R NULL without references. */
-static void coded_blocks(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k0,
+static void coded_blocks(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t k0,
                          size_t k1, size_t first, float *out)
 {
     const size_t C = f->channels;
@@ -937,11 +946,10 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
         const ptrdiff_t k1 = (ptrdiff_t)lower_bound_u32(r->coded_vertex, f->sh.ncoded, end);
         /* 8-bit weight codes: their 256 weights once per call, as
          * coded_weights computes each (a division per weight saved) */
-        double wt8[256];
-        const double *wt = NULL;
+        float wt8[256];
+        const float *wt = NULL;
         if (r->wbits == 8) {
-            const double span = (double)r->w_hi - r->w_lo;
-            for (int x = 0; x < 256; x++) wt8[x] = r->w_lo + span * (x / 255.0);
+            for (uint32_t x = 0; x < 256; x++) wt8[x] = sss_decode_ref_weight(r, x);
             wt = wt8;
         }
         if (T && has_planes(f) && (size_t)r->nref * C <= INT32_MAX) { /* blend_block's offsets */
@@ -1050,12 +1058,12 @@ void sss_decode_vertex(const sss_bake_file *f, uint32_t v, const double light[3]
         if (ref != SIZE_MAX) {
             for (size_t c = 0; c < C; c++) out[c] = R[c];
         } else {
-            double wk[3];
+            float wk[3];
             float sh[SSS_MAX_CHANNELS] = {0};
             coded_weights(r, k, wk);
             if (T) sh_sums(&f->sh, T, C, k, sh);
             for (size_t c = 0; c < C; c++) {
-                float x = (float)(wk[0] * R[c] + wk[1] * R[C + c] + wk[2] * R[2 * C + c]);
+                float x = wk[0] * R[c] + wk[1] * R[C + c] + wk[2] * R[2 * C + c];
                 x += sh[c];
                 out[c] = x > 0.0f ? x : 0.0f;
             }

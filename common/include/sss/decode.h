@@ -77,6 +77,13 @@ uint64_t sss_decode_fold_floats(uint32_t kind, uint32_t channels, uint32_t ncoef
  * (the decoder then keeps its per-vertex loop). */
 int sss_decode_prepare(sss_bake_file *f);
 
+/* The weight a reference-form weight code stands for (Hao–Varshney 2004
+ * §4.2; sss_refcode): w_lo + (w_hi − w_lo) · code / (2^wbits − 1) in
+ * double, rounded once to float. The decoder blends in float with these
+ * weights, the third 1 − w0 − w1; the GPU layout's weight table holds the
+ * same floats. */
+float sss_decode_ref_weight(const sss_refcode *r, uint32_t code);
+
 /* Instruction sets of the compressed forms' block loops (the load-time
  * layout's per-frame sums and the references' blend), chosen at run time
  * from what the CPU has: the same C loop compiled for each, the same float
