@@ -465,8 +465,9 @@ static void ref_values(const sss_bake_file *f, const double d[3], sss_interp int
  * call) or coded_weights, each channel's sum in float, the products and
  * sums in this order (the coded shader's). Float, not double: its rounding
  * (a few float ulps of the largest reference value) is far below the
- * reference values' 8-bit quantisation (docs/benchmarks.md, "Run-time
- * instruction sets"), and a software GPU emulates double lane by lane. The
+ * reference values' 8-bit quantisation (measured in docs/benchmarks.md,
+ * "Run-time instruction sets, 4-bit codes by permutes, the references'
+ * blend in float"), and a software GPU emulates double lane by lane. The
  * triangle and weights are shared by the channels: read once. */
 static inline void coded_blend(const sss_bake_file *f, const float *R, const float *wt, size_t k, size_t C, float *x)
 {

@@ -7,7 +7,9 @@
  * vertex's terms in coefficient order from the folded tables; for the
  * reference form (§4.2–4.3) the per-vertex loop the decoder keeps for files
  * without the layout, and sss_decode_vertex. Every code kind, one and three
- * channels, SH orders 3 and 7, with and without references. */
+ * channels, SH orders 3 and 7, with and without references, and the block
+ * loops on every instruction set the CPU has (sss_decode_isa: the baseline
+ * and its AVX2 and AVX-512 copies must give the same floats). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>

@@ -88,7 +88,8 @@ float sss_decode_ref_weight(const sss_refcode *r, uint32_t code);
  * layout's per-frame sums and the references' blend), chosen at run time
  * from what the CPU has: the same C loop compiled for each, the same float
  * operations in the same order, so every decoded value is the same on
- * every choice (docs/benchmarks.md, "Run-time instruction sets"). */
+ * every choice (docs/benchmarks.md, "Run-time instruction sets, 4-bit
+ * codes by permutes, the references' blend in float"). */
 enum { SSS_DECODE_ISA_BASELINE = 0, SSS_DECODE_ISA_AVX2 = 1, SSS_DECODE_ISA_AVX512 = 2 };
 
 /* The set the block loops use now: the one forced by sss_decode_force_isa,
