@@ -177,7 +177,6 @@ static void check_form(const sss_bake_file *src, uint32_t order, double fraction
                              what, order, fraction, C, t, i / C, i % C, isa, got[i], want[i]);
         }
         assert_int_equal(sss_decode_force_isa(-1), 0);
-        sss_decode_all(&f, lights[t], got);
         for (size_t i = 0; i < n; i++) positive += want[i] > 0.0f;
         /* a range that starts and ends inside blocks: the slice */
         const uint32_t first = (uint32_t)nv / 3 + 1, count = (uint32_t)nv / 2 + 3;
@@ -223,7 +222,8 @@ static void referencesLayoutIsThePerVertexSum(void **state)
 
 /* The run-time choice of instruction set (sss_decode_isa): the baseline can
  * always be forced, a set that does not exist cannot, −1 goes back to the
- * widest the CPU has, which check_form's loops compared on every form. */
+ * widest the CPU has; check_form compares every set the CPU has (for every
+ * form in the tests above), the automatic choice among them. */
 static void everyInstructionSetGivesTheBaselineFloats(void **state)
 {
     (void)state;
@@ -235,8 +235,7 @@ static void everyInstructionSetGivesTheBaselineFloats(void **state)
     const int best = sss_decode_isa();
     assert_true(best >= SSS_DECODE_ISA_BASELINE && best <= SSS_DECODE_ISA_AVX512);
     g_isas_run = 0;
-    check_form(&g_rgb, 3, 0.0, SSS_SHQ_LLOYD4);
-    check_form(&g_rgb, 3, 0.03, SSS_SHQ_LINEAR8);
+    check_form(&g_rgb, 3, 0.03, SSS_SHQ_LLOYD4);
     assert_true(g_isas_run & 1u); /* the baseline */
     assert_true(g_isas_run & (1u << best)); /* and the automatic choice */
     printf("instruction sets compared: baseline%s%s\n", g_isas_run & 2u ? ", avx2" : "",
