@@ -21,6 +21,11 @@
 #include "sss/dirset.h"
 #include "sss/sh.h"
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#define DECODE_X86 1 /* the wider copies of the block loops (sss_decode_isa) */
+#include <immintrin.h>
+#endif
+
 float sss_decode_sample(const sss_bake_file *f, uint32_t j, uint32_t v, uint32_t c)
 {
     assert(j < f->dirs.n && v < f->mesh.nv && c < f->channels);
@@ -256,16 +261,25 @@ void sss_decode_vector_range(const sss_bake_file *f, const double light[3], sss_
  * delta (§4.3). q is physically ≥ 0, so the sum is clamped at 0; the GPU
  * path does the same. */
 
-/* Weights of coded vertex k: w_lo + (w_hi − w_lo) · code / (2^bits − 1). */
-static void coded_weights(const sss_refcode *r, size_t k, double w[3])
+float sss_decode_ref_weight(const sss_refcode *r, uint32_t code)
 {
     const double span = (double)r->w_hi - r->w_lo, wmax = r->wbits == 16 ? 65535.0 : 255.0;
-    w[0] = r->w_lo + span * (r->w[2 * k] / wmax);
-    w[1] = r->w_lo + span * (r->w[2 * k + 1] / wmax);
-    w[2] = 1.0 - w[0] - w[1];
+    return (float)(r->w_lo + span * (code / wmax));
 }
 
-void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
+/* Weights of coded vertex k (sss_decode_ref_weight), the third
+ * 1 − w0 − w1 in float. */
+static void coded_weights(const sss_refcode *r, size_t k, float w[3])
+{
+    w[0] = sss_decode_ref_weight(r, r->w[2 * k]);
+    w[1] = sss_decode_ref_weight(r, r->w[2 * k + 1]);
+    w[2] = 1.0f - w[0] - w[1];
+}
+
+/* sss_decode_fold_sh, and for LLOYD4 each coefficient's 16 folded levels
+ * into terms[(c·ncoef + i)·16 + x] (NULL: not wanted), the terms every pair
+ * table entry is the float sum of. */
+static void fold_sh_terms(const sss_bake_file *f, const double d[3], float *T, float *terms)
 {
     const sss_shcode *s = &f->sh;
     const size_t L = sss_decode_fold_levels(s->kind), ntab = (size_t)f->channels * s->ncoef;
@@ -288,21 +302,19 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
          * pairs, at T[C·P·256 + c·16 + x]. A pair of codes then costs one
          * load where it cost two (sss_decode_fold_floats). */
         const size_t N = s->ncoef, P = N / 2, C = f->channels;
+        float own[SSS_MAX_CHANNELS * SSS_SH_MAX_COUNT * 16];
+        float *t = terms ? terms : own;
+        for (size_t e = 0; e < C * N; e++)
+            for (size_t x = 0; x < 16; x++) t[e * 16 + x] = (float)(s->table[e * 16 + x] * y[e % N]);
         for (size_t c = 0; c < C; c++) {
             for (size_t m = 0; m < P; m++) {
-                float t0[16], t1[16];
-                const float *l0 = s->table + (c * N + 2 * m) * 16, *l1 = l0 + 16;
-                for (size_t x = 0; x < 16; x++) {
-                    t0[x] = (float)(l0[x] * y[2 * m]);
-                    t1[x] = (float)(l1[x] * y[2 * m + 1]);
-                }
+                const float *t0 = t + (c * N + 2 * m) * 16, *t1 = t0 + 16;
                 float *Tm = T + (c * P + m) * 256;
                 for (size_t x1 = 0; x1 < 16; x1++)
                     for (size_t x0 = 0; x0 < 16; x0++) Tm[x0 | x1 << 4] = t0[x0] + t1[x1];
             }
             if (N & 1)
-                for (size_t x = 0; x < 16; x++)
-                    T[C * P * 256 + c * 16 + x] = (float)(s->table[(c * N + N - 1) * 16 + x] * y[N - 1]);
+                for (size_t x = 0; x < 16; x++) T[C * P * 256 + c * 16 + x] = t[(c * N + N - 1) * 16 + x];
         }
         return;
     }
@@ -312,6 +324,8 @@ void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T)
     }
 }
 
+void sss_decode_fold_sh(const sss_bake_file *f, const double d[3], float *T) { fold_sh_terms(f, d, T, NULL); }
+
 uint32_t sss_decode_fold_levels(uint32_t kind) { return sss_shq_linear_max(kind) ? 1 : sss_shq_levels(kind); }
 
 uint64_t sss_decode_fold_floats(uint32_t kind, uint32_t channels, uint32_t ncoef)
@@ -320,12 +334,16 @@ uint64_t sss_decode_fold_floats(uint32_t kind, uint32_t channels, uint32_t ncoef
     return (uint64_t)channels * ncoef * sss_decode_fold_levels(kind);
 }
 
-/* Folded SH tables for direction d, allocated (NULL when out of memory). */
+/* Folded SH tables for direction d, allocated (NULL when out of memory);
+ * for LLOYD4 followed by the 16-level term tables (fold_sh_terms) at
+ * T + sss_decode_fold_floats, which the wider copies of the block loops
+ * look up with vector permutes (planes_nibble_avx2, _avx512). */
 static float *fold_sh(const sss_bake_file *f, const double d[3])
 {
     const size_t n = (size_t)sss_decode_fold_floats(f->sh.kind, f->channels, f->sh.ncoef);
-    float *T = malloc((n + 1) * sizeof *T);
-    if (T) sss_decode_fold_sh(f, d, T);
+    const size_t nt = f->sh.kind == SSS_SHQ_LLOYD4 ? (size_t)f->channels * f->sh.ncoef * 16 : 0;
+    float *T = malloc((n + nt + 1) * sizeof *T);
+    if (T) fold_sh_terms(f, d, T, nt ? T + n : NULL);
     return T;
 }
 
@@ -444,28 +462,33 @@ static void ref_values(const sss_bake_file *f, const double d[3], sss_interp int
 
 /* The blend of coded vertex k's three reference values (§4.2), every
  * channel, into x[0 … C−1]: weights from wt (8-bit codes, tabulated per
- * call) or coded_weights, each channel's sum in double, rounded once. The
+ * call) or coded_weights, each channel's sum in float, the products and
+ * sums in this order (the coded shader's). Float, not double: its rounding
+ * (a few float ulps of the largest reference value) is far below the
+ * reference values' 8-bit quantisation (measured in docs/benchmarks.md,
+ * "Run-time instruction sets, 4-bit codes by permutes, the references'
+ * blend in float"), and a software GPU emulates double lane by lane. The
  * triangle and weights are shared by the channels: read once. */
-static inline void coded_blend(const sss_bake_file *f, const float *R, const double *wt, size_t k, size_t C, float *x)
+static inline void coded_blend(const sss_bake_file *f, const float *R, const float *wt, size_t k, size_t C, float *x)
 {
     const sss_refcode *r = &f->ref;
-    double w[3];
+    float w[3];
     if (wt) {
         w[0] = wt[r->w[2 * k]];
         w[1] = wt[r->w[2 * k + 1]];
-        w[2] = 1.0 - w[0] - w[1];
+        w[2] = 1.0f - w[0] - w[1];
     } else {
         coded_weights(r, k, w);
     }
     const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
     const float *R0 = R + t[0] * C, *R1 = R + t[1] * C, *R2 = R + t[2] * C;
-    for (size_t c = 0; c < C; c++) x[c] = (float)(w[0] * R0[c] + w[1] * R1[c] + w[2] * R2[c]);
+    for (size_t c = 0; c < C; c++) x[c] = w[0] * R0[c] + w[1] * R1[c] + w[2] * R2[c];
 }
 
 /* Values of coded vertex k, all channels, into out[0 … C−1], from the
  * reference values R (NULL without references) and the vertex's SH sums
  * sh[0 … C−1]: blend + SH delta (§4.3), clamped at 0. */
-static inline void coded_finish(const sss_bake_file *f, const float *R, const double *wt, size_t k, const float *sh,
+static inline void coded_finish(const sss_bake_file *f, const float *R, const float *wt, size_t k, const float *sh,
                                 float *out)
 {
     const size_t C = f->channels;
@@ -479,7 +502,7 @@ static inline void coded_finish(const sss_bake_file *f, const float *R, const do
 
 /* coded_finish with the SH sums of the per-vertex loop (sh_sums); T may be
  * NULL when there is no SH part. */
-static inline void coded_values(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k,
+static inline void coded_values(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t k,
                                 float *out)
 {
     float sh[SSS_MAX_CHANNELS] = {0};
@@ -542,6 +565,15 @@ int sss_decode_prepare(sss_bake_file *f)
  * loop walks the C·ncoef planes. */
 #define SH_BLOCK 256
 
+/* The block loops below are compiled once per instruction set (coded_block
+ * and its callers, forced inline into block_baseline, block_avx2 and
+ * block_avx512), so each copy is vectorised for its set. */
+#if defined(__GNUC__)
+#define BLOCK_INLINE static inline __attribute__((always_inline))
+#else
+#define BLOCK_INLINE static inline
+#endif
+
 /* a[b] += term(plane i, b) for the m planes from p (n codes apart), for
  * b < nb, plane after plane: three planes per pass over the block, each
  * vertex's adds still one after the other in plane order, so that a[] is
@@ -549,7 +581,7 @@ int sss_decode_prepare(sss_bake_file *f)
  * q's term (the folded step's product for the linear kinds, the folded
  * table's entry for the Lloyd kinds). */
 #define PLANE_SUMS(NAME, CODE, TERM)                                                                                   \
-    static void NAME(float *restrict a, const CODE *restrict p, size_t n, const float *restrict T, size_t L, size_t m, \
+    BLOCK_INLINE void NAME(float *restrict a, const CODE *restrict p, size_t n, const float *restrict T, size_t L, size_t m, \
                      size_t nb)                                                                                        \
     {                                                                                                                  \
         (void)L;                                                                                                       \
@@ -584,9 +616,91 @@ PLANE_SUMS(planes_table, uint8_t, TERM_TABLE)
 #undef TERM_TABLE
 #undef PLANE_SUMS
 
+/* 4-bit codes on the wider sets: a[b] += t_2m[x0] + t_2m+1[x1] for each
+ * pair plane m < P of the channel (codes x0 | x1 << 4, planes n apart from
+ * p), then a[b] += t_N−1[x] for an odd last plane (odd), t the channel's
+ * 16-level term tables (t + i·16 for coefficient i). The pair tables hold
+ * exactly these float sums t_2m[x0] + t_2m+1[x1] (fold_sh_terms), so this is
+ * planes_table's sum to the bit, with the 16-entry lookups done by vector
+ * permutes (16 lanes in one on AVX-512, two of 8 and a blend on AVX2) where
+ * no baseline instruction looks up a table. Vertices past the last full
+ * vector: the same sums, one at a time. */
+#ifdef DECODE_X86
+static inline void nibble_tail(float *restrict a, const uint8_t *restrict p, size_t n, const float *restrict t,
+                               size_t P, int odd, size_t b0, size_t nb)
+{
+    for (size_t b = b0; b < nb; b++) {
+        float x = a[b];
+        for (size_t m = 0; m < P; m++) {
+            const uint8_t v = p[m * n + b];
+            const float y = t[2 * m * 16 + (v & 15u)] + t[(2 * m + 1) * 16 + (v >> 4)];
+            x += y;
+        }
+        if (odd) x += t[2 * P * 16 + p[P * n + b]];
+        a[b] = x;
+    }
+}
+
+__attribute__((target("avx2"))) static void planes_nibble_avx2(float *restrict a, const uint8_t *restrict p, size_t n,
+                                                              const float *restrict t, size_t P, int odd, size_t nb)
+{
+    const __m256i lo4 = _mm256_set1_epi32(15);
+    size_t b = 0;
+    for (; b + 8 <= nb; b += 8) {
+        __m256 x = _mm256_loadu_ps(a + b);
+        for (size_t m = 0; m <= P; m++) {
+            if (m == P && !odd) break;
+            const __m256i v = _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(p + m * n + b)));
+            /* 16 levels as two 8-lane permutes, bit 3 of the code picks the half */
+            const float *t0 = t + (m == P ? 2 * P : 2 * m) * 16;
+            const __m256i x0 = m == P ? v : _mm256_and_si256(v, lo4);
+            __m256 y = _mm256_blendv_ps(_mm256_permutevar8x32_ps(_mm256_loadu_ps(t0), x0),
+                                        _mm256_permutevar8x32_ps(_mm256_loadu_ps(t0 + 8), x0),
+                                        _mm256_castsi256_ps(_mm256_slli_epi32(x0, 28)));
+            if (m < P) {
+                const float *t1 = t0 + 16;
+                const __m256i x1 = _mm256_srli_epi32(v, 4);
+                const __m256 y1 = _mm256_blendv_ps(_mm256_permutevar8x32_ps(_mm256_loadu_ps(t1), x1),
+                                                   _mm256_permutevar8x32_ps(_mm256_loadu_ps(t1 + 8), x1),
+                                                   _mm256_castsi256_ps(_mm256_slli_epi32(x1, 28)));
+                y = _mm256_add_ps(y, y1);
+            }
+            x = _mm256_add_ps(x, y);
+        }
+        _mm256_storeu_ps(a + b, x);
+    }
+    nibble_tail(a, p, n, t, P, odd, b, nb);
+}
+
+__attribute__((target("avx512f"))) static void planes_nibble_avx512(float *restrict a, const uint8_t *restrict p,
+                                                                   size_t n, const float *restrict t, size_t P, int odd,
+                                                                   size_t nb)
+{
+    const __m512i lo4 = _mm512_set1_epi32(15);
+    size_t b = 0;
+    for (; b + 16 <= nb; b += 16) {
+        __m512 x = _mm512_loadu_ps(a + b);
+        for (size_t m = 0; m < P; m++) {
+            const __m512i v = _mm512_cvtepu8_epi32(_mm_loadu_si128((const __m128i *)(p + m * n + b)));
+            const float *t0 = t + 2 * m * 16;
+            const __m512 y = _mm512_add_ps(_mm512_permutexvar_ps(_mm512_and_si512(v, lo4), _mm512_loadu_ps(t0)),
+                                           _mm512_permutexvar_ps(_mm512_srli_epi32(v, 4), _mm512_loadu_ps(t0 + 16)));
+            x = _mm512_add_ps(x, y);
+        }
+        if (odd) {
+            const __m512i v = _mm512_cvtepu8_epi32(_mm_loadu_si128((const __m128i *)(p + P * n + b)));
+            x = _mm512_add_ps(x, _mm512_permutexvar_ps(v, _mm512_loadu_ps(t + 2 * P * 16)));
+        }
+        _mm512_storeu_ps(a + b, x);
+    }
+    nibble_tail(a, p, n, t, P, odd, b, nb);
+}
+#endif
+
 /* The SH sums of coded vertices [k0, k0 + nb), nb ≤ SH_BLOCK, from the
- * planes: channel c of the block's vertex b into acc[c·SH_BLOCK + b]. */
-static void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc)
+ * planes: channel c of the block's vertex b into acc[c·SH_BLOCK + b]. isa
+ * is the copy's instruction set (a constant once inlined); T is fold_sh's. */
+BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc, int isa)
 {
     const size_t n = s->ncoded, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
     for (size_t c = 0; c < C; c++) {
@@ -600,6 +714,18 @@ static void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, s
         else if (s->kind == SSS_SHQ_LLOYD4) { /* the pairs, then an odd last code (sss_decode_prepare) */
             const size_t P = N / 2, Q = (N + 1) / 2;
             const uint8_t *pl = (const uint8_t *)s->planes + c * Q * n + k0;
+#ifdef DECODE_X86
+            const float *terms = T + sss_decode_fold_floats(s->kind, (uint32_t)C, (uint32_t)N) + e * 16;
+            if (isa == SSS_DECODE_ISA_AVX512) {
+                planes_nibble_avx512(a, pl, n, terms, P, (int)(N & 1), nb);
+                continue;
+            }
+            if (isa == SSS_DECODE_ISA_AVX2) {
+                planes_nibble_avx2(a, pl, n, terms, P, (int)(N & 1), nb);
+                continue;
+            }
+#endif
+            (void)isa;
             planes_table(a, pl, n, T + c * P * 256, 256, P, nb);
             if (N & 1) planes_table(a, pl + P * n, n, T + (C * P * 256 + c * 16), 16, 1, nb);
         } else
@@ -613,63 +739,181 @@ static int has_planes(const sss_bake_file *f)
     return f->sh.planes && f->sh.planes_of == f->sh.code && f->sh.ncoef;
 }
 
+/* The references' blend for coded vertices [kb, kb + nb) (§4.2–4.3), added
+ * to their SH sums acc[c·SH_BLOCK + b]: coded_blend's arithmetic, split in
+ * loops: each vertex's weights (a table look-up, or coded_weights's
+ * expression over the block), the third weight, the triangle's offsets
+ * (32-bit: decode_compressed takes this path only when nref·C fits), then
+ * per channel one loop over the block whose lanes are vertices. C is a
+ * constant in the RGB copy. */
+BLOCK_INLINE void blend_block_c(const sss_bake_file *f, const float *R, const float *wt, size_t kb, size_t nb,
+                                float *acc, size_t C)
+{
+    const sss_refcode *r = &f->ref;
+    float w0[SH_BLOCK], w1[SH_BLOCK], w2[SH_BLOCK];
+    int32_t o0[SH_BLOCK], o1[SH_BLOCK], o2[SH_BLOCK];
+    const uint16_t *wc = r->w + 2 * kb;
+    if (wt) {
+        for (size_t b = 0; b < nb; b++) w0[b] = wt[wc[2 * b]], w1[b] = wt[wc[2 * b + 1]];
+    } else {
+        /* sss_decode_ref_weight's expression, as a loop over the block (a
+         * vector division instead of two scalar ones per vertex) */
+        const double lo = r->w_lo, span = (double)r->w_hi - r->w_lo, wmax = r->wbits == 16 ? 65535.0 : 255.0;
+        for (size_t b = 0; b < nb; b++) {
+            w0[b] = (float)(lo + span * (wc[2 * b] / wmax));
+            w1[b] = (float)(lo + span * (wc[2 * b + 1] / wmax));
+        }
+    }
+    for (size_t b = 0; b < nb; b++) w2[b] = 1.0f - w0[b] - w1[b];
+    const uint32_t *vt = r->vtri + kb;
+    for (size_t b = 0; b < nb; b++) {
+        const uint32_t *t = r->ref_tri + 3 * (size_t)vt[b];
+        o0[b] = (int32_t)(t[0] * C), o1[b] = (int32_t)(t[1] * C), o2[b] = (int32_t)(t[2] * C);
+    }
+    for (size_t c = 0; c < C; c++) {
+        float *a = acc + c * SH_BLOCK;
+        const float *Rc = R + c;
+        for (size_t b = 0; b < nb; b++) {
+            float x = w0[b] * Rc[o0[b]] + w1[b] * Rc[o1[b]] + w2[b] * Rc[o2[b]];
+            x += a[b];
+            a[b] = x;
+        }
+    }
+}
+
+BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const float *wt, size_t kb, size_t nb,
+                              float *acc)
+{
+    if (f->channels == 3) blend_block_c(f, R, wt, kb, nb, acc, 3);
+    else blend_block_c(f, R, wt, kb, nb, acc, f->channels);
+}
+
+/* Coded vertices [kb, kb + nb), nb ≤ SH_BLOCK, through the planes: the SH
+ * sums, the references' blend (R non-NULL), the clamp at 0 as a vector
+ * loop (a data-dependent branch per value cost more than the sums), then
+ * coded vertex k's C values to out + (v − first)·C, v its vertex. */
+BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t kb,
+                              size_t nb, size_t first, float *out, int isa)
+{
+    const size_t C = f->channels;
+    float acc[SSS_MAX_CHANNELS * SH_BLOCK];
+    sh_block(&f->sh, T, C, kb, nb, acc, isa);
+    if (R) blend_block(f, R, wt, kb, nb, acc);
+    for (size_t c = 0; c < C; c++) {
+        float *a = acc + c * SH_BLOCK;
+        for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
+    }
+    if (R) {
+        for (size_t b = 0; b < nb; b++) {
+            float *o = out + ((size_t)f->ref.coded_vertex[kb + b] - first) * C;
+            for (size_t c = 0; c < C; c++) o[c] = acc[c * SH_BLOCK + b];
+        }
+        return;
+    }
+    float *o = out + (kb - first) * C;
+    if (C == 3)
+        for (size_t b = 0; b < nb; b++) {
+            o[3 * b] = acc[b];
+            o[3 * b + 1] = acc[SH_BLOCK + b];
+            o[3 * b + 2] = acc[2 * SH_BLOCK + b];
+        }
+    else
+        for (size_t c = 0; c < C; c++)
+            for (size_t b = 0; b < nb; b++) o[b * C + c] = acc[c * SH_BLOCK + b];
+}
+
+/* ---- run-time instruction sets (sss_decode_isa) ------------------------ *
+ * The project builds for the x86-64 baseline (SSE2), where an int8 → float
+ * conversion takes three instructions per four vertices and no table load
+ * vectorises. The CPU running it may have more: coded_block is compiled
+ * again for AVX2 and for AVX-512 and the widest present is taken per call.
+ * The copies must give the same floats (the decoded q, and the GPU path's
+ * equality to this decoder, may not depend on the CPU): the same C, every
+ * operation IEEE-rounded in the same order. Neither copy may contract a
+ * product and a sum into a fused multiply-add: "avx2" does not enable FMA,
+ * but AVX-512F includes it, so this unit is compiled with
+ * -ffp-contract=off (common/CMakeLists.txt). */
+typedef void (*block_fn)(const sss_bake_file *, const float *, const float *, const float *, size_t, size_t, size_t,
+                         float *);
+
+static void block_baseline(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t kb,
+                           size_t nb, size_t first, float *out)
+{
+    coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_BASELINE);
+}
+
+#ifdef DECODE_X86
+__attribute__((target("avx2"))) static void block_avx2(const sss_bake_file *f, const float *R, const float *T,
+                                                      const float *wt, size_t kb, size_t nb, size_t first,
+                                                      float *out)
+{
+    coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_AVX2);
+}
+
+__attribute__((target("avx512f"))) static void block_avx512(const sss_bake_file *f, const float *R, const float *T,
+                                                           const float *wt, size_t kb, size_t nb, size_t first,
+                                                           float *out)
+{
+    coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_AVX512);
+}
+#endif
+
+static int cpu_has(int isa)
+{
+#ifdef DECODE_X86
+    __builtin_cpu_init();
+    if (isa == SSS_DECODE_ISA_AVX512) return __builtin_cpu_supports("avx512f");
+    if (isa == SSS_DECODE_ISA_AVX2) return __builtin_cpu_supports("avx2");
+#endif
+    return isa == SSS_DECODE_ISA_BASELINE;
+}
+
+static int g_isa_forced = -1;
+
+int sss_decode_force_isa(int isa)
+{
+    if (isa != -1 && !cpu_has(isa)) return -1;
+    g_isa_forced = isa;
+    return 0;
+}
+
+int sss_decode_isa(void)
+{
+    if (g_isa_forced >= 0) return g_isa_forced;
+    static const char *const names[] = {"baseline", "avx2", "avx512"};
+    const char *e = getenv("SSS_DECODE_ISA");
+    if (e)
+        for (int i = 0; i < 3; i++)
+            if (!strcmp(e, names[i]) && cpu_has(i)) return i;
+    return cpu_has(SSS_DECODE_ISA_AVX512) ? SSS_DECODE_ISA_AVX512
+           : cpu_has(SSS_DECODE_ISA_AVX2) ? SSS_DECODE_ISA_AVX2
+                                          : SSS_DECODE_ISA_BASELINE;
+}
+
+static block_fn block_for(int isa)
+{
+#ifdef DECODE_X86
+    if (isa == SSS_DECODE_ISA_AVX512) return block_avx512;
+    if (isa == SSS_DECODE_ISA_AVX2) return block_avx2;
+#endif
+    (void)isa;
+    return block_baseline;
+}
+
 /* decode_compressed's loop over coded vertices [k0, k1) through the
- * planes, in blocks: coded vertex k's C values go to out + (v − first)·C,
- * v its vertex. */
-static void coded_blocks(const sss_bake_file *f, const float *R, const float *T, const double *wt, size_t k0,
+ * planes, in blocks (coded_block); R NULL without references. */
+static void coded_blocks(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t k0,
                          size_t k1, size_t first, float *out)
 {
     const size_t C = f->channels;
-    const int refs = f->quant == SSS_QUANT_REFS;
+    const block_fn block = block_for(sss_decode_isa());
     const ptrdiff_t nblk = (ptrdiff_t)((k1 - k0 + SH_BLOCK - 1) / SH_BLOCK);
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if ((ptrdiff_t)(k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
     for (ptrdiff_t blk = 0; blk < nblk; blk++) {
-        float acc[SSS_MAX_CHANNELS * SH_BLOCK];
         const size_t kb = k0 + (size_t)blk * SH_BLOCK, nb = k1 - kb < SH_BLOCK ? k1 - kb : SH_BLOCK;
-        sh_block(&f->sh, T, C, kb, nb, acc);
-        if (!refs) {
-            /* coded_finish without references: the sums clamped at 0, a
-             * vector loop (a data-dependent branch per value cost more than
-             * the sums), then interleaved into the output */
-            for (size_t c = 0; c < C; c++) {
-                float *a = acc + c * SH_BLOCK;
-                for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
-            }
-            float *o = out + (kb - first) * C;
-            if (C == 3)
-                for (size_t b = 0; b < nb; b++) {
-                    o[3 * b] = acc[b];
-                    o[3 * b + 1] = acc[SH_BLOCK + b];
-                    o[3 * b + 2] = acc[2 * SH_BLOCK + b];
-                }
-            else
-                for (size_t c = 0; c < C; c++)
-                    for (size_t b = 0; b < nb; b++) o[b * C + c] = acc[c * SH_BLOCK + b];
-            continue;
-        }
-        /* coded_finish for the block: the blend of the three reference
-         * values plus the SH sum, then clamped as above, then scattered to
-         * the coded vertices' places */
-        for (size_t b = 0; b < nb; b++) {
-            float x[SSS_MAX_CHANNELS];
-            /* RGB with the channel count a constant: the three sums unrolled */
-            if (C == 3) coded_blend(f, R, wt, kb + b, 3, x);
-            else coded_blend(f, R, wt, kb + b, C, x);
-            for (size_t c = 0; c < C; c++) {
-                x[c] += acc[c * SH_BLOCK + b];
-                acc[c * SH_BLOCK + b] = x[c];
-            }
-        }
-        for (size_t c = 0; c < C; c++) {
-            float *a = acc + c * SH_BLOCK;
-            for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
-        }
-        for (size_t b = 0; b < nb; b++) {
-            float *o = out + ((size_t)f->ref.coded_vertex[kb + b] - first) * C;
-            for (size_t c = 0; c < C; c++) o[c] = acc[c * SH_BLOCK + b];
-        }
+        block(f, R, T, wt, kb, nb, first, out);
     }
 }
 
@@ -703,14 +947,13 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
         const ptrdiff_t k1 = (ptrdiff_t)lower_bound_u32(r->coded_vertex, f->sh.ncoded, end);
         /* 8-bit weight codes: their 256 weights once per call, as
          * coded_weights computes each (a division per weight saved) */
-        double wt8[256];
-        const double *wt = NULL;
+        float wt8[256];
+        const float *wt = NULL;
         if (r->wbits == 8) {
-            const double span = (double)r->w_hi - r->w_lo;
-            for (int x = 0; x < 256; x++) wt8[x] = r->w_lo + span * (x / 255.0);
+            for (uint32_t x = 0; x < 256; x++) wt8[x] = sss_decode_ref_weight(r, x);
             wt = wt8;
         }
-        if (T && has_planes(f)) {
+        if (T && has_planes(f) && (size_t)r->nref * C <= INT32_MAX) { /* blend_block's offsets */
             coded_blocks(f, R, T, wt, (size_t)k0, (size_t)k1, first, out);
         } else {
 #ifdef _OPENMP
@@ -816,12 +1059,12 @@ void sss_decode_vertex(const sss_bake_file *f, uint32_t v, const double light[3]
         if (ref != SIZE_MAX) {
             for (size_t c = 0; c < C; c++) out[c] = R[c];
         } else {
-            double wk[3];
+            float wk[3];
             float sh[SSS_MAX_CHANNELS] = {0};
             coded_weights(r, k, wk);
             if (T) sh_sums(&f->sh, T, C, k, sh);
             for (size_t c = 0; c < C; c++) {
-                float x = (float)(wk[0] * R[c] + wk[1] * R[C + c] + wk[2] * R[2 * C + c]);
+                float x = wk[0] * R[c] + wk[1] * R[C + c] + wk[2] * R[2 * C + c];
                 x += sh[c];
                 out[c] = x > 0.0f ? x : 0.0f;
             }

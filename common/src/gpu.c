@@ -180,11 +180,11 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
         /* one record per coded vertex: its vertex, its reference triangle,
          * its two weight codes packed in one word (≤ 16 bits each) */
         uint32_t *rec = malloc(((size_t)L->ncoded * 3 + 1) * sizeof *rec);
-        /* every weight a code can stand for, as coded_weights in the C
-         * decoder computes it (in double): at most 65536 values, and the
-         * GPU then needs no double division */
+        /* every weight a code can stand for, as the C decoder computes it
+         * (sss_decode_ref_weight): at most 65536 floats, and the GPU then
+         * needs no division */
         const uint32_t nw = rf->wbits == 16 ? 65536u : 256u;
-        double *wt = malloc(nw * sizeof *wt);
+        float *wt = malloc(nw * sizeof *wt);
         L->owned_[1] = rec;
         L->owned_[2] = wt;
         if (!rec || !wt) goto oom;
@@ -193,12 +193,11 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
             rec[3 * k + 1] = rf->vtri[k];
             rec[3 * k + 2] = (uint32_t)rf->w[2 * k] | (uint32_t)rf->w[2 * k + 1] << 16;
         }
-        const double span = (double)rf->w_hi - rf->w_lo, wmax = rf->wbits == 16 ? 65535.0 : 255.0;
-        for (uint32_t x = 0; x < nw; x++) wt[x] = rf->w_lo + span * ((double)x / wmax);
+        for (uint32_t x = 0; x < nw; x++) wt[x] = sss_decode_ref_weight(rf, x);
         one_block(&L->buffer[SSS_GPU_BUF_CODED], "coded", 1, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, rec,
                   (uint64_t)L->ncoded * 3 * sizeof(uint32_t));
         one_block(&L->buffer[SSS_GPU_BUF_WEIGHTS], "weights", 6, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, wt,
-                  (uint64_t)nw * sizeof(double));
+                  (uint64_t)nw * sizeof(float));
     }
     return SSS_OK;
 oom:

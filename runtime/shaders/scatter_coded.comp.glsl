@@ -29,8 +29,9 @@ layout(std430, binding = 4) readonly buffer ShTable { float sh_t[]; };
 layout(std430, binding = 1) readonly buffer Coded { uint rec[]; };
 layout(std430, binding = 2) readonly buffer RefTri { uint ref_tri[]; };
 layout(std430, binding = 5) readonly buffer Refs { float refq[]; };
-// weight of each code, w_lo + (w_hi - w_lo) * code / (2^bits - 1), computed by the CPU as the C decoder does
-layout(std430, binding = 6) readonly buffer Weights { double wtab[]; };
+// weight of each code, w_lo + (w_hi - w_lo) * code / (2^bits - 1) rounded to float, computed by the CPU
+// as the C decoder does (sss_decode_ref_weight)
+layout(std430, binding = 6) readonly buffer Weights { float wtab[]; };
 #endif
 uniform uint u_count;   // coded vertices
 void main() {
@@ -41,8 +42,8 @@ void main() {
     v = rec[3u * k];
     uint t = 3u * rec[3u * k + 1u], wc = rec[3u * k + 2u];
     uint r0 = ref_tri[t] * C, r1 = ref_tri[t + 1u] * C, r2 = ref_tri[t + 2u] * C;
-    double w0 = wtab[wc & 65535u], w1 = wtab[wc >> 16u];
-    precise double w2 = 1.0lf - w0 - w1;
+    float w0 = wtab[wc & 65535u], w1 = wtab[wc >> 16u];
+    precise float w2 = 1.0 - w0 - w1;
 #endif
 #if NCOEF > 0
     // the word holding the current code, loaded when the walk reaches it:
@@ -53,8 +54,9 @@ void main() {
     for (uint ch = 0u; ch < C; ch++) {
         precise float x = 0.0;
 #ifdef REFS
-        precise double b = w0 * double(refq[r0 + ch]) + w1 * double(refq[r1 + ch]) + w2 * double(refq[r2 + ch]);
-        x = float(b);
+        // the C decoder's float blend (coded_blend): products and sums in this order, none fused
+        precise float b = w0 * refq[r0 + ch] + w1 * refq[r1 + ch] + w2 * refq[r2 + ch];
+        x = b;
 #endif
 #if NCOEF > 0
         precise float acc = 0.0;

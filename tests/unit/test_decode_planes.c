@@ -7,7 +7,9 @@
  * vertex's terms in coefficient order from the folded tables; for the
  * reference form (§4.2–4.3) the per-vertex loop the decoder keeps for files
  * without the layout, and sss_decode_vertex. Every code kind, one and three
- * channels, SH orders 3 and 7, with and without references. */
+ * channels, SH orders 3 and 7, with and without references, and the block
+ * loops on every instruction set the CPU has (sss_decode_isa: the baseline
+ * and its AVX2 and AVX-512 copies must give the same floats). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -113,6 +115,9 @@ static void oracle_sh(const sss_bake_file *f, const double light[3], float *out)
     free(T);
 }
 
+/* Instruction sets check_form ran the block loops on (bit i: set i). */
+static unsigned g_isas_run;
+
 /* Compresses src (order, reference fraction, code kind), then decodes a
  * fixed set of lights without and with the layout, and through a range
  * and single vertices: every float equal. */
@@ -157,14 +162,22 @@ static void check_form(const sss_bake_file *src, uint32_t order, double fraction
         }
         assert_int_equal(sss_decode_prepare(&f), 0);
         assert_non_null(f.sh.planes);
-        sss_decode_all(&f, lights[t], got);
-        for (size_t i = 0; i < n; i++) {
-            if (memcmp(&got[i], &want[i], sizeof *got))
-                fail_msg("%s order %u, fraction %g, %zu channels, light %d, vertex %zu channel %zu: layout %.9g, "
-                         "per-vertex loop %.9g",
-                         what, order, fraction, C, t, i / C, i % C, got[i], want[i]);
-            positive += want[i] > 0.0f;
+        /* the layout's block loops on every instruction set this CPU has
+         * (the baseline always): each the per-vertex loop's floats */
+        for (int isa = SSS_DECODE_ISA_BASELINE; isa <= SSS_DECODE_ISA_AVX512; isa++) {
+            if (sss_decode_force_isa(isa)) continue;
+            g_isas_run |= 1u << isa;
+            assert_int_equal(sss_decode_isa(), isa);
+            memset(got, 0xff, n * sizeof *got);
+            sss_decode_all(&f, lights[t], got);
+            for (size_t i = 0; i < n; i++)
+                if (memcmp(&got[i], &want[i], sizeof *got))
+                    fail_msg("%s order %u, fraction %g, %zu channels, light %d, vertex %zu channel %zu: layout on "
+                             "instruction set %d %.9g, per-vertex loop %.9g",
+                             what, order, fraction, C, t, i / C, i % C, isa, got[i], want[i]);
         }
+        assert_int_equal(sss_decode_force_isa(-1), 0);
+        for (size_t i = 0; i < n; i++) positive += want[i] > 0.0f;
         /* a range that starts and ends inside blocks: the slice */
         const uint32_t first = (uint32_t)nv / 3 + 1, count = (uint32_t)nv / 2 + 3;
         sss_decode_range(&f, lights[t], first, count, got);
@@ -205,6 +218,28 @@ static void referencesLayoutIsThePerVertexSum(void **state)
 {
     (void)state;
     check_every_form(0.05);
+}
+
+/* The run-time choice of instruction set (sss_decode_isa): the baseline can
+ * always be forced, a set that does not exist cannot, −1 goes back to the
+ * widest the CPU has; check_form compares every set the CPU has (for every
+ * form in the tests above), the automatic choice among them. */
+static void everyInstructionSetGivesTheBaselineFloats(void **state)
+{
+    (void)state;
+    assert_int_equal(sss_decode_force_isa(SSS_DECODE_ISA_BASELINE), 0);
+    assert_int_equal(sss_decode_isa(), SSS_DECODE_ISA_BASELINE);
+    assert_int_equal(sss_decode_force_isa(SSS_DECODE_ISA_AVX512 + 1), -1);
+    assert_int_equal(sss_decode_isa(), SSS_DECODE_ISA_BASELINE); /* unchanged by the refusal */
+    assert_int_equal(sss_decode_force_isa(-1), 0);
+    const int best = sss_decode_isa();
+    assert_true(best >= SSS_DECODE_ISA_BASELINE && best <= SSS_DECODE_ISA_AVX512);
+    g_isas_run = 0;
+    check_form(&g_rgb, 3, 0.03, SSS_SHQ_LLOYD4);
+    assert_true(g_isas_run & 1u); /* the baseline */
+    assert_true(g_isas_run & (1u << best)); /* and the automatic choice */
+    printf("instruction sets compared: baseline%s%s\n", g_isas_run & 2u ? ", avx2" : "",
+           g_isas_run & 4u ? ", avx512" : "");
 }
 
 /* A layout built from other codes is not used: after the codes are
@@ -285,6 +320,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(shOnlyLayoutIsThePerVertexSum),
         cmocka_unit_test(referencesLayoutIsThePerVertexSum),
+        cmocka_unit_test(everyInstructionSetGivesTheBaselineFloats),
         cmocka_unit_test(staleLayoutIsNotUsed),
         cmocka_unit_test(readerBuildsTheLayout),
     };

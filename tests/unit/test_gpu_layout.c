@@ -105,7 +105,7 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
     if (p1->name) {
         uint32_t *codes = image(L, SSS_GPU_BUF_SH_CODES), *rec = image(L, SSS_GPU_BUF_CODED);
         uint32_t *ref_tri = image(L, SSS_GPU_BUF_REF_TRI);
-        double *wtab = image(L, SSS_GPU_BUF_WEIGHTS);
+        float *wtab = image(L, SSS_GPU_BUF_WEIGHTS);
         const uint32_t N = L->f->sh.ncoef, Lv = L->sh_levels ? L->sh_levels : 256u;
         const int lin16 = strstr(p1->defines, "SH_LINEAR16") != NULL, lin8 = strstr(p1->defines, "SH_LINEAR8") != NULL;
         const uint32_t BITS = strstr(p1->defines, "SH_NIBBLE") ? 4u : lin16 ? 16u : 8u, PER = 32u / BITS;
@@ -113,17 +113,17 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
         if (N) assert_int_equal(L->buffer[SSS_GPU_BUF_SH_CODES].bytes, (uint64_t)fr->u_count[1] * W * 4);
         for (uint32_t k = 0; k < fr->u_count[1]; k++) {
             uint32_t v = k, r0 = 0, r1 = 0, r2 = 0;
-            double w0 = 0, w1 = 0, w2 = 0;
+            float w0 = 0, w1 = 0, w2 = 0;
             if (rec) {
                 v = rec[3 * k];
                 const uint32_t t = 3 * rec[3 * k + 1], wc = rec[3 * k + 2];
                 r0 = ref_tri[t] * C, r1 = ref_tri[t + 1] * C, r2 = ref_tri[t + 2] * C;
                 w0 = wtab[wc & 65535u], w1 = wtab[wc >> 16];
-                w2 = 1.0 - w0 - w1;
+                w2 = 1.0f - w0 - w1;
             }
             for (uint32_t ch = 0; ch < C; ch++) {
                 float x = 0.0f;
-                if (rec) x = (float)(w0 * (double)refq[r0 + ch] + w1 * (double)refq[r1 + ch] + w2 * (double)refq[r2 + ch]);
+                if (rec) x = w0 * refq[r0 + ch] + w1 * refq[r1 + ch] + w2 * refq[r2 + ch];
                 if (N) {
                     float acc = 0.0f;
 #define CODE_AT(e) ((codes[((e) / PER) * fr->u_count[1] + k] >> (((e) % PER) * BITS)) & ((1u << BITS) - 1u))

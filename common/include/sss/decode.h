@@ -77,6 +77,33 @@ uint64_t sss_decode_fold_floats(uint32_t kind, uint32_t channels, uint32_t ncoef
  * (the decoder then keeps its per-vertex loop). */
 int sss_decode_prepare(sss_bake_file *f);
 
+/* The weight a reference-form weight code stands for (Hao–Varshney 2004
+ * §4.2; sss_refcode): w_lo + (w_hi − w_lo) · code / (2^wbits − 1) in
+ * double, rounded once to float. The decoder blends in float with these
+ * weights, the third 1 − w0 − w1; the GPU layout's weight table holds the
+ * same floats. */
+float sss_decode_ref_weight(const sss_refcode *r, uint32_t code);
+
+/* Instruction sets of the compressed forms' block loops (the load-time
+ * layout's per-frame sums and the references' blend), chosen at run time
+ * from what the CPU has: the same C loop compiled for each, the same float
+ * operations in the same order, so every decoded value is the same on
+ * every choice (docs/benchmarks.md, "Run-time instruction sets, 4-bit
+ * codes by permutes, the references' blend in float"). */
+enum { SSS_DECODE_ISA_BASELINE = 0, SSS_DECODE_ISA_AVX2 = 1, SSS_DECODE_ISA_AVX512 = 2 };
+
+/* The set the block loops use now: the one forced by sss_decode_force_isa,
+ * else the one named by the environment variable SSS_DECODE_ISA
+ * ("baseline", "avx2", "avx512") when the CPU has it, else the widest the
+ * CPU has. */
+int sss_decode_isa(void);
+
+/* Forces the block loops onto isa (for tests and benchmarks; call it
+ * before decoding, not while another thread decodes), or back to the
+ * automatic choice with −1. Returns 0, or −1 when the CPU lacks isa
+ * (nothing changed). */
+int sss_decode_force_isa(int isa);
+
 /* q(x_v, ω) for one vertex into out[0 … channels−1], the same value
  * sss_decode_all writes for it (same arithmetic, same rounding). Any
  * storage form. v out of range, or a zero or non-finite light, gives 0. */

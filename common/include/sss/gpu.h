@@ -68,7 +68,7 @@ enum {
     SSS_GPU_BUF_CODED,       /* per coded vertex 3 uint32: vertex, reference triangle, weight codes
                                 (w0 | w1 << 16) (binding 1, coded pass) */
     SSS_GPU_BUF_REF_TRI,     /* 3·nrt uint32: reference triangles, indices into the references (binding 2) */
-    SSS_GPU_BUF_WEIGHTS,     /* 256 or 65536 float64: the weight each code stands for (binding 6, coded pass) */
+    SSS_GPU_BUF_WEIGHTS,     /* 256 or 65536 floats: the weight each code stands for (binding 6, coded pass) */
     SSS_GPU_BUFFERS
 };
 
