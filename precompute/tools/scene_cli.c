@@ -91,6 +91,8 @@ static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path
 {
     sss_error err = {{0}};
     sss_scene sc = *sc_in;
+    /* --gather where the scene's "bake" says nothing (the planner's gather rule) */
+    if (!sc.bake.gather && opt) sc.bake.gather = (uint32_t)opt->gather;
     const int plain = outfile != NULL;
     if (!plan_only && !plain) {
         struct stat sb;

@@ -80,12 +80,20 @@ expect_ok "$SSS_STAT" "$TMP/o5/blob.sss" --error --views 4 --no-image --json
 p6=$(sed -n 's/.*"point_shells":{[^}]*"rel_rms_max":\([-0-9.eE+]*\).*/\1/p' "$TMP/out")
 awk -v a="$p2" -v b="$p6" 'BEGIN { exit !(b > 0 && b < 0.5 * a && b < 0.1) }' ||
   fail "point shells' rel. RMS: $p2 with 2 shells x 40 directions, $p6 with 6 x 200 (want the second < half the first, < 0.1)"
+# which gather sums the rows: the tree by default, --gather direct where
+# the scene's "bake" says nothing (docs/heterogeneous.md sec. 4.5)
+expect_ok "$SSS_BAKE" --scene "$TMP/m.json" --plan
+contains "$TMP/out" 'gather        tree               hierarchical gather'
+expect_ok "$SSS_BAKE" --scene "$TMP/m.json" --plan --gather direct
+contains "$TMP/out" 'gather        direct             bake.gather (or --gather)'
 # a scene bake without a moving directional light has no direction set:
-# --error measures its static light and point shells alone; --query refuses
+# --error measures its static light and point shells alone; --query refuses.
+# The direct rows: the static light's row is then the exact evaluator's
+# bit for bit (the tree's far field and float sums are not)
 cat > "$TMP/nd.json" <<'J'
 {"objects": [{"name": "blob", "mesh": "blob.ply", "material": "skin1", "mm_per_unit": 10}],
  "lights": [{"type": "directional", "direction": [1, 0, 1]}, {"type": "point", "position": [0, 3, 0], "moving": true}],
- "bake": {"dirs": 40, "shells": 2}}
+ "bake": {"dirs": 40, "shells": 2, "gather": "direct"}}
 J
 mkdir -p "$TMP/o6"
 expect_ok "$SSS_BAKE" --scene "$TMP/nd.json" -o "$TMP/o6" -q
