@@ -35,6 +35,7 @@ mkdir -p "$TMP/o1" "$TMP/o2" "$TMP/o3"
 expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/o1" --threads 1 -q
 expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/o2" --threads 2 -q --json
 contains "$TMP/out" '"rays":'
+contains "$TMP/out" '"gather":"tree","peak_rss_mib":'
 for n in blob ball; do
   [ -s "$TMP/o1/$n.sss" ] || fail "no $n.sss"
   cmp -s "$TMP/o1/$n.sss" "$TMP/o2/$n.sss" || fail "$n.sss differs between 1 and 2 threads"
