@@ -104,11 +104,12 @@ static void bake(const char *json, int want_gather, sss_bake_file *f, sss_bake_s
     unload(&b);
 }
 
-/* The blob, 20 mm across, skin1-like material whose neighbourhoods reach a
- * third of it: the tree has far nodes. */
-#define MAT "\"sigma_a\":[0.032,0.17,0.48],\"sigmap_s\":[0.74,0.88,1.01]"
-#define VEINS "{\"procedural\":\"veins\",\"scale_mm\":20,\"seed\":3}"
-#define INSIDE "{\"sigma_a\":[0.3,0.4,0.6],\"sigmap_s\":[0.74,0.88,1.01]}"
+/* The blob, 20 mm across, in a grey material whose neighbourhoods reach
+ * across it: the tree has far nodes. Grey (one channel), so that a field's
+ * kappa per pair costs a third of an RGB one's and the test stays short. */
+#define MAT "\"sigma_a\":[0.05,0.05,0.05],\"sigmap_s\":[0.9,0.9,0.9]"
+#define VEINS "{\"procedural\":\"veins\",\"scale_mm\":40,\"seed\":3}"
+#define INSIDE "{\"sigma_a\":[0.4,0.4,0.4],\"sigmap_s\":[0.9,0.9,0.9]}"
 
 static char *scene(const char *field, const char *light, const char *bake_opts)
 {
@@ -178,37 +179,48 @@ static void sceneTreeIsThePlainTreeBake(void **state)
 }
 
 /* The tree against the direct rows on the same scene: within the tree's
- * documented tolerance (docs/benchmarks.md "Bake at scale": 1e-3 per-vertex
- * RMS) without a field; with veins, within §4.5's bound (the far nodes' κ
- * at the centroid adds to the far field's own error). */
+ * documented tolerance (docs/benchmarks.md "Bake at scale": 1e-3 RMS),
+ * with veins too (docs/heterogeneous.md §4.5: the far nodes' κ at the
+ * centroid; measured 1.7e-4 and 1.6e-4 RMS, 3.2e-4 of the largest q at
+ * most, where the veins move q by 6 % RMS). */
 static void sceneTreeAgreesWithTheDirectRows(void **state)
 {
     (void)state;
     const char *fields[] = {NULL, VEINS};
-    const double bound_rms[] = {1e-3, 2e-3}, bound_max[] = {5e-3, 1e-2};
+    const double bound_rms = 1e-3, bound_max = 5e-3;
+    float *hom = NULL;
     for (int k = 0; k < 2; k++) {
         sss_bake_file t, d;
         sss_bake_stats st, sd;
         char js[1500];
-        snprintf(js, sizeof js, "%s", scene(fields[k], STATIC_LIGHT ",{\"type\":\"directional\",\"direction\":[-0.5,0.1,-0.8]}", "\"gather\":\"tree\""));
+        snprintf(js, sizeof js, "%s", scene(fields[k], STATIC_LIGHT, "\"gather\":\"tree\""));
         bake(js, SSS_GATHER_TREE, &t, &st);
-        snprintf(js, sizeof js, "%s", scene(fields[k], STATIC_LIGHT ",{\"type\":\"directional\",\"direction\":[-0.5,0.1,-0.8]}", "\"gather\":\"direct\""));
+        snprintf(js, sizeof js, "%s", scene(fields[k], STATIC_LIGHT, "\"gather\":\"direct\""));
         bake(js, SSS_GATHER_DIRECT, &d, &sd);
         assert_true(st.far_pairs > 0);
-        assert_int_equal(t.fx.nexact, 2);
-        assert_int_equal(d.fx.nexact, 2);
+        assert_int_equal(t.fx.nexact, 1);
+        assert_int_equal(d.fx.nexact, 1);
         assert_int_equal(t.hetero.field.kind, k ? SSS_FIELD_VEINS : SSS_FIELD_NONE);
-        const size_t n = (size_t)2 * t.mesh.nv * t.channels;
+        const size_t n = (size_t)t.mesh.nv * t.channels;
         double rms, mx;
         compare(t.fx.exact_q, d.fx.exact_q, n, &rms, &mx);
         print_message("%s: tree vs direct rows: RMS %.3g, max %.3g of max q (far pairs per vertex %.1f)\n",
                       k ? "veins" : "homogeneous", rms, mx, (double)st.far_pairs / t.mesh.nv);
         assert_true(rms > 0.0); /* the far field is used */
-        assert_true(rms <= bound_rms[k]);
-        assert_true(mx <= bound_max[k]);
+        assert_true(rms <= bound_rms);
+        assert_true(mx <= bound_max);
+        if (k == 0) {
+            hom = malloc(n * sizeof *hom);
+            memcpy(hom, t.fx.exact_q, n * sizeof *hom);
+        } else { /* the veins change q far beyond the bound: the field is there */
+            compare(t.fx.exact_q, hom, n, &rms, &mx);
+            print_message("veins against homogeneous (tree): RMS %.3g, max %.3g of max q\n", rms, mx);
+            assert_true(rms > 10 * bound_rms);
+        }
         sss_file_free(&t);
         sss_file_free(&d);
     }
+    free(hom);
 }
 
 /* Constant fields through the tree: c = 0 folds (planner) into the
