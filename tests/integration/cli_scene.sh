@@ -87,6 +87,13 @@ expect_ok "$SSS_BAKE" --scene "$TMP/m.json" --plan
 contains "$TMP/out" 'gather        tree               hierarchical gather'
 expect_ok "$SSS_BAKE" --scene "$TMP/m.json" --plan --gather direct
 contains "$TMP/out" 'gather        direct             bake.gather (or --gather)'
+# the tree's memory planned before it is loaded: one line naming the
+# object, no file
+mkdir -p "$TMP/o9"
+SSS_MEMORY_LIMIT_MB=2 expect_fail "m.json: /objects/0: the bake needs more than .* (the gather tree with 80 source columns)" \
+  "$SSS_BAKE" --scene "$TMP/m.json" -o "$TMP/o9" -q
+[ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "message should be one line"
+[ ! -e "$TMP/o9/blob.sss" ] || fail "a refused bake should write no file"
 # a scene bake without a moving directional light has no direction set:
 # --error measures its static light and point shells alone; --query refuses.
 # The direct rows: the static light's row is then the exact evaluator's

@@ -266,6 +266,28 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
         sss_gather_params gp = {.theta = opt->theta, .cancel = opt->cancel};
         st.theta = gp.theta > 0 ? gp.theta : SSS_GATHER_THETA_DEFAULT;
         r = sss_gather_tree_create(c.mesh, out->mm_per_unit, &gp, &tree, err);
+        if (r == SSS_OK && avail) {
+            /* the widest table of sources a pass loads (sss_pass_integrate):
+             * the tree's copy of it, the nodes' moments and the threads'
+             * block matrices, planned as the rows would be (bake_tree.c) */
+            uint32_t widest = 1;
+            if (p->pass_lights[SSS_PASS_DIR_SET] && c.n_dirs > widest) widest = c.n_dirs;
+            if (p->pass_lights[SSS_PASS_POINT_SHELLS] && c.shells * c.n_dirs > widest) widest = c.shells * c.n_dirs;
+            if (p->pass_lights[SSS_PASS_ENV_SH] && c.sh_order * c.sh_order > widest) widest = c.sh_order * c.sh_order;
+#ifdef _OPENMP
+            const int threads = omp_get_max_threads();
+#else
+            const int threads = 1;
+#endif
+            const uint64_t tb = sss_gather_tree_size(tree, widest) +
+                                sss_gather_workspace_bytes(c.mesh->nv, widest, c.C, &gp, threads);
+            if (tb + hat_bytes >= avail - need)
+                r = sss_fail(err, SSS_ERR_NOMEM, "the bake needs more than %.2f GiB for %u vertices (the gather tree "
+                             "with %u source column%s) but %.2f GiB is available (estimate before starting; "
+                             "SSS_MEMORY_LIMIT_MB lowers the limit): use fewer directions or shells, or a lower SH "
+                             "order", (need + hat_bytes + tb) / 1073741824.0, c.mesh->nv, widest, widest == 1 ? "" : "s",
+                             avail / 1073741824.0);
+        }
         if (r == SSS_OK && fk.f) r = sss_gather_tree_set_field(tree, c.mesh, &fk, err);
         if (r == SSS_OK && !(tree_inv = malloc((size_t)c.mesh->nv * sizeof *tree_inv + 1)))
             r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u vertices", c.mesh->nv);
