@@ -643,3 +643,52 @@ sss_result sss_field_weights_apply(const sss_field_kernel *k, const sss_mesh *me
     if (sss_cancelled(cancel)) return sss_fail(err, SSS_ERR_INTERRUPTED, "interrupted during the field's weights");
     return SSS_OK;
 }
+
+sss_result sss_field_point_at(const sss_field_kernel *k, const double x[3], sss_field_point *pt)
+{
+    memset(pt, 0, sizeof *pt);
+    memcpy(pt->x, x, sizeof pt->x);
+    double xr[3];
+    sss_hetero_to_rest(k->h, x, xr);
+    pt->f = sss_field_eval(&k->h->field, xr);
+    sss_material m;
+    sss_material_blend(&k->base, &k->h->inside, pt->f, &m);
+    for (uint32_t c = 0; c < k->C; c++) {
+        pt->sigma_tr[c] = sss_material_sigma_tr(&k->base, &k->h->inside, pt->f, c);
+        if (sss_dipole_init(&pt->dip[c], m.sigma_a[c], m.sigmap_s[c], k->base.eta) != SSS_OK) return SSS_ERR_ARG;
+    }
+    return SSS_OK;
+}
+
+void sss_field_kappa_point(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, const sss_field_point *pt,
+                           double *kappa)
+{
+    const uint32_t C = k->C;
+    double po[3], d2 = 0.0;
+    for (int x = 0; x < 3; x++) {
+        po[x] = mesh->pos[3 * (size_t)o + x];
+        const double dx = (pt->x[x] - po[x]) * k->s;
+        d2 += dx * dx;
+    }
+    const double r = sqrt(d2);
+    double tau_exp[SSS_MAX_CHANNELS] = {0};
+    if (k->step_mm > 0.0 && r > 0.0) { /* §4.2's midpoint rule, from x_o to the point */
+        const int n = march_steps(k, r);
+        double mean[SSS_MAX_CHANNELS] = {0};
+        for (uint32_t c = 0; c < C; c++) mean[c] = 0.5 * (k->sigma_tr[(size_t)o * C + c] + pt->sigma_tr[c]);
+        march_sum(k, po, pt->x, n, mean, tau_exp);
+        for (uint32_t c = 0; c < C; c++) tau_exp[c] *= r / n;
+    }
+    /* both ends at the reference's f: the ratio is 1 (kappa_from) */
+    const int ref_ends = k->f[o] == k->f_min && pt->f == k->f_min;
+    for (uint32_t c = 0; c < C; c++) {
+        if (ref_ends) {
+            kappa[c] = exp(-tau_exp[c]);
+            continue;
+        }
+        const double pr = sss_rd(&k->dip_ref[c], r);
+        const double pa = k->f[o] == k->f_min ? pr : sss_rd(&k->dip[(size_t)o * C + c], r);
+        const double pb = pt->f == k->f_min ? pr : sss_rd(&pt->dip[c], r);
+        kappa[c] = pr > 0.0 ? sqrt(pa * pb) / pr * exp(-tau_exp[c]) : 0.0;
+    }
+}

@@ -739,7 +739,7 @@ static sss_result parse_bake(const ctx *c, const cJSON *o, sss_scene_bake *out)
     const char *jp = "/bake";
     if (!cJSON_IsObject(o)) return fail_at(c, jp, "expected an object");
     static const char *const k[] = {"dirs", "eps", "sh_order", "shells", "near_factor", "weights", "compress",
-                                    "near_terms", NULL};
+                                    "near_terms", "gather", NULL};
     sss_result r = only_keys(c, o, jp, k);
     if (r != SSS_OK) return r;
     if ((r = get_u32(c, o, jp, "dirs", 4, 100000, &out->dirs)) != SSS_OK) return r;
@@ -749,10 +749,11 @@ static sss_result parse_bake(const ctx *c, const cJSON *o, sss_scene_bake *out)
     if ((r = get_number(c, o, jp, "near_factor", 0, 0.0, 1e6, &out->near_factor)) != SSS_OK) return r;
     /* in the order of the SSS_SCENE_* values (sss/scene.h) */
     static const char *const weights[] = {"hat", "point", NULL}, *const compress[] = {"compact", "none", NULL},
-                             *const near[] = {"runtime", "baked", NULL};
+                             *const near[] = {"runtime", "baked", NULL}, *const gather[] = {"direct", "tree", NULL};
     if ((r = get_choice(c, o, jp, "weights", weights, &out->weights)) != SSS_OK) return r;
     if ((r = get_choice(c, o, jp, "compress", compress, &out->compress)) != SSS_OK) return r;
     if ((r = get_choice(c, o, jp, "near_terms", near, &out->near_terms)) != SSS_OK) return r;
+    if ((r = get_choice(c, o, jp, "gather", gather, &out->gather)) != SSS_OK) return r;
     return SSS_OK;
 }
 

@@ -91,6 +91,8 @@ static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path
 {
     sss_error err = {{0}};
     sss_scene sc = *sc_in;
+    /* --gather where the scene's "bake" says nothing (the planner's gather rule) */
+    if (!sc.bake.gather && opt) sc.bake.gather = (uint32_t)opt->gather;
     const int plain = outfile != NULL;
     if (!plan_only && !plain) {
         struct stat sb;
@@ -243,6 +245,10 @@ static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path
             if (f.near_terms) cJSON_AddNumberToObject(o, "near_radius_mm", f.near_radius_mm);
             cJSON_AddNumberToObject(o, "rays", (double)st.rays);
             cJSON_AddNumberToObject(o, "bake_seconds", tb);
+            /* the plain bake's keys: which gather summed the rows (the
+             * planner's gather rule), and the process's peak so far */
+            cJSON_AddStringToObject(o, "gather", st.gather == SSS_GATHER_TREE ? "tree" : "direct");
+            cJSON_AddNumberToObject(o, "peak_rss_mib", sss_cli_peak_rss_mib());
             cJSON_AddNumberToObject(o, "file_bytes", bytes);
             cJSON_AddNumberToObject(o, "bytes_per_vertex", bytes / f.mesh.nv);
             cJSON_AddItemToArray(report, o);

@@ -35,6 +35,7 @@ mkdir -p "$TMP/o1" "$TMP/o2" "$TMP/o3"
 expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/o1" --threads 1 -q
 expect_ok "$SSS_BAKE" --scene "$TMP/s.json" -o "$TMP/o2" --threads 2 -q --json
 contains "$TMP/out" '"rays":'
+contains "$TMP/out" '"gather":"tree","peak_rss_mib":'
 for n in blob ball; do
   [ -s "$TMP/o1/$n.sss" ] || fail "no $n.sss"
   cmp -s "$TMP/o1/$n.sss" "$TMP/o2/$n.sss" || fail "$n.sss differs between 1 and 2 threads"
@@ -80,12 +81,27 @@ expect_ok "$SSS_STAT" "$TMP/o5/blob.sss" --error --views 4 --no-image --json
 p6=$(sed -n 's/.*"point_shells":{[^}]*"rel_rms_max":\([-0-9.eE+]*\).*/\1/p' "$TMP/out")
 awk -v a="$p2" -v b="$p6" 'BEGIN { exit !(b > 0 && b < 0.5 * a && b < 0.1) }' ||
   fail "point shells' rel. RMS: $p2 with 2 shells x 40 directions, $p6 with 6 x 200 (want the second < half the first, < 0.1)"
+# which gather sums the rows: the tree by default, --gather direct where
+# the scene's "bake" says nothing (docs/heterogeneous.md sec. 4.5)
+expect_ok "$SSS_BAKE" --scene "$TMP/m.json" --plan
+contains "$TMP/out" 'gather        tree               hierarchical gather'
+expect_ok "$SSS_BAKE" --scene "$TMP/m.json" --plan --gather direct
+contains "$TMP/out" 'gather        direct             bake.gather (or --gather)'
+# the tree's memory planned before it is loaded: one line naming the
+# object, no file
+mkdir -p "$TMP/o9"
+SSS_MEMORY_LIMIT_MB=2 expect_fail "m.json: /objects/0: the bake needs more than .* (the gather tree with 80 source columns)" \
+  "$SSS_BAKE" --scene "$TMP/m.json" -o "$TMP/o9" -q
+[ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "message should be one line"
+[ ! -e "$TMP/o9/blob.sss" ] || fail "a refused bake should write no file"
 # a scene bake without a moving directional light has no direction set:
-# --error measures its static light and point shells alone; --query refuses
+# --error measures its static light and point shells alone; --query refuses.
+# The direct rows: the static light's row is then the exact evaluator's
+# bit for bit (the tree's far field and float sums are not)
 cat > "$TMP/nd.json" <<'J'
 {"objects": [{"name": "blob", "mesh": "blob.ply", "material": "skin1", "mm_per_unit": 10}],
  "lights": [{"type": "directional", "direction": [1, 0, 1]}, {"type": "point", "position": [0, 3, 0], "moving": true}],
- "bake": {"dirs": 40, "shells": 2}}
+ "bake": {"dirs": 40, "shells": 2, "gather": "direct"}}
 J
 mkdir -p "$TMP/o6"
 expect_ok "$SSS_BAKE" --scene "$TMP/nd.json" -o "$TMP/o6" -q

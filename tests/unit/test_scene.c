@@ -478,7 +478,7 @@ static void directionSetHasThePlainBakesWeightsAndThePlanSaysWhy(void **state)
     sss_file_free(&f);
     unload(&b);
 
-    snprintf(js, sizeof js, "%s,\"compress\":\"none\",\"near_terms\":\"baked\"}}", obj);
+    snprintf(js, sizeof js, "%s,\"compress\":\"none\",\"near_terms\":\"baked\",\"gather\":\"direct\"}}", obj);
     load(&b, js);
     assert_false(b.plan.obj[0].near_runtime);
     assert_false(b.plan.obj[0].compress);
@@ -569,8 +569,10 @@ static void staticLightBakeReproducesExactEvaluator(void **state)
     write_mesh("blob.ply", &m);
     sss_mesh_free(&m);
     baked b = {0};
+    /* the direct rows, which the exact evaluator sums (the tree's far
+     * field is an approximation: test_scene_tree) */
     load(&b, "{\"objects\":[{\"mesh\":\"blob.ply\",\"material\":\"ketchup\",\"mm_per_unit\":8}],"
-             "\"lights\":[{\"type\":\"directional\",\"direction\":[0.4,0.5,0.7]}]}");
+             "\"lights\":[{\"type\":\"directional\",\"direction\":[0.4,0.5,0.7]}],\"bake\":{\"gather\":\"direct\"}}");
     assert_true(b.plan.obj[0].self_shadow);
     sss_bake_file f;
     sss_bake_stats st;

@@ -124,6 +124,29 @@ void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o
 sss_result sss_field_weights_apply(const sss_field_kernel *k, const sss_mesh *mesh, sss_weights *rows,
                                    const sss_cancel_flag *cancel, sss_error *err);
 
+/* A point of the object standing for a group of vertices: a far node of
+ * the tree gather, at its area centroid (docs/heterogeneous.md §4.5). Its
+ * position (world units), the field's f there, the blend's σtr and
+ * dipole per channel. */
+typedef struct sss_field_point {
+    double x[3];
+    double f;
+    double sigma_tr[SSS_MAX_CHANNELS];
+    sss_dipole dip[SSS_MAX_CHANNELS];
+} sss_field_point;
+
+/* pt at x (world units; read in the rest frame as the vertices are).
+ * SSS_ERR_ARG when the blend there makes no dipole. */
+sss_result sss_field_point_at(const sss_field_kernel *k, const double x[3], sss_field_point *pt);
+
+/* κ_c(o, pt) per channel: §4.1's κ between vertex o and the point, the
+ * point values R_d(r) of both ends' blends over the reference's, times τ
+ * marched along the segment from x_o to the point (no far pairs' cache:
+ * the point is not a vertex of a cell). 1 exactly when both ends are at
+ * the reference's f and the segment holds no excess. */
+void sss_field_kappa_point(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, const sss_field_point *pt,
+                           double *kappa);
+
 #ifdef __cplusplus
 }
 #endif

@@ -110,11 +110,14 @@ typedef struct sss_scene_bake {
     uint32_t weights;    /* SSS_SCENE_WEIGHTS_*: the hat-function weights (physics.md §9) or the paper's */
     uint32_t compress;   /* SSS_SCENE_COMPRESS_*: the direction set's rows compact (compression.md) or float */
     uint32_t near_terms; /* SSS_SCENE_NEAR_*: the direction set's near terms at run time where they pay, or baked */
+    uint32_t gather;     /* SSS_SCENE_GATHER_*: every neighbour's row, or the hierarchical gather (the values of
+                          * SSS_GATHER_*, sss/bake.h; docs/heterogeneous.md §4.5) */
 } sss_scene_bake;
 
 enum { SSS_SCENE_WEIGHTS_DEFAULT = 0, SSS_SCENE_WEIGHTS_HAT = 1, SSS_SCENE_WEIGHTS_POINT = 2 };
 enum { SSS_SCENE_COMPRESS_DEFAULT = 0, SSS_SCENE_COMPRESS_COMPACT = 1, SSS_SCENE_COMPRESS_NONE = 2 };
 enum { SSS_SCENE_NEAR_DEFAULT = 0, SSS_SCENE_NEAR_RUNTIME = 1, SSS_SCENE_NEAR_BAKED = 2 };
+enum { SSS_SCENE_GATHER_DEFAULT = 0, SSS_SCENE_GATHER_DIRECT = 1, SSS_SCENE_GATHER_TREE = 2 };
 
 typedef struct sss_scene {
     char path[SSS_SCENE_PATH_MAX];  /* the file as given (used in messages) */

@@ -45,6 +45,7 @@
 
 #include <stdint.h>
 #include "sss/dipole.h"
+#include "sss/fieldweights.h"
 #include "sss/mesh.h"
 #include "sss/result.h"
 
@@ -117,6 +118,15 @@ float *sss_gather_tree_rows(sss_gather_tree *t, uint32_t n_dirs);
 /* Switches params.signed_sources of a built tree: the bake gathers q and
  * then Q's components through one hierarchy (bake_tree.c). */
 void sss_gather_tree_set_signed(sss_gather_tree *t, int signed_sources);
+/* A heterogeneous object's kernel κ (docs/heterogeneous.md §4, §4.5) for
+ * every later sss_gather_run: each near pair's weight scaled by κ(o, i)
+ * exactly as the direct rows scale it (sss_field_kappa), each far node's
+ * moment weights by κ between the receiver and the node's area centroid,
+ * with the field's f read at the centroid (sss_field_kappa_point). k is
+ * borrowed (built for the same mesh, its reference dipoles and radius the
+ * run's) and must outlive the runs; NULL removes it. gather_field.c. */
+sss_result sss_gather_tree_set_field(sss_gather_tree *t, const sss_mesh *mesh, const sss_field_kernel *k,
+                                     sss_error *err);
 /* Every node's flux moments from the rows loaded. */
 sss_result sss_gather_tree_moments(sss_gather_tree *t, const sss_mesh *mesh, sss_error *err);
 void sss_gather_tree_destroy(sss_gather_tree *t);

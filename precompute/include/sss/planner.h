@@ -60,6 +60,10 @@ typedef struct sss_object_plan {
     uint32_t weights;
     int compress;
     int near_runtime;
+    /* How every pass sums the rows (rule_gather): SSS_GATHER_DIRECT (every
+     * neighbour's row) or SSS_GATHER_TREE (the hierarchical gather,
+     * sss/gather.h; with a field docs/heterogeneous.md §4.5). */
+    int gather;
     /* 1: the object deforms ("deform", sss/deform.h): nothing is baked for
      * it, q is evaluated per frame on its pose (sss/perframe.h,
      * docs/deformable.md §4); effects and passes are then 0 and light_pass

@@ -26,12 +26,14 @@
 #include <omp.h>
 #endif
 
+#include "bake/bake_tree.h"
 #include "effects/effect.h"
 #include "kernels/progress.h"
 #include "kernels/transfer.h"
 #include "sss/compress.h"
 #include "sss/fieldweights.h"
 #include "sss/fieldio.h"
+#include "sss/gather.h"
 #include "sss/hatweights.h"
 #include "sss/memory.h"
 #include "sss/nearterms.h"
@@ -48,6 +50,43 @@ void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, fl
             rays += (uint64_t)(traced && c->vis);
         }
     if (rays_out) *rays_out += rays;
+}
+
+sss_result sss_pass_integrate(const sss_pass_ctx *c, const float *G, uint32_t n, int signed_sources, float *q,
+                              sss_error *err)
+{
+    if (!c->tree) {
+        if (signed_sources) sss_integrate_hat_signed(c->nb, c->hat, G, n, q);
+        else sss_integrate_hat(c->nb, c->hat, G, n, q);
+        return SSS_OK;
+    }
+    const uint32_t nv = c->mesh->nv;
+    /* the pass's sources in the tree's Morton rows, then its moments: the
+     * hierarchy itself does not depend on the sources (sss/gather.h) */
+    float *Gm = sss_gather_tree_rows(c->tree, n);
+    if (!Gm) return sss_fail(err, SSS_ERR_NOMEM, "gather: out of memory for %u x %u source values", nv, n);
+    const uint32_t *order = sss_gather_tree_order(c->tree);
+#pragma omp parallel for schedule(static)
+    for (int64_t m = 0; m < (int64_t)nv; m++) memcpy(Gm + (size_t)m * n, G + (size_t)order[m] * n, n * sizeof *G);
+    sss_gather_tree_set_signed(c->tree, signed_sources);
+    sss_result r = sss_gather_tree_moments(c->tree, c->mesh, err);
+    sss_gather_stats gs;
+    memset(&gs, 0, sizeof gs);
+    if (r == SSS_OK)
+        r = sss_gather_run_chunk(c->tree, c->mesh, c->dip, c->C, c->radius_mm, 0, sss_gather_tree_blocks(c->tree), 0, n,
+                                 q, 1, &gs, err);
+    if (r != SSS_OK) return r;
+    /* the hat-function corrections on the point weights the tree used
+     * (docs/physics.md §9), as the plain bake's tree path adds them */
+    if (c->hat && !sss_bake_add_hat(c->hat, c->tree_inv, Gm, nv, c->C, 0, n, !signed_sources, q))
+        return sss_fail(err, SSS_ERR_NOMEM, "out of memory for the hat-function corrections");
+    c->st->tree_nodes = gs.nodes;
+    c->st->near_pairs = gs.near_pairs;
+    c->st->far_pairs = gs.far_pairs;
+    c->st->rows_mean = gs.rows_mean;
+    c->st->neighbours_total = gs.near_pairs;
+    c->st->neighbours_mean = nv ? (double)gs.near_pairs / nv : 0.0;
+    return SSS_OK;
 }
 
 static char *params(const sss_scene *s, const sss_object_plan *p, const sss_pass_ctx *c, double eps,
@@ -78,6 +117,10 @@ static char *params(const sss_scene *s, const sss_object_plan *p, const sss_pass
         cJSON_AddNumberToObject(o, "near_fraction", sss_near_fraction_default(c->C));
         cJSON_AddNumberToObject(o, "near_fraction_held", c->st->near_fraction_held);
         if (c->st->near_capped) cJSON_AddBoolToObject(o, "near_capped", 1);
+    }
+    if (p->gather == SSS_GATHER_TREE) { /* which gather made q, in the plain bake's words (bake.c) */
+        cJSON_AddStringToObject(o, "gather", "tree");
+        cJSON_AddNumberToObject(o, "theta", c->st->theta);
     }
     if (co) sss_compress_opts_to_json(co, o);
     cJSON *fx = cJSON_AddArrayToObject(o, "effects");
@@ -189,6 +232,8 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     }
     sss_weights nb = {0}, hat = {0};
     sss_vis *vis = NULL;
+    sss_gather_tree *tree = NULL;
+    uint32_t *tree_inv = NULL;
     const sss_mesh **occ = NULL;
     sss_compress_opts co;
     double t = sss_now();
@@ -212,28 +257,77 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     }
     out->weights = p->weights;
     t = sss_now();
-    r = sss_nbhd_build(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0,
-                       avail ? (avail - need - hat_bytes) / 10 * 9 : nb_max, opt->cancel, &nb, err);
-    if (r != SSS_OK) goto done;
-    st.t_neighbourhoods = sss_now() - t;
-    st.neighbours_total = nb.start[nb.nrows];
-    st.neighbours_mean = (double)st.neighbours_total / nb.nrows;
-    for (uint32_t v = 0; v < nb.nrows; v++) {
-        const uint32_t k = (uint32_t)(nb.start[v + 1] - nb.start[v]);
-        if (k > st.neighbours_max) st.neighbours_max = k;
-    }
-    if (avail) { /* what is left for the probes (env_sh.c reads them) */
-        const uint64_t nbb = st.neighbours_total * (4u + 4u * c.C) + hat_bytes;
-        c.memory_left = avail - need > nbb ? avail - need - nbb : 1;
+    st.gather = p->gather;
+    if (p->gather == SSS_GATHER_TREE) {
+        /* The hierarchical gather (sss/gather.h): no neighbour rows, one
+         * hierarchy for every pass, each pass's sources loaded into it
+         * (sss_pass_integrate); a field's κ scales its weights
+         * (docs/heterogeneous.md §4.5). */
+        sss_gather_params gp = {.theta = opt->theta, .cancel = opt->cancel};
+        st.theta = gp.theta > 0 ? gp.theta : SSS_GATHER_THETA_DEFAULT;
+        r = sss_gather_tree_create(c.mesh, out->mm_per_unit, &gp, &tree, err);
+        if (r == SSS_OK && avail) {
+            /* the widest table of sources a pass loads (sss_pass_integrate):
+             * the tree's copy of it, the nodes' moments and the threads'
+             * block matrices, planned as the rows would be (bake_tree.c) */
+            uint32_t widest = 1;
+            if (p->pass_lights[SSS_PASS_DIR_SET] && c.n_dirs > widest) widest = c.n_dirs;
+            if (p->pass_lights[SSS_PASS_POINT_SHELLS] && c.shells * c.n_dirs > widest) widest = c.shells * c.n_dirs;
+            if (p->pass_lights[SSS_PASS_ENV_SH] && c.sh_order * c.sh_order > widest) widest = c.sh_order * c.sh_order;
+#ifdef _OPENMP
+            const int threads = omp_get_max_threads();
+#else
+            const int threads = 1;
+#endif
+            const uint64_t tb = sss_gather_tree_size(tree, widest) +
+                                sss_gather_workspace_bytes(c.mesh->nv, widest, c.C, &gp, threads);
+            if (tb + hat_bytes >= avail - need)
+                r = sss_fail(err, SSS_ERR_NOMEM, "the bake needs more than %.2f GiB for %u vertices (the gather tree "
+                             "with %u source column%s) but %.2f GiB is available (estimate before starting; "
+                             "SSS_MEMORY_LIMIT_MB lowers the limit): use fewer directions or shells, or a lower SH "
+                             "order", (need + hat_bytes + tb) / 1073741824.0, c.mesh->nv, widest, widest == 1 ? "" : "s",
+                             avail / 1073741824.0);
+        }
+        if (r == SSS_OK && fk.f) r = sss_gather_tree_set_field(tree, c.mesh, &fk, err);
+        if (r == SSS_OK && !(tree_inv = malloc((size_t)c.mesh->nv * sizeof *tree_inv + 1)))
+            r = sss_fail(err, SSS_ERR_NOMEM, "out of memory for %u vertices", c.mesh->nv);
+        if (r != SSS_OK) goto done;
+        const uint32_t *order = sss_gather_tree_order(tree);
+        for (uint32_t m = 0; m < c.mesh->nv; m++) tree_inv[order[m]] = m;
+        c.tree = tree;
+        c.tree_inv = tree_inv;
+        c.dip = dip;
+        c.radius_mm = st.search_radius_mm;
+        st.tree_blocks = sss_gather_tree_blocks(tree);
+        st.t_tree = sss_now() - t;
+        if (avail) {
+            const uint64_t tb = sss_gather_tree_size(tree, 0) + hat_bytes;
+            c.memory_left = avail - need > tb ? avail - need - tb : 1;
+        }
+    } else {
+        r = sss_nbhd_build(c.mesh, out->mm_per_unit, dip, c.C, st.search_radius_mm, NULL, 0,
+                           avail ? (avail - need - hat_bytes) / 10 * 9 : nb_max, opt->cancel, &nb, err);
+        if (r != SSS_OK) goto done;
+        st.t_neighbourhoods = sss_now() - t;
+        st.neighbours_total = nb.start[nb.nrows];
+        st.neighbours_mean = (double)st.neighbours_total / nb.nrows;
+        for (uint32_t v = 0; v < nb.nrows; v++) {
+            const uint32_t k = (uint32_t)(nb.start[v + 1] - nb.start[v]);
+            if (k > st.neighbours_max) st.neighbours_max = k;
+        }
+        if (avail) { /* what is left for the probes (env_sh.c reads them) */
+            const uint64_t nbb = st.neighbours_total * (4u + 4u * c.C) + hat_bytes;
+            c.memory_left = avail - need > nbb ? avail - need - nbb : 1;
+        }
+        c.nb = &nb;
     }
     if (fk.f) {
         t = sss_now();
-        r = sss_field_weights_apply(&fk, c.mesh, &nb, opt->cancel, err);
+        if (nb.nrows) r = sss_field_weights_apply(&fk, c.mesh, &nb, opt->cancel, err);
         if (r == SSS_OK && hat.nrows) r = sss_field_weights_apply(&fk, c.mesh, &hat, opt->cancel, err);
         if (r != SSS_OK) goto done;
         st.t_neighbourhoods += sss_now() - t;
     }
-    c.nb = &nb;
     t = sss_now();
     if (p->self_shadow || p->noccluders) {
         occ = malloc((p->noccluders + 1) * sizeof *occ);
@@ -259,6 +353,9 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     sss_vis_destroy(vis); /* built over out->mesh, which the compression below replaces */
     vis = NULL;
     c.vis = NULL;
+    sss_gather_tree_destroy(tree); /* the same */
+    tree = NULL;
+    c.tree = NULL;
     out->eps = eps;
     /* The direction set's near terms to run time (the plan's storage rule):
      * the plain bake's split (bake.c), the radius holding
@@ -317,6 +414,8 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
     if (!out->params_json) { r = sss_fail(err, SSS_ERR_NOMEM, "out of memory"); goto done; }
     if (st_out) *st_out = st;
 done:
+    sss_gather_tree_destroy(tree);
+    free(tree_inv);
     sss_field_kernel_free(&fk);
     sss_vis_destroy(vis);
     free(occ);

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake_tree.h"
 #include "effects/effect.h"
 #include "sss/htsm.h"
 #include "sss/memory.h"
@@ -426,6 +427,31 @@ static void rule_storage(const plan_in *in, sss_object_plan *p)
                "(bake.compress \"compact\" asks for it anyway)");
 }
 
+/* How the passes sum their rows: the plain bake's choice
+ * (sss_bake_choose_gather, bake_tree.c: the tree unless asked otherwise)
+ * from the scene's "gather" or sss-bake's --gather. Every pass gathers its
+ * own table of sources through the same hierarchy (bake_scene.c,
+ * sss_pass_integrate); a field scales the tree's weights by κ
+ * (docs/heterogeneous.md §4.5). */
+static void rule_gather(const plan_in *in, sss_object_plan *p)
+{
+    const sss_scene_bake *b = &in->scene->bake;
+    sss_bake_options o;
+    memset(&o, 0, sizeof o);
+    o.gather = (int)b->gather;
+    p->gather = sss_bake_choose_gather(&o);
+    const int fb = p->field == SSS_PLAN_FIELD_BAKED;
+    if (p->gather == SSS_GATHER_DIRECT)
+        decide(p, "gather", "direct", "bake.gather (or --gather) is \"direct\": every pass sums each vertex's "
+               "neighbour rows, all held in memory%s", fb ? ", each entry scaled by the field's kappa "
+               "(docs/heterogeneous.md sec. 4)" : "");
+    else
+        decide(p, "gather", "tree", "hierarchical gather, the plain bake's default: octree moments for far sources, "
+               "dense blocks for near ones, no neighbour rows in memory (docs/benchmarks.md, \"Bake at scale\")%s%s",
+               b->gather ? " (bake.gather)" : "", fb ? "; kappa exact per near pair, at the centroid per far node "
+               "(docs/heterogeneous.md sec. 4.5)" : "");
+}
+
 void sss_plan_exact_direction(const sss_object_plan *p, const sss_scene_light *L, double d[3])
 {
     if (L->kind == SSS_LIGHT_DIRECTIONAL) {
@@ -550,7 +576,7 @@ static void rule_single(const plan_in *in, sss_object_plan *p)
 }
 
 static const rule_fn rules[] = {rule_field,   rule_channels, rule_self_shadow, rule_scene_shadow, rule_lights,
-                                rule_storage, rule_single};
+                                rule_storage, rule_gather, rule_single};
 /* the rules of a deforming object */
 static const rule_fn rules_per_frame[] = {rule_field_per_frame, rule_channels, rule_per_frame};
 /* the rules of an editable object */
@@ -723,6 +749,7 @@ char *sss_plan_json(const sss_scene *scene, const sss_plan *p)
         cJSON_AddStringToObject(jo, "weights", o->weights == SSS_WEIGHTS_HAT ? "hat" : "point");
         cJSON_AddStringToObject(jo, "compression", o->compress ? "compact" : "none");
         cJSON_AddStringToObject(jo, "near_terms", o->near_runtime ? "runtime" : "baked");
+        cJSON_AddStringToObject(jo, "gather", o->gather == SSS_GATHER_TREE ? "tree" : "direct");
         cJSON *occ = cJSON_AddArrayToObject(jo, "occluders");
         for (uint32_t k = 0; k < o->noccluders; k++)
             cJSON_AddItemToArray(occ, cJSON_CreateString(scene->objects[o->occluders[k]].name));

@@ -53,7 +53,11 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
         if (j < k) continue;
         memcpy(&fx->exact_dir[3 * (size_t)k], d, sizeof d);
         sss_pass_transfer(c, d, 1, G, &c->st->rays);
-        sss_integrate_hat(c->nb, c->hat, G, 1, &fx->exact_q[(size_t)k * nv * c->C]);
+        const sss_result r = sss_pass_integrate(c, G, 1, 0, &fx->exact_q[(size_t)k * nv * c->C], err);
+        if (r != SSS_OK) {
+            free(G);
+            return r;
+        }
         k++;
     }
     fx->nexact = k;

@@ -36,10 +36,10 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
         return sss_fail(err, SSS_ERR_NOMEM, "direction-set pass: out of memory for %u x %u values", nv, n);
     }
     sss_pass_transfer(c, o->dirs.dir, n, G, &c->st->rays);
-    sss_integrate_hat(c->nb, c->hat, G, n, o->q);
+    const sss_result r = sss_pass_integrate(c, G, n, 0, o->q, err);
     free(G);
     o->quant = SSS_QUANT_FLOAT;
-    return SSS_OK;
+    return r;
 }
 
 static void provenance(const sss_pass_ctx *c, cJSON *params) { cJSON_AddNumberToObject(params, "dirs", c->n_dirs); }

@@ -38,6 +38,14 @@ typedef struct sss_pass_ctx {
     sss_bake_file *out;
     sss_bake_stats *st;
     uint64_t memory_left;      /* bytes a pass may still take beyond the plan (0: no limit): the probes' */
+    /* The hierarchical gather (the plan's gather rule; nb is then NULL):
+     * the tree over the object, vertex → its Morton row (for the hat
+     * corrections), the channels' dipoles and the cutoff the rows would
+     * have had (with a field, the kernel's reference and radius). */
+    struct sss_gather_tree *tree;
+    const uint32_t *tree_inv;
+    const sss_dipole *dip;
+    double radius_mm;
 } sss_pass_ctx;
 
 typedef struct sss_effect_unit {
@@ -82,6 +90,14 @@ static inline double sss_point_ratio(const sss_object_plan *p, const sss_scene_l
 /* G(x_i, ω_j) for all vertices and the n directions dirs into G[i * n + j],
  * counting rays only when a visibility structure is present. */
 void sss_pass_transfer(const sss_pass_ctx *c, const double *dirs, uint32_t n, float *G, uint64_t *rays);
+
+/* q = the sum of Hao–Varshney 2004 §3.1 over the n columns of G (nv × n,
+ * vertex-major), q[(j · nv + v) · C + c]: through c->nb and c->hat (the
+ * direct rows), or through c->tree with the hat corrections on top, as the
+ * plain bake's tree path sums (bake_tree.c). signed_sources: G takes
+ * either sign (SH projections) and q is not clamped at 0. */
+sss_result sss_pass_integrate(const sss_pass_ctx *c, const float *G, uint32_t n, int signed_sources, float *q,
+                              sss_error *err);
 
 /* The near terms of a plain bake (near_terms.c): q −= the terms of each
  * vertex and its o->near_rings mesh rings (or the vertices within

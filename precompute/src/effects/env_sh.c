@@ -99,7 +99,7 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
     c->st->rays += rays;
     for (size_t k = 0; k < (size_t)nv * K; k++) g32[k] = (float)gsh[k];
     /* T = Σ_j w(o, j) g(x_j): the SH coefficients play the directions */
-    sss_integrate_hat_signed(c->nb, c->hat, g32, K, tmp); /* SH coefficients take either sign */
+    if ((r = sss_pass_integrate(c, g32, K, 1, tmp, err)) != SSS_OK) goto done; /* SH coefficients take either sign */
     for (uint32_t v = 0; v < nv; v++)
         for (uint32_t ch = 0; ch < c->C; ch++)
             for (uint32_t k = 0; k < K; k++)

@@ -95,9 +95,9 @@ static sss_result bake(const sss_pass_ctx *c, sss_error *err)
         }
     c->st->rays += rays;
     /* layout ((s n + j) nv + v) C + c: shells × directions act as one axis */
-    sss_integrate_hat(c->nb, c->hat, G, SN, fx->shell_q);
+    const sss_result r = sss_pass_integrate(c, G, SN, 0, fx->shell_q, err);
     free(G);
-    return SSS_OK;
+    return r;
 }
 
 static void provenance(const sss_pass_ctx *c, cJSON *params)

@@ -385,6 +385,8 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
                              wk.fs + 2 * (size_t)Sn, wk.flag, wrow, (uint64_t)B * S);
                 sss_gather_far_weights(fc, Sf, t->pmm + 3 * (size_t)o, k, C, radius_mm, wk.fs + 3 * (size_t)Sn,
                                        wrow + Sn, (uint64_t)B * S);
+                if (t->field) /* docs/heterogeneous.md §4.5 */
+                    sss_gather_field_scale(t, mesh, C, o, wk.src, Sn, wk.l.far, Sf, wrow, (uint64_t)B * S);
             }
             double t2 = sss_thread_cpu();
             sss_gather_gemm(C * B, D, (uint32_t)S, wk.W, S, wk.rows, wk.Q, D, wk.pack);

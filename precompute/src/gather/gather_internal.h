@@ -36,7 +36,16 @@ struct sss_gather_tree {
     uint32_t *block;       /* node index of each receiver block, Morton order */
     uint32_t nblocks;
     float *Gm;             /* nv × D transfer table in Morton order (row m is vertex perm[m]) */
+    const sss_field_kernel *field; /* κ of a heterogeneous object, or NULL (sss_gather_tree_set_field) */
+    sss_field_point *fpt;  /* per node: its centroid's f, σtr and dipoles (gather_field.c) */
 };
+
+/* Scales receiver o's weights in W (channel c at W + c·ldc: Sn near
+ * columns for the sources src, then SSS_GATHER_MOMENTS × nfar far
+ * columns, moment-major) by the field's κ (gather_field.c). */
+void sss_gather_field_scale(const sss_gather_tree *t, const sss_mesh *mesh, uint32_t C, uint32_t o,
+                            const uint32_t *src, uint32_t Sn, const uint32_t *far, uint32_t nfar, float *W,
+                            uint64_t ldc);
 
 /* Interaction list of one receiver block. */
 typedef struct sss_glist {

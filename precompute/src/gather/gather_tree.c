@@ -134,6 +134,7 @@ void sss_gather_tree_destroy(sss_gather_tree *t)
     free(t->mom);
     free(t->block);
     free(t->Gm);
+    free(t->fpt);
     free(t);
 }
 
