@@ -258,11 +258,42 @@ static int box_below(const sss_field_kernel *k, const double g[3], const double 
     return 1;
 }
 
+/* The last midpoint j' ≥ j of the march (midpoint m at t_m = (m + ½)/n of
+ * g0 + t dg, grid units) that surely lies in the brick of cell cl, whose
+ * bound is at most the pair's mean: march_sum skips j … j' at once, a
+ * 3D-DDA step from brick to brick (docs/heterogeneous.md §4.2) instead of
+ * a brick test per midpoint. Each midpoint's cell is monotone in t along
+ * every axis (every rounded operation of g0 + t dg is), so the run ends
+ * where the first axis crosses its brick face; a face on the grid's edge
+ * is never crossed (cell_floor clamps). The face is taken 10⁻⁹ cell
+ * inside, far beyond the few units in the last place (of coordinates below
+ * SSS_FIELD_MARCH_NODES) that the rounding of g0 + t dg and of t_m adds, so
+ * every midpoint skipped lies in the brick: the skipped terms are +0 as
+ * before, and the sum keeps the plain march's bits. */
+static int brick_run_end(const sss_field_kernel *k, const double g0[3], const double dg[3], const size_t cl[3], int j,
+                         int n)
+{
+    const double B = SSS_FIELD_BRICK, margin = 1e-9;
+    double t_out = INFINITY;
+    for (int x = 0; x < 3; x++) {
+        const size_t b = cl[x] / SSS_FIELD_BRICK;
+        double t = INFINITY;
+        if (dg[x] > 0.0 && b + 1 < k->bn[x]) t = ((double)(b + 1) * B - margin - g0[x]) / dg[x];
+        else if (dg[x] < 0.0 && b > 0) t = ((double)b * B + margin - g0[x]) / dg[x];
+        t_out = t < t_out ? t : t_out;
+    }
+    if (!(t_out < 1.0)) return n - 1;
+    const double last = t_out * n - 0.5; /* the last m with t_m ≤ t_out */
+    if (!(last >= (double)j + 1.0)) return j;
+    return (int)last < n - 1 ? (int)last : n - 1;
+}
+
 /* Sums over the n midpoints of the segment a → b (world units) of σtr from
  * the march grid (trilinear): with mean, Σ max(0, σtr − mean_c); without,
  * Σ (σtr − σtr_ref). The points advance by a constant step in grid
  * coordinates, so each costs one trilinear read of the C channels. With
- * mean, midpoints in bricks at most mean (build_bricks) are not read:
+ * mean, midpoints in bricks at most mean (build_bricks) are not read, a
+ * brick's run of them skipped at once (brick_run_end):
  * their terms are +0, and adding +0 to a sum of non-negative terms leaves
  * its bits, so the sum is the plain march's bit for bit. */
 static void march_sum(const sss_field_kernel *k, const double a[3], const double b[3], int n, const double *mean,
@@ -300,7 +331,10 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
             const double *hb = bh + (((cl[2] / B) * k->bn[1] + cl[1] / B) * k->bn[0] + cl[0] / B) * C;
             uint32_t c = 0;
             while (c < C && hb[c] <= mean[c]) c++;
-            if (c == C) continue;
+            if (c == C) {
+                j = brick_run_end(k, g0, dg, cl, j, n);
+                continue;
+            }
         }
         const double *p = k->tr + base;
         for (uint32_t c = 0; c < C; c++) {
