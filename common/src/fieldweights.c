@@ -288,6 +288,18 @@ static int brick_run_end(const sss_field_kernel *k, const double g0[3], const do
     return (int)last < n - 1 ? (int)last : n - 1;
 }
 
+/* The trilinear read at q (a node's channel in the march grid) with node
+ * strides st and weights w along x, y, z: seven lerps a + w (b − a). */
+static inline double trilinear(const double *q, const size_t st[3], const double w[3])
+{
+    const double c00 = q[0] + w[0] * (q[st[0]] - q[0]);
+    const double c01 = q[st[1]] + w[0] * (q[st[1] + st[0]] - q[st[1]]);
+    const double c10 = q[st[2]] + w[0] * (q[st[2] + st[0]] - q[st[2]]);
+    const double c11 = q[st[2] + st[1]] + w[0] * (q[st[2] + st[1] + st[0]] - q[st[2] + st[1]]);
+    const double e0 = c00 + w[1] * (c01 - c00), e1 = c10 + w[1] * (c11 - c10);
+    return e0 + w[2] * (e1 - e0);
+}
+
 /* Sums over the n midpoints of the segment a → b (world units) of σtr from
  * the march grid (trilinear): with mean, Σ max(0, σtr − mean_c); without,
  * Σ (σtr − σtr_ref). The points advance by a constant step in grid
@@ -312,13 +324,16 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
     for (uint32_t c = 0; c < C; c++) out[c] = 0.0;
     const double *bh = mean ? k->brick_hi : NULL;
     if (bh && box_below(k, g0, g1, mean)) return;
+    /* the sums in a local array: out may alias the grid for all the
+     * compiler knows, which made it store and reload every term */
+    double acc[SSS_MAX_CHANNELS] = {0};
     const size_t s0 = C, s1 = (size_t)k->tn[0] * C, s2 = (size_t)k->tn[0] * k->tn[1] * C;
+    const size_t st[3] = {k->tn[0] > 1 ? s0 : 0, k->tn[1] > 1 ? s1 : 0, k->tn[2] > 1 ? s2 : 0};
+    const size_t stride[3] = {s0, s1, s2};
     for (int j = 0; j < n; j++) {
         const double t = (j + 0.5) / n;
         size_t base = 0, cl[3];
         double w[3];
-        size_t st[3] = {k->tn[0] > 1 ? s0 : 0, k->tn[1] > 1 ? s1 : 0, k->tn[2] > 1 ? s2 : 0};
-        const size_t stride[3] = {s0, s1, s2};
         for (int x = 0; x < 3; x++) {
             double u = g0[x] + t * dg[x];
             const double fl = cell_floor(k, x, &u);
@@ -337,24 +352,17 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
             }
         }
         const double *p = k->tr + base;
-        for (uint32_t c = 0; c < C; c++) {
-            const double *q = p + c;
-            const double c00 = q[0] + w[0] * (q[st[0]] - q[0]);
-            const double c01 = q[st[1]] + w[0] * (q[st[1] + st[0]] - q[st[1]]);
-            const double c10 = q[st[2]] + w[0] * (q[st[2] + st[0]] - q[st[2]]);
-            const double c11 = q[st[2] + st[1]] + w[0] * (q[st[2] + st[1] + st[0]] - q[st[2] + st[1]]);
-            const double e0 = c00 + w[1] * (c01 - c00), e1 = c10 + w[1] * (c11 - c10);
-            const double v = e0 + w[2] * (e1 - e0);
-            if (mean) {
+        if (mean)
+            for (uint32_t c = 0; c < C; c++) {
                 /* max(0, ·) written out: libm's fmax is a call; the
                  * difference of two positive σtr is never −0 */
-                const double d = v - mean[c];
-                out[c] += d > 0.0 ? d : 0.0;
-            } else {
-                out[c] += v - k->sigma_tr_ref[c];
+                const double d = trilinear(p + c, st, w) - mean[c];
+                acc[c] += d > 0.0 ? d : 0.0;
             }
-        }
+        else
+            for (uint32_t c = 0; c < C; c++) acc[c] += trilinear(p + c, st, w) - k->sigma_tr_ref[c];
     }
+    for (uint32_t c = 0; c < C; c++) out[c] = acc[c];
 }
 
 void sss_field_march_sum(const sss_field_kernel *k, const double a[3], const double b[3], int n, const double *mean,
