@@ -270,16 +270,18 @@ static int box_below(const sss_field_kernel *k, const double g[3], const double 
  * SSS_FIELD_MARCH_NODES) that the rounding of g0 + t dg and of t_m adds, so
  * every midpoint skipped lies in the brick: the skipped terms are +0 as
  * before, and the sum keeps the plain march's bits. */
-static int brick_run_end(const sss_field_kernel *k, const double g0[3], const double dg[3], const size_t cl[3], int j,
-                         int n)
+static int brick_run_end(const sss_field_kernel *k, const double g0[3], const double dg[3], const double inv_dg[3],
+                         const size_t cl[3], int j, int n)
 {
     const double B = SSS_FIELD_BRICK, margin = 1e-9;
     double t_out = INFINITY;
     for (int x = 0; x < 3; x++) {
         const size_t b = cl[x] / SSS_FIELD_BRICK;
         double t = INFINITY;
-        if (dg[x] > 0.0 && b + 1 < k->bn[x]) t = ((double)(b + 1) * B - margin - g0[x]) / dg[x];
-        else if (dg[x] < 0.0 && b > 0) t = ((double)b * B + margin - g0[x]) / dg[x];
+        /* times 1/Δg rather than over Δg: a unit in the last place more,
+         * still far inside the margin */
+        if (dg[x] > 0.0 && b + 1 < k->bn[x]) t = ((double)(b + 1) * B - margin - g0[x]) * inv_dg[x];
+        else if (dg[x] < 0.0 && b > 0) t = ((double)b * B + margin - g0[x]) * inv_dg[x];
         t_out = t < t_out ? t : t_out;
     }
     if (!(t_out < 1.0)) return n - 1;
@@ -330,6 +332,15 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
     const size_t s0 = C, s1 = (size_t)k->tn[0] * C, s2 = (size_t)k->tn[0] * k->tn[1] * C;
     const size_t st[3] = {k->tn[0] > 1 ? s0 : 0, k->tn[1] > 1 ? s1 : 0, k->tn[2] > 1 ? s2 : 0};
     const size_t stride[3] = {s0, s1, s2};
+    /* A brick holds more than one midpoint only where a step moves less
+     * than a brick along every axis; elsewhere the run's end is not worth
+     * its three products (the skipped midpoints are the same either way). */
+    double inv_dg[3], longest = 0.0;
+    for (int x = 0; x < 3; x++) {
+        inv_dg[x] = dg[x] != 0.0 ? 1.0 / dg[x] : 0.0;
+        longest = fmax(longest, fabs(dg[x]));
+    }
+    const int runs = longest < (double)SSS_FIELD_BRICK * n;
     for (int j = 0; j < n; j++) {
         const double t = (j + 0.5) / n;
         size_t base = 0, cl[3];
@@ -347,7 +358,7 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
             uint32_t c = 0;
             while (c < C && hb[c] <= mean[c]) c++;
             if (c == C) {
-                j = brick_run_end(k, g0, dg, cl, j, n);
+                if (runs) j = brick_run_end(k, g0, dg, inv_dg, cl, j, n);
                 continue;
             }
         }
