@@ -258,11 +258,56 @@ static int box_below(const sss_field_kernel *k, const double g[3], const double 
     return 1;
 }
 
+/* The last midpoint j' ≥ j of the march (midpoint m at t_m = (m + ½)/n of
+ * g0 + t dg, grid units) that surely lies in the brick of cell cl, whose
+ * bound is at most the pair's mean: march_sum skips j … j' at once, a
+ * 3D-DDA step from brick to brick (docs/heterogeneous.md §4.2) instead of
+ * a brick test per midpoint. Each midpoint's cell is monotone in t along
+ * every axis (every rounded operation of g0 + t dg is), so the run ends
+ * where the first axis crosses its brick face; a face on the grid's edge
+ * is never crossed (cell_floor clamps). The face is taken 10⁻⁹ cell
+ * inside, far beyond the few units in the last place (of coordinates below
+ * SSS_FIELD_MARCH_NODES) that the rounding of g0 + t dg and of t_m adds, so
+ * every midpoint skipped lies in the brick: the skipped terms are +0 as
+ * before, and the sum keeps the plain march's bits. */
+static int brick_run_end(const sss_field_kernel *k, const double g0[3], const double dg[3], const double inv_dg[3],
+                         const size_t cl[3], int j, int n)
+{
+    const double B = SSS_FIELD_BRICK, margin = 1e-9;
+    double t_out = INFINITY;
+    for (int x = 0; x < 3; x++) {
+        const size_t b = cl[x] / SSS_FIELD_BRICK;
+        double t = INFINITY;
+        /* times 1/Δg rather than over Δg: a unit in the last place more,
+         * still far inside the margin */
+        if (dg[x] > 0.0 && b + 1 < k->bn[x]) t = ((double)(b + 1) * B - margin - g0[x]) * inv_dg[x];
+        else if (dg[x] < 0.0 && b > 0) t = ((double)b * B + margin - g0[x]) * inv_dg[x];
+        t_out = t < t_out ? t : t_out;
+    }
+    if (!(t_out < 1.0)) return n - 1;
+    const double last = t_out * n - 0.5; /* the last m with t_m ≤ t_out */
+    if (!(last >= (double)j + 1.0)) return j;
+    return (int)last < n - 1 ? (int)last : n - 1;
+}
+
+/* The trilinear read at q (a node's channel in the march grid) with node
+ * strides st and weights w along x, y, z: seven lerps a + w (b − a). */
+static inline double trilinear(const double *q, const size_t st[3], const double w[3])
+{
+    const double c00 = q[0] + w[0] * (q[st[0]] - q[0]);
+    const double c01 = q[st[1]] + w[0] * (q[st[1] + st[0]] - q[st[1]]);
+    const double c10 = q[st[2]] + w[0] * (q[st[2] + st[0]] - q[st[2]]);
+    const double c11 = q[st[2] + st[1]] + w[0] * (q[st[2] + st[1] + st[0]] - q[st[2] + st[1]]);
+    const double e0 = c00 + w[1] * (c01 - c00), e1 = c10 + w[1] * (c11 - c10);
+    return e0 + w[2] * (e1 - e0);
+}
+
 /* Sums over the n midpoints of the segment a → b (world units) of σtr from
  * the march grid (trilinear): with mean, Σ max(0, σtr − mean_c); without,
  * Σ (σtr − σtr_ref). The points advance by a constant step in grid
  * coordinates, so each costs one trilinear read of the C channels. With
- * mean, midpoints in bricks at most mean (build_bricks) are not read:
+ * mean, midpoints in bricks at most mean (build_bricks) are not read, a
+ * brick's run of them skipped at once (brick_run_end):
  * their terms are +0, and adding +0 to a sum of non-negative terms leaves
  * its bits, so the sum is the plain march's bit for bit. */
 static void march_sum(const sss_field_kernel *k, const double a[3], const double b[3], int n, const double *mean,
@@ -281,13 +326,25 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
     for (uint32_t c = 0; c < C; c++) out[c] = 0.0;
     const double *bh = mean ? k->brick_hi : NULL;
     if (bh && box_below(k, g0, g1, mean)) return;
+    /* the sums in a local array: out may alias the grid for all the
+     * compiler knows, which made it store and reload every term */
+    double acc[SSS_MAX_CHANNELS] = {0};
     const size_t s0 = C, s1 = (size_t)k->tn[0] * C, s2 = (size_t)k->tn[0] * k->tn[1] * C;
+    const size_t st[3] = {k->tn[0] > 1 ? s0 : 0, k->tn[1] > 1 ? s1 : 0, k->tn[2] > 1 ? s2 : 0};
+    const size_t stride[3] = {s0, s1, s2};
+    /* A brick holds more than one midpoint only where a step moves less
+     * than a brick along every axis; elsewhere the run's end is not worth
+     * its three products (the skipped midpoints are the same either way). */
+    double inv_dg[3], longest = 0.0;
+    for (int x = 0; x < 3; x++) {
+        inv_dg[x] = dg[x] != 0.0 ? 1.0 / dg[x] : 0.0;
+        longest = fmax(longest, fabs(dg[x]));
+    }
+    const int runs = longest < (double)SSS_FIELD_BRICK * n;
     for (int j = 0; j < n; j++) {
         const double t = (j + 0.5) / n;
         size_t base = 0, cl[3];
         double w[3];
-        size_t st[3] = {k->tn[0] > 1 ? s0 : 0, k->tn[1] > 1 ? s1 : 0, k->tn[2] > 1 ? s2 : 0};
-        const size_t stride[3] = {s0, s1, s2};
         for (int x = 0; x < 3; x++) {
             double u = g0[x] + t * dg[x];
             const double fl = cell_floor(k, x, &u);
@@ -300,27 +357,23 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
             const double *hb = bh + (((cl[2] / B) * k->bn[1] + cl[1] / B) * k->bn[0] + cl[0] / B) * C;
             uint32_t c = 0;
             while (c < C && hb[c] <= mean[c]) c++;
-            if (c == C) continue;
-        }
-        const double *p = k->tr + base;
-        for (uint32_t c = 0; c < C; c++) {
-            const double *q = p + c;
-            const double c00 = q[0] + w[0] * (q[st[0]] - q[0]);
-            const double c01 = q[st[1]] + w[0] * (q[st[1] + st[0]] - q[st[1]]);
-            const double c10 = q[st[2]] + w[0] * (q[st[2] + st[0]] - q[st[2]]);
-            const double c11 = q[st[2] + st[1]] + w[0] * (q[st[2] + st[1] + st[0]] - q[st[2] + st[1]]);
-            const double e0 = c00 + w[1] * (c01 - c00), e1 = c10 + w[1] * (c11 - c10);
-            const double v = e0 + w[2] * (e1 - e0);
-            if (mean) {
-                /* max(0, ·) written out: libm's fmax is a call; the
-                 * difference of two positive σtr is never −0 */
-                const double d = v - mean[c];
-                out[c] += d > 0.0 ? d : 0.0;
-            } else {
-                out[c] += v - k->sigma_tr_ref[c];
+            if (c == C) {
+                if (runs) j = brick_run_end(k, g0, dg, inv_dg, cl, j, n);
+                continue;
             }
         }
+        const double *p = k->tr + base;
+        if (mean)
+            for (uint32_t c = 0; c < C; c++) {
+                /* max(0, ·) written out: libm's fmax is a call; the
+                 * difference of two positive σtr is never −0 */
+                const double d = trilinear(p + c, st, w) - mean[c];
+                acc[c] += d > 0.0 ? d : 0.0;
+            }
+        else
+            for (uint32_t c = 0; c < C; c++) acc[c] += trilinear(p + c, st, w) - k->sigma_tr_ref[c];
     }
+    for (uint32_t c = 0; c < C; c++) out[c] = acc[c];
 }
 
 void sss_field_march_sum(const sss_field_kernel *k, const double a[3], const double b[3], int n, const double *mean,
@@ -525,8 +578,12 @@ static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t
      * sqrt(P²)/P computes it, without three profiles per channel. */
     const int ref_ends = k->f[o] == k->f_min && k->f[i] == k->f_min;
     for (uint32_t c = 0; c < C; c++) {
+        /* τ = 1 exactly where nothing on the segment exceeds the mean
+         * (exp(−0) = 1 in IEEE arithmetic): most pairs of a field that
+         * the bricks' early-out skips whole, without a call into libm */
+        const double tau = tau_exp[c] == 0.0 ? 1.0 : exp(-tau_exp[c]);
         if (ref_ends) {
-            kappa[c] = exp(-tau_exp[c]);
+            kappa[c] = tau;
             continue;
         }
         /* an endpoint at f_min has the reference's dipole, bit for bit
@@ -537,7 +594,7 @@ static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t
         const double pi = k->f[i] == k->f[o] ? po
                           : k->f[i] == k->f_min ? pr
                                                 : profile(&k->dip[(size_t)i * C + c], r, rho_o, rho_i);
-        kappa[c] = pr > 0.0 ? sqrt(po * pi) / pr * exp(-tau_exp[c]) : 0.0;
+        kappa[c] = pr > 0.0 ? sqrt(po * pi) / pr * tau : 0.0;
     }
 }
 
@@ -574,6 +631,15 @@ static uint64_t find_from(const sss_weights *rows, uint32_t *cur, uint32_t v, ui
     cur[v] = (uint32_t)(p - s);
     return p < end && rows->idx[p] == x ? p : UINT64_MAX;
 }
+
+/* A hint to the cache; nothing where the compiler has none. */
+#if defined(__GNUC__) || defined(__clang__)
+#define PREFETCH(p) __builtin_prefetch(p)
+#else
+#define PREFETCH(p) ((void)(p))
+#endif
+/* How many entries ahead of the one scaled its partner is prefetched. */
+#define PARTNER_AHEAD 4
 
 /* Scales entry e = (o, i) of rows by κ(o, i) and, when mirror is not
  * UINT64_MAX, the entry mirror = (i, o) by κ(i, o), from one march. */
@@ -630,6 +696,16 @@ sss_result sss_field_weights_apply(const sss_field_kernel *k, const sss_mesh *me
             if (sss_cancelled(cancel)) continue;
             for (uint64_t e = rows->start[o]; e < rows->start[o + 1]; e++) {
                 const uint32_t i = rows->idx[e];
+                if (cur && e + PARTNER_AHEAD < rows->start[o + 1]) {
+                    /* the partner's row is elsewhere in memory: ask for the
+                     * lines find_from and scale_pair will read a few
+                     * entries from now, so the misses (9 % of the
+                     * dragon's field bake in perf) overlap the marches */
+                    const uint32_t i2 = rows->idx[e + PARTNER_AHEAD];
+                    const uint64_t p2 = rows->start[i2] + cur[i2];
+                    PREFETCH(&rows->idx[p2]);
+                    PREFETCH(&rows->w[p2 * rows->channels]);
+                }
                 uint64_t mirror = UINT64_MAX;
                 if (sorted && i != (uint32_t)o) {
                     mirror = find_from(rows, cur, i, (uint32_t)o);
