@@ -160,11 +160,9 @@ double sss_htsm_volume_at(const sss_htsm_volume *v, uint32_t level, const double
 /* --- the pattern -------------------------------------------------------- */
 
 /* The level whose bilinear read, a tent two texels wide each way, spans
- * about `area`: texel side nearest sqrt(area)/2. The centre sample reads
- * its own disk's (a wider read pulled in the rings' light and empty texels
- * near an edge); a ring sample the area of 4 samples, which blurs the
- * images of an inclusion that its offset would otherwise repeat around it
- * (docs/heterogeneous.md §9.2). */
+ * about the sample's area: texel side nearest sqrt(area)/2 (one of side
+ * sqrt(area) spread the read over 4 areas and pulled in the next samples'
+ * light and empty texels near an edge; docs/heterogeneous.md §9.2). */
 static uint32_t level_for(double area, double texel_mm, uint32_t levels)
 {
     if (!(texel_mm > 0.0)) return 0;
@@ -198,7 +196,7 @@ sss_result sss_htsm_pattern_make(uint32_t n, double r0_mm, double texel_mm, uint
     }
     for (uint32_t i = 0; i < n; i++) {
         p->rho[i] = sqrt(p->area[i] / SSS_PI);
-        p->map_level[i] = level_for(i ? 4.0 * p->area[i] : p->area[i], texel_mm, map_levels);
+        p->map_level[i] = level_for(p->area[i], texel_mm, map_levels);
     }
     return SSS_OK;
 }
