@@ -61,7 +61,12 @@ static void join(char *out, size_t n, const char *parent, const char *key)
     out[k < n ? k : n - 1] = 0;
 }
 
-static void join_index(char *out, size_t n, const char *parent, int i) { snprintf(out, n, "%s/%d", parent, i); }
+/* A JSON path for messages: one too long for out is cut (snprintf ends it
+ * with 0 either way; the check is what tells GCC the cut is meant). */
+static void join_index(char *out, size_t n, const char *parent, int i)
+{
+    if (snprintf(out, n, "%s/%d", parent, i) < 0) out[0] = 0;
+}
 
 /* Refuses keys of obj not in `allowed` (NULL-terminated, at most 16), and a
  * key given twice: cJSON keeps both and a lookup finds the first, so the

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "genmesh.h"
+#include "test_scene_util.h"
 #include "sss/bake.h"
 #include "sss/bake_scene.h"
 #include "sss/import.h"
@@ -50,37 +51,10 @@ static int teardown(void **state)
     return system(cmd);
 }
 
-typedef struct baked {
-    sss_scene sc;
-    sss_mesh *world;
-    sss_plan plan;
-} baked;
+typedef test_scene baked;
 
-static sss_result load(baked *b, const char *json, sss_error *err)
-{
-    char path[400];
-    snprintf(path, sizeof path, "%s/scene.json", tmpdir);
-    memset(b, 0, sizeof *b);
-    sss_result r = sss_scene_parse(json, path, &b->sc, err);
-    if (r != SSS_OK) return r;
-    b->world = calloc(b->sc.nobjects, sizeof *b->world);
-    for (uint32_t i = 0; i < b->sc.nobjects; i++) {
-        sss_mesh m;
-        if ((r = sss_import_mesh(b->sc.objects[i].mesh, &m, NULL, err)) != SSS_OK) return r;
-        r = sss_scene_object_world(&b->sc.objects[i], &m, &b->world[i], err);
-        sss_mesh_free(&m);
-        if (r != SSS_OK) return r;
-    }
-    return sss_plan_scene(&b->sc, b->world, &b->plan, err);
-}
-
-static void unload(baked *b)
-{
-    for (uint32_t i = 0; b->world && i < b->sc.nobjects; i++) sss_mesh_free(&b->world[i]);
-    free(b->world);
-    sss_plan_free(&b->plan);
-    sss_scene_free(&b->sc);
-}
+static sss_result load(baked *b, const char *json, sss_error *err) { return test_scene_load(b, tmpdir, json, err); }
+static void unload(baked *b) { test_scene_unload(b); }
 
 static const sss_decision *decision(const sss_object_plan *p, const char *effect)
 {
