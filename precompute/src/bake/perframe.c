@@ -70,8 +70,9 @@ sss_result sss_perframe_q(const sss_mesh *mesh, const sss_material *mat, uint32_
     memset(&fk, 0, sizeof fk);
     if (o->hetero && o->hetero->field.kind != SSS_FIELD_NONE) {
         if (o->mode != SSS_PERFRAME_EXACT)
-            return sss_fail(err, SSS_ERR_ARG, "per-frame path: a material field needs the exact mode (the tree's far "
-                            "field takes one kernel for all pairs, docs/heterogeneous.md sec. 4.3)");
+            return sss_fail(err, SSS_ERR_ARG, "per-frame path: a material field needs the exact mode (the per-frame "
+                            "tree does not weigh its pairs by the field; the static bake's does, docs/heterogeneous.md "
+                            "sec. 4.5)");
         sss_result fr = sss_field_kernel_create_ends(mesh, o->rest, mm_per_unit, mat, o->hetero, channels, eps,
                                                      "per-frame path", &fk, err);
         if (fr != SSS_OK) return fr;
