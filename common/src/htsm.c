@@ -229,15 +229,29 @@ static void map_read(const sss_htsm_map *m, uint32_t l, double s, double t, doub
  * disk about the foot that fits inside (radius ρ − ℓ) exactly, and the
  * crescent left as a share of the disk at ρ from the foot; beyond, the disk
  * on its axis at the whole distance. */
-static double disk_at(const sss_htsm_material *mat, double f, int c, double h, double l, double rho)
+static double disk_at(const sss_dipole *dp, double h, double l, double rho)
+{
+    if (!dp) return 0.0;
+    if (!(l < rho)) return sss_rd_disk_axis(dp, sqrt(h * h + l * l), rho);
+    const double in = (rho - l) / rho;
+    return sss_rd_disk_axis(dp, h, rho - l) + (1.0 - in * in) * sss_rd_disk_axis(dp, sqrt(h * h + rho * rho), rho);
+}
+
+/* The blend at f's dipole per channel into dp; out[c] points at dp[c], or
+ * is NULL for a channel whose coefficients make no dipole (it adds 0). */
+static void dipoles_at(const sss_htsm_material *mat, double f, sss_dipole dp[3], const sss_dipole *out[3])
 {
     sss_material b;
     sss_material_blend(&mat->base, &mat->inside, f, &b);
-    sss_dipole dp;
-    if (sss_dipole_init(&dp, b.sigma_a[c], b.sigmap_s[c], b.eta) != SSS_OK) return 0.0;
-    if (!(l < rho)) return sss_rd_disk_axis(&dp, sqrt(h * h + l * l), rho);
-    const double in = (rho - l) / rho;
-    return sss_rd_disk_axis(&dp, h, rho - l) + (1.0 - in * in) * sss_rd_disk_axis(&dp, sqrt(h * h + rho * rho), rho);
+    for (int c = 0; c < 3; c++)
+        out[c] = sss_dipole_init(&dp[c], b.sigma_a[c], b.sigmap_s[c], b.eta) == SSS_OK ? &dp[c] : NULL;
+}
+
+/* Map coordinates (s, t) of x (mesh units): the map's lookup applied. */
+static void map_st(const float L[16], const double x[3], double st[2])
+{
+    st[0] = L[0] * x[0] + L[4] * x[1] + L[8] * x[2] + L[12];
+    st[1] = L[1] * x[0] + L[5] * x[1] + L[9] * x[2] + L[13];
 }
 
 /* The blend's weight at x on level l: the field scaled by the strength. */
@@ -252,27 +266,30 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
     q[0] = q[1] = q[2] = 0.0;
     if (steps < 1) steps = 1;
     if (steps > SSS_HTSM_MAX_STEPS) steps = SSS_HTSM_MAX_STEPS;
-    const float *L = map->lookup;
-    const double so = L[0] * xo[0] + L[4] * xo[1] + L[8] * xo[2] + L[12];
-    const double to = L[1] * xo[0] + L[5] * xo[1] + L[9] * xo[2] + L[13];
+    double so[2];
+    map_st(map->lookup, xo, so);
     const double mm = mat->mm_per_unit;
     const double span = sss_htsm_texel_mm(map, mm) * map->size; /* mm across the map */
     if (!(span > 0.0)) return;
     const double fo = weight_at(vol, mat, 0, xo);
+    sss_dipole dpo[3], dpi[3];
+    const sss_dipole *Po[3], *Pi[3];
+    dipoles_at(mat, fo, dpo, Po); /* x_o's profiles, the same for every sample */
     for (uint32_t i = 0; i < pat->n; i++) {
         double pos[4], E[3];
-        map_read(map, pat->map_level[i], so + pat->off[i][0] / span, to + pat->off[i][1] / span, pos, E);
+        map_read(map, pat->map_level[i], so[0] + pat->off[i][0] / span, so[1] + pat->off[i][1] / span, pos, E);
         if (!(pos[3] > 1e-6)) continue; /* nothing lit there */
         const double xi[3] = {pos[0] / pos[3], pos[1] / pos[3], pos[2] / pos[3]};
         const double dx[3] = {xo[0] - xi[0], xo[1] - xi[1], xo[2] - xi[2]};
         const double d = sqrt(sss_dot3(dx, dx)) * mm;
         /* ℓ along the map (across the light), h along the light */
-        const double si = L[0] * xi[0] + L[4] * xi[1] + L[8] * xi[2] + L[12];
-        const double ti = L[1] * xi[0] + L[5] * xi[1] + L[9] * xi[2] + L[13];
-        const double l = sqrt((so - si) * (so - si) + (to - ti) * (to - ti)) * span;
+        double si[2];
+        map_st(map->lookup, xi, si);
+        const double l = sqrt((so[0] - si[0]) * (so[0] - si[0]) + (so[1] - si[1]) * (so[1] - si[1])) * span;
         const double h = sqrt(fmax(0.0, d * d - l * l));
         const uint32_t lv = pat->vol_level[i];
         const double fi = weight_at(vol, mat, lv, xi);
+        dipoles_at(mat, fi, dpi, Pi);
         double tau_sum[3] = {0, 0, 0};
         const double sbar[3] = {
             0.5 * (sss_material_sigma_tr(&mat->base, &mat->inside, fo, 0) +
@@ -295,7 +312,7 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
             /* the sample stands for a disk of radius ρ (area A_i) at distance
              * d: each endpoint's profile integrated over it, their geometric
              * mean (§9.2) */
-            const double P = sqrt(disk_at(mat, fo, c, h, l, pat->rho[i]) * disk_at(mat, fi, c, h, l, pat->rho[i]));
+            const double P = sqrt(disk_at(Po[c], h, l, pat->rho[i]) * disk_at(Pi[c], h, l, pat->rho[i]));
             /* the baked weight's 1/π (docs/physics.md §4): q in the bake's units */
             q[c] += E[c] * P * tau / SSS_PI;
         }

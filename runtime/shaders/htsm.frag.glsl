@@ -57,19 +57,28 @@ vec3 ht_term(vec3 tr, vec3 z, float h, float R) {
     vec3 D0 = sqrt(h * h + z * z), D1 = sqrt(R * R + D0 * D0);
     return z * (exp(-tr * D0) / D0 - exp(-tr * D1) / D1);
 }
-// sss_rd_disk_axis of the blend at f: R_d (docs/physics.md §2) over a disk
-// of radius R at distance h on its axis
-vec3 ht_axis(float f, float h, float R) {
-    vec3 sa = mix(u_ht_base_sa, u_ht_in_sa, f), ss = mix(u_ht_base_ss, u_ht_in_ss, f);
-    vec3 st = sa + ss, tr = sqrt(3.0 * sa * st), zr = 1.0 / st, zv = zr + 4.0 * u_ht_A / (3.0 * st);
-    return 0.5 * ss / st * (ht_term(tr, zr, h, R) + ht_term(tr, zv, h, R));
+// the blend at f's dipole (docs/physics.md §2): sigma_tr, the two sources'
+// depths and the factor alpha'/2, made once per endpoint
+struct HtDip { vec3 tr, zr, zv, k; };
+HtDip ht_dip(float f) {
+    vec3 sa = mix(u_ht_base_sa, u_ht_in_sa, f), ss = mix(u_ht_base_ss, u_ht_in_ss, f), st = sa + ss;
+    HtDip p;
+    p.tr = sqrt(3.0 * sa * st);
+    p.zr = 1.0 / st;
+    p.zv = p.zr + 4.0 * u_ht_A / (3.0 * st);
+    p.k = 0.5 * ss / st;
+    return p;
+}
+// sss_rd_disk_axis: R_d over a disk of radius R at distance h on its axis
+vec3 ht_axis(HtDip p, float h, float R) {
+    return p.k * (ht_term(p.tr, p.zr, h, R) + ht_term(p.tr, p.zv, h, R));
 }
 // htsm.c's disk_at: the sample's disk (radius R across the light), x_o at
 // height h above it and l from its centre along it (docs/heterogeneous.md §9.2)
-vec3 ht_disk(float f, float h, float l, float R) {
-    if (!(l < R)) return ht_axis(f, sqrt(h * h + l * l), R);
+vec3 ht_disk(HtDip p, float h, float l, float R) {
+    if (!(l < R)) return ht_axis(p, sqrt(h * h + l * l), R);
     float in_ = (R - l) / R;
-    return ht_axis(f, h, R - l) + (1.0 - in_ * in_) * ht_axis(f, sqrt(h * h + R * R), R);
+    return ht_axis(p, h, R - l) + (1.0 - in_ * in_) * ht_axis(p, sqrt(h * h + R * R), R);
 }
 // the map's bilinear mean at (s, t) on level l, texels outside empty (map_read)
 void ht_map(int l, vec2 st, out vec4 pos, out vec3 irr) {
@@ -89,6 +98,7 @@ void main() {
     vec2 so = (u_ht_lookup * vec4(v_pos, 1.0)).xy;
     float fo = ht_f(0, v_pos);
     vec3 tro = ht_tr(fo), q = vec3(0.0);
+    HtDip dpo = ht_dip(fo); // x_o's profile, the same for every sample
     for (int i = 0; i < u_ht_n; i++) {
         vec4 pos;
         vec3 E;
@@ -105,7 +115,7 @@ void main() {
             for (int j = 0; j < u_ht_steps; j++)
                 ts += max(vec3(0.0), ht_tr(ht_f(lv, xi + ((float(j) + 0.5) / float(u_ht_steps)) * dx)) - sbar);
         vec3 tau = exp(-ts * d / float(u_ht_steps));
-        q += E * sqrt(ht_disk(fo, h, l, u_ht_rho[i]) * ht_disk(fi, h, l, u_ht_rho[i])) * tau / PI_HT; // the bake's 1/pi
+        q += E * sqrt(ht_disk(dpo, h, l, u_ht_rho[i]) * ht_disk(ht_dip(fi), h, l, u_ht_rho[i])) * tau / PI_HT; // the bake's 1/pi
     }
     o_q = vec4(q, 1.0);
     o_x = vec4(v_pos, 1.0);

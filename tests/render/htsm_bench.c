@@ -49,20 +49,29 @@ static double image_error(const float *a, const float *b, size_t n)
  * a block counted where b covers all of them): the reference's noise per
  * pixel averages down by B. */
 #define BLOCK 8
+/* Per channel the sum over the block at (bx, by) of v (of v², squared),
+ * into s; 1 when `cover` (RGB) covers every pixel of it. */
+static int block_sum(const float *v, int squared, const float *cover, int W, int bx, int by, double s[3])
+{
+    int full = 1;
+    s[0] = s[1] = s[2] = 0.0;
+    for (int y = by; y < by + BLOCK; y++)
+        for (int x = bx; x < bx + BLOCK; x++) {
+            const size_t i = (size_t)y * W + x;
+            if (!(cover[3 * i] + cover[3 * i + 1] + cover[3 * i + 2] > 0.0f)) full = 0;
+            for (int c = 0; c < 3; c++) s[c] += squared ? (double)v[3 * i + c] * v[3 * i + c] : v[3 * i + c];
+        }
+    return full;
+}
+
 static double block_error(const float *a, const float *b, int W, int H)
 {
     double d = 0, s = 0;
     for (int by = 0; by + BLOCK <= H; by += BLOCK)
         for (int bx = 0; bx + BLOCK <= W; bx += BLOCK) {
-            double ma[3] = {0, 0, 0}, mb[3] = {0, 0, 0};
-            int full = 1;
-            for (int y = by; y < by + BLOCK; y++)
-                for (int x = bx; x < bx + BLOCK; x++) {
-                    const size_t i = (size_t)y * W + x;
-                    if (!(b[3 * i] + b[3 * i + 1] + b[3 * i + 2] > 0.0f)) full = 0;
-                    for (int c = 0; c < 3; c++) ma[c] += a[3 * i + c], mb[c] += b[3 * i + c];
-                }
-            if (!full) continue;
+            double ma[3], mb[3];
+            if (!block_sum(b, 0, b, W, bx, by, mb)) continue;
+            block_sum(a, 0, b, W, bx, by, ma);
             for (int c = 0; c < 3; c++) d += fabs(ma[c] - mb[c]), s += mb[c];
         }
     return s > 0 ? d / s : NAN;
@@ -113,15 +122,9 @@ static float *reference_image(const sss_bake_file *f, const sss_hetero *h, const
     double var = 0, s = 0;
     for (int by = 0; by + BLOCK <= H; by += BLOCK)
         for (int bx = 0; bx + BLOCK <= W; bx += BLOCK) {
-            double v[3] = {0, 0, 0}, m[3] = {0, 0, 0};
-            int full = 1;
-            for (int y = by; y < by + BLOCK; y++)
-                for (int x = bx; x < bx + BLOCK; x++) {
-                    const size_t i = (size_t)y * W + x;
-                    if (!(rgb[3 * i] + rgb[3 * i + 1] + rgb[3 * i + 2] > 0.0f)) full = 0;
-                    for (int c = 0; c < 3; c++) v[c] += (double)se[3 * i + c] * se[3 * i + c], m[c] += rgb[3 * i + c];
-                }
-            if (!full) continue;
+            double v[3], m[3];
+            if (!block_sum(rgb, 0, rgb, W, bx, by, m)) continue;
+            block_sum(se, 1, rgb, W, bx, by, v);
             for (int c = 0; c < 3; c++) var += sqrt(v[c]), s += m[c];
         }
     double mr = 0, mb = 0;

@@ -57,6 +57,15 @@ static void block_free(block *b)
     sss_mesh_free(&b->m);
 }
 
+/* The pass on b's renderer, MAP² map, 32³ field h (NULL: none). */
+static sss_htsm_gpu *gpu_of(const block *b, const sss_hetero *h)
+{
+    sss_htsm_gpu *g = NULL;
+    sss_error err = {{0}};
+    if (sss_htsm_gpu_create(b->r, h, MAP, 5, &g, &err) != SSS_OK) fail_msg("htsm: %s", err.msg);
+    return g;
+}
+
 /* Lit from behind (−z), seen from the front (+z), q alone. */
 static void params(sss_view_params *p)
 {
@@ -128,9 +137,7 @@ static void perPixelAgreesWithTheCpuOracle(void **state)
     (void)state;
     block b;
     block_make(&b);
-    sss_htsm_gpu *g = NULL;
-    sss_error err = {{0}};
-    if (sss_htsm_gpu_create(b.r, &b.h, MAP, 5, &g, &err) != SSS_OK) fail_msg("htsm: %s", err.msg);
+    sss_htsm_gpu *g = gpu_of(&b, &b.h);
     sss_view_params p;
     params(&p);
     const uint32_t ns[2] = {1, 13};
@@ -169,10 +176,7 @@ static void liveEditsShowAtOnceAndUndo(void **state)
     (void)state;
     block b;
     block_make(&b);
-    sss_htsm_gpu *g = NULL, *g0 = NULL;
-    sss_error err = {{0}};
-    if (sss_htsm_gpu_create(b.r, &b.h, MAP, 5, &g, &err) != SSS_OK) fail_msg("htsm: %s", err.msg);
-    if (sss_htsm_gpu_create(b.r, NULL, MAP, 5, &g0, &err) != SSS_OK) fail_msg("htsm: %s", err.msg);
+    sss_htsm_gpu *g = gpu_of(&b, &b.h), *g0 = gpu_of(&b, NULL);
     sss_view_params p;
     params(&p);
     sss_htsm_view v;
@@ -199,6 +203,16 @@ static void liveEditsShowAtOnceAndUndo(void **state)
     block_free(&b);
 }
 
+/* A frame, then its q and x_o read back (caller frees). */
+static void frame_read(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, float **q, float **x)
+{
+    sss_htsm_map map;
+    sss_error err = {{0}};
+    frame(g, v, p);
+    assert_int_equal(sss_htsm_gpu_read(g, &map, q, x, &err), SSS_OK);
+    sss_htsm_map_free(&map);
+}
+
 /* Two directional lights (p's from behind, one more from the side): q is
  * each light's frame alone added, float for float (the second pass is
  * blended one-to-one onto the first), and x_o is the same. */
@@ -207,9 +221,8 @@ static void twoLightsGiveTheSumOfEachAlone(void **state)
     (void)state;
     block b;
     block_make(&b);
-    sss_htsm_gpu *g = NULL;
+    sss_htsm_gpu *g = gpu_of(&b, &b.h);
     sss_error err = {{0}};
-    if (sss_htsm_gpu_create(b.r, &b.h, MAP, 5, &g, &err) != SSS_OK) fail_msg("htsm: %s", err.msg);
     sss_view_params p, p2;
     params(&p);
     p2 = p;
@@ -218,20 +231,13 @@ static void twoLightsGiveTheSumOfEachAlone(void **state)
     memcpy(p2.light_rgb, rgb, sizeof rgb);
     sss_htsm_view v;
     view(&b, 5, 8, &v);
-    sss_htsm_map map;
     float *q[3], *x[3];
-    frame(g, &v, &p);
-    assert_int_equal(sss_htsm_gpu_read(g, &map, &q[0], &x[0], &err), SSS_OK);
-    sss_htsm_map_free(&map);
-    frame(g, &v, &p2);
-    assert_int_equal(sss_htsm_gpu_read(g, &map, &q[1], &x[1], &err), SSS_OK);
-    sss_htsm_map_free(&map);
+    frame_read(g, &v, &p, &q[0], &x[0]);
+    frame_read(g, &v, &p2, &q[1], &x[1]);
     v.nmore = 1;
     memcpy(v.more_light[0], side, sizeof side);
     memcpy(v.more_rgb[0], rgb, sizeof rgb);
-    frame(g, &v, &p);
-    assert_int_equal(sss_htsm_gpu_read(g, &map, &q[2], &x[2], &err), SSS_OK);
-    sss_htsm_map_free(&map);
+    frame_read(g, &v, &p, &q[2], &x[2]);
     int drawn = 0, lit[2] = {0, 0};
     for (int i = 0; i < W * H; i++) {
         for (int c = 0; c < 4; c++) assert_true(x[2][4 * i + c] == x[0][4 * i + c]);
