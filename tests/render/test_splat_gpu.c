@@ -140,8 +140,10 @@ static const double LIGHT[3] = {-0.6, 0.5, 0.6};
 static void splatting_matches_object_space_on_bent_tube(void **state)
 {
     (void)state;
-    const double ts[3] = {0.0, 0.5, 1.0}; /* θ = 0°, 49.5°, 70° */
-    for (int i = 0; i < 3; i++) {
+    /* straight and bent the furthest (the strata check below takes the
+     * middle pose) */
+    const double ts[2] = {0.0, 1.0}; /* θ = 0°, 70° */
+    for (int i = 0; i < 2; i++) {
         sss_mesh m;
         tube_pose(ts[i], &m);
         scene s;
@@ -279,7 +281,7 @@ static void rigid_motion_changes_nothing_beyond_sampling(void **state)
     scene_close(&s1);
 }
 
-/* The light turning about +y in 0.5° steps: the splatting's change from
+/* The light turning about +y in two 0.5° steps: the splatting's change from
  * frame to frame against the object-space path's (flicker). */
 #define FLICKER_RATIO_MAX 2.0
 static void light_steps_flicker_bounded(void **state)
@@ -289,15 +291,15 @@ static void light_steps_flicker_bounded(void **state)
     tube_pose(1.0, &m);
     scene s;
     scene_open(&s, &m, 100.0, NULL);
-    float *e[5], *g[5];
-    for (int i = 0; i < 5; i++) {
+    float *e[3], *g[3];
+    for (int i = 0; i < 3; i++) {
         const double a = 0.5 * i * SSS_PI / 180.0;
         const double L[3] = {cos(a) * LIGHT[0] + sin(a) * LIGHT[2], LIGHT[1], -sin(a) * LIGHT[0] + cos(a) * LIGHT[2]};
         e[i] = image_exact(&s, L);
         g[i] = image_splat(&s, L);
     }
     double worst = 0;
-    for (int i = 0; i < 4; i++) {
+    for (int i = 0; i < 2; i++) {
         const double de = rel_rms(e[i + 1], e[i], e[0], NULL), dg = rel_rms(g[i + 1], g[i], e[0], NULL);
         fprintf(stderr, "step %d: change %.3e (object space %.3e), ratio %.3f\n", i, dg, de, dg / de);
         assert_true(de > 0);
@@ -305,7 +307,7 @@ static void light_steps_flicker_bounded(void **state)
     }
     fprintf(stderr, "flicker: largest ratio %.3f\n", worst);
     assert_true(worst <= FLICKER_RATIO_MAX);
-    for (int i = 0; i < 5; i++) free(e[i]), free(g[i]);
+    for (int i = 0; i < 3; i++) free(e[i]), free(g[i]);
     scene_close(&s);
 }
 
@@ -345,12 +347,12 @@ static void splatting_with_a_field_matches_object_space_on_bent_tube(void **stat
     sss_splat_options o;
     sss_splat_options_default(&o);
     o.light_size = 256;
-    /* one renderer and splatting for the three poses: each new pose is
-     * copied into the renderer's mesh (sss_renderer_update_geometry), as
-     * sss-view's window does, and f stays that of the rest pose */
-    const double ts[3] = {0.0, 0.5, 1.0}; /* θ = 0°, 49.5°, 70° */
+    /* one renderer and splatting for two poses: the second is copied into
+     * the renderer's mesh (sss_renderer_update_geometry), as sss-view's
+     * window does, and f stays that of the rest pose */
+    const double ts[2] = {0.0, 0.5}; /* θ = 0°, 49.5° */
     scene s;
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < 2; i++) {
         sss_mesh m;
         tube_pose(ts[i], &m);
         if (i == 0) {
