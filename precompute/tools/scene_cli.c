@@ -91,7 +91,17 @@ static int bake_scene(const char *tool, sss_scene *sc_in, const char *scene_path
 {
     sss_error err = {{0}};
     sss_scene sc = *sc_in;
-    /* --gather where the scene's "bake" says nothing (the planner's gather rule) */
+    /* --gather where the scene's "bake" says nothing (the planner's gather
+     * rule); one that contradicts the scene is refused, as the plain bake's
+     * options are (docs/scenes.md, "Bake"), rather than ignored */
+    if (opt && opt->gather && sc.bake.gather && sc.bake.gather != (uint32_t)opt->gather) {
+        static const char *const name[] = {"", "direct", "tree"};
+        sss_cli_printf(stderr, "%s: %s: /bake/gather is \"%s\": --gather %s contradicts it\n", tool,
+                       scene_path ? scene_path : "scene", name[sc.bake.gather <= 2 ? sc.bake.gather : 0],
+                       name[opt->gather <= 2 ? opt->gather : 0]);
+        sss_scene_free(&sc);
+        return 2;
+    }
     if (!sc.bake.gather && opt) sc.bake.gather = (uint32_t)opt->gather;
     const int plain = outfile != NULL;
     if (!plan_only && !plain) {

@@ -87,6 +87,12 @@ expect_ok "$SSS_BAKE" --scene "$TMP/m.json" --plan
 contains "$TMP/out" 'gather        tree               hierarchical gather'
 expect_ok "$SSS_BAKE" --scene "$TMP/m.json" --plan --gather direct
 contains "$TMP/out" 'gather        direct             bake.gather (or --gather)'
+# a --gather the scene's "bake" contradicts: one line, no plan
+sed 's/"bake": {/"bake": {"gather": "direct", /' "$TMP/m.json" > "$TMP/mg.json"
+grep -q '"gather": "direct"' "$TMP/mg.json" || fail "mg.json: no gather key written"
+expect_fail 'mg.json: /bake/gather is "direct": --gather tree contradicts it' "$SSS_BAKE" --scene "$TMP/mg.json" --plan --gather tree
+[ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "message should be one line"
+expect_ok "$SSS_BAKE" --scene "$TMP/mg.json" --plan --gather direct
 # the tree's memory planned before it is loaded: one line naming the
 # object, no file
 mkdir -p "$TMP/o9"
