@@ -27,18 +27,32 @@ sed 's/"field": {[^}]*}/"field": {"constant": 0}/' "$TMP/edit.json" > "$TMP/plai
 expect_ok VIEW --scene "$TMP/plain.json" --offscreen --out "$TMP/plain.exr" --size 96x72 --exposure 100
 read -r D MA MB < <("$SSS_EXRSTATS" "$TMP/box.exr" "$TMP/plain.exr")
 awk -v a="$MA" -v b="$MB" 'BEGIN { exit !(a > 0 && a < 0.9 * b) }' || fail "the box's mean $MA against $MB without it"
-# a second directional light adds its own pass (brighter), a point light is
-# said not to be drawn
+# a second directional light and a point light each add their own pass
+# (brighter); a point light alone, behind the block, draws it too (its
+# perspective map); an environment light and a point light within the
+# object's bounding sphere are said not to be drawn
 sed 's|"lights": \[|"lights": [{"type": "directional", "direction": [1, 0.3, 0.2], "intensity": 0.5}, {"type": "point", "position": [0, 0, 3], "intensity": 1},|' \
   "$TMP/edit.json" > "$TMP/two.json"
 expect_ok "$SSS_BAKE" --scene "$TMP/two.json" --plan
 contains "$TMP/out" "light 0       run-time           directional light: its light-space map is rendered each frame, the lights' q summed"
-contains "$TMP/out" "light 1       none               the run-time path takes directional lights only (a point light"
+contains "$TMP/out" "light 1       run-time           point light: its perspective light-space map (1/r^2 fall-off"
 contains "$TMP/out" "light 2       run-time"
 expect_ok VIEW --scene "$TMP/two.json" --offscreen --out "$TMP/two.exr" --size 96x72 --exposure 100
-contains "$TMP/err" "/lights: 1 light(s) not drawn: the run-time path sums up to 8 directional lights and no point"
+! grep -q "not drawn" "$TMP/err" || fail "a light said not to be drawn: $(cat "$TMP/err")"
 read -r D MA MB < <("$SSS_EXRSTATS" "$TMP/two.exr" "$TMP/box.exr")
-awk -v a="$MA" -v b="$MB" 'BEGIN { exit !(a > 1.1 * b) }' || fail "two lights' mean $MA against $MB for one"
+awk -v a="$MA" -v b="$MB" 'BEGIN { exit !(a > 1.1 * b) }' || fail "three lights' mean $MA against $MB for one"
+sed 's|"lights": \[.*\],|"lights": [{"type": "point", "position": [0, 0, -4], "intensity": 16}],|' "$TMP/edit.json" > "$TMP/point.json"
+expect_ok VIEW --scene "$TMP/point.json" --offscreen --out "$TMP/point.exr" --size 96x72 --exposure 100
+! grep -q "not drawn" "$TMP/err" || fail "the point light said not to be drawn"
+read -r D MA MB < <("$SSS_EXRSTATS" "$TMP/point.exr" "$TMP/box.exr")
+awk -v a="$MA" -v b="$MB" 'BEGIN { exit !(a > 0.5 * b && a < 2 * b) }' || fail "the point light's mean $MA against $MB for the directional light"
+cp "$TMP/box.exr" "$TMP/sky.exr"   # any probe: the planner reads it
+sed 's|"lights": \[|"lights": [{"type": "environment", "probe": "sky.exr"}, {"type": "point", "position": [0, 0.5, 0.5], "intensity": 1},|' \
+  "$TMP/edit.json" > "$TMP/env.json"
+expect_ok "$SSS_BAKE" --scene "$TMP/env.json" --plan
+contains "$TMP/out" "light 0       none               the run-time path takes directional and point lights only (this environment light"
+expect_ok VIEW --scene "$TMP/env.json" --offscreen --out "$TMP/env.exr" --size 96x72 --exposure 100
+contains "$TMP/err" "/lights: 2 light(s) not drawn: the run-time path sums up to 8 directional and point lights, no environment light and no point light within the object's bounding sphere"
 # refused in one line
 sed 's/"editable": true/"editable": "yes"/' "$TMP/edit.json" > "$TMP/bad.json"
 expect_fail "bad.json: /objects/0/editable: expected true or false" "$SSS_BAKE" --scene "$TMP/bad.json" --plan

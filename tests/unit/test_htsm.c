@@ -34,6 +34,7 @@ static void slab_map(sss_htsm_map *m)
     m->lookup[12] = 0.5f;
     m->lookup[13] = 0.5f;
     m->lookup[15] = 1.0f;
+    m->light[2] = -1.0; /* towards the light: −z, directional */
     for (uint32_t j = 0; j < MAP; j++)
         for (uint32_t i = 0; i < MAP; i++) {
             float *p = m->pos[0] + ((size_t)j * MAP + i) * 4, *n = m->nrm[0] + ((size_t)j * MAP + i) * 4,

@@ -200,11 +200,16 @@ static void rule_editable(const plan_in *in, sss_object_plan *p)
         p->light_pass[l] = UINT32_MAX;
         if (L->intensity == 0.0)
             decide(p, eff, "none", "intensity 0");
-        else if (L->kind != SSS_LIGHT_DIRECTIONAL)
-            decide(p, eff, "none", "the run-time path takes directional lights only (a %s light is not drawn on "
-                   "the object)", sss_light_kind_name(L->kind));
+        else if (L->kind != SSS_LIGHT_DIRECTIONAL && L->kind != SSS_LIGHT_POINT)
+            decide(p, eff, "none", "the run-time path takes directional and point lights only (this %s light is not "
+                   "drawn on the object)", sss_light_kind_name(L->kind));
         else if (drawn++ >= SSS_HTSM_MAX_LIGHTS)
-            decide(p, eff, "none", "the run-time path sums the first %d directional lights", SSS_HTSM_MAX_LIGHTS);
+            decide(p, eff, "none", "the run-time path sums the first %d directional and point lights",
+                   SSS_HTSM_MAX_LIGHTS);
+        else if (L->kind == SSS_LIGHT_POINT)
+            decide(p, eff, "run-time", "point light: its perspective light-space map (1/r^2 fall-off, each texel's "
+                   "area by its depth) is rendered each frame, the lights' q summed; not drawn from within the "
+                   "object's bounding sphere (docs/heterogeneous.md sec. 9.1)");
         else
             decide(p, eff, "run-time", "directional light: its light-space map is rendered each frame, the lights' "
                    "q summed (docs/heterogeneous.md sec. 9.1)");

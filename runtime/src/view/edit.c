@@ -53,29 +53,6 @@ static void state_free(edit_state *s)
     sss_scene_free(&s->sc);
 }
 
-/* The scene's directional lights of non-zero intensity: the first into p
- * (the one the window's keys turn), the next ones into v's more lights,
- * each taking its own map and pass (docs/heterogeneous.md §9.1). Returns
- * how many; *skipped counts the lights the run-time path does not draw. */
-static uint32_t scene_lights(const sss_scene *sc, sss_view_params *p, sss_htsm_view *v, uint32_t *skipped)
-{
-    uint32_t n = 0;
-    *skipped = 0;
-    v->nmore = 0;
-    for (uint32_t l = 0; l < sc->nlights; l++) {
-        const sss_scene_light *L = &sc->lights[l];
-        if (L->intensity == 0.0) continue;
-        if (L->kind != SSS_LIGHT_DIRECTIONAL || n == SSS_HTSM_MAX_LIGHTS) {
-            (*skipped)++;
-            continue;
-        }
-        double *d = p->light, *e = p->light_rgb;
-        if (n++) d = v->more_light[v->nmore], e = v->more_rgb[v->nmore], v->nmore++;
-        for (int k = 0; k < 3; k++) d[k] = L->direction[k], e[k] = L->intensity * L->colour[k];
-    }
-    return n;
-}
-
 static int state_open(const sss_pose_view *v, edit_state *s, sss_view_params *p)
 {
     const char *T = v->tool;
@@ -108,14 +85,15 @@ static int state_open(const sss_pose_view *v, edit_state *s, sss_view_params *p)
     s->f.quant = SSS_QUANT_FLOAT;
     sss_htsm_view_default(&s->hv, &s->f, &o->hetero);
     uint32_t skipped = 0;
-    if (!scene_lights(&s->sc, p, &s->hv, &skipped)) {
-        sss_cli_printf(stderr, "%s: %s: /lights: no directional light of non-zero intensity: the run-time path "
-                       "takes directional lights only\n", T, v->scene);
+    if (!sss_htsm_view_lights(&s->hv, p, &s->sc, &s->f.mesh, &skipped)) {
+        sss_cli_printf(stderr, "%s: %s: /lights: no directional or point light of non-zero intensity outside the "
+                       "object: the run-time path draws no other\n", T, v->scene);
         return 2;
     }
     if (skipped)
         sss_cli_printf(stderr, "%s: %s: /lights: %u light(s) not drawn: the run-time path sums up to %d directional "
-                       "lights and no point or environment light\n", T, v->scene, skipped, SSS_HTSM_MAX_LIGHTS);
+                       "and point lights, no environment light and no point light within the object's bounding "
+                       "sphere\n", T, v->scene, skipped, SSS_HTSM_MAX_LIGHTS);
     if (!v->exposure_given) {
         const double qs = sss_material_slab_q(&o->material, 3);
         p->exposure = qs > 0.0 && isfinite(1.0 / qs) ? 1.0 / qs : 1.0;
