@@ -22,6 +22,11 @@ contains "$TMP/err" "object 'block' is editable: evaluated per frame, nothing ba
 [ ! -e "$TMP/baked/block.sss" ] || fail "an editable object was baked"
 expect_ok VIEW --scene "$TMP/edit.json" --offscreen --out "$TMP/box.exr" --size 96x72 --exposure 100
 contains "$TMP/err" "'block' editable, 386 vertices, q per pixel by the run-time path (13 samples, 4 steps)"
+# the light's intensity enters once, in its map: twice the light, twice the picture
+sed 's/"intensity": 1}/"intensity": 2}/' "$TMP/edit.json" > "$TMP/bright.json"
+expect_ok VIEW --scene "$TMP/bright.json" --offscreen --out "$TMP/bright.exr" --size 96x72 --exposure 100
+read -r D MA MB < <("$SSS_EXRSTATS" "$TMP/bright.exr" "$TMP/box.exr")
+awk -v a="$MA" -v b="$MB" 'BEGIN { exit !(a > 1.98 * b && a < 2.02 * b) }' || fail "intensity 2: mean $MA against $MB at 1"
 # the same block with no field: brighter everywhere the box was behind
 sed 's/"field": {[^}]*}/"field": {"constant": 0}/' "$TMP/edit.json" > "$TMP/plain.json"
 expect_ok VIEW --scene "$TMP/plain.json" --offscreen --out "$TMP/plain.exr" --size 96x72 --exposure 100
