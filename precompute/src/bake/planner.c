@@ -642,6 +642,14 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
             for (size_t r = 0; r < sizeof rules_editable / sizeof rules_editable[0]; r++) rules_editable[r](&in, p);
             continue;
         }
+        /* the field's strength is the run-time path's scale of f; a bake
+         * reads f as it is (docs/heterogeneous.md §9.6) */
+        if (scene->objects[i].field_strength != 1.0) {
+            sss_plan_free(out);
+            return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/material/field/strength: a strength other than 1 is "
+                            "drawn by the run-time path only (\"editable\": true; docs/heterogeneous.md sec. 9.6)",
+                            scene->path, i);
+        }
         if (sss_scene_object_deforms(&scene->objects[i])) {
             p->material = scene->objects[i].material;
             for (size_t r = 0; r < sizeof rules_per_frame / sizeof rules_per_frame[0]; r++) rules_per_frame[r](&in, p);
