@@ -20,8 +20,10 @@ mkdir -p "$TMP/baked"
 expect_ok "$SSS_BAKE" --scene "$TMP/edit.json" -o "$TMP/baked"
 contains "$TMP/err" "object 'block' is editable: evaluated per frame, nothing baked"
 [ ! -e "$TMP/baked/block.sss" ] || fail "an editable object was baked"
-expect_ok VIEW --scene "$TMP/edit.json" --offscreen --out "$TMP/box.exr" --size 96x72 --exposure 100
+cp "$TMP/edit.json" "$TMP/input.json"
+expect_ok VIEW --scene "$TMP/edit.json" --offscreen --out "$TMP/box.exr" --size 96x72 --exposure 100 --save-scene "$TMP/saved.json"
 contains "$TMP/err" "'block' editable, 386 vertices, q per pixel by the run-time path (13 samples, 4 steps)"
+contains "$TMP/err" "sss-view: edited scene written to $TMP/saved.json"
 # the light's intensity enters once, in its map: twice the light, twice the picture
 sed 's/"intensity": 1}/"intensity": 2}/' "$TMP/edit.json" > "$TMP/bright.json"
 expect_ok VIEW --scene "$TMP/bright.json" --offscreen --out "$TMP/bright.exr" --size 96x72 --exposure 100
@@ -58,6 +60,21 @@ expect_ok "$SSS_BAKE" --scene "$TMP/env.json" --plan
 contains "$TMP/out" "light 0       none               the run-time path takes directional and point lights only (this environment light"
 expect_ok VIEW --scene "$TMP/env.json" --offscreen --out "$TMP/env.exr" --size 96x72 --exposure 100
 contains "$TMP/err" "/lights: 2 light(s) not drawn: the run-time path sums up to 8 directional and point lights, no environment light and no point light within the object's bounding sphere"
+# --save-scene (docs/heterogeneous.md §9.6) offscreen (box.exr's, above):
+# the scene as drawn, which draws the same picture; never over the input; a
+# field's strength other than 1 is the run-time path's, refused by a bake
+expect_ok VIEW --scene "$TMP/saved.json" --offscreen --out "$TMP/saved.exr" --size 96x72 --exposure 100
+read -r D MA MB < <("$SSS_EXRSTATS" "$TMP/saved.exr" "$TMP/box.exr")
+awk -v d="$D" 'BEGIN { exit !(d == 0) }' || fail "the saved scene draws differently ($D)"
+expect_fail "edit.json: is the same file as the input" VIEW --scene "$TMP/edit.json" --offscreen --out "$TMP/y.png" --save-scene "$TMP/edit.json"
+[ ! -e "$TMP/y.png" ] || fail "y.png written by a refused command"
+cmp -s "$TMP/edit.json" "$TMP/input.json" || fail "the input scene changed"
+sed 's/, "editable": true//' "$TMP/edit.json" > "$TMP/static.json"
+expect_fail "--save-scene: only for a scene whose object is editable" VIEW --scene "$TMP/static.json" --offscreen --out "$TMP/y.png" --save-scene "$TMP/z.json"
+[ ! -e "$TMP/z.json" ] || fail "z.json written by a refused command"
+sed -e 's/"edge_mm": 1}/"edge_mm": 1, "strength": 2}/' -e 's/, "editable": true//' "$TMP/edit.json" > "$TMP/strong.json"
+expect_fail "strong.json: /objects/0/material/field/strength: a strength other than 1 is drawn by the run-time path only" \
+  "$SSS_BAKE" --scene "$TMP/strong.json" --plan
 # refused in one line
 sed 's/"editable": true/"editable": "yes"/' "$TMP/edit.json" > "$TMP/bad.json"
 expect_fail "bad.json: /objects/0/editable: expected true or false" "$SSS_BAKE" --scene "$TMP/bad.json" --plan
