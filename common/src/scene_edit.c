@@ -37,7 +37,32 @@ static int folder_of(const char *p, char d[PATH_MAX])
     return ok;
 }
 
-static cJSON *triple(const double v[3]) { return cJSON_CreateDoubleArray(v, 3); }
+/* x as the shortest decimal that reads back as x exactly (cJSON's own
+ * printer accepts a last-bit difference): the written scene holds the
+ * edited numbers bit for bit. */
+static cJSON *number(double x)
+{
+    char buf[40];
+    for (int digits = 15; digits <= 17; digits++) {
+        snprintf(buf, sizeof buf, "%.*g", digits, x);
+        if (strtod(buf, NULL) == x) break;
+    }
+    return cJSON_CreateRaw(buf);
+}
+
+static cJSON *triple(const double v[3])
+{
+    cJSON *a = cJSON_CreateArray();
+    for (int k = 0; a && k < 3; k++) {
+        cJSON *n = number(v[k]);
+        if (!n || !cJSON_AddItemToArray(a, n)) {
+            cJSON_Delete(n);
+            cJSON_Delete(a);
+            return NULL;
+        }
+    }
+    return a;
+}
 
 /* obj[key] = v, replacing any value there; 0 when out of memory. */
 static int put(cJSON *obj, const char *key, cJSON *v)
@@ -59,7 +84,7 @@ static int material_json(cJSON *ob, const sss_htsm_material *m, int has_field)
     static const char *const made[] = {"preset", "sigma_a", "sigmap_s", "sigma_s", "g", "transport", "eta", "inside"};
     for (size_t k = 0; k < sizeof made / sizeof made[0]; k++) cJSON_DeleteItemFromObjectCaseSensitive(mj, made[k]);
     if (!put(mj, "sigma_a", triple(m->base.sigma_a)) || !put(mj, "sigmap_s", triple(m->base.sigmap_s)) ||
-        !put(mj, "eta", cJSON_CreateNumber(m->base.eta)))
+        !put(mj, "eta", number(m->base.eta)))
         return 0;
     if (!has_field) return 1;
     /* min(1, s f) = s f for s ≤ 1 (f ≤ 1), and the blend is linear in f:
@@ -78,7 +103,7 @@ static int material_json(cJSON *ob, const sss_htsm_material *m, int has_field)
         cJSON_DeleteItemFromObjectCaseSensitive(fj, "strength");
         return 1;
     }
-    return put(fj, "strength", cJSON_CreateNumber(m->strength));
+    return put(fj, "strength", number(m->strength));
 }
 
 /* j[key], where present, = the absolute form of the resolved path p. */
