@@ -2,7 +2,10 @@
 # run-time path and says why, sss-bake --scene bakes nothing for the
 # object, sss-view --scene --offscreen draws it with no .sss file (q per
 # pixel by seed 000's pass), the embedded box darkens the picture against
-# the same block without a field, and bad uses are refused in one line.
+# the same block without a field, directional and point lights are drawn
+# (environment lights and a point light inside the object are not),
+# --save-scene writes a scene that draws the same picture (§9.6), and bad
+# uses are refused in one line.
 . "$(dirname "$0")/lib.sh"
 VIEW() { if [ -n "${SSS_VIEW_PRELOAD:-}" ]; then LD_PRELOAD="$SSS_VIEW_PRELOAD" "$SSS_VIEW" "$@"; else "$SSS_VIEW" "$@"; fi; }
 expect_ok "$SSS_GENMESH" cube 8 "$TMP/block.ply" 2

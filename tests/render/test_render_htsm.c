@@ -6,7 +6,9 @@
  * mips rebuilt), and must agree within a bound; an edit of the inside
  * material shows in the next frame, darkens the picture and undoes
  * exactly; strength 0 is the homogeneous pass; two lights give the sum of
- * each alone. */
+ * each alone. A point light (a perspective map, §9.2) agrees with the
+ * oracle as well, joins the sum, and far away along a direction converges
+ * to that directional light's frame. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>

@@ -640,8 +640,8 @@ int main(int argc, char **argv)
     int rc = parse(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;
     sss_error err = {{0}};
-    if (a.save_scene && !a.scene) {
-        sss_cli_printf(stderr, "%s: --save-scene: only with --scene (an editable object)\n", TOOL);
+    if (a.save_scene && (!a.scene || a.path)) {
+        sss_cli_printf(stderr, "%s: --save-scene: only with --scene on an editable object, without FILE.sss\n", TOOL);
         return 2;
     }
     if (!a.path) {
