@@ -185,7 +185,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "htsm_bench: %s: no light the run-time path draws\n", argv[1]);
         return 1;
     }
-    lights.mat.strength = o->field_strength;
+    if (o->field_strength > 0.0) lights.mat.strength = o->field_strength;
     if (paths > 0 && (lights.no_p_light || lights.nmore)) {
         fprintf(stderr, "htsm_bench: %s: the path-traced reference takes one directional light\n", argv[1]);
         return 1;

@@ -644,7 +644,7 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
         }
         /* the field's strength is the run-time path's scale of f; a bake
          * reads f as it is (docs/heterogeneous.md §9.6) */
-        if (scene->objects[i].field_strength != 1.0) {
+        if (scene->objects[i].field_strength > 0.0 && scene->objects[i].field_strength != 1.0) {
             sss_plan_free(out);
             return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/material/field/strength: a strength other than 1 is "
                             "drawn by the run-time path only (\"editable\": true; docs/heterogeneous.md sec. 9.6)",

@@ -87,7 +87,7 @@ static int state_open(const sss_pose_view *v, edit_state *s, sss_view_params *p)
     s->f.channels = 3;
     s->f.quant = SSS_QUANT_FLOAT;
     sss_htsm_view_default(&s->hv, &s->f, &o->hetero);
-    s->hv.mat.strength = o->field_strength;
+    if (o->field_strength > 0.0) s->hv.mat.strength = o->field_strength;
     uint32_t skipped = 0;
     if (!sss_htsm_view_lights(&s->hv, p, &s->sc, &s->f.mesh, &skipped)) {
         sss_cli_printf(stderr, "%s: %s: /lights: no directional or point light of non-zero intensity outside the "
