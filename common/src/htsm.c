@@ -254,19 +254,18 @@ static void dipoles_at(const sss_htsm_material *mat, double f, sss_dipole dp[3],
 
 /* Map coordinates (s, t) of x (mesh units): the map's lookup applied and
  * divided by its w (1 on an orthographic map, the depth along a
- * perspective map's axis), which it returns. */
-static double map_st(const float L[16], const double x[3], double st[2])
+ * perspective map's axis). */
+static void map_st(const float L[16], const double x[3], double st[2])
 {
     const double w = L[3] * x[0] + L[7] * x[1] + L[11] * x[2] + L[15];
     st[0] = (L[0] * x[0] + L[4] * x[1] + L[8] * x[2] + L[12]) / w;
     st[1] = (L[1] * x[0] + L[5] * x[1] + L[9] * x[2] + L[13]) / w;
-    return w;
 }
 
 /* Sample i's geometry from the light (docs/heterogeneous.md §9.2): u the
  * unit direction of the light's ray at x_i (away from the light), and the
- * factor its map area's area across that ray bears to the pattern's: 1
- * from a directional light; from a point light P the texel's side grows
+ * ratio of the area the sample stands for across that ray to the
+ * pattern's A_i: 1 from a directional light; from a point light P the texel's side grows
  * with its depth w_i along the axis, and the ray meets the plane across the
  * axis at cos θ = w_i / |x_i − P|, so (w_i / ref_w)² w_i / |x_i − P|. */
 static double ray_at(const sss_htsm_map *m, const double xi[3], double u[3])
