@@ -15,6 +15,7 @@ sss_result sss_htsm_map_init(sss_htsm_map *m, uint32_t size, sss_error *err)
     if (size < 2 || size > 4096 || (size & (size - 1)))
         return sss_fail(err, SSS_ERR_ARG, "light-space map size %u is not a power of two in [2, 4096]", size);
     m->size = size;
+    m->ref_w = 1.0;
     for (uint32_t s = size; s >= 1 && m->levels < SSS_HTSM_MAX_LEVELS; s >>= 1) {
         const size_t n = (size_t)s * s * 4;
         const uint32_t l = m->levels++;
@@ -63,9 +64,13 @@ void sss_htsm_map_mips(sss_htsm_map *m)
 
 double sss_htsm_texel_mm(const sss_htsm_map *m, double mm_per_unit)
 {
-    /* s = row 0 of lookup · x spans [0, 1] over the map's width */
-    const double a = m->lookup[0], b = m->lookup[4], c = m->lookup[8];
-    const double inv_w = sqrt(a * a + b * b + c * c);
+    /* s = (row 0 · x) / (row 3 · x) spans [0, 1] over the map's width; its
+     * gradient where s = ½ at the depth w = ref_w is (row 0 − ½ row 3) / ref_w
+     * (row 3 = (0, 0, 0, 1) and ref_w = 1 on an orthographic map) */
+    const float *L = m->lookup;
+    const double a = L[0] - 0.5 * L[3], b = L[4] - 0.5 * L[7], c = L[8] - 0.5 * L[11];
+    const double w = m->ref_w > 0.0 ? m->ref_w : 1.0;
+    const double inv_w = sqrt(a * a + b * b + c * c) / w;
     return inv_w > 0.0 ? mm_per_unit / (inv_w * m->size) : 0.0;
 }
 
@@ -247,11 +252,39 @@ static void dipoles_at(const sss_htsm_material *mat, double f, sss_dipole dp[3],
         out[c] = sss_dipole_init(&dp[c], b.sigma_a[c], b.sigmap_s[c], b.eta) == SSS_OK ? &dp[c] : NULL;
 }
 
-/* Map coordinates (s, t) of x (mesh units): the map's lookup applied. */
+/* Map coordinates (s, t) of x (mesh units): the map's lookup applied and
+ * divided by its w (1 on an orthographic map, the depth along a
+ * perspective map's axis). */
 static void map_st(const float L[16], const double x[3], double st[2])
 {
-    st[0] = L[0] * x[0] + L[4] * x[1] + L[8] * x[2] + L[12];
-    st[1] = L[1] * x[0] + L[5] * x[1] + L[9] * x[2] + L[13];
+    const double w = L[3] * x[0] + L[7] * x[1] + L[11] * x[2] + L[15];
+    st[0] = (L[0] * x[0] + L[4] * x[1] + L[8] * x[2] + L[12]) / w;
+    st[1] = (L[1] * x[0] + L[5] * x[1] + L[9] * x[2] + L[13]) / w;
+}
+
+/* Sample i's geometry from the light (docs/heterogeneous.md §9.2): u the
+ * unit direction of the light's ray at x_i (away from the light), and the
+ * ratio of the area the sample stands for across that ray to the
+ * pattern's A_i: 1 from a directional light; from a point light P the texel's side grows
+ * with its depth w_i along the axis, and the ray meets the plane across the
+ * axis at cos θ = w_i / |x_i − P|, so (w_i / ref_w)² w_i / |x_i − P|. */
+static double ray_at(const sss_htsm_map *m, const double xi[3], double u[3])
+{
+    const double *L = m->light;
+    if (L[3] == 0.0) {
+        u[0] = -L[0], u[1] = -L[1], u[2] = -L[2];
+        return 1.0;
+    }
+    const double r[3] = {xi[0] - L[0], xi[1] - L[1], xi[2] - L[2]};
+    const double n = sqrt(sss_dot3(r, r));
+    if (!(n > 0.0)) {
+        u[0] = u[1] = u[2] = 0.0;
+        return 0.0;
+    }
+    for (int k = 0; k < 3; k++) u[k] = r[k] / n;
+    const float *M = m->lookup;
+    const double w = M[3] * xi[0] + M[7] * xi[1] + M[11] * xi[2] + M[15], k = w / m->ref_w;
+    return k * k * w / n;
 }
 
 /* The blend's weight at x on level l: the field scaled by the strength. */
@@ -282,11 +315,14 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
         const double xi[3] = {pos[0] / pos[3], pos[1] / pos[3], pos[2] / pos[3]};
         const double dx[3] = {xo[0] - xi[0], xo[1] - xi[1], xo[2] - xi[2]};
         const double d = sqrt(sss_dot3(dx, dx)) * mm;
-        /* ℓ along the map (across the light), h along the light */
-        double si[2];
-        map_st(map->lookup, xi, si);
-        const double l = sqrt((so[0] - si[0]) * (so[0] - si[0]) + (so[1] - si[1]) * (so[1] - si[1])) * span;
-        const double h = sqrt(fmax(0.0, d * d - l * l));
+        /* h along the light's ray at x_i, ℓ across it; the disk's radius at
+         * the area the sample covers there */
+        double u[3];
+        const double a = ray_at(map, xi, u), hu = sss_dot3(dx, u);
+        const double across[3] = {dx[0] - hu * u[0], dx[1] - hu * u[1], dx[2] - hu * u[2]};
+        const double h = fabs(hu) * mm, l = sqrt(sss_dot3(across, across)) * mm;
+        const double rho = pat->rho[i] * sqrt(a);
+        if (!(rho > 0.0)) continue;
         const uint32_t lv = pat->vol_level[i];
         const double fi = weight_at(vol, mat, lv, xi);
         dipoles_at(mat, fi, dpi, Pi);
@@ -312,7 +348,7 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
             /* the sample stands for a disk of radius ρ (area A_i) at distance
              * d: each endpoint's profile integrated over it, their geometric
              * mean (§9.2) */
-            const double P = sqrt(disk_at(Po[c], h, l, pat->rho[i]) * disk_at(Pi[c], h, l, pat->rho[i]));
+            const double P = sqrt(disk_at(Po[c], h, l, rho) * disk_at(Pi[c], h, l, rho));
             /* the baked weight's 1/π (docs/physics.md §4): q in the bake's units */
             q[c] += E[c] * P * tau / SSS_PI;
         }

@@ -499,15 +499,17 @@ static sss_result parse_field(const ctx *c, const cJSON *fj, const char *jpath, 
      * refused per kind below) */
     sss_result r = get_bool(c, fj, jpath, "surface", &obj->hetero.surface);
     if (r != SSS_OK) return r;
+    /* "strength" too: the run-time path's scale of f (docs/heterogeneous.md §9.6) */
+    if ((r = get_number(c, fj, jpath, "strength", 0, 1.0 / 64, 64.0, &obj->field_strength)) != SSS_OK) return r;
     char p[512];
     if (cJSON_GetObjectItemCaseSensitive(fj, "constant")) {
-        static const char *const k[] = {"constant", "surface", NULL};
+        static const char *const k[] = {"constant", "surface", "strength", NULL};
         if ((r = only_keys(c, fj, jpath, k)) != SSS_OK) return r;
         f->kind = SSS_FIELD_CONSTANT;
         return get_number(c, fj, jpath, "constant", 1, 0.0, 1.0, &f->value);
     }
     if (cJSON_GetObjectItemCaseSensitive(fj, "vdb")) {
-        static const char *const k[] = {"vdb", "grid", "surface", NULL};
+        static const char *const k[] = {"vdb", "grid", "surface", "strength", NULL};
         if ((r = only_keys(c, fj, jpath, k)) != SSS_OK) return r;
         if ((r = get_path(c, fj, jpath, "vdb", obj->field_path)) != SSS_OK) return r;
         const cJSON *g = cJSON_GetObjectItemCaseSensitive(fj, "grid");
@@ -528,12 +530,13 @@ static sss_result parse_field(const ctx *c, const cJSON *fj, const char *jpath, 
     static const uint32_t kind_of[] = {0, SSS_FIELD_VEINS, SSS_FIELD_INCLUSIONS, SSS_FIELD_BOX, SSS_FIELD_SPHERE,
                                        SSS_FIELD_LAYERS};
     f->kind = kind_of[kind];
-    static const char *const kv[] = {"procedural", "seed", "scale_mm", "surface", NULL};
-    static const char *const ki[] = {"procedural", "seed", "scale_mm", "radius_mm", "edge_mm", "surface", NULL};
-    static const char *const kb[] = {"procedural", "centre_mm", "half_mm", "edge_mm", "surface", NULL};
-    static const char *const ks[] = {"procedural", "centre_mm", "radius_mm", "edge_mm", "surface", NULL};
+    static const char *const kv[] = {"procedural", "seed", "scale_mm", "surface", "strength", NULL};
+    static const char *const ki[] = {"procedural", "seed", "scale_mm", "radius_mm", "edge_mm", "surface", "strength",
+                                     NULL};
+    static const char *const kb[] = {"procedural", "centre_mm", "half_mm", "edge_mm", "surface", "strength", NULL};
+    static const char *const ks[] = {"procedural", "centre_mm", "radius_mm", "edge_mm", "surface", "strength", NULL};
     static const char *const kl[] = {"procedural", "normal", "thickness_mm", "period_mm", "offset_mm", "edge_mm",
-                                     "surface", NULL};
+                                     "surface", "strength", NULL};
     static const char *const *const keys[] = {NULL, kv, ki, kb, ks, kl};
     if ((r = only_keys(c, fj, jpath, keys[kind])) != SSS_OK) return r;
     uint32_t seed = 0;
@@ -595,6 +598,7 @@ static sss_result parse_object(const ctx *c, const cJSON *o, const char *jpath, 
     memset(out, 0, sizeof *out);
     out->scale = 1.0;
     out->mm_per_unit = 1.0;
+    out->field_strength = 1.0;
     snprintf(out->name, sizeof out->name, "object%d", index);
     const cJSON *nm = cJSON_GetObjectItemCaseSensitive(o, "name");
     if (nm) {

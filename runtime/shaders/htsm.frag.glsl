@@ -5,8 +5,10 @@
 // dipoles and the transmittance marched through the field's mipmapped 3D
 // texture with a fixed number of steps. Writes q and the exit point x_o.
 #define HT_MAX 13
-uniform mat4 u_ht_lookup;        // world -> (s, t) of the map
-uniform float u_ht_span;         // mm across the map
+uniform mat4 u_ht_lookup;        // world -> (s, t) of the map, after the division by w
+uniform vec4 u_ht_light;         // the map's light: (unit direction towards it, 0) or (its position, 1)
+uniform float u_ht_wref;         // w where the pattern's mm hold (1: orthographic)
+uniform float u_ht_span;         // mm across the map at w = u_ht_wref
 uniform float u_ht_mm;           // mm per mesh unit
 uniform int u_ht_size;           // the map's level-0 texels per side
 uniform int u_ht_n;              // samples: 1, 5, 9, 13
@@ -94,8 +96,21 @@ void ht_map(int l, vec2 st, out vec4 pos, out vec3 irr) {
         irr += wt * texelFetch(u_ht_irr, i, l).rgb;
     }
 }
+// htsm.c's ray_at: the unit direction of the light's ray at x_i (away from
+// the light) and the factor of the sample's area across it at x_i's depth
+float ht_ray(vec3 xi, out vec3 u) {
+    if (u_ht_light.w == 0.0) {
+        u = -u_ht_light.xyz;
+        return 1.0;
+    }
+    vec3 r = xi - u_ht_light.xyz;
+    float n = length(r), w = (u_ht_lookup * vec4(xi, 1.0)).w, k = w / u_ht_wref;
+    u = r / n;
+    return k * k * w / n;
+}
 void main() {
-    vec2 so = (u_ht_lookup * vec4(v_pos, 1.0)).xy;
+    vec4 ho = u_ht_lookup * vec4(v_pos, 1.0);
+    vec2 so = ho.xy / ho.w;
     float fo = ht_f(0, v_pos);
     vec3 tro = ht_tr(fo), q = vec3(0.0);
     HtDip dpo = ht_dip(fo); // x_o's profile, the same for every sample
@@ -106,8 +121,11 @@ void main() {
         if (!(pos.w > 1e-6)) continue; // nothing lit there
         vec3 xi = pos.xyz / pos.w, dx = v_pos - xi;
         float d = length(dx) * u_ht_mm;
-        float l = length(so - (u_ht_lookup * vec4(xi, 1.0)).xy) * u_ht_span; // along the map
-        float h = sqrt(max(0.0, d * d - l * l));                              // along the light
+        vec3 u;
+        float a = ht_ray(xi, u), hu = dot(dx, u);
+        float h = abs(hu) * u_ht_mm, l = length(dx - hu * u) * u_ht_mm; // along the ray, across it
+        float rho = u_ht_rho[i] * sqrt(a);
+        if (!(rho > 0.0)) continue;
         int lv = u_ht_vlev[i];
         float fi = ht_f(lv, xi);
         vec3 sbar = 0.5 * (tro + ht_tr(fi)), ts = vec3(0.0);
@@ -115,7 +133,7 @@ void main() {
             for (int j = 0; j < u_ht_steps; j++)
                 ts += max(vec3(0.0), ht_tr(ht_f(lv, xi + ((float(j) + 0.5) / float(u_ht_steps)) * dx)) - sbar);
         vec3 tau = exp(-ts * d / float(u_ht_steps));
-        q += E * sqrt(ht_disk(dpo, h, l, u_ht_rho[i]) * ht_disk(ht_dip(fi), h, l, u_ht_rho[i])) * tau / PI_HT; // the bake's 1/pi
+        q += E * sqrt(ht_disk(dpo, h, l, rho) * ht_disk(ht_dip(fi), h, l, rho)) * tau / PI_HT; // the bake's 1/pi
     }
     o_q = vec4(q, 1.0);
     o_x = vec4(v_pos, 1.0);

@@ -1,6 +1,7 @@
 // The light-space map of a heterogeneous object (effects/htsm.c; Shopf 2007
-// Fig. 4.2): the mesh seen along the light, orthographic (shadow.h's
-// projection), position and normal passed on.
+// Fig. 4.2): the mesh seen from the light, orthographic along a directional
+// light, perspective from a point light (shadow.h's projections), position
+// and normal passed on.
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in vec3 a_nrm;
 uniform mat4 u_mat; // world -> the light's clip space

@@ -15,6 +15,7 @@ uniform int u_tonemap;    // 0 clamp, 1 Reinhard, -1 none (HDR readback)
 uniform int u_srgb;       // encode for an 8-bit display framebuffer
 uniform int u_flat;       // wireframe: constant colour
 uniform int u_qimage;    // 1: q per pixel from u_qtex (the splatting, splat_gpu.c), not per vertex
+uniform int u_q_lit;     // 1: that q already holds the lights' irradiance (htsm_gpu.c), not scaled by u_light_rgb
 layout(binding = 1) uniform sampler2D u_qtex;
 out vec4 o_color;
 const float PI = 3.14159265358979;
@@ -27,7 +28,7 @@ void main() {
     // Subsurface term: L = E q F_t(eta, n.w_o) (Hao–Varshney 2004 §3.1),
     // divided by c(η) for the normalised exit
     vec3 q = u_qimage != 0 ? texelFetch(u_qtex, ivec2(gl_FragCoord.xy), 0).rgb : v_q;
-    if (u_scatter != 0) L += u_light_rgb * q * ((1.0 - fresnel_r(u_eta, nv)) * u_exit_scale);
+    if (u_scatter != 0) L += (u_q_lit != 0 ? vec3(1.0) : u_light_rgb) * q * ((1.0 - fresnel_r(u_eta, nv)) * u_exit_scale);
 #ifdef SSS_SINGLE
     // Single scattering per pixel (single.glsl, docs/layers.md §8)
     L += u_light_rgb * single_scattering(v_pos, n, v, u_light);

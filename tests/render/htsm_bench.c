@@ -1,8 +1,8 @@
 /* htsm_bench: the run-time path's frame time and accuracy (docs/heterogeneous.md
  * §9.4), a measurement, not a test.
  *   htsm_bench SCENE.json BAKED.exr WIDTH HEIGHT EXPOSURE [FRAMES [R0_MM [PATHS]]]
- * SCENE.json: one editable object with a field, one directional light (as
- * data/scenes/editable_box.json); BAKED.exr: the same scene without
+ * SCENE.json: one editable object with a field and its lights, directional
+ * or point (as data/scenes/editable_box.json); BAKED.exr: the same scene without
  * "editable", baked and drawn by sss-view at the same size and exposure
  * with --no-specular --single off. For n = 1, 5, 9, 13 samples and 2 … 32
  * steps: the median wall time of FRAMES (default 7) frames of the pass
@@ -177,12 +177,19 @@ int main(int argc, char **argv)
     p.single = -1;
     p.near_terms = 0;
     p.exposure = atof(argv[5]);
-    for (uint32_t l = 0; l < sc.nlights; l++)
-        if (sc.lights[l].kind == SSS_LIGHT_DIRECTIONAL) {
-            for (int k = 0; k < 3; k++)
-                p.light[k] = sc.lights[l].direction[k], p.light_rgb[k] = sc.lights[l].intensity * sc.lights[l].colour[k];
-            break;
-        }
+    /* the scene's lights as sss-view takes them: directional and point */
+    sss_htsm_view lights;
+    sss_htsm_view_default(&lights, &f, &o->hetero);
+    uint32_t skipped = 0;
+    if (!sss_htsm_view_lights(&lights, &p, &sc, &f.mesh, &skipped)) {
+        fprintf(stderr, "htsm_bench: %s: no light the run-time path draws\n", argv[1]);
+        return 1;
+    }
+    if (o->field_strength > 0.0) lights.mat.strength = o->field_strength;
+    if (paths > 0 && (lights.no_p_light || lights.nmore)) {
+        fprintf(stderr, "htsm_bench: %s: the path-traced reference takes one directional light\n", argv[1]);
+        return 1;
+    }
     sss_scene_camera_params(&sc, &f, &p);
     const char *tmp = "htsm_bench.tmp.exr";
     float *ref = NULL, *pt = NULL;
@@ -194,8 +201,7 @@ int main(int argc, char **argv)
     for (int pass = 0; pass < 2; pass++)
         for (int a = 0; a < (pass ? 4 : 1); a++)
             for (int b = 0; b < (pass ? 5 : 1); b++) {
-                sss_htsm_view v;
-                sss_htsm_view_default(&v, &f, &o->hetero);
+                sss_htsm_view v = lights;
                 v.n = pass ? ns[a] : 13;
                 v.steps = pass ? steps[b] : 64;
                 v.r0_mm = r0;

@@ -6,7 +6,9 @@
  * mips rebuilt), and must agree within a bound; an edit of the inside
  * material shows in the next frame, darkens the picture and undoes
  * exactly; strength 0 is the homogeneous pass; two lights give the sum of
- * each alone. */
+ * each alone. A point light (a perspective map, §9.2) agrees with the
+ * oracle as well, joins the sum, and far away along a direction converges
+ * to that directional light's frame. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -257,12 +259,173 @@ static void twoLightsGiveTheSumOfEachAlone(void **state)
     block_free(&b);
 }
 
+/* b's bounding radius (the light-space map's sphere, less its margin). */
+static double radius(const block *b)
+{
+    double c[3];
+    return sss_view_bounds(&b->f.mesh, c);
+}
+
+/* A point light at centre + dist · dir (dir as p's back light, unit) of
+ * intensity E · dist² per steradian, so that the centre gets p's E: v's
+ * only light (p's switched off). */
+static void point_only(const block *b, const sss_view_params *p, double dist, sss_htsm_view *v)
+{
+    double c[3], l[3] = {p->light[0], p->light[1], p->light[2]};
+    (void)sss_view_bounds(&b->f.mesh, c);
+    sss_normalize3(l);
+    v->no_p_light = 1;
+    v->nmore = 1;
+    v->more_point[0] = 1;
+    for (int k = 0; k < 3; k++) v->more_light[0][k] = c[k] + dist * l[k], v->more_rgb[0][k] = p->light_rgb[k] * dist * dist;
+}
+
+/* A point light behind the block at 3 bounding radii from its centre (a
+ * perspective map whose texels' areas differ by their depth, §9.2): per
+ * pixel within 10⁻⁴ of the image's largest q, as the directional light. */
+static void pointLightPerPixelAgreesWithTheCpuOracle(void **state)
+{
+    (void)state;
+    block b;
+    block_make(&b);
+    sss_htsm_gpu *g = gpu_of(&b, &b.h);
+    sss_view_params p;
+    params(&p);
+    const uint32_t ns[2] = {1, 13};
+    for (int k = 0; k < 2; k++) {
+        sss_htsm_view v;
+        view(&b, ns[k], 8, &v);
+        point_only(&b, &p, 3.0 * radius(&b), &v);
+        const double ms = frame(g, &v, &p);
+        int drawn = 0;
+        const double e = oracle_error(g, &v, &drawn);
+        printf("point light at 3 R, n = %2u, 8 steps: %d pixels, GPU vs CPU %.2e of the largest q (%.1f ms)\n", ns[k],
+               drawn, e, ms);
+        assert_true(drawn > W * H / 4);
+        assert_true(e < 1e-4);
+    }
+    sss_htsm_gpu_destroy(g);
+    block_free(&b);
+}
+
+/* The largest difference between two frames' q over the drawn pixels,
+ * relative to the largest q of the second; *mean the mean difference
+ * relative to the mean q of the second. */
+static double frame_difference(const float *a, const float *b, const float *x, double *mean)
+{
+    double worst = 0.0, qmax = 0.0, d = 0.0, s = 0.0;
+    for (int i = 0; i < W * H; i++)
+        if (x[4 * i + 3] == 1.0f)
+            for (int c = 0; c < 3; c++) qmax = fmax(qmax, b[4 * i + c]), s += b[4 * i + c];
+    for (int i = 0; i < W * H; i++)
+        if (x[4 * i + 3] == 1.0f)
+            for (int c = 0; c < 3; c++) {
+                worst = fmax(worst, fabs(a[4 * i + c] - b[4 * i + c]) / qmax);
+                d += fabs(a[4 * i + c] - b[4 * i + c]);
+            }
+    assert_true(qmax > 0.0);
+    *mean = d / s;
+    return worst;
+}
+
+static void frame_read(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, float **q, float **x);
+
+/* A point light far along the directional light's direction, of intensity
+ * E · dist², converges to that light's frame: the largest per-pixel
+ * difference falls about as R / dist (at least 4× per decade of dist),
+ * below 10⁻³ of the largest q at 10⁴ bounding radii. */
+static void farPointLightConvergesToTheDirectionalFrame(void **state)
+{
+    (void)state;
+    block b;
+    block_make(&b);
+    sss_htsm_gpu *g = gpu_of(&b, &b.h);
+    sss_view_params p;
+    params(&p);
+    sss_htsm_view v;
+    view(&b, 13, 8, &v);
+    float *q0, *x0;
+    frame_read(g, &v, &p, &q0, &x0);
+    double e[4], mean;
+    const double dist[4] = {10.0, 100.0, 1000.0, 10000.0};
+    for (int k = 0; k < 4; k++) {
+        sss_htsm_view vp = v;
+        point_only(&b, &p, dist[k] * radius(&b), &vp);
+        float *q, *x;
+        frame_read(g, &vp, &p, &q, &x);
+        e[k] = frame_difference(q, q0, x0, &mean);
+        printf("point light at %5.0f R: difference from the directional frame %.2e of its largest q at most, "
+               "%.2e of its mean q on average\n", dist[k], e[k], mean);
+        free(q);
+        free(x);
+    }
+    assert_true(e[0] > 1e-2);
+    for (int k = 1; k < 4; k++) assert_true(e[k] < 0.25 * e[k - 1]);
+    assert_true(e[3] < 1e-3);
+    free(q0);
+    free(x0);
+    sss_htsm_gpu_destroy(g);
+    block_free(&b);
+}
+
+/* A point light among the lights: the back light and a point light at the
+ * side give the sum of each alone, float for float; a point light within
+ * the bounding sphere is refused, naming it. */
+static void pointLightJoinsTheSumOfTheLights(void **state)
+{
+    (void)state;
+    block b;
+    block_make(&b);
+    sss_htsm_gpu *g = gpu_of(&b, &b.h);
+    sss_view_params p;
+    params(&p);
+    sss_htsm_view v, vp;
+    view(&b, 5, 8, &v);
+    double c[3];
+    sss_view_bounds(&b.f.mesh, c);
+    const double at[3] = {c[0] + 2.5, c[1] + 1.0, c[2] + 1.5}, I[3] = {4.0, 3.0, 2.0};
+    vp = v;
+    vp.no_p_light = 1;
+    vp.nmore = 1;
+    vp.more_point[0] = 1;
+    memcpy(vp.more_light[0], at, sizeof at);
+    memcpy(vp.more_rgb[0], I, sizeof I);
+    float *q[3], *x[3];
+    frame_read(g, &v, &p, &q[0], &x[0]);
+    frame_read(g, &vp, &p, &q[1], &x[1]);
+    vp.no_p_light = 0;
+    frame_read(g, &vp, &p, &q[2], &x[2]);
+    int drawn = 0, lit = 0;
+    for (int i = 0; i < W * H; i++) {
+        for (int c4 = 0; c4 < 4; c4++) assert_true(x[2][4 * i + c4] == x[0][4 * i + c4] && x[1][4 * i + c4] == x[0][4 * i + c4]);
+        if (x[0][4 * i + 3] != 1.0f) continue;
+        drawn++;
+        lit += q[1][4 * i] > 0.0f;
+        for (int ch = 0; ch < 3; ch++) assert_true(q[2][4 * i + ch] == q[0][4 * i + ch] + q[1][4 * i + ch]);
+    }
+    printf("%d pixels, %d lit by the point light: the pair is the sum of each alone\n", drawn, lit);
+    assert_true(drawn > W * H / 4 && lit > drawn / 2);
+    sss_error err = {{0}};
+    memcpy(vp.more_light[0], c, sizeof c);
+    assert_int_equal(sss_htsm_gpu_frame(g, &vp, &p, W, H, NULL, &err), SSS_ERR_ARG);
+    assert_non_null(strstr(err.msg, "lies within the object's bounding sphere"));
+    vp.nmore = 0;
+    vp.no_p_light = 1;
+    assert_int_equal(sss_htsm_gpu_frame(g, &vp, &p, W, H, NULL, &err), SSS_ERR_ARG);
+    for (int k = 0; k < 3; k++) free(q[k]), free(x[k]);
+    sss_htsm_gpu_destroy(g);
+    block_free(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(perPixelAgreesWithTheCpuOracle),
         cmocka_unit_test(liveEditsShowAtOnceAndUndo),
         cmocka_unit_test(twoLightsGiveTheSumOfEachAlone),
+        cmocka_unit_test(pointLightPerPixelAgreesWithTheCpuOracle),
+        cmocka_unit_test(farPointLightConvergesToTheDirectionalFrame),
+        cmocka_unit_test(pointLightJoinsTheSumOfTheLights),
     };
     return cmocka_run_group_tests(tests, gl_setup, gl_teardown);
 }

@@ -5,11 +5,13 @@
  * same pattern, the same mip levels and the same march.
  *
  * Inputs, as the GPU has them each frame:
- *   - the light-space map (Shopf 2007 Fig. 4.2): per texel of an orthographic
- *     view along the light, the surface nearest the light: its position and
- *     normal (both times the texel's coverage, with the coverage in w) and
- *     the flux it lets in per unit area across the light (E_t = E₀ F_t(η,
- *     n·l), r, g, b), with mip levels, each the 2 × 2 mean of the one below;
+ *   - the light-space map (Shopf 2007 Fig. 4.2): per texel of a view from
+ *     the light (orthographic along a directional light, perspective from a
+ *     point light), the surface nearest the light: its position and normal
+ *     (both times the texel's coverage, with the coverage in w) and the flux
+ *     it lets in per unit area across the light's ray (E_t = E₀ F_t(η, n·l),
+ *     or I F_t(η, n·l) / r² from a point light; r, g, b), with mip levels,
+ *     each the 2 × 2 mean of the one below;
  *   - the field f sampled on the nodes of a grid over the object's bounds
  *     (mesh units), 2^m + 1 nodes per side, with node-centred mip levels.
  *
@@ -19,10 +21,12 @@
  *   τ_i,c    = exp(−Σ_j max(0, σtr,c(f(ξ_j)) − σ̄tr,c) Δ)
  *
  * over the thesis's hierarchical pattern of n = 1, 5, 9 or 13 samples about
- * x_o's light-space projection; A_i the area (across the light) sample i
- * stands for, E_i, x_i the map's mean over it; r_i the distance from x_i to
- * x_o widened by the sample's disk (sqrt(d² + ρ_i²/2)); ξ_j the midpoints of
- * `steps` equal steps from x_i to x_o; σ̄tr the mean of the endpoints'.
+ * x_o's light-space projection; A_i the area (across the light's ray)
+ * sample i stands for, E_i, x_i the map's mean over it; R_d integrated over
+ * the sample's disk (docs/heterogeneous.md §9.2); ξ_j the midpoints of
+ * `steps` equal steps from x_i to x_o; σ̄tr the mean of the endpoints'. A
+ * point light's map is a perspective one: a sample's area is its map area
+ * at the depth it reads (docs/heterogeneous.md §9.2, "Point lights").
  */
 #ifndef SSS_HTSM_H
 #define SSS_HTSM_H
@@ -39,7 +43,7 @@ extern "C" {
 #define SSS_HTSM_MAX_LEVELS 16
 #define SSS_HTSM_MAX_SAMPLES 13  /* the thesis's largest pattern (Fig. 5.7) */
 #define SSS_HTSM_MAX_STEPS 1024
-#define SSS_HTSM_MAX_LIGHTS 8 /* directional lights summed per frame (docs/heterogeneous.md §9.1) */
+#define SSS_HTSM_MAX_LIGHTS 8 /* directional and point lights summed per frame (docs/heterogeneous.md §9.1) */
 
 /* The light-space map: `levels` mip levels, level l of size >> l texels
  * per side, 4 floats per texel in each of the three images. */
@@ -48,11 +52,21 @@ typedef struct sss_htsm_map {
     float *pos[SSS_HTSM_MAX_LEVELS]; /* position (mesh units) × coverage, coverage */
     float *nrm[SSS_HTSM_MAX_LEVELS]; /* normal × coverage, coverage */
     float *irr[SSS_HTSM_MAX_LEVELS]; /* E_t r, g, b per unit area across the light, coverage */
-    float lookup[16];                /* column-major: mesh units → (s, t) ∈ [0, 1]² of the map */
+    /* column-major: mesh units → (s, t) ∈ [0, 1]² of the map after the
+     * division by row 3's w (1 on an orthographic map) */
+    float lookup[16];
+    /* the light the map was drawn from: (l, 0) with l the unit direction
+     * towards a directional light, or (P, 1) with P a point light's
+     * position (mesh units) */
+    double light[4];
+    /* row 3's w where the pattern's millimetres hold: 1 on an orthographic
+     * map; a perspective map's distance to the object's centre along its
+     * axis (mesh units), where a sample's area is the pattern's */
+    double ref_w;
 } sss_htsm_map;
 
 /* Allocates every level of a size × size map (size a power of two, 2 to
- * 4096), zeroed. */
+ * 4096), zeroed, with ref_w 1 (the caller sets lookup and light). */
 sss_result sss_htsm_map_init(sss_htsm_map *m, uint32_t size, sss_error *err);
 /* Level l + 1 as the 2 × 2 mean of level l, for every level (as
  * glGenerateMipmap builds them for a power-of-two texture). */
@@ -101,7 +115,8 @@ typedef struct sss_htsm_pattern {
 sss_result sss_htsm_pattern_make(uint32_t n, double r0_mm, double texel_mm, uint32_t map_levels,
                                  sss_htsm_pattern *p, sss_error *err);
 
-/* The side of one level-0 texel of m in mm (from its lookup). */
+/* The side of one level-0 texel of m in mm (from its lookup), at the depth
+ * ref_w on a perspective map. */
 double sss_htsm_texel_mm(const sss_htsm_map *m, double mm_per_unit);
 
 /* The material of an estimate: base (f = 0), inside (f = 1), blended by

@@ -89,6 +89,10 @@ typedef struct sss_scene_object {
      * A grid field's samples are owned (sss_scene_free). */
     sss_hetero hetero;
     char field_path[SSS_SCENE_PATH_MAX]; /* a "vdb" field: the resolved file, read by the bake (else "") */
+    /* the field's "strength" s (f → min(1, s f)), which only the run-time
+     * path of an editable object draws (docs/heterogeneous.md §9.6); 1
+     * when absent (0 in an object built in code: read as 1) */
+    double field_strength;
     char field_grid[SSS_SCENE_NAME_MAX]; /* its grid's name */
 } sss_scene_object;
 

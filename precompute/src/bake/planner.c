@@ -200,11 +200,16 @@ static void rule_editable(const plan_in *in, sss_object_plan *p)
         p->light_pass[l] = UINT32_MAX;
         if (L->intensity == 0.0)
             decide(p, eff, "none", "intensity 0");
-        else if (L->kind != SSS_LIGHT_DIRECTIONAL)
-            decide(p, eff, "none", "the run-time path takes directional lights only (a %s light is not drawn on "
-                   "the object)", sss_light_kind_name(L->kind));
+        else if (L->kind != SSS_LIGHT_DIRECTIONAL && L->kind != SSS_LIGHT_POINT)
+            decide(p, eff, "none", "the run-time path takes directional and point lights only (this %s light is not "
+                   "drawn on the object)", sss_light_kind_name(L->kind));
         else if (drawn++ >= SSS_HTSM_MAX_LIGHTS)
-            decide(p, eff, "none", "the run-time path sums the first %d directional lights", SSS_HTSM_MAX_LIGHTS);
+            decide(p, eff, "none", "the run-time path sums the first %d directional and point lights",
+                   SSS_HTSM_MAX_LIGHTS);
+        else if (L->kind == SSS_LIGHT_POINT)
+            decide(p, eff, "run-time", "point light: its perspective light-space map (1/r^2 fall-off, each texel's "
+                   "area by its depth) is rendered each frame, the lights' q summed; not drawn from within the "
+                   "object's bounding sphere (docs/heterogeneous.md sec. 9.1)");
         else
             decide(p, eff, "run-time", "directional light: its light-space map is rendered each frame, the lights' "
                    "q summed (docs/heterogeneous.md sec. 9.1)");
@@ -636,6 +641,14 @@ sss_result sss_plan_scene_limited(const sss_scene *scene, const sss_mesh *world,
             }
             for (size_t r = 0; r < sizeof rules_editable / sizeof rules_editable[0]; r++) rules_editable[r](&in, p);
             continue;
+        }
+        /* the field's strength is the run-time path's scale of f; a bake
+         * reads f as it is (docs/heterogeneous.md §9.6) */
+        if (scene->objects[i].field_strength > 0.0 && scene->objects[i].field_strength != 1.0) {
+            sss_plan_free(out);
+            return sss_fail(err, SSS_ERR_ARG, "%s: /objects/%u/material/field/strength: a strength other than 1 is "
+                            "drawn by the run-time path only (\"editable\": true; docs/heterogeneous.md sec. 9.6)",
+                            scene->path, i);
         }
         if (sss_scene_object_deforms(&scene->objects[i])) {
             p->material = scene->objects[i].material;

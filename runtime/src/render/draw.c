@@ -234,6 +234,7 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     glUniform1i(glGetUniformLocation(pr, "u_flat"), 0);
     /* q per pixel (the splatting, splat_gpu.c) instead of per vertex */
     glUniform1i(glGetUniformLocation(pr, "u_qimage"), d->qtex != 0);
+    glUniform1i(glGetUniformLocation(pr, "u_q_lit"), d->qtex != 0 && d->q_lit);
     if (d->qtex) {
         glActiveTexture(GL_TEXTURE1);
         glBindTexture(GL_TEXTURE_2D, d->qtex);

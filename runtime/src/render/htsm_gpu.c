@@ -25,6 +25,7 @@ struct sss_htsm_gpu {
     uint32_t size, levels;   /* the map */
     GLuint map_fbo, map_tex[3], map_depth;
     float lookup[16];
+    double light[4], ref_w; /* the last map's light and depth of reference (sss_htsm_map's) */
     sss_htsm_volume vol;
     int vol_on;
     GLuint vol_tex;
@@ -75,6 +76,40 @@ void sss_htsm_view_default(sss_htsm_view *v, const sss_bake_file *f, const sss_h
     v->mat.inside.eta = f->material.eta; /* one surface, one index (docs/heterogeneous.md §3) */
     v->mat.strength = 1.0;
     v->mat.mm_per_unit = f->mm_per_unit;
+}
+
+uint32_t sss_htsm_view_lights(sss_htsm_view *v, sss_view_params *p, const sss_scene *sc, const sss_mesh *m,
+                              uint32_t *skipped)
+{
+    double c[3];
+    const double R = sss_view_bounds(m, c) * (1.0 + SSS_SHADOW_MARGIN);
+    uint32_t n = 0;
+    *skipped = 0;
+    v->nmore = 0;
+    v->no_p_light = 1;
+    for (uint32_t l = 0; l < sc->nlights; l++) {
+        const sss_scene_light *L = &sc->lights[l];
+        if (L->intensity == 0.0) continue;
+        const int point = L->kind == SSS_LIGHT_POINT;
+        const double dc[3] = {L->position[0] - c[0], L->position[1] - c[1], L->position[2] - c[2]};
+        if ((!point && L->kind != SSS_LIGHT_DIRECTIONAL) || (point && !(sqrt(sss_dot3(dc, dc)) > R)) ||
+            n == SSS_HTSM_MAX_LIGHTS) {
+            (*skipped)++;
+            continue;
+        }
+        n++;
+        double *d = v->more_light[v->nmore], *e = v->more_rgb[v->nmore];
+        if (!point && v->no_p_light) {
+            d = p->light, e = p->light_rgb;
+            v->no_p_light = 0;
+        } else {
+            v->more_point[v->nmore++] = point;
+        }
+        for (int k = 0; k < 3; k++) d[k] = point ? L->position[k] : L->direction[k], e[k] = L->intensity * L->colour[k];
+    }
+    /* the draw's surface terms take p's light alone: none without a directional light */
+    if (v->no_p_light) p->light_rgb[0] = p->light_rgb[1] = p->light_rgb[2] = 0.0;
+    return n;
 }
 
 /* The mesh's bounding box, mesh units. */
@@ -208,6 +243,7 @@ static sss_result set_estimator(const sss_htsm_gpu *g, const sss_htsm_view *v, s
     sss_htsm_map geo;
     memset(&geo, 0, sizeof geo);
     geo.size = g->size;
+    geo.ref_w = g->ref_w;
     memcpy(geo.lookup, g->lookup, sizeof geo.lookup);
     const double texel = sss_htsm_texel_mm(&geo, v->mat.mm_per_unit);
     /* 13 samples reach 8 r0 = the bounding sphere's diameter: every lit point of a back-lit
@@ -228,6 +264,9 @@ static sss_result set_estimator(const sss_htsm_gpu *g, const sss_htsm_view *v, s
         vl[i] = (GLint)pat.vol_level[i];
     }
     glUniformMatrix4fv(glGetUniformLocation(p, "u_ht_lookup"), 1, GL_FALSE, g->lookup);
+    glUniform4f(glGetUniformLocation(p, "u_ht_light"), (float)g->light[0], (float)g->light[1], (float)g->light[2],
+                (float)g->light[3]);
+    uni_f(p, "u_ht_wref", (float)g->ref_w);
     uni_f(p, "u_ht_span", (float)(texel * g->size));
     uni_f(p, "u_ht_mm", (float)v->mat.mm_per_unit);
     uni_i(p, "u_ht_size", (int)g->size);
@@ -269,21 +308,36 @@ static void unbind_units(void)
     glActiveTexture(GL_TEXTURE0);
 }
 
-/* One light's two draws (§9.1): its map along l, then q and x_o from the
- * camera, which the first light's pass clears and each later one adds to:
- * q blended one-to-one, the depth buffer already the nearest surface's, so
- * only that surface's fragments pass (GL_LEQUAL) and x_o is written again
- * with the same values. */
-static sss_result light_pass(sss_htsm_gpu *g, const sss_htsm_view *v, const double light[3], const double rgb[3],
-                             const float mvp[16], int width, int height, int add, sss_error *err)
+/* One light's two draws (§9.1): its map from the light, then q and x_o
+ * from the camera, which the first light's pass clears and each later one
+ * adds to: q blended one-to-one, the depth buffer already the nearest
+ * surface's, so only that surface's fragments pass (GL_LEQUAL) and x_o is
+ * written again with the same values. point 0: light is the direction
+ * towards a directional light, orthographic map; 1: a point light's
+ * position, perspective map. */
+static sss_result light_pass(sss_htsm_gpu *g, const sss_htsm_view *v, const double light[3], int point,
+                             const double rgb[3], const float mvp[16], int width, int height, int add, sss_error *err)
 {
     const sss_gpu_mesh *m = &g->r->mesh;
-    double l[3] = {light[0], light[1], light[2]};
-    sss_normalize3(l);
-    const float lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
+    const double R = m->radius * (1.0 + SSS_SHADOW_MARGIN);
     float clip[16];
-    if (!sss_shadow_frame(m->centre, m->radius * (1.0 + SSS_SHADOW_MARGIN), lf, clip, g->lookup))
-        return sss_fail(err, SSS_ERR_ARG, "the light has no direction");
+    if (point) {
+        if (!sss_shadow_frame_point(m->centre, R, light, clip, g->lookup, &g->ref_w))
+            return sss_fail(err, SSS_ERR_ARG, "the point light at (%g, %g, %g) lies within the object's bounding "
+                            "sphere (radius %g): no light-space map from there sees the object whole",
+                            light[0], light[1], light[2], R);
+        memcpy(g->light, light, 3 * sizeof *light);
+        g->light[3] = 1.0;
+    } else {
+        double l[3] = {light[0], light[1], light[2]};
+        sss_normalize3(l);
+        const float lf[3] = {(float)l[0], (float)l[1], (float)l[2]};
+        if (!sss_shadow_frame(m->centre, R, lf, clip, g->lookup))
+            return sss_fail(err, SSS_ERR_ARG, "the light has no direction");
+        memcpy(g->light, l, sizeof l);
+        g->light[3] = 0.0;
+        g->ref_w = 1.0;
+    }
     /* 1. the map along the light: every surface, the nearest to the light */
     glBindFramebuffer(GL_FRAMEBUFFER, g->map_fbo);
     const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
@@ -296,7 +350,8 @@ static sss_result light_pass(sss_htsm_gpu *g, const sss_htsm_view *v, const doub
     glDepthFunc(GL_LESS);
     glUseProgram(g->prog_map);
     glUniformMatrix4fv(glGetUniformLocation(g->prog_map, "u_mat"), 1, GL_FALSE, clip);
-    uni_v3(g->prog_map, "u_l", l);
+    glUniform4f(glGetUniformLocation(g->prog_map, "u_light"), (float)g->light[0], (float)g->light[1],
+                (float)g->light[2], (float)g->light[3]);
     uni_v3(g->prog_map, "u_light_rgb", rgb);
     uni_f(g->prog_map, "u_eta", (float)v->mat.base.eta);
     glDrawElements(GL_TRIANGLES, (GLsizei)(3 * m->nf), GL_UNSIGNED_INT, NULL);
@@ -331,8 +386,9 @@ sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss
                               int height, double *ms, sss_error *err)
 {
     const sss_gpu_mesh *m = &g->r->mesh;
-    if (v->nmore > SSS_HTSM_MAX_LIGHTS - 1)
-        return sss_fail(err, SSS_ERR_ARG, "%u more lights: at most %d", v->nmore, SSS_HTSM_MAX_LIGHTS - 1);
+    const uint32_t nlights = (v->no_p_light ? 0u : 1u) + v->nmore;
+    if (nlights < 1 || nlights > SSS_HTSM_MAX_LIGHTS)
+        return sss_fail(err, SSS_ERR_ARG, "%u lights: the run-time path draws 1 to %d", nlights, SSS_HTSM_MAX_LIGHTS);
     sss_result res = q_ensure(g, width, height, err);
     if (res != SSS_OK) return res;
     GLint prev = 0, vp[4];
@@ -346,9 +402,10 @@ sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glBindVertexArray(m->vao);
-    res = light_pass(g, v, p->light, p->light_rgb, mvp, width, height, 0, err);
+    if (!v->no_p_light) res = light_pass(g, v, p->light, 0, p->light_rgb, mvp, width, height, 0, err);
     for (uint32_t k = 0; res == SSS_OK && k < v->nmore; k++)
-        res = light_pass(g, v, v->more_light[k], v->more_rgb[k], mvp, width, height, 1, err);
+        res = light_pass(g, v, v->more_light[k], v->more_point[k], v->more_rgb[k], mvp, width, height,
+                         k > 0 || !v->no_p_light, err);
     glBindVertexArray(0);
     glUseProgram(0);
     glFinish();
@@ -366,14 +423,17 @@ sss_result sss_htsm_gpu_render_image(sss_htsm_gpu *g, const sss_htsm_view *v, co
     sss_result res = sss_htsm_gpu_frame(g, v, p, width, height, NULL, err);
     if (res != SSS_OK) return res;
     g->r->draw.qtex = g->q_tex[0];
+    g->r->draw.q_lit = 1;
     res = sss_draw_read_image(g->r, p, width, height, rgb, hdr, err);
     g->r->draw.qtex = 0;
+    g->r->draw.q_lit = 0;
     return res;
 }
 
 sss_result sss_htsm_gpu_attach(sss_htsm_gpu *g, int on)
 {
     g->r->draw.qtex = on ? g->q_tex[0] : 0;
+    g->r->draw.q_lit = on != 0;
     return SSS_OK;
 }
 
@@ -383,6 +443,8 @@ sss_result sss_htsm_gpu_read(const sss_htsm_gpu *g, sss_htsm_map *map, float **q
     sss_result res = sss_htsm_map_init(map, g->size, err);
     if (res != SSS_OK) return res;
     memcpy(map->lookup, g->lookup, sizeof map->lookup);
+    memcpy(map->light, g->light, sizeof map->light);
+    map->ref_w = g->ref_w;
     float *dst[3] = {map->pos[0], map->nrm[0], map->irr[0]};
     for (int i = 0; i < 3; i++) {
         glBindTexture(GL_TEXTURE_2D, g->map_tex[i]);

@@ -66,6 +66,10 @@ typedef struct sss_draw {
     GLuint fbo, fbo_color, fbo_depth;
     int fbo_w, fbo_h;
     GLuint qtex; /* non-zero: q per pixel from this RGBA32F texture of the frame's size (splat_gpu.c) */
+    /* 1: that q already holds its lights' irradiance, each light's E in its
+     * own light-space map (htsm_gpu.c, docs/heterogeneous.md §9.1): not
+     * scaled again by p's light_rgb, which the surface terms still take */
+    int q_lit;
 } sss_draw;
 
 sss_result sss_draw_create(sss_draw *d, sss_error *err);

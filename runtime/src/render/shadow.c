@@ -172,6 +172,36 @@ int sss_shadow_frame(const double c[3], double R, const float l[3], float clip[1
     return 1;
 }
 
+int sss_shadow_frame_point(const double c[3], double R, const double P[3], float clip[16], float lookup[16],
+                           double *ref_w)
+{
+    double e[3] = {c[0] - P[0], c[1] - P[1], c[2] - P[2]}, w[3], u[3], v[3];
+    const double D = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    if (!(R > 0.0) || !(D > R) || !isfinite(D)) return 0;
+    for (int k = 0; k < 3; k++) e[k] /= D, w[k] = -e[k];
+    light_frame(w, u, v);
+    /* the cone from P tangent to the sphere: half-angle θ, tan θ = R / sqrt(D² − R²);
+     * depth z = e·(p − P) = e·(p − c) + D in [D − R, D + R]. Each row is
+     * written about c (u·(p − P) = u·(p − c), since u ⊥ e), so that a far
+     * light's large |P| does not cancel in float. */
+    const double t = R / sqrt(D * D - R * R), n = D - R, f = D + R;
+    const double A = (f + n) / (f - n), B = -2.0 * f * n / (f - n);
+    double rows[4][4]; /* x, y, z and w of the clip matrix: a · p + b */
+    for (int k = 0; k < 3; k++) rows[0][k] = u[k] / t, rows[1][k] = v[k] / t, rows[3][k] = e[k], rows[2][k] = A * e[k];
+    rows[0][3] = -(u[0] * c[0] + u[1] * c[1] + u[2] * c[2]) / t;
+    rows[1][3] = -(v[0] * c[0] + v[1] * c[1] + v[2] * c[2]) / t;
+    rows[3][3] = D - (e[0] * c[0] + e[1] * c[1] + e[2] * c[2]);
+    rows[2][3] = A * rows[3][3] + B;
+    for (int r = 0; r < 4; r++)
+        for (int k = 0; k < 4; k++) {
+            clip[k * 4 + r] = (float)rows[r][k];
+            /* (s, t, depth) = ½ (clip / w) + ½: ½ clip + ½ w before the division */
+            lookup[k * 4 + r] = (float)(r < 3 ? 0.5 * rows[r][k] + 0.5 * rows[3][k] : rows[3][k]);
+        }
+    *ref_w = D;
+    return 1;
+}
+
 int sss_shadow_update(sss_shadow *s, const float l[3], GLuint query)
 {
     if (s->valid && s->dir[0] == l[0] && s->dir[1] == l[1] && s->dir[2] == l[2]) {

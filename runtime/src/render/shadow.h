@@ -70,6 +70,16 @@ int sss_shadow_update(sss_shadow *s, const float l[3], GLuint query);
  * single scattering's light-space map (effects/single.c). */
 int sss_shadow_frame(const double c[3], double R, const float l[3], float clip[16], float lookup[16]);
 
+/* The perspective projection from a point light at P (world units) onto
+ * the sphere about c of radius R' (the margin included; the run-time path
+ * of an editable object, docs/heterogeneous.md §9.1): the cone from P
+ * tangent to the sphere, square, depth from D − R' to D + R' (D = |c − P|);
+ * clip and the world → (s, t, depth) lookup as above, each to be divided by
+ * its w, the depth along the axis (row 3), and *ref_w = D. 0 when P lies
+ * within the sphere, which no such view can see whole. */
+int sss_shadow_frame_point(const double c[3], double R, const double P[3], float clip[16], float lookup[16],
+                           double *ref_w);
+
 /* Forgets the direction held, so that the next update renders. */
 void sss_shadow_invalidate(sss_shadow *s);
 

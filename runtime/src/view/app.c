@@ -56,6 +56,7 @@ const char *sss_app_controls_help =
     "  J / K                         editable object: inside material's absorption /1.5 / x1.5\n"
     "  U / I                         editable object: the field's strength /1.25 / x1.25\n"
     "  Y                             editable object: the next transport colour of the base material\n"
+    "  E                             editable object: write the scene with the edited material (--save-scene)\n"
     "  Esc, Q                        quit\n";
 
 typedef enum drag_mode { DRAG_NONE, DRAG_ORBIT, DRAG_PAN, DRAG_LIGHT } drag_mode;
@@ -76,6 +77,7 @@ typedef struct app {
     int overlay;
     int show_panel;
     int want_shot;     /* 'P' seen: save after the next frame is drawn */
+    int edit_save;     /* the panel's "write the scene" pressed: handled as the key E */
     double last_t;     /* start of the previous frame, seconds */
     /* the time the frame callbacks get: runs with the wall clock unless
      * paused (space); '.' and ',' step it by 1/30 s (docs/deformable.md §4) */
@@ -509,7 +511,7 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
     if (!a.panel) sss_cli_printf(stderr, "%s: no panel (G): %s\n", TOOL, err.msg);
     sss_panel_info pinfo = {f, opt->file_path, a.storage, sss_renderer_bytes_per_vertex(a.r), NULL,
                             opt->frame_q != NULL || opt->frame_gpu != NULL, a.initial.exposure, {0, 0, 0}, 0.0,
-                            opt->scene_eval, opt->edit, opt->transport_mm};
+                            opt->scene_eval, opt->edit, opt->transport_mm, &a.edit_save};
     float *scene_q = opt->frame_q ? malloc((size_t)f->mesh.nv * f->channels * sizeof(float) + 1) : NULL;
 
     while (!glfwWindowShouldClose(win)) {
@@ -540,6 +542,8 @@ int sss_app_run(const sss_bake_file *f, const sss_view_params *initial, const ss
         /* the panel's edits apply to this frame; it is drawn over it below */
         pinfo.scene_desc = a.scene_desc;
         if (a.panel) sss_panel_frame(a.panel, a.show_panel, &a.p, &pinfo);
+        if (a.edit_save && opt->key) opt->key(opt->user, GLFW_KEY_E);
+        a.edit_save = 0;
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         sss_view_params dp = a.p;
         /* single scattering: the frame's one directional light only, never a

@@ -21,6 +21,7 @@
 #include "sss/htsm_gpu.h"
 #include "sss/import.h"
 #include "sss/scene.h"
+#include "sss/scene_edit.h"
 
 /* The transport colours Y steps through (Shopf 2007 §4.3.3's examples:
  * wax, juice, jade, milk), reached after the base's transport distance. */
@@ -37,6 +38,8 @@ typedef struct edit_state {
     char desc[200];
 } edit_state;
 
+static int save_scene(const edit_state *s);
+
 int sss_edit_wanted(const char *scene_path)
 {
     sss_scene sc;
@@ -51,29 +54,6 @@ static void state_free(edit_state *s)
 {
     sss_mesh_free(&s->f.mesh);
     sss_scene_free(&s->sc);
-}
-
-/* The scene's directional lights of non-zero intensity: the first into p
- * (the one the window's keys turn), the next ones into v's more lights,
- * each taking its own map and pass (docs/heterogeneous.md §9.1). Returns
- * how many; *skipped counts the lights the run-time path does not draw. */
-static uint32_t scene_lights(const sss_scene *sc, sss_view_params *p, sss_htsm_view *v, uint32_t *skipped)
-{
-    uint32_t n = 0;
-    *skipped = 0;
-    v->nmore = 0;
-    for (uint32_t l = 0; l < sc->nlights; l++) {
-        const sss_scene_light *L = &sc->lights[l];
-        if (L->intensity == 0.0) continue;
-        if (L->kind != SSS_LIGHT_DIRECTIONAL || n == SSS_HTSM_MAX_LIGHTS) {
-            (*skipped)++;
-            continue;
-        }
-        double *d = p->light, *e = p->light_rgb;
-        if (n++) d = v->more_light[v->nmore], e = v->more_rgb[v->nmore], v->nmore++;
-        for (int k = 0; k < 3; k++) d[k] = L->direction[k], e[k] = L->intensity * L->colour[k];
-    }
-    return n;
 }
 
 static int state_open(const sss_pose_view *v, edit_state *s, sss_view_params *p)
@@ -107,15 +87,17 @@ static int state_open(const sss_pose_view *v, edit_state *s, sss_view_params *p)
     s->f.channels = 3;
     s->f.quant = SSS_QUANT_FLOAT;
     sss_htsm_view_default(&s->hv, &s->f, &o->hetero);
+    if (o->field_strength > 0.0) s->hv.mat.strength = o->field_strength;
     uint32_t skipped = 0;
-    if (!scene_lights(&s->sc, p, &s->hv, &skipped)) {
-        sss_cli_printf(stderr, "%s: %s: /lights: no directional light of non-zero intensity: the run-time path "
-                       "takes directional lights only\n", T, v->scene);
+    if (!sss_htsm_view_lights(&s->hv, p, &s->sc, &s->f.mesh, &skipped)) {
+        sss_cli_printf(stderr, "%s: %s: /lights: no directional or point light of non-zero intensity outside the "
+                       "object: the run-time path draws no other\n", T, v->scene);
         return 2;
     }
     if (skipped)
         sss_cli_printf(stderr, "%s: %s: /lights: %u light(s) not drawn: the run-time path sums up to %d directional "
-                       "lights and no point or environment light\n", T, v->scene, skipped, SSS_HTSM_MAX_LIGHTS);
+                       "and point lights, no environment light and no point light within the object's bounding "
+                       "sphere\n", T, v->scene, skipped, SSS_HTSM_MAX_LIGHTS);
     if (!v->exposure_given) {
         const double qs = sss_material_slab_q(&o->material, 3);
         p->exposure = qs > 0.0 && isfinite(1.0 / qs) ? 1.0 / qs : 1.0;
@@ -159,6 +141,7 @@ int sss_edit_offscreen(const sss_pose_view *v, sss_view_params *p)
         sss_cli_printf(stderr, "%s: %s: %dx%d, %s, '%s' editable, %u vertices, q per pixel by the run-time path "
                        "(%u samples, %u steps) in %.1f ms\n", T, v->out, v->width, v->height, sss_gl_renderer_name(),
                        s.sc.objects[0].name, s.f.mesh.nv, s.hv.n, s.hv.steps, ms);
+        if (v->save_scene) rc = save_scene(&s);
     }
     free(rgb);
     free(hdr);
@@ -169,7 +152,25 @@ int sss_edit_offscreen(const sss_pose_view *v, sss_view_params *p)
     return rc;
 }
 
-/* J / K, U / I, Y: the live edits (edit.h). */
+/* The scene with the live material written to v->save_scene, or
+ * NAME.edited.json next to it (docs/heterogeneous.md §9.6): its path in one
+ * line, or the reason it was not written. 0 or 1. */
+static int save_scene(const edit_state *s)
+{
+    const char *T = s->v->tool;
+    char def[SSS_SCENE_PATH_MAX + 16];
+    sss_error err = {{0}};
+    const char *out = s->v->save_scene;
+    if (!out && sss_scene_edited_path(s->v->scene, def, sizeof def, &err) == SSS_OK) out = def;
+    if (!out || sss_scene_write_edited(s->v->scene, 0, &s->hv.mat, out, &err) != SSS_OK) {
+        sss_cli_printf(stderr, "%s: edited scene not written: %s\n", T, err.msg);
+        return 1;
+    }
+    sss_cli_printf(stderr, "%s: edited scene written to %s\n", T, out);
+    return 0;
+}
+
+/* J / K, U / I, Y: the live edits (edit.h); E: the edit written back. */
 static int on_key(void *user, int key)
 {
     edit_state *s = user;
@@ -181,6 +182,7 @@ static int on_key(void *user, int key)
         return 1;
     case GLFW_KEY_U:
     case GLFW_KEY_I: m->strength = fmin(64.0, fmax(1.0 / 64.0, m->strength * (key == GLFW_KEY_I ? 1.25 : 0.8))); return 1;
+    case GLFW_KEY_E: save_scene(s); return 1;
     case GLFW_KEY_Y: {
         double sa[3];
         sss_error err = {{0}};

@@ -88,6 +88,9 @@ static void usage(FILE *f)
         "                       2012) instead of the object-space path (docs/deformable.md §9)\n"
         "  --splat-levels N     the splatting's levels, 1 ... 3 (default 3)\n"
         "  --splat-uniform      the splatting without the adaptive selection: every light texel a sample\n"
+        "  --save-scene PATH    an editable object: where E (or the panel's button) writes the scene with the\n"
+        "                       edited material (default NAME.edited.json next to S.json; never S.json itself);\n"
+        "                       with --offscreen, written after the image (docs/heterogeneous.md §9.6)\n"
         "  -h, --help           this text\n\n"
         "window controls:\n%s",
         sss_app_controls_help);
@@ -103,6 +106,7 @@ typedef struct view_args {
     const char *out;   /* --out IMG.png|IMG.exr, or NULL */
     const char *shot;  /* --screenshot, or NULL */
     const char *scene; /* --scene S.json, or NULL */
+    const char *save_scene; /* --save-scene PATH, or NULL */
     double time;       /* --time T: the pose of a deforming object (docs/deformable.md) */
     int time_given;
     int splat, splat_levels, splat_uniform; /* --splat, --splat-levels, --splat-uniform */
@@ -187,6 +191,7 @@ static int parse(int argc, char **argv, view_args *a)
         {.name = "--screenshot", .kind = SSS_CLI_STRING, .dest = &a->shot},
         {.name = "--bench", .kind = SSS_CLI_INT, .dest = &a->nbench, .lo = 1, .hi = 100000},
         {.name = "--scene", .kind = SSS_CLI_STRING, .dest = &a->scene},
+        {.name = "--save-scene", .kind = SSS_CLI_STRING, .dest = &a->save_scene},
         {.name = "--time", .kind = SSS_CLI_DOUBLE, .dest = &a->time, .lo = -1e9, .hi = 1e9, .given = &a->time_given},
         {.name = "--splat", .kind = SSS_CLI_FLAG, .dest = &a->splat},
         {.name = "--splat-levels", .kind = SSS_CLI_INT, .dest = &a->splat_levels, .lo = 1, .hi = 3},
@@ -635,6 +640,10 @@ int main(int argc, char **argv)
     int rc = parse(argc, argv, &a);
     if (rc != SSS_CLI_RUN) return rc;
     sss_error err = {{0}};
+    if (a.save_scene && (!a.scene || a.path)) {
+        sss_cli_printf(stderr, "%s: --save-scene: only with --scene on an editable object, without FILE.sss\n", TOOL);
+        return 2;
+    }
     if (!a.path) {
         a.input[0] = a.scene;
         a.inputs = (sss_inputs){a.input, 1};
@@ -643,10 +652,17 @@ int main(int argc, char **argv)
             return 1;
         }
         sss_pose_view pv = {TOOL, a.scene, a.time, a.out, a.shot, a.size[0], a.size[1], a.exposure_given, &a.inputs,
-                            a.splat, a.splat_levels, !a.splat_uniform};
+                            a.splat, a.splat_levels, !a.splat_uniform, a.save_scene};
         if (!a.offscreen) a.p.background[0] = a.p.background[1] = a.p.background[2] = 0.02f; /* as window() */
+        const int editable = sss_edit_wanted(a.scene);
+        /* the edited scene replaces no input (sss/fileio.h), checked before anything is drawn */
+        if (a.save_scene && (!editable || sss_output_check(a.save_scene, &a.inputs, NULL, &err) != SSS_OK)) {
+            if (!editable) snprintf(err.msg, sizeof err.msg, "--save-scene: only for a scene whose object is editable");
+            sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
+            return 2;
+        }
         /* an editable object: seed 000's run-time path (edit.c, docs/heterogeneous.md §9) */
-        if (sss_edit_wanted(a.scene)) return a.offscreen ? sss_edit_offscreen(&pv, &a.p) : sss_edit_window(&pv, &a.p);
+        if (editable) return a.offscreen ? sss_edit_offscreen(&pv, &a.p) : sss_edit_window(&pv, &a.p);
         return a.offscreen ? sss_pose_offscreen(&pv, &a.p) : sss_pose_window(&pv, &a.p);
     }
     a.input[0] = a.path;

@@ -211,7 +211,7 @@ void effects_section(sss_view_params *p, const sss_panel_info *in)
 // inside's absorption, the field's strength and the base's transport
 // colour, the keys' edits (J / K, U / I, Y) as sliders, read back from the
 // material every frame so that keys and sliders agree.
-void edit_section(sss_htsm_material *m, double transport_mm)
+void edit_section(sss_htsm_material *m, double transport_mm, int *save)
 {
     float sa[3];
     for (int c = 0; c < 3; c++) sa[c] = (float)m->inside.sigma_a[c];
@@ -233,6 +233,8 @@ void edit_section(sss_htsm_material *m, double transport_mm)
     }
     note("the base's colour after %.3g mm sets its sigma_a; the inside's sigma'_s %.3g %.3g %.3g /mm", transport_mm,
          m->inside.sigmap_s[0], m->inside.sigmap_s[1], m->inside.sigmap_s[2]);
+    // the edit written back as a scene file, as E does (docs/heterogeneous.md 9.6)
+    if (save && ImGui::Button("write the scene (E)")) *save = 1;
 }
 
 // The material is baked into q: only the exit term is the viewer's (an
@@ -401,7 +403,7 @@ void sss_panel_frame(sss_panel *pn, int show, sss_view_params *p, const sss_pane
         ImGui::PushItemWidth(-90.0f);  // labels right of the controls get 90 px
         if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_section(p, in->scene && !in->edit);
         if (in->edit && ImGui::CollapsingHeader("Live material", ImGuiTreeNodeFlags_DefaultOpen))
-            edit_section(in->edit, in->transport_mm);
+            edit_section(in->edit, in->transport_mm, in->edit_save);
         if (ImGui::CollapsingHeader("Image", ImGuiTreeNodeFlags_DefaultOpen)) image_section(p);
         if (ImGui::CollapsingHeader("Effects", ImGuiTreeNodeFlags_DefaultOpen)) effects_section(p, in);
         if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) material_section(p, in);

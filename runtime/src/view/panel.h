@@ -44,6 +44,7 @@ typedef struct sss_panel_info {
      * §9.1), edited here as by its keys; NULL otherwise */
     sss_htsm_material *edit;
     double transport_mm;       /* the distance at which edit's base reaches its transport colour */
+    int *edit_save;            /* set to 1 by the live material's "write the scene" button (the app acts as on E) */
 } sss_panel_info;
 
 /* Creates the ImGui context on win (whose GL context is current) and installs

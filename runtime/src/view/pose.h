@@ -21,6 +21,7 @@ typedef struct sss_pose_view {
     int splat;              /* offscreen: q per pixel by the splatting (sss/splat_gpu.h), not per vertex */
     int splat_levels;       /* its levels (0: 3) */
     int splat_adaptive;     /* its adaptive selection */
+    const char *save_scene; /* an editable object: --save-scene, where E writes the edited scene (NULL: NAME.edited.json) */
 } sss_pose_view;
 
 /* Renders the scene's one object at time v->time into v->out with the
