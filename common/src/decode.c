@@ -521,12 +521,53 @@ static inline void coded_values(const sss_bake_file *f, const float *R, const fl
  * order (a = 0; a += term_0; a += term_1 …), so the result is sh_sums's to
  * the bit, and the GPU's (scatter_coded.comp.glsl). */
 
+/* The load-time layout of the references' blend (sss_refcode.bw, .bo):
+ * per coded vertex its three weights as the floats coded_blend forms from
+ * the codes (sss_decode_ref_weight, w2 = 1 − w0 − w1 in float) and its
+ * triangle's three offsets into the frame's reference values, each a plane
+ * over the coded vertices. A frame's blend then loads them as vectors; it
+ * no longer converts 16-bit weight codes (two double divisions a vertex)
+ * nor follows vtri into ref_tri. Returns 0, or −1 when out of memory
+ * (nothing built). */
+static int prepare_blend(sss_bake_file *f)
+{
+    sss_refcode *r = &f->ref;
+    const size_t n = f->sh.ncoded, C = f->channels;
+    if (f->quant != SSS_QUANT_REFS || !n || !r->w || !r->vtri || !r->ref_tri || (size_t)r->nref * C > INT32_MAX)
+        return 0;
+    float *bw = malloc(3 * n * sizeof *bw);
+    int32_t *bo = malloc(3 * n * sizeof *bo);
+    if (!bw || !bo) {
+        free(bw);
+        free(bo);
+        return -1;
+    }
+    for (size_t k = 0; k < n; k++) {
+        float w[3];
+        coded_weights(r, k, w);
+        const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
+        for (size_t j = 0; j < 3; j++) {
+            bw[j * n + k] = w[j];
+            bo[j * n + k] = (int32_t)(t[j] * C);
+        }
+    }
+    r->bw = bw;
+    r->bo = bo;
+    r->blend_of = r->w;
+    return 0;
+}
+
 int sss_decode_prepare(sss_bake_file *f)
 {
     sss_shcode *s = &f->sh;
     free(s->planes);
     s->planes = NULL;
     s->planes_of = NULL;
+    free(f->ref.bw);
+    free(f->ref.bo);
+    f->ref.bw = NULL;
+    f->ref.bo = NULL;
+    f->ref.blend_of = NULL;
     if ((f->quant != SSS_QUANT_SH && f->quant != SSS_QUANT_REFS) || !s->ncoef || !s->ncoded || !s->code ||
         !sss_shq_levels(s->kind))
         return 0;
@@ -558,7 +599,7 @@ int sss_decode_prepare(sss_bake_file *f)
     }
     s->planes = p;
     s->planes_of = s->code;
-    return 0;
+    return prepare_blend(f);
 }
 
 /* Vertices per block: the block's C sums (3 KiB) stay in L1 while the
@@ -781,12 +822,59 @@ BLOCK_INLINE void blend_block_c(const sss_bake_file *f, const float *R, const fl
     }
 }
 
+/* Whether f's references have a current load-time blend layout. */
+static int has_blend(const sss_bake_file *f) { return f->ref.bw && f->ref.blend_of == f->ref.w; }
+
+/* blend_block_c through the load-time layout (prepare_blend): the same
+ * weights and offsets, read as planes, so the arithmetic per channel and
+ * vertex is the same to the bit. */
+BLOCK_INLINE void blend_block_planes(const sss_bake_file *f, const float *R, size_t kb, size_t nb, float *acc,
+                                     size_t C)
+{
+    const sss_refcode *r = &f->ref;
+    const size_t n = f->sh.ncoded;
+    const float *restrict w0 = r->bw + kb, *restrict w1 = w0 + n, *restrict w2 = w1 + n;
+    const int32_t *restrict o0 = r->bo + kb, *restrict o1 = o0 + n, *restrict o2 = o1 + n;
+    for (size_t c = 0; c < C; c++) {
+        float *restrict a = acc + c * SH_BLOCK;
+        const float *restrict Rc = R + c;
+        for (size_t b = 0; b < nb; b++) {
+            float x = w0[b] * Rc[o0[b]] + w1[b] * Rc[o1[b]] + w2[b] * Rc[o2[b]];
+            x += a[b];
+            a[b] = x;
+        }
+    }
+}
+
 BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const float *wt, size_t kb, size_t nb,
                               float *acc)
 {
+    if (has_blend(f)) {
+        if (f->channels == 3) blend_block_planes(f, R, kb, nb, acc, 3);
+        else blend_block_planes(f, R, kb, nb, acc, f->channels);
+        return;
+    }
     if (f->channels == 3) blend_block_c(f, R, wt, kb, nb, acc, 3);
     else blend_block_c(f, R, wt, kb, nb, acc, f->channels);
 }
+
+/* The block's values acc[c·SH_BLOCK + b] of b in [b0, b0 + len) to
+ * o[(b − b0)·C + c]: channels interleaved again, vertex after vertex. */
+BLOCK_INLINE void store_run(float *restrict o, const float *restrict acc, size_t b0, size_t len, size_t C)
+{
+    const float *restrict a = acc + b0;
+    if (C == 3)
+        for (size_t b = 0; b < len; b++) {
+            o[3 * b] = a[b];
+            o[3 * b + 1] = a[SH_BLOCK + b];
+            o[3 * b + 2] = a[2 * SH_BLOCK + b];
+        }
+    else
+        for (size_t c = 0; c < C; c++)
+            for (size_t b = 0; b < len; b++) o[b * C + c] = a[c * SH_BLOCK + b];
+}
+
+static size_t lower_bound_u32(const uint32_t *a, size_t n, size_t x);
 
 /* Coded vertices [kb, kb + nb), nb ≤ SH_BLOCK, through the planes: the SH
  * sums, the references' blend (R non-NULL), the clamp at 0 as a vector
@@ -804,22 +892,24 @@ BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const floa
         for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
     }
     if (R) {
-        for (size_t b = 0; b < nb; b++) {
-            float *o = out + ((size_t)f->ref.coded_vertex[kb + b] - first) * C;
-            for (size_t c = 0; c < C; c++) o[c] = acc[c * SH_BLOCK + b];
+        /* The coded vertices are the mesh's vertices less the references,
+         * in order: between two references they are consecutive, so the
+         * block is stored as runs of consecutive vertices (3 % references:
+         * about eight runs of 30 a block), each as the SH-only path stores,
+         * not value by value through coded_vertex. */
+        const sss_refcode *r = &f->ref;
+        const uint32_t *cv = r->coded_vertex + kb;
+        size_t j = lower_bound_u32(r->ref_vertex, r->nref, cv[0]);
+        for (size_t b = 0; b < nb;) {
+            const size_t v = cv[b];
+            while (j < r->nref && r->ref_vertex[j] < v) j++;
+            const size_t gap = j < r->nref ? r->ref_vertex[j] - v : nb - b, len = gap < nb - b ? gap : nb - b;
+            store_run(out + (v - first) * C, acc, b, len, C);
+            b += len;
         }
         return;
     }
-    float *o = out + (kb - first) * C;
-    if (C == 3)
-        for (size_t b = 0; b < nb; b++) {
-            o[3 * b] = acc[b];
-            o[3 * b + 1] = acc[SH_BLOCK + b];
-            o[3 * b + 2] = acc[2 * SH_BLOCK + b];
-        }
-    else
-        for (size_t c = 0; c < C; c++)
-            for (size_t b = 0; b < nb; b++) o[b * C + c] = acc[c * SH_BLOCK + b];
+    store_run(out + (kb - first) * C, acc, 0, nb, C);
 }
 
 /* ---- run-time instruction sets (sss_decode_isa) ------------------------ *

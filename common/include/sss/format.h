@@ -117,6 +117,17 @@ typedef struct sss_refcode {
     float *levels;         /* channels * 256 Lloyd levels, ascending; owned */
     uint8_t *idx;          /* ndirs * nref * channels codes, ((j * nref + r) * channels + c); owned */
     uint32_t *coded_vertex;/* derived by the reader: the ncoded non-reference vertices, increasing; owned */
+    /* Not in the file: the decoder's load-time layout of the blend
+     * (sss_decode_prepare, docs/benchmarks.md "The references' blend from a
+     * load-time table"): coded vertex k's weights w_j as the floats the
+     * decoder blends with (sss_decode_ref_weight, the third 1 − w0 − w1) at
+     * bw[j * ncoded + k], and its triangle's references as offsets into the
+     * frame's reference values, ref_tri[3 * vtri[k] + j] * channels, at
+     * bo[j * ncoded + k]. NULL when not built; used only while blend_of ==
+     * w. Owned. */
+    float *bw;
+    int32_t *bo;
+    const uint16_t *blend_of;
 } sss_refcode;
 
 /* (1.2) The effect set of a scene bake (docs/scenes.md, docs/format.md
