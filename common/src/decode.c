@@ -521,6 +521,27 @@ static inline void coded_values(const sss_bake_file *f, const float *R, const fl
  * order (a = 0; a += term_0; a += term_1 …), so the result is sh_sums's to
  * the bit, and the GPU's (scatter_coded.comp.glsl). */
 
+/* Vertices per block: the block's C sums (3 KiB) stay in L1 while the
+ * loop walks the C·ncoef planes. */
+#define SH_BLOCK 256
+
+/* Where the load-time layouts keep element e (of P per vertex) of coded
+ * vertex k: block-major, the P planes of one block of SH_BLOCK vertices
+ * contiguous (planes SH_BLOCK apart), then the next block's. A block's
+ * codes are then one run of memory, read front to back: the hardware
+ * prefetcher follows one stream, where P planes ncoded apart (27 for SH
+ * order 3 in RGB) were P streams, too many for it, so that with the codes
+ * out of cache (the viewer decodes between draws) each plane's loads
+ * waited on memory (docs/benchmarks.md, "The references' blend from a
+ * load-time table"). The last block is padded to SH_BLOCK. */
+static inline size_t plane_at(size_t k, size_t e, size_t P)
+{
+    return ((k / SH_BLOCK) * P + e) * SH_BLOCK + k % SH_BLOCK;
+}
+
+/* Elements of a block-major layout of P planes over n coded vertices. */
+static inline size_t planes_size(size_t n, size_t P) { return (n + SH_BLOCK - 1) / SH_BLOCK * SH_BLOCK * P; }
+
 /* The load-time layout of the references' blend (sss_refcode.bw, .bo):
  * per coded vertex its three weights as the floats coded_blend forms from
  * the codes (sss_decode_ref_weight, w2 = 1 − w0 − w1 in float) and its
@@ -535,8 +556,8 @@ static int prepare_blend(sss_bake_file *f)
     const size_t n = f->sh.ncoded, C = f->channels;
     if (f->quant != SSS_QUANT_REFS || !n || !r->w || !r->vtri || !r->ref_tri || (size_t)r->nref * C > INT32_MAX)
         return 0;
-    float *bw = malloc(3 * n * sizeof *bw);
-    int32_t *bo = malloc(3 * n * sizeof *bo);
+    float *bw = calloc(planes_size(n, 3), sizeof *bw);
+    int32_t *bo = calloc(planes_size(n, 3), sizeof *bo);
     if (!bw || !bo) {
         free(bw);
         free(bo);
@@ -547,8 +568,8 @@ static int prepare_blend(sss_bake_file *f)
         coded_weights(r, k, w);
         const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
         for (size_t j = 0; j < 3; j++) {
-            bw[j * n + k] = w[j];
-            bo[j * n + k] = (int32_t)(t[j] * C);
+            bw[plane_at(k, j, 3)] = w[j];
+            bo[plane_at(k, j, 3)] = (int32_t)(t[j] * C);
         }
     }
     r->bw = bw;
@@ -573,7 +594,8 @@ int sss_decode_prepare(sss_bake_file *f)
         return 0;
     const size_t n = s->ncoded, C = f->channels, N = s->ncoef, E = C * N;
     const int wide = s->kind == SSS_SHQ_LINEAR16;
-    void *p = malloc(n * E * (wide ? sizeof(int16_t) : 1));
+    const size_t Np = s->kind == SSS_SHQ_LLOYD4 ? C * ((N + 1) / 2) : E; /* planes per vertex */
+    void *p = calloc(planes_size(n, Np), wide ? sizeof(int16_t) : 1);
     if (!p) return -1;
     if (s->kind == SSS_SHQ_LLOYD4) {
         /* one plane per pair of a channel's codes, the byte x0 | x1 << 4
@@ -585,16 +607,16 @@ int sss_decode_prepare(sss_bake_file *f)
             for (size_t c = 0; c < C; c++) {
                 const uint64_t e = (uint64_t)k * E + c * N;
                 for (size_t m = 0; m < P; m++)
-                    b[(c * Q + m) * n + k] = (uint8_t)(sss_shq_code(s->code, s->kind, e + 2 * m) |
+                    b[plane_at(k, c * Q + m, Np)] = (uint8_t)(sss_shq_code(s->code, s->kind, e + 2 * m) |
                                                        sss_shq_code(s->code, s->kind, e + 2 * m + 1) << 4);
-                if (N & 1) b[(c * Q + P) * n + k] = (uint8_t)sss_shq_code(s->code, s->kind, e + N - 1);
+                if (N & 1) b[plane_at(k, c * Q + P, Np)] = (uint8_t)sss_shq_code(s->code, s->kind, e + N - 1);
             }
     } else {
         for (size_t k = 0; k < n; k++)
             for (size_t e = 0; e < E; e++) {
                 const uint32_t x = sss_shq_code(s->code, s->kind, (uint64_t)k * E + e);
-                if (wide) ((int16_t *)p)[e * n + k] = (int16_t)(uint16_t)x;
-                else ((uint8_t *)p)[e * n + k] = (uint8_t)x;
+                if (wide) ((int16_t *)p)[plane_at(k, e, E)] = (int16_t)(uint16_t)x;
+                else ((uint8_t *)p)[plane_at(k, e, E)] = (uint8_t)x;
             }
     }
     s->planes = p;
@@ -602,9 +624,6 @@ int sss_decode_prepare(sss_bake_file *f)
     return prepare_blend(f);
 }
 
-/* Vertices per block: the block's C sums (3 KiB) stay in L1 while the
- * loop walks the C·ncoef planes. */
-#define SH_BLOCK 256
 
 /* The block loops below are compiled once per instruction set (coded_block
  * and its callers, forced inline into block_baseline, block_avx2 and
@@ -743,18 +762,21 @@ __attribute__((target("avx512f"))) static void planes_nibble_avx512(float *restr
  * is the copy's instruction set (a constant once inlined); T is fold_sh's. */
 BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc, int isa)
 {
-    const size_t n = s->ncoded, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
+    /* the block's planes: SH_BLOCK apart (plane_at; k0 … k0 + nb − 1 lie in
+     * one block of the layout) */
+    const size_t n = SH_BLOCK, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
+    const size_t Np = s->kind == SSS_SHQ_LLOYD4 ? C * ((N + 1) / 2) : C * N, at = plane_at(k0, 0, Np);
     for (size_t c = 0; c < C; c++) {
         float *a = acc + c * SH_BLOCK;
         for (size_t b = 0; b < nb; b++) a[b] = 0.0f;
         const size_t e = c * N; /* the channel's first code element */
         if (s->kind == SSS_SHQ_LINEAR16)
-            planes_linear16(a, (const int16_t *)s->planes + e * n + k0, n, T + e, L, N, nb);
+            planes_linear16(a, (const int16_t *)s->planes + at + e * n, n, T + e, L, N, nb);
         else if (s->kind == SSS_SHQ_LINEAR8)
-            planes_linear8(a, (const int8_t *)s->planes + e * n + k0, n, T + e, L, N, nb);
+            planes_linear8(a, (const int8_t *)s->planes + at + e * n, n, T + e, L, N, nb);
         else if (s->kind == SSS_SHQ_LLOYD4) { /* the pairs, then an odd last code (sss_decode_prepare) */
             const size_t P = N / 2, Q = (N + 1) / 2;
-            const uint8_t *pl = (const uint8_t *)s->planes + c * Q * n + k0;
+            const uint8_t *pl = (const uint8_t *)s->planes + at + c * Q * n;
 #ifdef DECODE_X86
             const float *terms = T + sss_decode_fold_floats(s->kind, (uint32_t)C, (uint32_t)N) + e * 16;
             if (isa == SSS_DECODE_ISA_AVX512) {
@@ -770,7 +792,7 @@ BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t
             planes_table(a, pl, n, T + c * P * 256, 256, P, nb);
             if (N & 1) planes_table(a, pl + P * n, n, T + (C * P * 256 + c * 16), 16, 1, nb);
         } else
-            planes_table(a, (const uint8_t *)s->planes + e * n + k0, n, T + e * L, L, N, nb);
+            planes_table(a, (const uint8_t *)s->planes + at + e * n, n, T + e * L, L, N, nb);
     }
 }
 
@@ -832,9 +854,9 @@ BLOCK_INLINE void blend_block_planes(const sss_bake_file *f, const float *R, siz
                                      size_t C)
 {
     const sss_refcode *r = &f->ref;
-    const size_t n = f->sh.ncoded;
-    const float *restrict w0 = r->bw + kb, *restrict w1 = w0 + n, *restrict w2 = w1 + n;
-    const int32_t *restrict o0 = r->bo + kb, *restrict o1 = o0 + n, *restrict o2 = o1 + n;
+    const size_t n = SH_BLOCK, at = plane_at(kb, 0, 3); /* the block's three planes, SH_BLOCK apart */
+    const float *restrict w0 = r->bw + at, *restrict w1 = w0 + n, *restrict w2 = w1 + n;
+    const int32_t *restrict o0 = r->bo + at, *restrict o1 = o0 + n, *restrict o2 = o1 + n;
     for (size_t c = 0; c < C; c++) {
         float *restrict a = acc + c * SH_BLOCK;
         const float *restrict Rc = R + c;
@@ -997,13 +1019,16 @@ static void coded_blocks(const sss_bake_file *f, const float *R, const float *T,
 {
     const size_t C = f->channels;
     const block_fn block = block_for(sss_decode_isa());
-    const ptrdiff_t nblk = (ptrdiff_t)((k1 - k0 + SH_BLOCK - 1) / SH_BLOCK);
+    /* the layout's blocks that [k0, k1) meets, each cut to the range */
+    const size_t B0 = k0 / SH_BLOCK;
+    const ptrdiff_t nblk = k1 > k0 ? (ptrdiff_t)((k1 - 1) / SH_BLOCK - B0 + 1) : 0;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if ((ptrdiff_t)(k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
     for (ptrdiff_t blk = 0; blk < nblk; blk++) {
-        const size_t kb = k0 + (size_t)blk * SH_BLOCK, nb = k1 - kb < SH_BLOCK ? k1 - kb : SH_BLOCK;
-        block(f, R, T, wt, kb, nb, first, out);
+        const size_t B = B0 + (size_t)blk, kb = B * SH_BLOCK > k0 ? B * SH_BLOCK : k0,
+                     ke = (B + 1) * SH_BLOCK < k1 ? (B + 1) * SH_BLOCK : k1;
+        block(f, R, T, wt, kb, ke - kb, first, out);
     }
 }
 
