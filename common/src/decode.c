@@ -543,21 +543,22 @@ static inline size_t plane_at(size_t k, size_t e, size_t P)
 static inline size_t planes_size(size_t n, size_t P) { return (n + SH_BLOCK - 1) / SH_BLOCK * SH_BLOCK * P; }
 
 /* The load-time layout of the references' blend (sss_refcode.bw, .bo):
- * per coded vertex its three weights as the floats coded_blend forms from
- * the codes (sss_decode_ref_weight, w2 = 1 − w0 − w1 in float) and its
- * triangle's three offsets into the frame's reference values, each a plane
- * over the coded vertices. A frame's blend then loads them as vectors; it
- * no longer converts 16-bit weight codes (two double divisions a vertex)
- * nor follows vtri into ref_tri. Returns 0, or −1 when out of memory
- * (nothing built). */
+ * per coded vertex its first two weights as the floats coded_blend forms
+ * from the codes (sss_decode_ref_weight; the third, 1 − w0 − w1, is formed
+ * per frame as before) and its triangle's three references as 16-bit
+ * indices, block-major (plane_at). A frame's blend then loads them as
+ * vectors; it no longer converts 16-bit weight codes (two double divisions
+ * a vertex) nor follows vtri into ref_tri, and it reads 14 bytes a vertex.
+ * Built when the references number at most 65536 (3 % of 2.1 million
+ * vertices); above, the blend reads the codes (blend_block_c). Returns 0,
+ * or −1 when out of memory (nothing built). */
 static int prepare_blend(sss_bake_file *f)
 {
     sss_refcode *r = &f->ref;
-    const size_t n = f->sh.ncoded, C = f->channels;
-    if (f->quant != SSS_QUANT_REFS || !n || !r->w || !r->vtri || !r->ref_tri || (size_t)r->nref * C > INT32_MAX)
-        return 0;
-    float *bw = calloc(planes_size(n, 3), sizeof *bw);
-    int32_t *bo = calloc(planes_size(n, 3), sizeof *bo);
+    const size_t n = f->sh.ncoded;
+    if (f->quant != SSS_QUANT_REFS || !n || !r->w || !r->vtri || !r->ref_tri || r->nref > 65536) return 0;
+    float *bw = calloc(planes_size(n, 2), sizeof *bw);
+    uint16_t *bo = calloc(planes_size(n, 3), sizeof *bo);
     if (!bw || !bo) {
         free(bw);
         free(bo);
@@ -567,10 +568,8 @@ static int prepare_blend(sss_bake_file *f)
         float w[3];
         coded_weights(r, k, w);
         const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
-        for (size_t j = 0; j < 3; j++) {
-            bw[plane_at(k, j, 3)] = w[j];
-            bo[plane_at(k, j, 3)] = (int32_t)(t[j] * C);
-        }
+        for (size_t j = 0; j < 2; j++) bw[plane_at(k, j, 2)] = w[j];
+        for (size_t j = 0; j < 3; j++) bo[plane_at(k, j, 3)] = (uint16_t)t[j];
     }
     r->bw = bw;
     r->bo = bo;
@@ -847,6 +846,38 @@ BLOCK_INLINE void blend_block_c(const sss_bake_file *f, const float *R, const fl
 /* Whether f's references have a current load-time blend layout. */
 static int has_blend(const sss_bake_file *f) { return f->ref.bw && f->ref.blend_of == f->ref.w; }
 
+/* RGB: the blend of four vertices at a time with the channels in the lanes
+ * of a 4-float vector: a reference's three values are adjacent in R (R[t·3
+ * + c]), so one unaligned load brings all three (the fourth lane reads the
+ * next value, or R's padding, and is dropped), three loads a vertex where
+ * the plane loop below gathers nine scalars. Each lane forms its channel's
+ * sum as blend_block_planes does (w0·R0 + w1·R1, then + w2·R2, each
+ * rounded; w2 = 1 − w0 − w1 in float), a 4 × 4 transpose puts the
+ * channels back in acc's planes, and x + acc is acc + x to the bit (IEEE
+ * addition commutes). Returns the first vertex left to the plane loop. */
+#ifdef DECODE_X86
+BLOCK_INLINE size_t blend_rgb_lanes(const float *R, const float *w0, const float *w1, const uint16_t *t0,
+                                    const uint16_t *t1, const uint16_t *t2, size_t nb, float *acc)
+{
+    size_t b = 0;
+    for (; b + 4 <= nb; b += 4) {
+        __m128 v[4];
+        for (size_t i = 0; i < 4; i++) {
+            const float a = w0[b + i], c = w1[b + i], e = 1.0f - a - c;
+            const __m128 x = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(a), _mm_loadu_ps(R + 3 * (size_t)t0[b + i])),
+                                        _mm_mul_ps(_mm_set1_ps(c), _mm_loadu_ps(R + 3 * (size_t)t1[b + i])));
+            v[i] = _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(e), _mm_loadu_ps(R + 3 * (size_t)t2[b + i])));
+        }
+        _MM_TRANSPOSE4_PS(v[0], v[1], v[2], v[3]);
+        for (size_t c = 0; c < 3; c++) {
+            float *a = acc + c * SH_BLOCK + b;
+            _mm_storeu_ps(a, _mm_add_ps(v[c], _mm_loadu_ps(a)));
+        }
+    }
+    return b;
+}
+#endif
+
 /* blend_block_c through the load-time layout (prepare_blend): the same
  * weights and offsets, read as planes, so the arithmetic per channel and
  * vertex is the same to the bit. */
@@ -854,13 +885,23 @@ BLOCK_INLINE void blend_block_planes(const sss_bake_file *f, const float *R, siz
                                      size_t C)
 {
     const sss_refcode *r = &f->ref;
-    const size_t n = SH_BLOCK, at = plane_at(kb, 0, 3); /* the block's three planes, SH_BLOCK apart */
-    const float *restrict w0 = r->bw + at, *restrict w1 = w0 + n, *restrict w2 = w1 + n;
-    const int32_t *restrict o0 = r->bo + at, *restrict o1 = o0 + n, *restrict o2 = o1 + n;
+    /* the block's planes, SH_BLOCK apart */
+    const float *restrict w0 = r->bw + plane_at(kb, 0, 2), *restrict w1 = w0 + SH_BLOCK;
+    const uint16_t *restrict t0 = r->bo + plane_at(kb, 0, 3), *restrict t1 = t0 + SH_BLOCK, *restrict t2 = t1 + SH_BLOCK;
+    size_t b0 = 0;
+#ifdef DECODE_X86
+    if (C == 3) b0 = blend_rgb_lanes(R, w0, w1, t0, t1, t2, nb, acc);
+#endif
+    float w2[SH_BLOCK];
+    int32_t o0[SH_BLOCK], o1[SH_BLOCK], o2[SH_BLOCK];
+    for (size_t b = b0; b < nb; b++) {
+        w2[b] = 1.0f - w0[b] - w1[b];
+        o0[b] = (int32_t)(t0[b] * C), o1[b] = (int32_t)(t1[b] * C), o2[b] = (int32_t)(t2[b] * C);
+    }
     for (size_t c = 0; c < C; c++) {
         float *restrict a = acc + c * SH_BLOCK;
         const float *restrict Rc = R + c;
-        for (size_t b = 0; b < nb; b++) {
+        for (size_t b = b0; b < nb; b++) {
             float x = w0[b] * Rc[o0[b]] + w1[b] * Rc[o1[b]] + w2[b] * Rc[o2[b]];
             x += a[b];
             a[b] = x;
@@ -1012,6 +1053,40 @@ static block_fn block_for(int isa)
     return block_baseline;
 }
 
+/* Asks for block B's memory ahead of its turn (a software prefetch, no
+ * effect on any value): its codes, the blend's planes and coded_vertex
+ * with references, and the part of out it will write. In the viewer the
+ * decode runs between draws that evict all of it, and the block's streams
+ * (codes, weights, offsets, vertex indices, the output) are more than the
+ * hardware prefetcher follows at once, so each block started with a wait
+ * on memory per stream (docs/benchmarks.md, "The references' blend from a
+ * load-time table"). */
+static void prefetch_block(const sss_bake_file *f, int refs, size_t B, size_t first, float *out)
+{
+#if defined(__GNUC__)
+    const sss_shcode *s = &f->sh;
+    const size_t C = f->channels, N = s->ncoef, k = B * SH_BLOCK;
+    if (k >= s->ncoded) return;
+    const size_t Np = s->kind == SSS_SHQ_LLOYD4 ? C * ((N + 1) / 2) : C * N,
+                 w = s->kind == SSS_SHQ_LINEAR16 ? 2 : 1;
+    const char *p = (const char *)s->planes + plane_at(k, 0, Np) * w;
+    for (size_t o = 0; o < Np * SH_BLOCK * w; o += 64) __builtin_prefetch(p + o, 0, 0);
+    size_t v = k;
+    if (refs) {
+        const sss_refcode *r = &f->ref;
+        const char *bw = (const char *)(r->bw + plane_at(k, 0, 2)), *bo = (const char *)(r->bo + plane_at(k, 0, 3));
+        for (size_t o = 0; o < 2 * SH_BLOCK * sizeof(float); o += 64) __builtin_prefetch(bw + o, 0, 0);
+        for (size_t o = 0; o < 3 * SH_BLOCK * sizeof(uint16_t); o += 64) __builtin_prefetch(bo + o, 0, 0);
+        v = r->coded_vertex[k];
+    }
+    if (v < first) return;
+    const char *q = (const char *)(out + (v - first) * C);
+    for (size_t o = 0; o < SH_BLOCK * C * sizeof(float); o += 64) __builtin_prefetch(q + o, 1, 0);
+#else
+    (void)f, (void)refs, (void)B, (void)first, (void)out;
+#endif
+}
+
 /* decode_compressed's loop over coded vertices [k0, k1) through the
  * planes, in blocks (coded_block); R NULL without references. */
 static void coded_blocks(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t k0,
@@ -1028,6 +1103,7 @@ static void coded_blocks(const sss_bake_file *f, const float *R, const float *T,
     for (ptrdiff_t blk = 0; blk < nblk; blk++) {
         const size_t B = B0 + (size_t)blk, kb = B * SH_BLOCK > k0 ? B * SH_BLOCK : k0,
                      ke = (B + 1) * SH_BLOCK < k1 ? (B + 1) * SH_BLOCK : k1;
+        if (ke < k1) prefetch_block(f, R && has_blend(f), B + 1, first, out);
         block(f, R, T, wt, kb, ke - kb, first, out);
     }
 }
@@ -1054,6 +1130,7 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
     if (f->quant == SSS_QUANT_REFS) {
         const sss_refcode *r = &f->ref;
         if (!(R = malloc(((size_t)r->nref * C + 1) * sizeof *R))) goto oom;
+        R[(size_t)r->nref * C] = 0.0f; /* the padding blend_rgb_lanes's last load may read */
         ref_values(f, d, interp, R);
         const size_t r1 = lower_bound_u32(r->ref_vertex, r->nref, end);
         for (size_t k = lower_bound_u32(r->ref_vertex, r->nref, first); k < r1; k++)

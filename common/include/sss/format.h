@@ -95,9 +95,11 @@ typedef struct sss_shcode {
                               little-endian (LINEAR16); owned */
     /* Not in the file: the decoder's load-time layout of the codes
      * (sss_decode_prepare, docs/benchmarks.md "Compressed forms' per-frame
-     * cost"), coefficient-major: element e of coded vertex k at
-     * planes[e * ncoded + k], one code a byte (8-bit kinds, LLOYD4) or an
-     * int16_t (LINEAR16), so that one loop step serves a run of vertices.
+     * cost"), coefficient-major in blocks of 256 coded vertices: element e
+     * of coded vertex k at planes[((k / 256) * E + e) * 256 + k % 256], E
+     * the elements per vertex, one code a byte (8-bit kinds; LLOYD4: a
+     * pair's byte) or an int16_t (LINEAR16), so that one loop step serves a
+     * run of vertices and a block's codes are one run of memory.
      * NULL when not built; used only while planes_of == code. Owned. */
     void *planes;
     const uint8_t *planes_of;
@@ -119,14 +121,14 @@ typedef struct sss_refcode {
     uint32_t *coded_vertex;/* derived by the reader: the ncoded non-reference vertices, increasing; owned */
     /* Not in the file: the decoder's load-time layout of the blend
      * (sss_decode_prepare, docs/benchmarks.md "The references' blend from a
-     * load-time table"): coded vertex k's weights w_j as the floats the
-     * decoder blends with (sss_decode_ref_weight, the third 1 − w0 − w1) at
-     * bw[j * ncoded + k], and its triangle's references as offsets into the
-     * frame's reference values, ref_tri[3 * vtri[k] + j] * channels, at
-     * bo[j * ncoded + k]. NULL when not built; used only while blend_of ==
-     * w. Owned. */
+     * load-time table"), block-major like sss_shcode.planes: coded vertex
+     * k's first two weights as the floats the decoder blends with
+     * (sss_decode_ref_weight; the third is 1 − w0 − w1) in bw, its
+     * triangle's three references (ref_tri[3 * vtri[k] + j]) in bo. NULL
+     * when not built (more than 65536 references); used only while
+     * blend_of == w. Owned. */
     float *bw;
-    int32_t *bo;
+    uint16_t *bo;
     const uint16_t *blend_of;
 } sss_refcode;
 
