@@ -1053,40 +1053,6 @@ static block_fn block_for(int isa)
     return block_baseline;
 }
 
-/* Asks for block B's memory ahead of its turn (a software prefetch, no
- * effect on any value): its codes, the blend's planes and coded_vertex
- * with references, and the part of out it will write. In the viewer the
- * decode runs between draws that evict all of it, and the block's streams
- * (codes, weights, offsets, vertex indices, the output) are more than the
- * hardware prefetcher follows at once, so each block started with a wait
- * on memory per stream (docs/benchmarks.md, "The references' blend from a
- * load-time table"). */
-static void prefetch_block(const sss_bake_file *f, int refs, size_t B, size_t first, float *out)
-{
-#if defined(__GNUC__)
-    const sss_shcode *s = &f->sh;
-    const size_t C = f->channels, N = s->ncoef, k = B * SH_BLOCK;
-    if (k >= s->ncoded) return;
-    const size_t Np = s->kind == SSS_SHQ_LLOYD4 ? C * ((N + 1) / 2) : C * N,
-                 w = s->kind == SSS_SHQ_LINEAR16 ? 2 : 1;
-    const char *p = (const char *)s->planes + plane_at(k, 0, Np) * w;
-    for (size_t o = 0; o < Np * SH_BLOCK * w; o += 64) __builtin_prefetch(p + o, 0, 0);
-    size_t v = k;
-    if (refs) {
-        const sss_refcode *r = &f->ref;
-        const char *bw = (const char *)(r->bw + plane_at(k, 0, 2)), *bo = (const char *)(r->bo + plane_at(k, 0, 3));
-        for (size_t o = 0; o < 2 * SH_BLOCK * sizeof(float); o += 64) __builtin_prefetch(bw + o, 0, 0);
-        for (size_t o = 0; o < 3 * SH_BLOCK * sizeof(uint16_t); o += 64) __builtin_prefetch(bo + o, 0, 0);
-        v = r->coded_vertex[k];
-    }
-    if (v < first) return;
-    const char *q = (const char *)(out + (v - first) * C);
-    for (size_t o = 0; o < SH_BLOCK * C * sizeof(float); o += 64) __builtin_prefetch(q + o, 1, 0);
-#else
-    (void)f, (void)refs, (void)B, (void)first, (void)out;
-#endif
-}
-
 /* decode_compressed's loop over coded vertices [k0, k1) through the
  * planes, in blocks (coded_block); R NULL without references. */
 static void coded_blocks(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t k0,
@@ -1103,7 +1069,6 @@ static void coded_blocks(const sss_bake_file *f, const float *R, const float *T,
     for (ptrdiff_t blk = 0; blk < nblk; blk++) {
         const size_t B = B0 + (size_t)blk, kb = B * SH_BLOCK > k0 ? B * SH_BLOCK : k0,
                      ke = (B + 1) * SH_BLOCK < k1 ? (B + 1) * SH_BLOCK : k1;
-        if (ke < k1) prefetch_block(f, R && has_blend(f), B + 1, first, out);
         block(f, R, T, wt, kb, ke - kb, first, out);
     }
 }
