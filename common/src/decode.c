@@ -513,8 +513,8 @@ static inline void coded_values(const sss_bake_file *f, const float *R, const fl
 /* ---- the load-time layout (sss_decode_prepare) ------------------------ *
  * The file keeps each vertex's C·ncoef codes together (format.h), so the
  * per-vertex loop above is one chain of dependent adds per channel.
- * Transposed once at load, code e of every coded vertex contiguous, one
- * step of the loop over e serves a block of vertices: the adds of
+ * Transposed once at load, code e of a block's coded vertices contiguous
+ * (plane_at), one step of the loop over e serves the block: the adds of
  * different vertices are independent, and for the linear kinds (one
  * product per code) the loop over the block is a vector loop, one vertex
  * per lane. Each vertex's terms are still formed and added in coefficient
@@ -526,27 +526,42 @@ static inline void coded_values(const sss_bake_file *f, const float *R, const fl
 #define SH_BLOCK 256
 
 /* Where the load-time layouts keep element e (of P per vertex) of coded
- * vertex k: block-major, the P planes of one block of SH_BLOCK vertices
- * contiguous (planes SH_BLOCK apart), then the next block's. A block's
- * codes are then one run of memory, read front to back: the hardware
- * prefetcher follows one stream, where P planes ncoded apart (27 for SH
- * order 3 in RGB) were P streams, too many for it, so that with the codes
- * out of cache (the viewer decodes between draws) each plane's loads
+ * vertex k: in groups of G vertices (G a multiple of SH_BLOCK), the P
+ * planes of a group contiguous (G apart), then the next group's. With G =
+ * SH_BLOCK a block's codes are one run of memory, read front to back: the
+ * hardware prefetcher follows one stream, where P planes ncoded apart (27
+ * for SH order 3 in RGB) were P streams, too many for it, so that with the
+ * codes out of cache (the viewer decodes between draws) each plane's loads
  * waited on memory (docs/benchmarks.md, "The references' blend from a
- * load-time table"). The last block is padded to SH_BLOCK. */
-static inline size_t plane_at(size_t k, size_t e, size_t P)
+ * load-time table"). The last group is padded to G. */
+static inline size_t plane_at(size_t k, size_t e, size_t P, size_t G) { return ((k / G) * P + e) * G + k % G; }
+
+/* Elements of such a layout of P planes over n coded vertices. */
+static inline size_t planes_size(size_t n, size_t P, size_t G) { return (n + G - 1) / G * G * P; }
+
+/* Planes per coded vertex of f's SH layout (LLOYD4: one per pair of a
+ * channel's codes and one for an odd last code). */
+static inline size_t sh_nplanes(const sss_shcode *s, size_t C)
 {
-    return ((k / SH_BLOCK) * P + e) * SH_BLOCK + k % SH_BLOCK;
+    return s->kind == SSS_SHQ_LLOYD4 ? C * ((s->ncoef + 1) / 2) : C * s->ncoef;
 }
 
-/* Elements of a block-major layout of P planes over n coded vertices. */
-static inline size_t planes_size(size_t n, size_t P) { return (n + SH_BLOCK - 1) / SH_BLOCK * SH_BLOCK * P; }
+/* The SH layout's group: blocks (SH_BLOCK) up to 64 bytes of codes a
+ * vertex, where they measured faster (SH order 3: 27 bytes in RGB linear8,
+ * 15 in lloyd4); above, one group of all the coded vertices, plain
+ * coefficient-major (order 7 in linear16, 294 bytes a vertex, measured
+ * 20 % slower in blocks, docs/benchmarks.md). */
+static inline size_t sh_group(const sss_shcode *s, size_t C)
+{
+    const size_t bytes = sh_nplanes(s, C) * (s->kind == SSS_SHQ_LINEAR16 ? 2 : 1);
+    return bytes <= 64 ? SH_BLOCK : (s->ncoded + SH_BLOCK - 1) / SH_BLOCK * SH_BLOCK;
+}
 
 /* The load-time layout of the references' blend (sss_refcode.bw, .bo):
  * per coded vertex its first two weights as the floats coded_blend forms
  * from the codes (sss_decode_ref_weight; the third, 1 − w0 − w1, is formed
  * per frame as before) and its triangle's three references as 16-bit
- * indices, block-major (plane_at). A frame's blend then loads them as
+ * indices, in blocks (plane_at, G = SH_BLOCK). A frame's blend then loads them as
  * vectors; it no longer converts 16-bit weight codes (two double divisions
  * a vertex) nor follows vtri into ref_tri, and it reads 14 bytes a vertex.
  * Built when the references number at most 65536 (3 % of 2.1 million
@@ -557,8 +572,8 @@ static int prepare_blend(sss_bake_file *f)
     sss_refcode *r = &f->ref;
     const size_t n = f->sh.ncoded;
     if (f->quant != SSS_QUANT_REFS || !n || !r->w || !r->vtri || !r->ref_tri || r->nref > 65536) return 0;
-    float *bw = calloc(planes_size(n, 2), sizeof *bw);
-    uint16_t *bo = calloc(planes_size(n, 3), sizeof *bo);
+    float *bw = calloc(planes_size(n, 2, SH_BLOCK), sizeof *bw);
+    uint16_t *bo = calloc(planes_size(n, 3, SH_BLOCK), sizeof *bo);
     if (!bw || !bo) {
         free(bw);
         free(bo);
@@ -568,8 +583,8 @@ static int prepare_blend(sss_bake_file *f)
         float w[3];
         coded_weights(r, k, w);
         const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
-        for (size_t j = 0; j < 2; j++) bw[plane_at(k, j, 2)] = w[j];
-        for (size_t j = 0; j < 3; j++) bo[plane_at(k, j, 3)] = (uint16_t)t[j];
+        for (size_t j = 0; j < 2; j++) bw[plane_at(k, j, 2, SH_BLOCK)] = w[j];
+        for (size_t j = 0; j < 3; j++) bo[plane_at(k, j, 3, SH_BLOCK)] = (uint16_t)t[j];
     }
     r->bw = bw;
     r->bo = bo;
@@ -593,8 +608,8 @@ int sss_decode_prepare(sss_bake_file *f)
         return 0;
     const size_t n = s->ncoded, C = f->channels, N = s->ncoef, E = C * N;
     const int wide = s->kind == SSS_SHQ_LINEAR16;
-    const size_t Np = s->kind == SSS_SHQ_LLOYD4 ? C * ((N + 1) / 2) : E; /* planes per vertex */
-    void *p = calloc(planes_size(n, Np), wide ? sizeof(int16_t) : 1);
+    const size_t Np = sh_nplanes(s, C), G = sh_group(s, C);
+    void *p = calloc(planes_size(n, Np, G), wide ? sizeof(int16_t) : 1);
     if (!p) return -1;
     if (s->kind == SSS_SHQ_LLOYD4) {
         /* one plane per pair of a channel's codes, the byte x0 | x1 << 4
@@ -606,16 +621,16 @@ int sss_decode_prepare(sss_bake_file *f)
             for (size_t c = 0; c < C; c++) {
                 const uint64_t e = (uint64_t)k * E + c * N;
                 for (size_t m = 0; m < P; m++)
-                    b[plane_at(k, c * Q + m, Np)] = (uint8_t)(sss_shq_code(s->code, s->kind, e + 2 * m) |
+                    b[plane_at(k, c * Q + m, Np, G)] = (uint8_t)(sss_shq_code(s->code, s->kind, e + 2 * m) |
                                                        sss_shq_code(s->code, s->kind, e + 2 * m + 1) << 4);
-                if (N & 1) b[plane_at(k, c * Q + P, Np)] = (uint8_t)sss_shq_code(s->code, s->kind, e + N - 1);
+                if (N & 1) b[plane_at(k, c * Q + P, Np, G)] = (uint8_t)sss_shq_code(s->code, s->kind, e + N - 1);
             }
     } else {
         for (size_t k = 0; k < n; k++)
             for (size_t e = 0; e < E; e++) {
                 const uint32_t x = sss_shq_code(s->code, s->kind, (uint64_t)k * E + e);
-                if (wide) ((int16_t *)p)[plane_at(k, e, E)] = (int16_t)(uint16_t)x;
-                else ((uint8_t *)p)[plane_at(k, e, E)] = (uint8_t)x;
+                if (wide) ((int16_t *)p)[plane_at(k, e, E, G)] = (int16_t)(uint16_t)x;
+                else ((uint8_t *)p)[plane_at(k, e, E, G)] = (uint8_t)x;
             }
     }
     s->planes = p;
@@ -761,10 +776,10 @@ __attribute__((target("avx512f"))) static void planes_nibble_avx512(float *restr
  * is the copy's instruction set (a constant once inlined); T is fold_sh's. */
 BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc, int isa)
 {
-    /* the block's planes: SH_BLOCK apart (plane_at; k0 … k0 + nb − 1 lie in
-     * one block of the layout) */
-    const size_t n = SH_BLOCK, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
-    const size_t Np = s->kind == SSS_SHQ_LLOYD4 ? C * ((N + 1) / 2) : C * N, at = plane_at(k0, 0, Np);
+    /* the block's planes, n apart (plane_at; k0 … k0 + nb − 1 lie in one
+     * group of the layout) */
+    const size_t n = sh_group(s, C), N = s->ncoef, L = sss_decode_fold_levels(s->kind);
+    const size_t at = plane_at(k0, 0, sh_nplanes(s, C), n);
     for (size_t c = 0; c < C; c++) {
         float *a = acc + c * SH_BLOCK;
         for (size_t b = 0; b < nb; b++) a[b] = 0.0f;
@@ -886,8 +901,8 @@ BLOCK_INLINE void blend_block_planes(const sss_bake_file *f, const float *R, siz
 {
     const sss_refcode *r = &f->ref;
     /* the block's planes, SH_BLOCK apart */
-    const float *restrict w0 = r->bw + plane_at(kb, 0, 2), *restrict w1 = w0 + SH_BLOCK;
-    const uint16_t *restrict t0 = r->bo + plane_at(kb, 0, 3), *restrict t1 = t0 + SH_BLOCK, *restrict t2 = t1 + SH_BLOCK;
+    const float *restrict w0 = r->bw + plane_at(kb, 0, 2, SH_BLOCK), *restrict w1 = w0 + SH_BLOCK;
+    const uint16_t *restrict t0 = r->bo + plane_at(kb, 0, 3, SH_BLOCK), *restrict t1 = t0 + SH_BLOCK, *restrict t2 = t1 + SH_BLOCK;
     size_t b0 = 0;
 #ifdef DECODE_X86
     if (C == 3) b0 = blend_rgb_lanes(R, w0, w1, t0, t1, t2, nb, acc);
