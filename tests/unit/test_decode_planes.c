@@ -291,7 +291,7 @@ static void staleLayoutIsNotUsed(void **state)
  * references, block-major (256 vertices a block, format.h). After the
  * weight codes are replaced (a new array) it is not used: the blend reads
  * the new codes through the planes and gives, on every instruction set, the
- * per-vertex loop's floats for them. 8- and 16-bit weights, RGB and grey. */
+ * per-vertex loop's floats for them. 16-bit weights in RGB, 8-bit in grey. */
 static void check_stale_blend(const sss_bake_file *src, uint32_t wbits)
 {
     sss_compress_opts o;
@@ -353,9 +353,8 @@ static void check_stale_blend(const sss_bake_file *src, uint32_t wbits)
 static void staleBlendLayoutIsNotUsed(void **state)
 {
     (void)state;
-    check_stale_blend(&g_rgb, 16);
-    check_stale_blend(&g_rgb, 8);
-    check_stale_blend(&g_grey, 16);
+    check_stale_blend(&g_rgb, 16); /* RGB: the lanes' blend */
+    check_stale_blend(&g_grey, 8);  /* grey: the planes' loop */
 }
 
 /* The reader builds the layout: a compressed file read back decodes
