@@ -95,11 +95,13 @@ typedef struct sss_shcode {
                               little-endian (LINEAR16); owned */
     /* Not in the file: the decoder's load-time layout of the codes
      * (sss_decode_prepare, docs/benchmarks.md "Compressed forms' per-frame
-     * cost"), coefficient-major in blocks of 256 coded vertices: element e
-     * of coded vertex k at planes[((k / 256) * E + e) * 256 + k % 256], E
-     * the elements per vertex, one code a byte (8-bit kinds; LLOYD4: a
-     * pair's byte) or an int16_t (LINEAR16), so that one loop step serves a
-     * run of vertices and a block's codes are one run of memory.
+     * cost"), coefficient-major in groups of G coded vertices: element e
+     * of coded vertex k at planes[((k / G) * E + e) * G + k % G], E the
+     * elements per vertex, one code a byte (8-bit kinds; LLOYD4: a pair's
+     * byte) or an int16_t (LINEAR16), so that one loop step serves a run of
+     * vertices; G = 256 (a block's codes one run of memory) up to 64 code
+     * bytes a vertex, else all coded vertices rounded up to 256 (decode.c,
+     * sh_group).
      * NULL when not built; used only while planes_of == code. Owned. */
     void *planes;
     const uint8_t *planes_of;
