@@ -513,13 +513,84 @@ static inline void coded_values(const sss_bake_file *f, const float *R, const fl
 /* ---- the load-time layout (sss_decode_prepare) ------------------------ *
  * The file keeps each vertex's C·ncoef codes together (format.h), so the
  * per-vertex loop above is one chain of dependent adds per channel.
- * Transposed once at load, code e of every coded vertex contiguous, one
- * step of the loop over e serves a block of vertices: the adds of
+ * Transposed once at load, code e of a block's coded vertices contiguous
+ * (plane_at), one step of the loop over e serves the block: the adds of
  * different vertices are independent, and for the linear kinds (one
  * product per code) the loop over the block is a vector loop, one vertex
  * per lane. Each vertex's terms are still formed and added in coefficient
  * order (a = 0; a += term_0; a += term_1 …), so the result is sh_sums's to
  * the bit, and the GPU's (scatter_coded.comp.glsl). */
+
+/* Vertices per block: the block's C sums (3 KiB) stay in L1 while the
+ * loop walks the C·ncoef planes. */
+#define SH_BLOCK 256
+
+/* Where the load-time layouts keep element e (of P per vertex) of coded
+ * vertex k: in groups of G vertices (G a multiple of SH_BLOCK), the P
+ * planes of a group contiguous (G apart), then the next group's. With G =
+ * SH_BLOCK a block's codes are one run of memory, read front to back: the
+ * hardware prefetcher follows one stream, where P planes ncoded apart (27
+ * for SH order 3 in RGB) were P streams, too many for it, so that with the
+ * codes out of cache (the viewer decodes between draws) each plane's loads
+ * waited on memory (docs/benchmarks.md, "The references' blend from a
+ * load-time table"). The last group is padded to G. */
+static inline size_t plane_at(size_t k, size_t e, size_t P, size_t G) { return ((k / G) * P + e) * G + k % G; }
+
+/* Elements of such a layout of P planes over n coded vertices. */
+static inline size_t planes_size(size_t n, size_t P, size_t G) { return (n + G - 1) / G * G * P; }
+
+/* Planes per coded vertex of f's SH layout (LLOYD4: one per pair of a
+ * channel's codes and one for an odd last code). */
+static inline size_t sh_nplanes(const sss_shcode *s, size_t C)
+{
+    return s->kind == SSS_SHQ_LLOYD4 ? C * ((s->ncoef + 1) / 2) : C * s->ncoef;
+}
+
+/* The SH layout's group: blocks (SH_BLOCK) up to 64 bytes of codes a
+ * vertex, where they measured faster (SH order 3: 27 bytes in RGB linear8,
+ * 15 in lloyd4); above, one group of all the coded vertices, plain
+ * coefficient-major (order 7 in linear16, 294 bytes a vertex, measured
+ * 20 % slower in blocks, docs/benchmarks.md). */
+static inline size_t sh_group(const sss_shcode *s, size_t C)
+{
+    const size_t bytes = sh_nplanes(s, C) * (s->kind == SSS_SHQ_LINEAR16 ? 2 : 1);
+    return bytes <= 64 ? SH_BLOCK : (s->ncoded + SH_BLOCK - 1) / SH_BLOCK * SH_BLOCK;
+}
+
+/* The load-time layout of the references' blend (sss_refcode.bw, .bo):
+ * per coded vertex its first two weights as the floats coded_blend forms
+ * from the codes (sss_decode_ref_weight; the third, 1 − w0 − w1, is formed
+ * per frame as before) and its triangle's three references as 16-bit
+ * indices, in blocks (plane_at, G = SH_BLOCK). A frame's blend then loads them as
+ * vectors; it no longer converts 16-bit weight codes (two double divisions
+ * a vertex) nor follows vtri into ref_tri, and it reads 14 bytes a vertex.
+ * Built when the references number at most 65536 (3 % of 2.1 million
+ * vertices); above, the blend reads the codes (blend_block_c). Returns 0,
+ * or −1 when out of memory (nothing built). */
+static int prepare_blend(sss_bake_file *f)
+{
+    sss_refcode *r = &f->ref;
+    const size_t n = f->sh.ncoded;
+    if (f->quant != SSS_QUANT_REFS || !n || !r->w || !r->vtri || !r->ref_tri || r->nref > 65536) return 0;
+    float *bw = calloc(planes_size(n, 2, SH_BLOCK), sizeof *bw);
+    uint16_t *bo = calloc(planes_size(n, 3, SH_BLOCK), sizeof *bo);
+    if (!bw || !bo) {
+        free(bw);
+        free(bo);
+        return -1;
+    }
+    for (size_t k = 0; k < n; k++) {
+        float w[3];
+        coded_weights(r, k, w);
+        const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
+        for (size_t j = 0; j < 2; j++) bw[plane_at(k, j, 2, SH_BLOCK)] = w[j];
+        for (size_t j = 0; j < 3; j++) bo[plane_at(k, j, 3, SH_BLOCK)] = (uint16_t)t[j];
+    }
+    r->bw = bw;
+    r->bo = bo;
+    r->blend_of = r->w;
+    return 0;
+}
 
 int sss_decode_prepare(sss_bake_file *f)
 {
@@ -527,12 +598,18 @@ int sss_decode_prepare(sss_bake_file *f)
     free(s->planes);
     s->planes = NULL;
     s->planes_of = NULL;
+    free(f->ref.bw);
+    free(f->ref.bo);
+    f->ref.bw = NULL;
+    f->ref.bo = NULL;
+    f->ref.blend_of = NULL;
     if ((f->quant != SSS_QUANT_SH && f->quant != SSS_QUANT_REFS) || !s->ncoef || !s->ncoded || !s->code ||
         !sss_shq_levels(s->kind))
         return 0;
     const size_t n = s->ncoded, C = f->channels, N = s->ncoef, E = C * N;
     const int wide = s->kind == SSS_SHQ_LINEAR16;
-    void *p = malloc(n * E * (wide ? sizeof(int16_t) : 1));
+    const size_t Np = sh_nplanes(s, C), G = sh_group(s, C);
+    void *p = calloc(planes_size(n, Np, G), wide ? sizeof(int16_t) : 1);
     if (!p) return -1;
     if (s->kind == SSS_SHQ_LLOYD4) {
         /* one plane per pair of a channel's codes, the byte x0 | x1 << 4
@@ -544,26 +621,23 @@ int sss_decode_prepare(sss_bake_file *f)
             for (size_t c = 0; c < C; c++) {
                 const uint64_t e = (uint64_t)k * E + c * N;
                 for (size_t m = 0; m < P; m++)
-                    b[(c * Q + m) * n + k] = (uint8_t)(sss_shq_code(s->code, s->kind, e + 2 * m) |
+                    b[plane_at(k, c * Q + m, Np, G)] = (uint8_t)(sss_shq_code(s->code, s->kind, e + 2 * m) |
                                                        sss_shq_code(s->code, s->kind, e + 2 * m + 1) << 4);
-                if (N & 1) b[(c * Q + P) * n + k] = (uint8_t)sss_shq_code(s->code, s->kind, e + N - 1);
+                if (N & 1) b[plane_at(k, c * Q + P, Np, G)] = (uint8_t)sss_shq_code(s->code, s->kind, e + N - 1);
             }
     } else {
         for (size_t k = 0; k < n; k++)
             for (size_t e = 0; e < E; e++) {
                 const uint32_t x = sss_shq_code(s->code, s->kind, (uint64_t)k * E + e);
-                if (wide) ((int16_t *)p)[e * n + k] = (int16_t)(uint16_t)x;
-                else ((uint8_t *)p)[e * n + k] = (uint8_t)x;
+                if (wide) ((int16_t *)p)[plane_at(k, e, E, G)] = (int16_t)(uint16_t)x;
+                else ((uint8_t *)p)[plane_at(k, e, E, G)] = (uint8_t)x;
             }
     }
     s->planes = p;
     s->planes_of = s->code;
-    return 0;
+    return prepare_blend(f);
 }
 
-/* Vertices per block: the block's C sums (3 KiB) stay in L1 while the
- * loop walks the C·ncoef planes. */
-#define SH_BLOCK 256
 
 /* The block loops below are compiled once per instruction set (coded_block
  * and its callers, forced inline into block_baseline, block_avx2 and
@@ -702,18 +776,21 @@ __attribute__((target("avx512f"))) static void planes_nibble_avx512(float *restr
  * is the copy's instruction set (a constant once inlined); T is fold_sh's. */
 BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t k0, size_t nb, float *acc, int isa)
 {
-    const size_t n = s->ncoded, N = s->ncoef, L = sss_decode_fold_levels(s->kind);
+    /* the block's planes, n apart (plane_at; k0 … k0 + nb − 1 lie in one
+     * group of the layout) */
+    const size_t n = sh_group(s, C), N = s->ncoef, L = sss_decode_fold_levels(s->kind);
+    const size_t at = plane_at(k0, 0, sh_nplanes(s, C), n);
     for (size_t c = 0; c < C; c++) {
         float *a = acc + c * SH_BLOCK;
         for (size_t b = 0; b < nb; b++) a[b] = 0.0f;
         const size_t e = c * N; /* the channel's first code element */
         if (s->kind == SSS_SHQ_LINEAR16)
-            planes_linear16(a, (const int16_t *)s->planes + e * n + k0, n, T + e, L, N, nb);
+            planes_linear16(a, (const int16_t *)s->planes + at + e * n, n, T + e, L, N, nb);
         else if (s->kind == SSS_SHQ_LINEAR8)
-            planes_linear8(a, (const int8_t *)s->planes + e * n + k0, n, T + e, L, N, nb);
+            planes_linear8(a, (const int8_t *)s->planes + at + e * n, n, T + e, L, N, nb);
         else if (s->kind == SSS_SHQ_LLOYD4) { /* the pairs, then an odd last code (sss_decode_prepare) */
             const size_t P = N / 2, Q = (N + 1) / 2;
-            const uint8_t *pl = (const uint8_t *)s->planes + c * Q * n + k0;
+            const uint8_t *pl = (const uint8_t *)s->planes + at + c * Q * n;
 #ifdef DECODE_X86
             const float *terms = T + sss_decode_fold_floats(s->kind, (uint32_t)C, (uint32_t)N) + e * 16;
             if (isa == SSS_DECODE_ISA_AVX512) {
@@ -729,7 +806,7 @@ BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t
             planes_table(a, pl, n, T + c * P * 256, 256, P, nb);
             if (N & 1) planes_table(a, pl + P * n, n, T + (C * P * 256 + c * 16), 16, 1, nb);
         } else
-            planes_table(a, (const uint8_t *)s->planes + e * n + k0, n, T + e * L, L, N, nb);
+            planes_table(a, (const uint8_t *)s->planes + at + e * n, n, T + e * L, L, N, nb);
     }
 }
 
@@ -781,12 +858,101 @@ BLOCK_INLINE void blend_block_c(const sss_bake_file *f, const float *R, const fl
     }
 }
 
+/* Whether f's references have a current load-time blend layout. */
+static int has_blend(const sss_bake_file *f) { return f->ref.bw && f->ref.blend_of == f->ref.w; }
+
+/* RGB: the blend of four vertices at a time with the channels in the lanes
+ * of a 4-float vector: a reference's three values are adjacent in R (R[t·3
+ * + c]), so one unaligned load brings all three (the fourth lane reads the
+ * next value, or R's padding, and is dropped), three loads a vertex where
+ * the plane loop below gathers nine scalars. Each lane forms its channel's
+ * sum as blend_block_planes does (w0·R0 + w1·R1, then + w2·R2, each
+ * rounded; w2 = 1 − w0 − w1 in float), a 4 × 4 transpose puts the
+ * channels back in acc's planes, and x + acc is acc + x to the bit (IEEE
+ * addition commutes). Returns the first vertex left to the plane loop. */
+#ifdef DECODE_X86
+BLOCK_INLINE size_t blend_rgb_lanes(const float *R, const float *w0, const float *w1, const uint16_t *t0,
+                                    const uint16_t *t1, const uint16_t *t2, size_t nb, float *acc)
+{
+    size_t b = 0;
+    for (; b + 4 <= nb; b += 4) {
+        __m128 v[4];
+        for (size_t i = 0; i < 4; i++) {
+            const float a = w0[b + i], c = w1[b + i], e = 1.0f - a - c;
+            const __m128 x = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(a), _mm_loadu_ps(R + 3 * (size_t)t0[b + i])),
+                                        _mm_mul_ps(_mm_set1_ps(c), _mm_loadu_ps(R + 3 * (size_t)t1[b + i])));
+            v[i] = _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(e), _mm_loadu_ps(R + 3 * (size_t)t2[b + i])));
+        }
+        _MM_TRANSPOSE4_PS(v[0], v[1], v[2], v[3]);
+        for (size_t c = 0; c < 3; c++) {
+            float *a = acc + c * SH_BLOCK + b;
+            _mm_storeu_ps(a, _mm_add_ps(v[c], _mm_loadu_ps(a)));
+        }
+    }
+    return b;
+}
+#endif
+
+/* blend_block_c through the load-time layout (prepare_blend): the same
+ * weights and offsets, read as planes, so the arithmetic per channel and
+ * vertex is the same to the bit. */
+BLOCK_INLINE void blend_block_planes(const sss_bake_file *f, const float *R, size_t kb, size_t nb, float *acc,
+                                     size_t C)
+{
+    const sss_refcode *r = &f->ref;
+    /* the block's planes, SH_BLOCK apart */
+    const float *restrict w0 = r->bw + plane_at(kb, 0, 2, SH_BLOCK), *restrict w1 = w0 + SH_BLOCK;
+    const uint16_t *restrict t0 = r->bo + plane_at(kb, 0, 3, SH_BLOCK), *restrict t1 = t0 + SH_BLOCK, *restrict t2 = t1 + SH_BLOCK;
+    size_t b0 = 0;
+#ifdef DECODE_X86
+    if (C == 3) b0 = blend_rgb_lanes(R, w0, w1, t0, t1, t2, nb, acc);
+#endif
+    float w2[SH_BLOCK];
+    int32_t o0[SH_BLOCK], o1[SH_BLOCK], o2[SH_BLOCK];
+    for (size_t b = b0; b < nb; b++) {
+        w2[b] = 1.0f - w0[b] - w1[b];
+        o0[b] = (int32_t)(t0[b] * C), o1[b] = (int32_t)(t1[b] * C), o2[b] = (int32_t)(t2[b] * C);
+    }
+    for (size_t c = 0; c < C; c++) {
+        float *restrict a = acc + c * SH_BLOCK;
+        const float *restrict Rc = R + c;
+        for (size_t b = b0; b < nb; b++) {
+            float x = w0[b] * Rc[o0[b]] + w1[b] * Rc[o1[b]] + w2[b] * Rc[o2[b]];
+            x += a[b];
+            a[b] = x;
+        }
+    }
+}
+
 BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const float *wt, size_t kb, size_t nb,
                               float *acc)
 {
+    if (has_blend(f)) {
+        if (f->channels == 3) blend_block_planes(f, R, kb, nb, acc, 3);
+        else blend_block_planes(f, R, kb, nb, acc, f->channels);
+        return;
+    }
     if (f->channels == 3) blend_block_c(f, R, wt, kb, nb, acc, 3);
     else blend_block_c(f, R, wt, kb, nb, acc, f->channels);
 }
+
+/* The block's values acc[c·SH_BLOCK + b] of b in [b0, b0 + len) to
+ * o[(b − b0)·C + c]: channels interleaved again, vertex after vertex. */
+BLOCK_INLINE void store_run(float *restrict o, const float *restrict acc, size_t b0, size_t len, size_t C)
+{
+    const float *restrict a = acc + b0;
+    if (C == 3)
+        for (size_t b = 0; b < len; b++) {
+            o[3 * b] = a[b];
+            o[3 * b + 1] = a[SH_BLOCK + b];
+            o[3 * b + 2] = a[2 * SH_BLOCK + b];
+        }
+    else
+        for (size_t c = 0; c < C; c++)
+            for (size_t b = 0; b < len; b++) o[b * C + c] = a[c * SH_BLOCK + b];
+}
+
+static size_t lower_bound_u32(const uint32_t *a, size_t n, size_t x);
 
 /* Coded vertices [kb, kb + nb), nb ≤ SH_BLOCK, through the planes: the SH
  * sums, the references' blend (R non-NULL), the clamp at 0 as a vector
@@ -804,22 +970,24 @@ BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const floa
         for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
     }
     if (R) {
-        for (size_t b = 0; b < nb; b++) {
-            float *o = out + ((size_t)f->ref.coded_vertex[kb + b] - first) * C;
-            for (size_t c = 0; c < C; c++) o[c] = acc[c * SH_BLOCK + b];
+        /* The coded vertices are the mesh's vertices less the references,
+         * in order: between two references they are consecutive, so the
+         * block is stored as runs of consecutive vertices (3 % references:
+         * about eight runs of 30 a block), each as the SH-only path stores,
+         * not value by value through coded_vertex. */
+        const sss_refcode *r = &f->ref;
+        const uint32_t *cv = r->coded_vertex + kb;
+        size_t j = lower_bound_u32(r->ref_vertex, r->nref, cv[0]);
+        for (size_t b = 0; b < nb;) {
+            const size_t v = cv[b];
+            while (j < r->nref && r->ref_vertex[j] < v) j++;
+            const size_t gap = j < r->nref ? r->ref_vertex[j] - v : nb - b, len = gap < nb - b ? gap : nb - b;
+            store_run(out + (v - first) * C, acc, b, len, C);
+            b += len;
         }
         return;
     }
-    float *o = out + (kb - first) * C;
-    if (C == 3)
-        for (size_t b = 0; b < nb; b++) {
-            o[3 * b] = acc[b];
-            o[3 * b + 1] = acc[SH_BLOCK + b];
-            o[3 * b + 2] = acc[2 * SH_BLOCK + b];
-        }
-    else
-        for (size_t c = 0; c < C; c++)
-            for (size_t b = 0; b < nb; b++) o[b * C + c] = acc[c * SH_BLOCK + b];
+    store_run(out + (kb - first) * C, acc, 0, nb, C);
 }
 
 /* ---- run-time instruction sets (sss_decode_isa) ------------------------ *
@@ -907,13 +1075,16 @@ static void coded_blocks(const sss_bake_file *f, const float *R, const float *T,
 {
     const size_t C = f->channels;
     const block_fn block = block_for(sss_decode_isa());
-    const ptrdiff_t nblk = (ptrdiff_t)((k1 - k0 + SH_BLOCK - 1) / SH_BLOCK);
+    /* the layout's blocks that [k0, k1) meets, each cut to the range */
+    const size_t B0 = k0 / SH_BLOCK;
+    const ptrdiff_t nblk = k1 > k0 ? (ptrdiff_t)((k1 - 1) / SH_BLOCK - B0 + 1) : 0;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if ((ptrdiff_t)(k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
 #endif
     for (ptrdiff_t blk = 0; blk < nblk; blk++) {
-        const size_t kb = k0 + (size_t)blk * SH_BLOCK, nb = k1 - kb < SH_BLOCK ? k1 - kb : SH_BLOCK;
-        block(f, R, T, wt, kb, nb, first, out);
+        const size_t B = B0 + (size_t)blk, kb = B * SH_BLOCK > k0 ? B * SH_BLOCK : k0,
+                     ke = (B + 1) * SH_BLOCK < k1 ? (B + 1) * SH_BLOCK : k1;
+        block(f, R, T, wt, kb, ke - kb, first, out);
     }
 }
 
@@ -939,6 +1110,7 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
     if (f->quant == SSS_QUANT_REFS) {
         const sss_refcode *r = &f->ref;
         if (!(R = malloc(((size_t)r->nref * C + 1) * sizeof *R))) goto oom;
+        R[(size_t)r->nref * C] = 0.0f; /* the padding blend_rgb_lanes's last load may read */
         ref_values(f, d, interp, R);
         const size_t r1 = lower_bound_u32(r->ref_vertex, r->nref, end);
         for (size_t k = lower_bound_u32(r->ref_vertex, r->nref, first); k < r1; k++)

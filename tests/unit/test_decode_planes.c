@@ -9,7 +9,8 @@
  * without the layout, and sss_decode_vertex. Every code kind, one and three
  * channels, SH orders 3 and 7, with and without references, and the block
  * loops on every instruction set the CPU has (sss_decode_isa: the baseline
- * and its AVX2 and AVX-512 copies must give the same floats). */
+ * and its AVX2 and AVX-512 copies must give the same floats), with the
+ * references' load-time blend and without it (a stale one). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -284,6 +285,78 @@ static void staleLayoutIsNotUsed(void **state)
     free(b);
 }
 
+/* The references' load-time blend (sss_refcode.bw, .bo; built by
+ * sss_decode_prepare beside the planes): it holds each coded vertex's first
+ * two weights as sss_decode_ref_weight's floats and its triangle's three
+ * references, block-major (256 vertices a block, format.h). After the
+ * weight codes are replaced (a new array) it is not used: the blend reads
+ * the new codes through the planes and gives, on every instruction set, the
+ * per-vertex loop's floats for them. 16-bit weights in RGB, 8-bit in grey. */
+static void check_stale_blend(const sss_bake_file *src, uint32_t wbits)
+{
+    sss_compress_opts o;
+    sss_compress_opts_default(&o);
+    o.fraction = 0.05;
+    o.wbits = wbits;
+    sss_bake_file f;
+    sss_error err = {{0}};
+    if (sss_compress(src, &o, &f, &err) != SSS_OK) fail_msg("compress: %s", err.msg);
+    sss_refcode *r = &f.ref;
+    assert_int_equal(sss_decode_prepare(&f), 0);
+    assert_non_null(r->bw);
+    assert_non_null(r->bo);
+    assert_ptr_equal(r->blend_of, r->w);
+    const size_t nc = f.sh.ncoded, C = f.channels, n = (size_t)f.mesh.nv * C;
+    for (size_t k = 0; k < nc; k += 37) {
+        const size_t at = (k / 256) * 256 * 2 + k % 256, ot = (k / 256) * 256 * 3 + k % 256;
+        for (uint32_t j = 0; j < 2; j++) {
+            const float w = sss_decode_ref_weight(r, r->w[2 * k + j]);
+            assert_memory_equal(&r->bw[at + j * 256], &w, sizeof w);
+        }
+        for (size_t j = 0; j < 3; j++) assert_int_equal(r->bo[ot + j * 256], r->ref_tri[3 * (size_t)r->vtri[k] + j]);
+    }
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b), *want = malloc(n * sizeof *want);
+    uint16_t *w = malloc(2 * nc * sizeof *w);
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_non_null(want);
+    assert_non_null(w);
+    const double l[3] = {0.4, 0.7, -0.3};
+    sss_decode_all(&f, l, a);
+    /* other weight codes (in range), in a new array: the layout is stale */
+    const uint32_t top = wbits == 16 ? 65535u : 255u;
+    for (size_t e = 0; e < 2 * nc; e++) w[e] = (uint16_t)(top - r->w[e]);
+    uint16_t *old = r->w;
+    r->w = w;
+    for (int isa = SSS_DECODE_ISA_BASELINE; isa <= SSS_DECODE_ISA_AVX512; isa++) {
+        if (sss_decode_force_isa(isa)) continue;
+        sss_decode_all(&f, l, b);
+        assert_memory_not_equal(a, b, n * sizeof *a); /* the new codes' values, not the layout's */
+        void *planes = f.sh.planes;
+        f.sh.planes = NULL; /* the per-vertex loop, for the oracle */
+        sss_decode_all(&f, l, want);
+        f.sh.planes = planes;
+        for (size_t i = 0; i < n; i++)
+            if (memcmp(&b[i], &want[i], sizeof *b))
+                fail_msg("%u-bit weights, %zu channels, instruction set %d, value %zu: blocks %.9g, per-vertex %.9g",
+                         wbits, C, isa, i, b[i], want[i]);
+    }
+    assert_int_equal(sss_decode_force_isa(-1), 0);
+    r->w = old;
+    free(w);
+    free(a);
+    free(b);
+    free(want);
+    sss_file_free(&f);
+}
+
+static void staleBlendLayoutIsNotUsed(void **state)
+{
+    (void)state;
+    check_stale_blend(&g_rgb, 16); /* RGB: the lanes' blend */
+    check_stale_blend(&g_grey, 8);  /* grey: the planes' loop */
+}
+
 /* The reader builds the layout: a compressed file read back decodes
  * through it, to the compressor's floats. */
 static void readerBuildsTheLayout(void **state)
@@ -300,6 +373,8 @@ static void readerBuildsTheLayout(void **state)
     if (sss_file_decode(buf, len, "planes.sss", &g, &err) != SSS_OK) fail_msg("decode: %s", err.msg);
     assert_non_null(g.sh.planes);
     assert_ptr_equal(g.sh.planes_of, g.sh.code);
+    assert_non_null(g.ref.bw); /* and the references' blend */
+    assert_ptr_equal(g.ref.blend_of, g.ref.w);
     const size_t n = (size_t)f.mesh.nv * f.channels;
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
     assert_non_null(a);
@@ -322,6 +397,7 @@ int main(void)
         cmocka_unit_test(referencesLayoutIsThePerVertexSum),
         cmocka_unit_test(everyInstructionSetGivesTheBaselineFloats),
         cmocka_unit_test(staleLayoutIsNotUsed),
+        cmocka_unit_test(staleBlendLayoutIsNotUsed),
         cmocka_unit_test(readerBuildsTheLayout),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -95,9 +95,13 @@ typedef struct sss_shcode {
                               little-endian (LINEAR16); owned */
     /* Not in the file: the decoder's load-time layout of the codes
      * (sss_decode_prepare, docs/benchmarks.md "Compressed forms' per-frame
-     * cost"), coefficient-major: element e of coded vertex k at
-     * planes[e * ncoded + k], one code a byte (8-bit kinds, LLOYD4) or an
-     * int16_t (LINEAR16), so that one loop step serves a run of vertices.
+     * cost"), coefficient-major in groups of G coded vertices: element e
+     * of coded vertex k at planes[((k / G) * E + e) * G + k % G], E the
+     * elements per vertex, one code a byte (8-bit kinds; LLOYD4: a pair's
+     * byte) or an int16_t (LINEAR16), so that one loop step serves a run of
+     * vertices; G = 256 (a block's codes one run of memory) up to 64 code
+     * bytes a vertex, else all coded vertices rounded up to 256 (decode.c,
+     * sh_group).
      * NULL when not built; used only while planes_of == code. Owned. */
     void *planes;
     const uint8_t *planes_of;
@@ -117,6 +121,17 @@ typedef struct sss_refcode {
     float *levels;         /* channels * 256 Lloyd levels, ascending; owned */
     uint8_t *idx;          /* ndirs * nref * channels codes, ((j * nref + r) * channels + c); owned */
     uint32_t *coded_vertex;/* derived by the reader: the ncoded non-reference vertices, increasing; owned */
+    /* Not in the file: the decoder's load-time layout of the blend
+     * (sss_decode_prepare, docs/benchmarks.md "The references' blend from a
+     * load-time table"), block-major like sss_shcode.planes: coded vertex
+     * k's first two weights as the floats the decoder blends with
+     * (sss_decode_ref_weight; the third is 1 − w0 − w1) in bw, its
+     * triangle's three references (ref_tri[3 * vtri[k] + j]) in bo. NULL
+     * when not built (more than 65536 references); used only while
+     * blend_of == w. Owned. */
+    float *bw;
+    uint16_t *bo;
+    const uint16_t *blend_of;
 } sss_refcode;
 
 /* (1.2) The effect set of a scene bake (docs/scenes.md, docs/format.md
