@@ -33,6 +33,11 @@ extern "C" {
 #define SSS_FIELD_FAR_CELLS 1024
 /* The march grid's early-out bricks have this many cells per side. */
 #define SSS_FIELD_BRICK 2
+/* The profiles' table (§4.1): levels of f and distances; bilinear in
+ * (f, r) on ½ ln of the profile ratio keeps ln κ within 10⁻⁴ of the exact
+ * profiles on the tests' and the dragon's fields (prof_tol). */
+#define SSS_FIELD_PROFILE_F 129
+#define SSS_FIELD_PROFILE_R 1025
 
 typedef struct sss_field_kernel {
     const sss_hetero *h;     /* borrowed: the field, the inside material, the rest frame */
@@ -73,6 +78,16 @@ typedef struct sss_field_kernel {
      * read. NULL: every midpoint is read (the plain march). */
     double *brick_hi;        /* bn[0]·bn[1]·bn[2] × C, brick (i, j, k) at ((k·bn1 + j)·bn0 + i)·C */
     uint32_t bn[3];
+    /* The profiles' table (docs/heterogeneous.md §4.1): ½ ln(R_d[f](r) /
+     * R_d[f_ref](r)) per channel on SSS_FIELD_PROFILE_F levels of f over
+     * [f_min, f_max] and SSS_FIELD_PROFILE_R distances over [0, radius_mm],
+     * bilinear between them, for the pairs whose profiles are point values;
+     * prof_tol its largest error (in ln κ) at the cells' centres against the
+     * exact profiles. NULL when f is constant over the vertices. */
+    double *prof;            /* level l, distance j, channel c at (l·SSS_FIELD_PROFILE_R + j)·C + c */
+    uint32_t *prof_l;        /* per vertex and channel: the level below its σtr (nv × C) */
+    double *prof_w;          /* per vertex and channel: its weight towards the level above (nv × C) */
+    double prof_dr, prof_tol;
 } sss_field_kernel;
 
 /* Evaluates the field at every vertex of mesh (world units; h->xf maps to
