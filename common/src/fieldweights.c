@@ -180,7 +180,7 @@ static void build_profiles(sss_field_kernel *k)
     int ok = k->prof && k->prof_l && k->prof_w && err;
     for (uint32_t c = 0; c < C; c++) ok = ok && dp[c] != 0.0;
     if (ok) {
-        for (uint32_t j = 0; j < NR * C; j++) k->prof[j] = 0.0; /* level 0: the reference itself */
+        for (uint32_t j = 0; j < NR * C; j++) k->prof[j] = 0.0f; /* level 0: the reference itself */
 #pragma omp parallel for schedule(dynamic, 1) reduction(&& : ok)
         for (int64_t q = 0; q < (int64_t)(NF - 1) * C; q++) {
             const uint32_t l = (uint32_t)(q / C) + 1, c = (uint32_t)(q % C);
@@ -198,13 +198,13 @@ static void build_profiles(sss_field_kernel *k)
             double worst = 0.0;
             for (uint32_t j = 0; j < NR; j++) {
                 const double g = half_log_ratio(&d, ref, k->prof_dr * j);
-                ok = ok && isfinite(g);
-                k->prof[((size_t)l * NR + j) * C + c] = g;
+                ok = ok && isfinite(g) && fabs(g) < 1e30;
+                k->prof[((size_t)l * NR + j) * C + c] = (float)g;
             }
             for (uint32_t j = 0; j + 1 < NR; j++) {
                 double corner = 0.0;
                 for (uint32_t e = 0; e < 2; e++)
-                    corner += k->prof[((size_t)l * NR + j + e) * C + c] +
+                    corner += (double)k->prof[((size_t)l * NR + j + e) * C + c] +
                               (l > 1 ? half_log_ratio(&dl, ref, k->prof_dr * (j + e)) : 0.0);
                 worst = fmax(worst, fabs(0.25 * corner - half_log_ratio(&dm, ref, k->prof_dr * (j + 0.5))));
             }
@@ -240,9 +240,9 @@ static void build_profiles(sss_field_kernel *k)
 static inline double prof_at(const sss_field_kernel *k, uint32_t v, size_t j, double rw, uint32_t c)
 {
     const size_t C = k->C, L = (size_t)SSS_FIELD_PROFILE_R * C, vc = (size_t)v * C + c;
-    const double *p = k->prof + ((size_t)k->prof_l[vc] * SSS_FIELD_PROFILE_R + j) * C + c;
-    const double a = p[0] + rw * (p[C] - p[0]);
-    const double b = p[L] + rw * (p[L + C] - p[L]);
+    const float *p = k->prof + ((size_t)k->prof_l[vc] * SSS_FIELD_PROFILE_R + j) * C + c;
+    const double a = p[0] + rw * ((double)p[C] - p[0]);
+    const double b = p[L] + rw * ((double)p[L + C] - p[L]);
     return a + k->prof_w[vc] * (b - a);
 }
 
