@@ -55,6 +55,9 @@ void sss_field_kernel_free(sss_field_kernel *k)
     free(k->cell_state);
     free(k->tr);
     free(k->brick_hi);
+    free(k->prof);
+    free(k->prof_l);
+    free(k->prof_w);
     memset(k, 0, sizeof *k);
 }
 
@@ -94,6 +97,153 @@ static sss_result build_bricks(sss_field_kernel *k)
         }
     }
     return SSS_OK;
+}
+
+/* ½ ln(R_d[d](r) / R_d[ref](r)): what the profiles' table holds. */
+static double half_log_ratio(const sss_dipole *d, const sss_dipole *ref, double r)
+{
+    return 0.5 * log(sss_rd(d, r) / sss_rd(ref, r));
+}
+
+/* The table's coordinate of channel c along f (build_profiles): σtr_c(f)
+ * when that is strictly monotone over [f_min, f_max], else f itself. */
+static double prof_param(const sss_field_kernel *k, uint32_t c, int by_sigma, double f)
+{
+    return by_sigma ? sss_material_sigma_tr(&k->base, &k->h->inside, f, c) : f;
+}
+
+/* The f in [f_min, f_max] where channel c's coordinate is p (bisection). */
+static double prof_f_at(const sss_field_kernel *k, uint32_t c, int by_sigma, double p)
+{
+    double lo = k->f_min, hi = k->f_max;
+    const double p0 = prof_param(k, c, by_sigma, lo), up = prof_param(k, c, by_sigma, hi) > p0 ? 1.0 : -1.0;
+    for (int it = 0; it < 64; it++) {
+        const double m = 0.5 * (lo + hi);
+        if (up * (prof_param(k, c, by_sigma, m) - p) < 0.0) lo = m;
+        else hi = m;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* The dipole of channel c of the blend at f. */
+static int blend_dipole(const sss_field_kernel *k, uint32_t c, double f, sss_dipole *d)
+{
+    sss_material m;
+    sss_material_blend(&k->base, &k->h->inside, f, &m);
+    return sss_dipole_init(d, m.sigma_a[c], m.sigmap_s[c], k->base.eta) == SSS_OK;
+}
+
+/* The profiles' table (docs/heterogeneous.md §4.1): κ's profile part
+ * sqrt(P_o P_i) / P_ref is exp(g(f_o, r) + g(f_i, r)) with g = ½ ln(R_d[f] /
+ * R_d[f_ref]) when both profiles are point values. An entry cost nine
+ * dipole profiles (two exponentials each) per channel where the endpoints
+ * differ in f (a veined surface: almost every pair), about 40 % of the
+ * field's work in perf on the dragon. g is nearly linear in r (the ratio
+ * of two profiles that both decay like exp(−σtr r)) and in the channel's
+ * σtr, not in f (σtr = sqrt(3 σa σ′t) with σa linear in f bends sharply
+ * where σa is small: levels evenly spaced in f erred by 0.016 in ln κ on
+ * the test's ball, levels evenly spaced in Σ_c σtr_c by 0.005), so each
+ * channel's SSS_FIELD_PROFILE_F levels are evenly spaced in its own σtr
+ * (prof_param) and a vertex is placed between two levels by its own σtr;
+ * g is read bilinearly in (σtr, r) from SSS_FIELD_PROFILE_R distances over
+ * [0, radius_mm]. Level 0 is f_min, the reference, where g = 0 exactly,
+ * and a vertex at f_min sits on it with weight 0: an endpoint at the
+ * reference contributes exactly nothing, as before. prof_tol is the
+ * largest error in ln κ (twice g's, one per endpoint) at the centres of
+ * the table's cells, where a bilinear read of a smooth function errs
+ * most. On failure (a blend without a dipole, a non-finite ratio, no
+ * memory) the kernel keeps the exact profiles (prof NULL). */
+static void build_profiles(sss_field_kernel *k)
+{
+    const uint32_t C = k->C, NF = SSS_FIELD_PROFILE_F, NR = SSS_FIELD_PROFILE_R;
+    if (!(k->f_max > k->f_min) || !(k->radius_mm > 0.0)) return;
+    int by_sigma[SSS_MAX_CHANNELS];
+    double P0[SSS_MAX_CHANNELS], dp[SSS_MAX_CHANNELS];
+    for (uint32_t c = 0; c < C; c++) {
+        /* σtr_c strictly monotone over the range, on 1024 samples? */
+        const double s0 = prof_param(k, c, 1, k->f_min), s1 = prof_param(k, c, 1, k->f_max), up = s1 > s0 ? 1.0 : -1.0;
+        double prev = s0;
+        by_sigma[c] = 1;
+        for (int q = 1; q <= 1024 && by_sigma[c]; q++) {
+            const double sq = prof_param(k, c, 1, k->f_min + (k->f_max - k->f_min) * q / 1024.0);
+            by_sigma[c] = up * (sq - prev) > 0.0;
+            prev = sq;
+        }
+        P0[c] = prof_param(k, c, by_sigma[c], k->f_min);
+        dp[c] = (prof_param(k, c, by_sigma[c], k->f_max) - P0[c]) / (NF - 1);
+    }
+    k->prof_dr = k->radius_mm / (NR - 1);
+    k->prof = malloc((size_t)NF * NR * C * sizeof *k->prof);
+    k->prof_l = malloc((size_t)k->nv * C * sizeof *k->prof_l);
+    k->prof_w = malloc((size_t)k->nv * C * sizeof *k->prof_w);
+    double *err = calloc((size_t)NF * C, sizeof *err);
+    int ok = k->prof && k->prof_l && k->prof_w && err;
+    for (uint32_t c = 0; c < C; c++) ok = ok && dp[c] != 0.0;
+    if (ok) {
+        for (uint32_t j = 0; j < NR * C; j++) k->prof[j] = 0.0f; /* level 0: the reference itself */
+#pragma omp parallel for schedule(dynamic, 1) reduction(&& : ok)
+        for (int64_t q = 0; q < (int64_t)(NF - 1) * C; q++) {
+            const uint32_t l = (uint32_t)(q / C) + 1, c = (uint32_t)(q % C);
+            const double f = l == NF - 1 ? k->f_max : prof_f_at(k, c, by_sigma[c], P0[c] + dp[c] * l);
+            /* the level below (written by another iteration: recomputed
+             * here, the same bits) and the centre between the two */
+            const double fl = l == 1 ? k->f_min : prof_f_at(k, c, by_sigma[c], P0[c] + dp[c] * (l - 1));
+            const double fm = prof_f_at(k, c, by_sigma[c], P0[c] + dp[c] * (l - 0.5));
+            sss_dipole d, dl, dm;
+            if (!blend_dipole(k, c, f, &d) || !blend_dipole(k, c, fl, &dl) || !blend_dipole(k, c, fm, &dm)) {
+                ok = 0;
+                continue;
+            }
+            const sss_dipole *ref = &k->dip_ref[c];
+            double worst = 0.0;
+            for (uint32_t j = 0; j < NR; j++) {
+                const double g = half_log_ratio(&d, ref, k->prof_dr * j);
+                ok = ok && isfinite(g) && fabs(g) < 1e30;
+                k->prof[((size_t)l * NR + j) * C + c] = (float)g;
+            }
+            for (uint32_t j = 0; j + 1 < NR; j++) {
+                double corner = 0.0;
+                for (uint32_t e = 0; e < 2; e++)
+                    corner += (double)k->prof[((size_t)l * NR + j + e) * C + c] +
+                              (l > 1 ? half_log_ratio(&dl, ref, k->prof_dr * (j + e)) : 0.0);
+                worst = fmax(worst, fabs(0.25 * corner - half_log_ratio(&dm, ref, k->prof_dr * (j + 0.5))));
+            }
+            err[q] = worst;
+        }
+    }
+    double tol = 0.0;
+    for (uint32_t q = 0; ok && q < (NF - 1) * C; q++) tol = fmax(tol, err[q]);
+    free(err);
+    if (!ok || !isfinite(tol)) {
+        free(k->prof), free(k->prof_l), free(k->prof_w);
+        k->prof = NULL, k->prof_l = NULL, k->prof_w = NULL;
+        return;
+    }
+    k->prof_tol = 2.0 * tol;
+    for (uint32_t v = 0; v < k->nv; v++)
+        for (uint32_t c = 0; c < C; c++) {
+            /* the vertex's coordinate from its own σtr (the same function of
+             * the same f, so a vertex at f_min lands on level 0 with weight
+             * 0 exactly) */
+            const double p = by_sigma[c] ? k->sigma_tr[(size_t)v * C + c] : k->f[v];
+            double u = (p - P0[c]) / dp[c];
+            u = u < 0.0 ? 0.0 : u > NF - 1 ? NF - 1 : u;
+            uint32_t l = (uint32_t)u;
+            l = l > NF - 2 ? NF - 2 : l;
+            k->prof_l[(size_t)v * C + c] = l;
+            k->prof_w[(size_t)v * C + c] = u - l;
+        }
+}
+
+/* g(f_v, r) of channel c from the table: vertex v's level for c and the
+ * one above, distances j and j + 1 (weight rw towards j + 1). */
+static inline double prof_at(const sss_field_kernel *k, uint32_t v, size_t j, double rw, uint32_t c)
+{
+    const size_t C = k->C, L = (size_t)SSS_FIELD_PROFILE_R * C, vc = (size_t)v * C + c;
+    const float *p = k->prof + ((size_t)k->prof_l[vc] * SSS_FIELD_PROFILE_R + j) * C + c;
+    const double a = p[0] + rw * ((double)p[C] - p[0]);
+    const double b = p[L] + rw * ((double)p[L + C] - p[L]);
+    return a + k->prof_w[vc] * (b - a);
 }
 
 /* The kernel for the vertices of mesh with f read at the positions `at`
@@ -208,7 +358,12 @@ sss_result sss_field_kernel_create(const sss_mesh *mesh, double s, const sss_mat
 {
     /* a surface texture (Hao–Varshney 2004 §5) has no volume to march:
      * the endpoints' profiles alone (docs/heterogeneous.md §4.4) */
-    return kernel_create(mesh, mesh->pos, !h->surface, s, base, h, C, eps, name, k, err);
+    sss_result r = kernel_create(mesh, mesh->pos, !h->surface, s, base, h, C, eps, name, k, err);
+    /* the profiles' table for a bake's and an exact evaluator's many pairs;
+     * a deforming object's per-frame kernel keeps the exact profiles
+     * (docs/deformable.md §10) */
+    if (r == SSS_OK) build_profiles(k);
+    return r;
 }
 
 sss_result sss_field_kernel_create_ends(const sss_mesh *mesh, const float *rest, double s, const sss_material *base,
@@ -577,6 +732,17 @@ static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t
      * inclusion or a stratum does not reach): the profile ratio is 1, as
      * sqrt(P²)/P computes it, without three profiles per channel. */
     const int ref_ends = k->f[o] == k->f_min && k->f[i] == k->f_min;
+    if (!ref_ends && k->prof && r > 0.0 && r >= rho_i && r <= k->radius_mm) {
+        /* point profiles within the table's range: exp(g(f_o, r) + g(f_i, r)
+         * − τ's exponent), one exponential per channel (build_profiles);
+         * the sum commutes, so κ(i, o) keeps κ(o, i)'s bits */
+        const double u = r / k->prof_dr;
+        size_t j = (size_t)u;
+        j = j > SSS_FIELD_PROFILE_R - 2 ? SSS_FIELD_PROFILE_R - 2 : j;
+        const double rw = u - (double)j;
+        for (uint32_t c = 0; c < C; c++) kappa[c] = exp(prof_at(k, o, j, rw, c) + prof_at(k, i, j, rw, c) - tau_exp[c]);
+        return;
+    }
     for (uint32_t c = 0; c < C; c++) {
         /* τ = 1 exactly where nothing on the segment exceeds the mean
          * (exp(−0) = 1 in IEEE arithmetic): most pairs of a field that
