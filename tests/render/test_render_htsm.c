@@ -131,12 +131,16 @@ static double frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_para
     return ms;
 }
 
-/* Per pixel within 10⁻⁴ of the image's largest q (float against double,
- * the same texels, levels and steps), for the smallest and the largest
- * pattern. */
-static void perPixelAgreesWithTheCpuOracle(void **state)
+static void point_only(const block *b, const sss_view_params *p, double dist, sss_htsm_view *v);
+static double radius(const block *b);
+
+/* The GPU frame against the CPU oracle for the smallest and the largest
+ * pattern, 8 steps: per pixel within 10⁻⁴ of the image's largest q (float
+ * against double, the same texels, levels and steps). point_r > 0: the
+ * scene's light replaced by a point light point_r bounding radii behind
+ * the block. */
+static void check_oracle(double point_r)
 {
-    (void)state;
     block b;
     block_make(&b);
     sss_htsm_gpu *g = gpu_of(&b, &b.h);
@@ -146,15 +150,23 @@ static void perPixelAgreesWithTheCpuOracle(void **state)
     for (int k = 0; k < 2; k++) {
         sss_htsm_view v;
         view(&b, ns[k], 8, &v);
+        if (point_r > 0) point_only(&b, &p, point_r * radius(&b), &v);
         const double ms = frame(g, &v, &p);
         int drawn = 0;
         const double e = oracle_error(g, &v, &drawn);
-        printf("n = %2u, 8 steps: %d pixels, GPU vs CPU %.2e of the largest q (%.1f ms)\n", ns[k], drawn, e, ms);
+        printf("%s n = %2u, 8 steps: %d pixels, GPU vs CPU %.2e of the largest q (%.1f ms)\n",
+               point_r > 0 ? "point light," : "directional,", ns[k], drawn, e, ms);
         assert_true(drawn > W * H / 4);
         assert_true(e < 1e-4);
     }
     sss_htsm_gpu_destroy(g);
     block_free(&b);
+}
+
+static void perPixelAgreesWithTheCpuOracle(void **state)
+{
+    (void)state;
+    check_oracle(0.0);
 }
 
 static double mean_q(sss_htsm_gpu *g)
@@ -286,26 +298,7 @@ static void point_only(const block *b, const sss_view_params *p, double dist, ss
 static void pointLightPerPixelAgreesWithTheCpuOracle(void **state)
 {
     (void)state;
-    block b;
-    block_make(&b);
-    sss_htsm_gpu *g = gpu_of(&b, &b.h);
-    sss_view_params p;
-    params(&p);
-    const uint32_t ns[2] = {1, 13};
-    for (int k = 0; k < 2; k++) {
-        sss_htsm_view v;
-        view(&b, ns[k], 8, &v);
-        point_only(&b, &p, 3.0 * radius(&b), &v);
-        const double ms = frame(g, &v, &p);
-        int drawn = 0;
-        const double e = oracle_error(g, &v, &drawn);
-        printf("point light at 3 R, n = %2u, 8 steps: %d pixels, GPU vs CPU %.2e of the largest q (%.1f ms)\n", ns[k],
-               drawn, e, ms);
-        assert_true(drawn > W * H / 4);
-        assert_true(e < 1e-4);
-    }
-    sss_htsm_gpu_destroy(g);
-    block_free(&b);
+    check_oracle(3.0);
 }
 
 /* The largest difference between two frames' q over the drawn pixels,
