@@ -540,6 +540,19 @@ static void fieldMovedRigidlyWithItsObjectLeavesQUnchanged(void **state)
     sss_file_free(&h);
 }
 
+/* The veined ball of the kernel's own checks: a base of little absorption
+ * (σa 0.01–0.03 per mm) with veins (S = 6 mm) of an inside whose σa is
+ * inside_sa in every channel, the field in millimetres. */
+static void veined_ball(double inside_sa, sss_hetero *h, sss_material *base)
+{
+    memset(h, 0, sizeof *h);
+    h->field = (sss_field){.kind = SSS_FIELD_VEINS, .seed = 1, .scale_mm = 6.0};
+    h->xf[0] = h->xf[5] = h->xf[10] = 1.0;
+    *base = (sss_material){.name = "b", .sigma_a = {0.01, 0.02, 0.03}, .sigmap_s = {1, 1.2, 1.4}, .eta = 1.3};
+    h->inside = *base;
+    for (int c = 0; c < 3; c++) h->inside.sigma_a[c] = inside_sa;
+}
+
 static void kernelIsSymmetricInItsEndpoints(void **state)
 {
     (void)state;
@@ -547,12 +560,8 @@ static void kernelIsSymmetricInItsEndpoints(void **state)
     sss_error err = {{0}};
     assert_int_equal(sss_gen_sphere(&m, 10.0, 2, &err), SSS_OK);
     sss_hetero h;
-    memset(&h, 0, sizeof h);
-    h.field = (sss_field){.kind = SSS_FIELD_VEINS, .seed = 1, .scale_mm = 6.0};
-    h.xf[0] = h.xf[5] = h.xf[10] = 1.0;
-    sss_material base = {.name = "b", .sigma_a = {0.01, 0.02, 0.03}, .sigmap_s = {1, 1.2, 1.4}, .eta = 1.3};
-    h.inside = base;
-    for (int c = 0; c < 3; c++) h.inside.sigma_a[c] = 0.3;
+    sss_material base;
+    veined_ball(0.3, &h, &base);
     sss_field_kernel k;
     if (sss_field_kernel_create(&m, 1.0, &base, &h, 3, 1e-3, "ball", &k, &err) != SSS_OK) fail_msg("%s", err.msg);
     assert_true(k.f_min < k.f_max);
@@ -593,12 +602,8 @@ static void profileTableIsWithinItsBoundOfTheExactProfiles(void **state)
     const double inside_sa[2] = {0.3, 1.0};
     for (int t = 0; t < 2; t++) {
         sss_hetero h;
-        memset(&h, 0, sizeof h);
-        h.field = (sss_field){.kind = SSS_FIELD_VEINS, .seed = 1, .scale_mm = 6.0};
-        h.xf[0] = h.xf[5] = h.xf[10] = 1.0;
-        sss_material base = {.name = "b", .sigma_a = {0.01, 0.02, 0.03}, .sigmap_s = {1, 1.2, 1.4}, .eta = 1.3};
-        h.inside = base;
-        for (int c = 0; c < 3; c++) h.inside.sigma_a[c] = inside_sa[t];
+        sss_material base;
+        veined_ball(inside_sa[t], &h, &base);
         sss_field_kernel k;
         if (sss_field_kernel_create(&m, 1.0, &base, &h, 3, 1e-3, "ball", &k, &err) != SSS_OK) fail_msg("%s", err.msg);
         assert_non_null(k.prof);
