@@ -571,9 +571,13 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
         float w[3];
         if (inside)
             for (int x = 0; x < 3; x++) {
+                /* through a 32-bit integer (the grid has at most
+                 * SSS_FIELD_MARCH_NODES nodes per side): the conversions
+                 * both ways without the sign tests an unsigned one needs */
                 const double u = g0[x] + t * dg[x];
-                cl[x] = (size_t)(int64_t)u;
-                w[x] = (float)(u - (double)cl[x]);
+                const int32_t ci = (int32_t)u;
+                w[x] = (float)(u - (double)ci);
+                cl[x] = (size_t)ci;
                 base += cl[x] * stride[x];
             }
         else
