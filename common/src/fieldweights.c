@@ -77,7 +77,8 @@ static sss_result build_bricks(sss_field_kernel *k)
     for (int a = 0; a < 3; a++) k->bn[a] = k->tn[a] > 1 ? (k->tn[a] - 2) / B + 1 : 1;
     const size_t nb = (size_t)k->bn[0] * k->bn[1] * k->bn[2];
     if (!(k->brick_hi = malloc(nb * C * sizeof *k->brick_hi))) return SSS_ERR_NOMEM;
-#pragma omp parallel for schedule(static)
+    int64_t flat = 0;
+#pragma omp parallel for schedule(static) reduction(+ : flat)
     for (int64_t q = 0; q < (int64_t)nb; q++) {
         const uint32_t b[3] = {(uint32_t)((size_t)q % k->bn[0]), (uint32_t)((size_t)q / k->bn[0] % k->bn[1]),
                                (uint32_t)((size_t)q / ((size_t)k->bn[0] * k->bn[1]))};
@@ -86,6 +87,7 @@ static sss_result build_bricks(sss_field_kernel *k)
             n0[a] = b[a] * B;
             n1[a] = n0[a] + B < k->tn[a] - 1 ? n0[a] + B : k->tn[a] - 1;
         }
+        int all_flat = 1;
         for (uint32_t c = 0; c < C; c++) {
             double lo = INFINITY, hi = -INFINITY;
             for (uint32_t z = n0[2]; z <= n1[2]; z++)
@@ -96,8 +98,18 @@ static sss_result build_bricks(sss_field_kernel *k)
                         hi = fmax(hi, v);
                     }
             k->brick_hi[(size_t)q * C + c] = lo == hi ? hi : hi * (1.0 + 1e-5);
+            all_flat = all_flat && lo == hi;
         }
+        flat += all_flat;
     }
+    /* The early-out pays where the field has plateaus (strata, inclusions,
+     * a grid's slabs: half to nine tenths of the midpoints skipped, often
+     * in runs); through veins, which vary everywhere, its tests (a segment's
+     * box, then every midpoint's brick, an unpredictable branch) cost more
+     * than the reads they saved, about a quarter of the march on the dragon
+     * (docs/heterogeneous.md §4.2). A plateau shows as bricks whose nodes
+     * are all equal. */
+    k->use_bricks = 4 * flat >= (int64_t)nb;
     return SSS_OK;
 }
 
@@ -526,7 +538,7 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
         g1[x] = g0[x] + dg[x]; /* every midpoint g0 + t dg, 0 < t < 1, lies between g0 and g1 */
     }
     for (uint32_t c = 0; c < C; c++) out[c] = 0.0;
-    const double *bh = mean ? k->brick_hi : NULL;
+    const double *bh = mean && k->use_bricks ? k->brick_hi : NULL;
     if (bh && box_below(k, g0, g1, mean)) return;
     /* the sums in a local array: out may alias the grid for all the
      * compiler knows, which made it store and reload every term */

@@ -85,6 +85,12 @@ typedef struct sss_field_kernel {
      * read. NULL: every midpoint is read (the plain march). */
     double *brick_hi;        /* bn[0]·bn[1]·bn[2] × C, brick (i, j, k) at ((k·bn1 + j)·bn0 + i)·C */
     uint32_t bn[3];
+    /* Whether the march uses the bricks (a segment's box, then each
+     * midpoint's brick): set where at least a quarter of the bricks are
+     * flat (all their nodes equal: a plateau), since through a field that
+     * varies everywhere the tests cost more than the reads they skip. The
+     * sum's bits are the same either way. */
+    int use_bricks;
     /* The profiles' table (docs/heterogeneous.md §4.1): ½ ln(R_d[f](r) /
      * R_d[f_ref](r)) per channel on SSS_FIELD_PROFILE_F levels of f over
      * [f_min, f_max] (per channel, evenly spaced in its σtr) and
