@@ -549,19 +549,22 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
     /* A brick holds more than one midpoint only where a step moves less
      * than a brick along every axis; elsewhere the run's end is not worth
      * its three products (the skipped midpoints are the same either way). */
-    double inv_dg[3], longest = 0.0;
+    double inv_dg[3] = {0}, longest = 0.0;
     /* Whether every midpoint lies inside the grid, away from its last
      * node by far more than the rounding of g0 + t dg: then cell_floor's
      * clamps change nothing and the cell is the truncation alone (the
-     * same bits, fewer operations per midpoint). */
+     * same bits, fewer operations per midpoint). Comparisons written out:
+     * libm's fmin and fmax are calls, once per pair. */
     int inside = 1;
     for (int x = 0; x < 3; x++) {
-        inv_dg[x] = dg[x] != 0.0 ? 1.0 / dg[x] : 0.0;
-        longest = fmax(longest, fabs(dg[x]));
+        const double lo = g0[x] < g1[x] ? g0[x] : g1[x], hi = g0[x] < g1[x] ? g1[x] : g0[x];
         const double top = (double)(k->tn[x] - 1);
-        inside = inside && k->tn[x] > 1 && fmin(g0[x], g1[x]) >= 1e-6 && fmax(g0[x], g1[x]) <= top - 1e-6;
+        inside = inside && k->tn[x] > 1 && lo >= 1e-6 && hi <= top - 1e-6;
+        if (!bh) continue; /* the runs are the bricks' */
+        inv_dg[x] = dg[x] != 0.0 ? 1.0 / dg[x] : 0.0;
+        longest = longest > fabs(dg[x]) ? longest : fabs(dg[x]);
     }
-    const int runs = longest < (double)SSS_FIELD_BRICK * n;
+    const int runs = bh && longest < (double)SSS_FIELD_BRICK * n;
     /* t_j = (j + ½) / n as a product: the division per midpoint was the
      * march's slowest operation (brick_run_end's margin covers the unit in
      * the last place this moves t_j by) */
