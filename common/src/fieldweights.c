@@ -64,18 +64,21 @@ void sss_field_kernel_free(sss_field_kernel *k)
 /* The bricks of the march grid (§4.2): per brick of SSS_FIELD_BRICK³
  * cells and channel, the bound hi on every trilinear read between its
  * nodes. A read is a convex combination of the eight nodes around it,
- * computed by seven lerps a + w (b − a), each within a few units in the
- * last place of the largest node: hi is the largest node when all the
- * brick's nodes are equal (each lerp then returns it exactly), else the
- * largest times 1 + 10⁻⁹. So a read inside a brick with hi ≤ σ̄tr is below
- * or at σ̄tr, and its term max(0, σtr − σ̄tr) is exactly +0. */
+ * computed in floats by three levels of lerps a + w (b − a), each at most
+ * 3 units in the last place (2⁻²⁴) of the largest node above it, so a
+ * read is below the largest node times 1 + 5.4·10⁻⁷: hi is the largest
+ * node when all the brick's nodes are equal (each lerp then returns it
+ * exactly), else the largest times 1 + 10⁻⁵. So a read inside a brick
+ * with hi ≤ σ̄tr is below or at σ̄tr, and its term max(0, σtr − σ̄tr) is
+ * exactly +0. */
 static sss_result build_bricks(sss_field_kernel *k)
 {
     const uint32_t C = k->C, B = SSS_FIELD_BRICK;
     for (int a = 0; a < 3; a++) k->bn[a] = k->tn[a] > 1 ? (k->tn[a] - 2) / B + 1 : 1;
     const size_t nb = (size_t)k->bn[0] * k->bn[1] * k->bn[2];
     if (!(k->brick_hi = malloc(nb * C * sizeof *k->brick_hi))) return SSS_ERR_NOMEM;
-#pragma omp parallel for schedule(static)
+    int64_t flat = 0;
+#pragma omp parallel for schedule(static) reduction(+ : flat)
     for (int64_t q = 0; q < (int64_t)nb; q++) {
         const uint32_t b[3] = {(uint32_t)((size_t)q % k->bn[0]), (uint32_t)((size_t)q / k->bn[0] % k->bn[1]),
                                (uint32_t)((size_t)q / ((size_t)k->bn[0] * k->bn[1]))};
@@ -84,18 +87,29 @@ static sss_result build_bricks(sss_field_kernel *k)
             n0[a] = b[a] * B;
             n1[a] = n0[a] + B < k->tn[a] - 1 ? n0[a] + B : k->tn[a] - 1;
         }
+        int all_flat = 1;
         for (uint32_t c = 0; c < C; c++) {
             double lo = INFINITY, hi = -INFINITY;
             for (uint32_t z = n0[2]; z <= n1[2]; z++)
                 for (uint32_t y = n0[1]; y <= n1[1]; y++)
                     for (uint32_t x = n0[0]; x <= n1[0]; x++) {
-                        const double v = k->tr[(((size_t)z * k->tn[1] + y) * k->tn[0] + x) * C + c];
+                        const double v = k->tr[(((size_t)z * k->tn[1] + y) * k->tn[0] + x) * SSS_FIELD_TR_W + c];
                         lo = fmin(lo, v);
                         hi = fmax(hi, v);
                     }
-            k->brick_hi[(size_t)q * C + c] = lo == hi ? hi : hi * (1.0 + 1e-9);
+            k->brick_hi[(size_t)q * C + c] = lo == hi ? hi : hi * (1.0 + 1e-5);
+            all_flat = all_flat && lo == hi;
         }
+        flat += all_flat;
     }
+    /* The early-out pays where the field has plateaus (strata, inclusions,
+     * a grid's slabs: half to nine tenths of the midpoints skipped, often
+     * in runs); through veins, which vary everywhere, its tests (a segment's
+     * box, then every midpoint's brick, an unpredictable branch) cost more
+     * than the reads they saved, about a quarter of the march on the dragon
+     * (docs/heterogeneous.md §4.2). A plateau shows as bricks whose nodes
+     * are all equal. */
+    k->use_bricks = 4 * flat >= (int64_t)nb;
     return SSS_OK;
 }
 
@@ -333,7 +347,9 @@ static sss_result kernel_create(const sss_mesh *mesh, const float *at, int march
             if (k->tn[a] < 1) k->tn[a] = 1;
         }
         const size_t nn = (size_t)k->tn[0] * k->tn[1] * k->tn[2];
-        if (!(k->tr = malloc(nn * C * sizeof *k->tr))) {
+        /* 16-byte aligned: a node's padded channels in one aligned load
+         * (march_sum), never across two cache lines */
+        if (!(k->tr = aligned_alloc(16, nn * SSS_FIELD_TR_W * sizeof *k->tr))) {
             sss_field_kernel_free(k);
             return sss_fail(err, SSS_ERR_NOMEM, "%s: field: out of memory for the march grid (%zu nodes)", name, nn);
         }
@@ -343,7 +359,21 @@ static sss_result kernel_create(const sss_mesh *mesh, const float *at, int march
                          l = (size_t)q / ((size_t)k->tn[0] * k->tn[1]);
             const double x[3] = {lo[0] + k->t_voxel * i, lo[1] + k->t_voxel * j, lo[2] + k->t_voxel * l};
             const double f = sss_field_eval(&h->field, x);
-            for (uint32_t c = 0; c < C; c++) k->tr[(size_t)q * C + c] = sss_material_sigma_tr(base, &h->inside, f, c);
+            float *node = &k->tr[(size_t)q * SSS_FIELD_TR_W];
+            for (uint32_t c = 0; c < SSS_FIELD_TR_W; c++) {
+                if (c >= C) {
+                    node[c] = 0.0f; /* padding: read, never summed */
+                    continue;
+                }
+                /* rounded down: a node never exceeds the σtr its f gives a
+                 * vertex, so a plateau's excess over its own mean stays
+                 * exactly 0 (a constant field through the kernel is still
+                 * the homogeneous bake bit for bit) */
+                const double v = sss_material_sigma_tr(base, &h->inside, f, c);
+                float fv = (float)v;
+                if ((double)fv > v) fv = nextafterf(fv, -INFINITY);
+                node[c] = fv;
+            }
         }
         if (build_bricks(k) != SSS_OK) {
             sss_field_kernel_free(k);
@@ -445,22 +475,51 @@ static int brick_run_end(const sss_field_kernel *k, const double g0[3], const do
     return (int)last < n - 1 ? (int)last : n - 1;
 }
 
-/* The trilinear read at q (a node's channel in the march grid) with node
- * strides st and weights w along x, y, z: seven lerps a + w (b − a). */
-static inline double trilinear(const double *q, const size_t st[3], const double w[3])
+/* The trilinear read of every channel at once: q a node of the march
+ * grid (SSS_FIELD_TR_W floats, 16-byte aligned), st the node strides
+ * along x, y, z in floats (0 along an axis of one node), w the weights;
+ * seven lerps a + w (b − a) per channel. The SSE2 path and the plain one
+ * do the same float operations in the same order, and then the same
+ * double ones per channel (march_sum), so both give the same bits. */
+_Static_assert(SSS_MAX_CHANNELS <= SSS_FIELD_TR_W, "the march grid pads a node's channels to SSS_FIELD_TR_W");
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#define MARCH_SSE2 1
+static inline __m128 lerp4(__m128 a, __m128 b, __m128 w)
 {
-    const double c00 = q[0] + w[0] * (q[st[0]] - q[0]);
-    const double c01 = q[st[1]] + w[0] * (q[st[1] + st[0]] - q[st[1]]);
-    const double c10 = q[st[2]] + w[0] * (q[st[2] + st[0]] - q[st[2]]);
-    const double c11 = q[st[2] + st[1]] + w[0] * (q[st[2] + st[1] + st[0]] - q[st[2] + st[1]]);
-    const double e0 = c00 + w[1] * (c01 - c00), e1 = c10 + w[1] * (c11 - c10);
-    return e0 + w[2] * (e1 - e0);
+    return _mm_add_ps(a, _mm_mul_ps(w, _mm_sub_ps(b, a)));
 }
+static inline __m128 trilinear4(const float *q, const size_t st[3], const float w[3])
+{
+    const __m128 wx = _mm_set1_ps(w[0]), wy = _mm_set1_ps(w[1]), wz = _mm_set1_ps(w[2]);
+    const __m128 c00 = lerp4(_mm_load_ps(q), _mm_load_ps(q + st[0]), wx);
+    const __m128 c01 = lerp4(_mm_load_ps(q + st[1]), _mm_load_ps(q + st[1] + st[0]), wx);
+    const __m128 c10 = lerp4(_mm_load_ps(q + st[2]), _mm_load_ps(q + st[2] + st[0]), wx);
+    const __m128 c11 = lerp4(_mm_load_ps(q + st[2] + st[1]), _mm_load_ps(q + st[2] + st[1] + st[0]), wx);
+    return lerp4(lerp4(c00, c01, wy), lerp4(c10, c11, wy), wz);
+}
+#else
+static inline float lerp1(float a, float b, float w)
+{
+    return a + w * (b - a);
+}
+static inline void trilinear4(const float *q, const size_t st[3], const float w[3], float out[SSS_FIELD_TR_W])
+{
+    for (int c = 0; c < SSS_FIELD_TR_W; c++) {
+        const float c00 = lerp1(q[c], q[st[0] + c], w[0]);
+        const float c01 = lerp1(q[st[1] + c], q[st[1] + st[0] + c], w[0]);
+        const float c10 = lerp1(q[st[2] + c], q[st[2] + st[0] + c], w[0]);
+        const float c11 = lerp1(q[st[2] + st[1] + c], q[st[2] + st[1] + st[0] + c], w[0]);
+        out[c] = lerp1(lerp1(c00, c01, w[1]), lerp1(c10, c11, w[1]), w[2]);
+    }
+}
+#endif
 
 /* Sums over the n midpoints of the segment a → b (world units) of σtr from
  * the march grid (trilinear): with mean, Σ max(0, σtr − mean_c); without,
  * Σ (σtr − σtr_ref). The points advance by a constant step in grid
- * coordinates, so each costs one trilinear read of the C channels. With
+ * coordinates, so each costs one trilinear read of the C channels (one
+ * vector read, trilinear4). With
  * mean, midpoints in bricks at most mean (build_bricks) are not read, a
  * brick's run of them skipped at once (brick_run_end):
  * their terms are +0, and adding +0 to a sum of non-negative terms leaves
@@ -479,37 +538,73 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
         g1[x] = g0[x] + dg[x]; /* every midpoint g0 + t dg, 0 < t < 1, lies between g0 and g1 */
     }
     for (uint32_t c = 0; c < C; c++) out[c] = 0.0;
-    const double *bh = mean ? k->brick_hi : NULL;
+    const double *bh = mean && k->use_bricks ? k->brick_hi : NULL;
     if (bh && box_below(k, g0, g1, mean)) return;
     /* the sums in a local array: out may alias the grid for all the
      * compiler knows, which made it store and reload every term */
-    double acc[SSS_MAX_CHANNELS] = {0};
-    const size_t s0 = C, s1 = (size_t)k->tn[0] * C, s2 = (size_t)k->tn[0] * k->tn[1] * C;
+    double acc[SSS_FIELD_TR_W] = {0};
+    const size_t W = SSS_FIELD_TR_W, s0 = W, s1 = (size_t)k->tn[0] * W, s2 = (size_t)k->tn[0] * k->tn[1] * W;
     const size_t st[3] = {k->tn[0] > 1 ? s0 : 0, k->tn[1] > 1 ? s1 : 0, k->tn[2] > 1 ? s2 : 0};
     const size_t stride[3] = {s0, s1, s2};
     /* A brick holds more than one midpoint only where a step moves less
      * than a brick along every axis; elsewhere the run's end is not worth
      * its three products (the skipped midpoints are the same either way). */
-    double inv_dg[3], longest = 0.0;
+    double inv_dg[3] = {0}, longest = 0.0;
+    /* Whether every midpoint lies inside the grid, away from its last
+     * node by far more than the rounding of g0 + t dg: then cell_floor's
+     * clamps change nothing and the cell is the truncation alone (the
+     * same bits, fewer operations per midpoint). Comparisons written out:
+     * libm's fmin and fmax are calls, once per pair. */
+    int inside = 1;
     for (int x = 0; x < 3; x++) {
+        const double lo = g0[x] < g1[x] ? g0[x] : g1[x], hi = g0[x] < g1[x] ? g1[x] : g0[x];
+        const double top = (double)(k->tn[x] - 1);
+        inside = inside && k->tn[x] > 1 && lo >= 1e-6 && hi <= top - 1e-6;
+        if (!bh) continue; /* the runs are the bricks' */
         inv_dg[x] = dg[x] != 0.0 ? 1.0 / dg[x] : 0.0;
-        longest = fmax(longest, fabs(dg[x]));
+        longest = longest > fabs(dg[x]) ? longest : fabs(dg[x]);
     }
-    const int runs = longest < (double)SSS_FIELD_BRICK * n;
+    const int runs = bh && longest < (double)SSS_FIELD_BRICK * n;
+    /* t_j = (j + ½) / n as a product: the division per midpoint was the
+     * march's slowest operation (brick_run_end's margin covers the unit in
+     * the last place this moves t_j by) */
+    const double inv_n = 1.0 / n;
+    const size_t B = SSS_FIELD_BRICK, bs1 = k->bn[0], bs2 = (size_t)k->bn[0] * k->bn[1];
+#ifdef MARCH_SSE2
+    /* the channels in two pairs of doubles; the padding's lanes sum
+     * 0 − 0 and are not read */
+    double m4[SSS_FIELD_TR_W] = {0};
+    for (uint32_t c = 0; c < C; c++) m4[c] = mean ? mean[c] : k->sigma_tr_ref[c];
+    const __m128d zero = _mm_setzero_pd(), m01 = _mm_loadu_pd(m4), m23 = _mm_loadu_pd(m4 + 2);
+    __m128d a01 = zero, a23 = zero;
+#else
+    float v[SSS_FIELD_TR_W];
+#endif
     for (int j = 0; j < n; j++) {
-        const double t = (j + 0.5) / n;
+        const double t = (j + 0.5) * inv_n;
         size_t base = 0, cl[3];
-        double w[3];
-        for (int x = 0; x < 3; x++) {
-            double u = g0[x] + t * dg[x];
-            const double fl = cell_floor(k, x, &u);
-            w[x] = k->tn[x] > 1 ? u - fl : 0.0;
-            cl[x] = (size_t)fl;
-            base += cl[x] * stride[x];
-        }
+        float w[3];
+        if (inside)
+            for (int x = 0; x < 3; x++) {
+                /* through a 32-bit integer (the grid has at most
+                 * SSS_FIELD_MARCH_NODES nodes per side): the conversions
+                 * both ways without the sign tests an unsigned one needs */
+                const double u = g0[x] + t * dg[x];
+                const int32_t ci = (int32_t)u;
+                w[x] = (float)(u - (double)ci);
+                cl[x] = (size_t)ci;
+                base += cl[x] * stride[x];
+            }
+        else
+            for (int x = 0; x < 3; x++) {
+                double u = g0[x] + t * dg[x];
+                const double fl = cell_floor(k, x, &u);
+                w[x] = k->tn[x] > 1 ? (float)(u - fl) : 0.0f;
+                cl[x] = (size_t)fl;
+                base += cl[x] * stride[x];
+            }
         if (bh) {
-            const size_t B = SSS_FIELD_BRICK;
-            const double *hb = bh + (((cl[2] / B) * k->bn[1] + cl[1] / B) * k->bn[0] + cl[0] / B) * C;
+            const double *hb = bh + ((cl[2] / B) * bs2 + (cl[1] / B) * bs1 + cl[0] / B) * C;
             uint32_t c = 0;
             while (c < C && hb[c] <= mean[c]) c++;
             if (c == C) {
@@ -517,17 +612,35 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
                 continue;
             }
         }
-        const double *p = k->tr + base;
+#ifdef MARCH_SSE2
+        const __m128 r = trilinear4(k->tr + base, st, w);
+        const __m128d d01 = _mm_sub_pd(_mm_cvtps_pd(r), m01), d23 = _mm_sub_pd(_mm_cvtps_pd(_mm_movehl_ps(r, r)), m23);
+        if (mean) {
+            /* max(0, d) as MAXPD(d, +0) computes it: d where d > 0, else +0,
+             * the plain path's d > 0 ? d : 0 without a branch */
+            a01 = _mm_add_pd(a01, _mm_max_pd(d01, zero));
+            a23 = _mm_add_pd(a23, _mm_max_pd(d23, zero));
+        } else {
+            a01 = _mm_add_pd(a01, d01);
+            a23 = _mm_add_pd(a23, d23);
+        }
+#else
+        trilinear4(k->tr + base, st, w, v);
         if (mean)
             for (uint32_t c = 0; c < C; c++) {
                 /* max(0, ·) written out: libm's fmax is a call; the
                  * difference of two positive σtr is never −0 */
-                const double d = trilinear(p + c, st, w) - mean[c];
+                const double d = (double)v[c] - mean[c];
                 acc[c] += d > 0.0 ? d : 0.0;
             }
         else
-            for (uint32_t c = 0; c < C; c++) acc[c] += trilinear(p + c, st, w) - k->sigma_tr_ref[c];
+            for (uint32_t c = 0; c < C; c++) acc[c] += (double)v[c] - k->sigma_tr_ref[c];
+#endif
     }
+#ifdef MARCH_SSE2
+    _mm_storeu_pd(acc, a01);
+    _mm_storeu_pd(acc + 2, a23);
+#endif
     for (uint32_t c = 0; c < C; c++) out[c] = acc[c];
 }
 

@@ -31,6 +31,8 @@ extern "C" {
 /* The far pairs' cache of a bake holds at most this many occupied cells
  * (their pairs' table: 1024² × 3 doubles, 24 MiB at most). */
 #define SSS_FIELD_FAR_CELLS 1024
+/* The march grid's floats per node: the channels, padded (SSS_MAX_CHANNELS ≤ 4). */
+#define SSS_FIELD_TR_W 4
 /* The march grid's early-out bricks have this many cells per side. */
 #define SSS_FIELD_BRICK 2
 /* The profiles' table (§4.1): levels per channel (evenly spaced in its
@@ -55,9 +57,13 @@ typedef struct sss_field_kernel {
     double step_mm;          /* 0: nothing to march (a constant) */
     /* What the march reads (§4.2): σtr of every channel sampled once on a
      * grid of nodes over the object's rest-frame box at the step (at most
-     * SSS_FIELD_MARCH_NODES per side), trilinear between nodes. Owned;
-     * NULL for a constant. */
-    double *tr;              /* tn[0]·tn[1]·tn[2] × C, node (i, j, k) at ((k·tn1 + j)·tn0 + i)·C */
+     * SSS_FIELD_MARCH_NODES per side), trilinear between nodes. Floats,
+     * each rounded down from σtr so that a node never exceeds the σtr of
+     * its f (a plateau's excess over its own mean stays exactly 0), the
+     * channels of a node padded to SSS_FIELD_TR_W so that one aligned
+     * 16-byte load reads them all and the lerps run on the channels at
+     * once. Owned; NULL for a constant. */
+    float *tr;               /* tn[0]·tn[1]·tn[2] × SSS_FIELD_TR_W, node (i, j, k) at ((k·tn1 + j)·tn0 + i)·W */
     uint32_t tn[3];
     double t_origin[3], t_voxel;
     /* The far pairs' cache (sss_field_kernel_far, §4.3): vertices binned
@@ -73,12 +79,18 @@ typedef struct sss_field_kernel {
     /* The march's early-out (§4.2): the grid's cells grouped into bricks of
      * SSS_FIELD_BRICK³ cells, and per brick and channel a bound on any
      * trilinear read inside it: its nodes' largest σtr (exactly that value
-     * when all its nodes hold it, else 10⁻⁹ above it, more than the
-     * rounding of three lerps). A midpoint in a brick whose bound is at
+     * when all its nodes hold it, else 10⁻⁵ above it, more than the float
+     * rounding of three levels of lerps). A midpoint in a brick whose bound is at
      * most the pair's mean σ̄tr adds exactly 0 to τ's sum, so it is not
      * read. NULL: every midpoint is read (the plain march). */
     double *brick_hi;        /* bn[0]·bn[1]·bn[2] × C, brick (i, j, k) at ((k·bn1 + j)·bn0 + i)·C */
     uint32_t bn[3];
+    /* Whether the march uses the bricks (a segment's box, then each
+     * midpoint's brick): set where at least a quarter of the bricks are
+     * flat (all their nodes equal: a plateau), since through a field that
+     * varies everywhere the tests cost more than the reads they skip. The
+     * sum's bits are the same either way. */
+    int use_bricks;
     /* The profiles' table (docs/heterogeneous.md §4.1): ½ ln(R_d[f](r) /
      * R_d[f_ref](r)) per channel on SSS_FIELD_PROFILE_F levels of f over
      * [f_min, f_max] (per channel, evenly spaced in its σtr) and
