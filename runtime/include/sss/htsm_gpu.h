@@ -57,7 +57,7 @@ void sss_htsm_view_default(sss_htsm_view *v, const sss_bake_file *f, const sss_h
  * other directional or point light into v's more lights, up to
  * SSS_HTSM_MAX_LIGHTS in all. Not drawn, and counted in *skipped:
  * environment lights, point lights within the bounding sphere of the mesh
- * m (sss_view_bounds with the light-space map's 2 % margin: no view from
+ * m (sss_htsm_point_drawn: no view from
  * there sees the object whole), and lights beyond the limit. Returns how
  * many are drawn. */
 uint32_t sss_htsm_view_lights(sss_htsm_view *v, sss_view_params *p, const sss_scene *sc, const sss_mesh *m,

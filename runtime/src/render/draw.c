@@ -47,22 +47,7 @@ float sss_tonemap_apply(sss_tonemap t, float x)
     return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
 }
 
-double sss_view_bounds(const sss_mesh *m, double centre[3])
-{
-    double lo[3], hi[3];
-    sss_mesh_bounds(m, lo, hi);
-    for (int k = 0; k < 3; k++) centre[k] = 0.5 * (lo[k] + hi[k]);
-    double r2 = 0;
-    for (uint32_t v = 0; v < m->nv; v++) {
-        double d2 = 0;
-        for (int k = 0; k < 3; k++) {
-            double d = m->pos[3 * (size_t)v + k] - centre[k];
-            d2 += d * d;
-        }
-        if (d2 > r2) r2 = d2;
-    }
-    return r2 > 0 ? sqrt(r2) : 1.0;
-}
+double sss_view_bounds(const sss_mesh *m, double centre[3]) { return sss_mesh_bounding_sphere(m, centre); }
 
 /* The shading program, with single scattering (single.glsl, defines
  * SSS_SINGLE) or without it: a frame without the term runs a program that

@@ -81,8 +81,6 @@ void sss_htsm_view_default(sss_htsm_view *v, const sss_bake_file *f, const sss_h
 uint32_t sss_htsm_view_lights(sss_htsm_view *v, sss_view_params *p, const sss_scene *sc, const sss_mesh *m,
                               uint32_t *skipped)
 {
-    double c[3];
-    const double R = sss_view_bounds(m, c) * (1.0 + SSS_SHADOW_MARGIN);
     uint32_t n = 0;
     *skipped = 0;
     v->nmore = 0;
@@ -91,8 +89,7 @@ uint32_t sss_htsm_view_lights(sss_htsm_view *v, sss_view_params *p, const sss_sc
         const sss_scene_light *L = &sc->lights[l];
         if (L->intensity == 0.0) continue;
         const int point = L->kind == SSS_LIGHT_POINT;
-        const double dc[3] = {L->position[0] - c[0], L->position[1] - c[1], L->position[2] - c[2]};
-        if ((!point && L->kind != SSS_LIGHT_DIRECTIONAL) || (point && !(sqrt(sss_dot3(dc, dc)) > R)) ||
+        if ((!point && L->kind != SSS_LIGHT_DIRECTIONAL) || (point && !sss_htsm_point_drawn(m, L->position, NULL)) ||
             n == SSS_HTSM_MAX_LIGHTS) {
             (*skipped)++;
             continue;
@@ -343,7 +340,7 @@ static sss_result light_pass(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_
                              int height, int add, sss_error *err)
 {
     const sss_gpu_mesh *m = &g->r->mesh;
-    const double R = m->radius * (1.0 + SSS_SHADOW_MARGIN);
+    const double R = m->radius * (1.0 + SSS_HTSM_MAP_MARGIN); /* sss_htsm_point_drawn's sphere */
     float clip[16];
     if (point) {
         if (!sss_shadow_frame_point(m->centre, R, light, clip, g->lookup, &g->ref_w))
