@@ -74,6 +74,13 @@ awk -v d="$D" 'BEGIN { exit !(d == 0) }' || fail "the saved scene draws differen
 expect_fail "edit.json: is the same file as the input" VIEW --scene "$TMP/edit.json" --offscreen --out "$TMP/y.png" --save-scene "$TMP/edit.json"
 [ ! -e "$TMP/y.png" ] || fail "y.png written by a refused command"
 cmp -s "$TMP/edit.json" "$TMP/input.json" || fail "the input scene changed"
+# a target in a missing folder is refused at start-up, offscreen and in the window alike, creating nothing
+for mode in "--offscreen --out $TMP/y.png" ""; do
+  # shellcheck disable=SC2086
+  expect_fail "sss-view: $TMP/nodir/e.json: its folder does not exist" VIEW --scene "$TMP/edit.json" $mode --save-scene "$TMP/nodir/e.json"
+  [ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "more than one line: $(cat "$TMP/err")"
+  [ ! -e "$TMP/y.png" ] && [ ! -e "$TMP/nodir" ] || fail "a refused --save-scene left a file"
+done
 sed 's/, "editable": true//' "$TMP/edit.json" > "$TMP/static.json"
 expect_fail "--save-scene: only for a scene whose object is editable" VIEW --scene "$TMP/static.json" --offscreen --out "$TMP/y.png" --save-scene "$TMP/z.json"
 [ ! -e "$TMP/z.json" ] || fail "z.json written by a refused command"
