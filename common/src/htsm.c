@@ -4,6 +4,7 @@
 #include "sss/htsm.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -353,4 +354,20 @@ void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_h
             q[c] += E[c] * P * tau / SSS_PI;
         }
     }
+}
+
+int sss_htsm_point_drawn(const sss_mesh *m, const double P[3], double *R)
+{
+    double c[3];
+    const double r = sss_mesh_bounding_sphere(m, c) * (1.0 + SSS_HTSM_MAP_MARGIN);
+    const double d[3] = {P[0] - c[0], P[1] - c[1], P[2] - c[2]};
+    if (R) *R = r;
+    return sqrt(sss_dot3(d, d)) > r;
+}
+
+void sss_htsm_point_inside_msg(char *buf, size_t n, const double P[3], const char *object, double R)
+{
+    snprintf(buf, n, "the point light at (%g, %g, %g) lies within object '%s''s bounding sphere (radius %g): the "
+             "run-time path does not draw it, since no light-space map from there sees the object whole "
+             "(docs/heterogeneous.md sec. 9.1)", P[0], P[1], P[2], object, R);
 }

@@ -53,6 +53,23 @@ double sss_mesh_bounds(const sss_mesh *m, double lo[3], double hi[3])
     return sqrt(d2);
 }
 
+double sss_mesh_bounding_sphere(const sss_mesh *m, double centre[3])
+{
+    double lo[3], hi[3];
+    sss_mesh_bounds(m, lo, hi);
+    for (int k = 0; k < 3; k++) centre[k] = 0.5 * (lo[k] + hi[k]);
+    double r2 = 0;
+    for (uint32_t v = 0; v < m->nv; v++) {
+        double d2 = 0;
+        for (int k = 0; k < 3; k++) {
+            double d = m->pos[3 * (size_t)v + k] - centre[k];
+            d2 += d * d;
+        }
+        if (d2 > r2) r2 = d2;
+    }
+    return r2 > 0 ? sqrt(r2) : 1.0;
+}
+
 sss_result sss_mesh_check_range(const sss_mesh *m, double mm_per_unit, const char *name, sss_error *err)
 {
     if (!name) name = "mesh";

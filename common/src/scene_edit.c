@@ -8,6 +8,7 @@
 #include "sss/scene_edit.h"
 
 #include <cjson/cJSON.h>
+#include <errno.h>
 #include <libgen.h>
 #include <limits.h>
 #include <stdio.h>
@@ -35,6 +36,18 @@ static int folder_of(const char *p, char d[PATH_MAX])
     const int ok = realpath(dirname(c), d) != NULL;
     free(c);
     return ok;
+}
+
+sss_result sss_scene_edited_check(const char *path, const char *out, sss_error *err)
+{
+    const char *const ins[1] = {path};
+    const sss_inputs in = {ins, 1};
+    sss_result r = sss_output_check(out, &in, NULL, err);
+    if (r != SSS_OK) return r;
+    char d[PATH_MAX];
+    /* the write (sss_scene_write_edited) resolves the same folder */
+    if (!folder_of(out, d)) return sss_fail(err, SSS_ERR_IO, "%s: its folder does not exist (%s)", out, strerror(errno));
+    return SSS_OK;
 }
 
 /* x as the shortest decimal that reads back as x exactly (cJSON's own

@@ -3,7 +3,10 @@
 // CPU oracle) over the hierarchical pattern's samples of the light-space map
 // (htsm_map.*.glsl), each weighted by the geometric mean of the endpoints'
 // dipoles and the transmittance marched through the field's mipmapped 3D
-// texture with a fixed number of steps. Writes q and the exit point x_o.
+// texture with a fixed number of steps. Writes q and the exit point x_o,
+// and the light's surface terms at x_o (surface.glsl), shadowed by the same
+// map. fresnel_r and surface_light_add: fresnel.glsl and surface.glsl, put
+// before this part.
 #define HT_MAX 13
 uniform mat4 u_ht_lookup;        // world -> (s, t) of the map, after the division by w
 uniform vec4 u_ht_light;         // the map's light: (unit direction towards it, 0) or (its position, 1)
@@ -27,9 +30,20 @@ uniform vec3 u_ht_vol_lo, u_ht_vol_h; // mesh units: the box's corner, a level-0
 uniform sampler2D u_ht_pos;      // position x coverage, coverage (mips)
 uniform sampler2D u_ht_irr;      // E_t, coverage (mips)
 uniform sampler3D u_ht_vol;      // f (mips)
+// the surface terms (docs/heterogeneous.md sec. 9.1)
+uniform vec3 u_ht_rgb;           // E0 (directional) or I (point, per steradian) per channel
+uniform vec3 u_ht_eye;           // the camera, world
+uniform float u_ht_eta;
+uniform int u_ht_specular;       // the specular lobe on
+uniform float u_ht_diffuse;      // rho_d (0: no diffuse surface reflection)
+uniform int u_ht_shadow;         // 1: tested against the map (ht_lit)
+uniform float u_ht_texel;        // a level-0 texel's width at w = u_ht_wref, world units
+uniform float u_ht_k_n, u_ht_k_c, u_ht_k_s, u_ht_tan_max; // shadow.h's lookup constants, texels
 in vec3 v_pos;
+in vec3 v_nrm;
 layout(location = 0) out vec4 o_q;
 layout(location = 1) out vec4 o_x;
+layout(location = 2) out vec4 o_s;
 const float PI_HT = 3.14159265358979;
 
 // sss_htsm_volume_at, then the strength: trilinear between voxel centres
@@ -108,6 +122,47 @@ float ht_ray(vec3 xi, out vec3 u) {
     u = r / n;
     return k * k * w / n;
 }
+// The light's distance along its ray to x (directional: the depth along
+// -l up to a constant; point: the distance from it).
+float ht_depth(vec3 x) {
+    return u_ht_light.w == 0.0 ? -dot(x, u_ht_light.xyz) : length(x - u_ht_light.xyz);
+}
+// Is x (unit normal n, c = n.l > 0) lit? shadow_map_lit's test
+// (shadow_map.glsl; shadow.h says why, its constants) on the map's own
+// level-0 texels: each holds the surface nearest the light there, so x is
+// lit unless that surface lies nearer the light than x, lifted k_n texels
+// along n, by more than the bias (k_c + k_s min(tan, tan_max)) texels. A
+// texel's width grows with depth w in a point light's map. Outside the map,
+// or on an empty texel, nothing blocks.
+bool ht_lit(vec3 x, vec3 n, float c) {
+    float t = u_ht_texel;
+    if (u_ht_light.w != 0.0) t *= (u_ht_lookup * vec4(x, 1.0)).w / u_ht_wref;
+    vec3 p = x + u_ht_k_n * t * n;
+    vec4 hp = u_ht_lookup * vec4(p, 1.0);
+    ivec2 ix = ivec2(floor(hp.xy / hp.w * float(u_ht_size)));
+    if (!(all(greaterThanEqual(ix, ivec2(0))) && all(lessThan(ix, ivec2(u_ht_size))))) return true;
+    vec4 m = texelFetch(u_ht_pos, ix, 0);
+    if (!(m.w > 0.0)) return true;
+    float tn = min(sqrt(max(1.0 - c * c, 0.0)) / c, u_ht_tan_max);
+    return ht_depth(p) - (u_ht_k_c + u_ht_k_s * tn) * t <= ht_depth(m.xyz / m.w);
+}
+// The light's surface terms at x_o: its irradiance there (E0, or I / r^2
+// towards a point light), shadowed by the map.
+vec3 ht_surface() {
+    vec3 L = vec3(0.0);
+    if (u_ht_specular == 0 && !(u_ht_diffuse > 0.0)) return L;
+    vec3 n = normalize(v_nrm), v = normalize(u_ht_eye - v_pos), l = u_ht_light.xyz, E = u_ht_rgb;
+    if (u_ht_light.w != 0.0) {
+        vec3 d = u_ht_light.xyz - v_pos;
+        float r2 = dot(d, d);
+        l = d * inversesqrt(r2);
+        E /= r2;
+    }
+    float nl = max(dot(n, l), 0.0);
+    if (nl > 0.0 && (u_ht_shadow == 0 || ht_lit(v_pos, n, nl)))
+        surface_light_add(L, n, v, l, nl, E, u_ht_eta, u_ht_specular, u_ht_diffuse);
+    return L;
+}
 void main() {
     vec4 ho = u_ht_lookup * vec4(v_pos, 1.0);
     vec2 so = ho.xy / ho.w;
@@ -137,4 +192,5 @@ void main() {
     }
     o_q = vec4(q, 1.0);
     o_x = vec4(v_pos, 1.0);
+    o_s = vec4(ht_surface(), 1.0);
 }

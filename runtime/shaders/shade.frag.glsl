@@ -17,6 +17,8 @@ uniform int u_flat;       // wireframe: constant colour
 uniform int u_qimage;    // 1: q per pixel from u_qtex (the splatting, splat_gpu.c), not per vertex
 uniform int u_q_lit;     // 1: that q already holds the lights' irradiance (htsm_gpu.c), not scaled by u_light_rgb
 layout(binding = 1) uniform sampler2D u_qtex;
+uniform int u_simage;    // 1: the surface terms per pixel from u_stex (every light's, htsm_gpu.c), not u_light's
+layout(binding = 4) uniform sampler2D u_stex;
 out vec4 o_color;
 const float PI = 3.14159265358979;
 void main() {
@@ -33,23 +35,16 @@ void main() {
     // Single scattering per pixel (single.glsl, docs/layers.md §8)
     L += u_light_rgb * single_scattering(v_pos, n, v, u_light);
 #endif
-    // Direct surface light (Hao-Varshney 2004 3.2, "direct on-surface
-    // reflected light (including shadow)"): of the irradiance E n.w_i the
-    // boundary reflects F_r; the rest entered and is q's. A share rho_d of
-    // the reflected light leaves in a Lambert lobe, the rest in a
-    // Fresnel-weighted normalised Blinn-Phong lobe, so nothing is counted
-    // twice (docs/viewer.md, "Direct surface light"). Both are 0 where the
-    // shadow map says the light is blocked.
-    float nl = max(dot(n, u_light), 0.0);
-    if ((u_specular != 0 || u_diffuse > 0.0) && nl > 0.0
-        && (u_surface_shadow == 0 || shadow_map_lit(v_pos, n, nl))) {
-        if (u_specular != 0) {
-            vec3 h = normalize(u_light + v);
-            const float s = 80.0;
-            float d = (s + 8.0) / (8.0 * PI) * pow(max(dot(n, h), 0.0), s);
-            L += u_light_rgb * ((1.0 - u_diffuse) * fresnel_r(u_eta, dot(v, h)) * d * nl);
-        }
-        if (u_diffuse > 0.0) L += u_light_rgb * (u_diffuse * fresnel_r(u_eta, nl) * nl / PI);
+    // Direct surface light (surface.glsl), 0 where the shadow map says the
+    // light is blocked; or every light's, each tested against its own
+    // light-space map, summed per pixel by the run-time path (htsm_gpu.c)
+    if (u_simage != 0) {
+        L += texelFetch(u_stex, ivec2(gl_FragCoord.xy), 0).rgb;
+    } else {
+        float nl = max(dot(n, u_light), 0.0);
+        if ((u_specular != 0 || u_diffuse > 0.0) && nl > 0.0
+            && (u_surface_shadow == 0 || shadow_map_lit(v_pos, n, nl)))
+            surface_light_add(L, n, v, u_light, nl, u_light_rgb, u_eta, u_specular, u_diffuse);
     }
     vec3 x = u_exposure * L;
     if (u_tonemap == 0) x = clamp(x, 0.0, 1.0);

@@ -44,7 +44,7 @@ awk -v a="$MA" -v b="$MB" 'BEGIN { exit !(a > 0 && a < 0.9 * b) }' || fail "the 
 sed 's|"lights": \[|"lights": [{"type": "directional", "direction": [1, 0.3, 0.2], "intensity": 0.5}, {"type": "point", "position": [0, 0, 3], "intensity": 1},|' \
   "$TMP/edit.json" > "$TMP/two.json"
 expect_ok "$SSS_BAKE" --scene "$TMP/two.json" --plan
-contains "$TMP/out" "light 0       run-time           directional light: its light-space map is rendered each frame, the lights' q summed"
+contains "$TMP/out" "light 0       run-time           directional light: its light-space map is rendered each frame, the lights' q and surface terms summed"
 contains "$TMP/out" "light 1       run-time           point light: its perspective light-space map (1/r^2 fall-off"
 contains "$TMP/out" "light 2       run-time"
 expect_ok VIEW --scene "$TMP/two.json" --offscreen --out "$TMP/two.exr" --size 96x72 --exposure 100
@@ -56,7 +56,12 @@ sed 's|"lights": \[.*\],|"lights": [{"type": "environment", "probe": "sky.exr"},
   "$TMP/edit.json" > "$TMP/point.json"
 expect_ok "$SSS_BAKE" --scene "$TMP/point.json" --plan
 contains "$TMP/out" "light 0       none               the run-time path takes directional and point lights only (this environment light"
+# the point light inside: the planner's reason and sss-view's line are one sentence, naming it and the object
+INSIDE="the point light at (0, 0.5, 0.5) lies within object 'block''s bounding sphere (radius 1.76669): the run-time path does not draw it"
+contains "$TMP/out" "light 1       none               $INSIDE"
+contains "$TMP/out" "light 2       run-time           point light"
 expect_ok VIEW --scene "$TMP/point.json" --offscreen --out "$TMP/point.exr" --size 96x72 --exposure 100
+contains "$TMP/err" "point.json: /lights/1: $INSIDE"
 contains "$TMP/err" "/lights: 2 light(s) not drawn: the run-time path sums up to 8 directional and point lights, no environment light and no point light within the object's bounding sphere"
 read -r D MA MB < <("$SSS_EXRSTATS" "$TMP/point.exr" "$TMP/box.exr")
 awk -v a="$MA" -v b="$MB" 'BEGIN { exit !(a > 0.5 * b && a < 2 * b) }' || fail "the point light's mean $MA against $MB for the directional light"
@@ -69,6 +74,13 @@ awk -v d="$D" 'BEGIN { exit !(d == 0) }' || fail "the saved scene draws differen
 expect_fail "edit.json: is the same file as the input" VIEW --scene "$TMP/edit.json" --offscreen --out "$TMP/y.png" --save-scene "$TMP/edit.json"
 [ ! -e "$TMP/y.png" ] || fail "y.png written by a refused command"
 cmp -s "$TMP/edit.json" "$TMP/input.json" || fail "the input scene changed"
+# a target in a missing folder is refused at start-up, offscreen and in the window alike, creating nothing
+for mode in "--offscreen --out $TMP/y.png" ""; do
+  # shellcheck disable=SC2086
+  expect_fail "sss-view: $TMP/nodir/e.json: its folder does not exist" VIEW --scene "$TMP/edit.json" $mode --save-scene "$TMP/nodir/e.json"
+  [ "$(wc -l < "$TMP/err")" -eq 1 ] || fail "more than one line: $(cat "$TMP/err")"
+  [ ! -e "$TMP/y.png" ] && [ ! -e "$TMP/nodir" ] || fail "a refused --save-scene left a file"
+done
 sed 's/, "editable": true//' "$TMP/edit.json" > "$TMP/static.json"
 expect_fail "--save-scene: only for a scene whose object is editable" VIEW --scene "$TMP/static.json" --offscreen --out "$TMP/y.png" --save-scene "$TMP/z.json"
 [ ! -e "$TMP/z.json" ] || fail "z.json written by a refused command"

@@ -1,6 +1,6 @@
 /* htsm_bench: the run-time path's frame time and accuracy (docs/heterogeneous.md
  * §9.4), a measurement, not a test.
- *   htsm_bench SCENE.json BAKED.exr WIDTH HEIGHT EXPOSURE [FRAMES [R0_MM [PATHS]]]
+ *   htsm_bench SCENE.json BAKED.exr WIDTH HEIGHT EXPOSURE [FRAMES [R0_MM [PATHS [RHO_D]]]]
  * SCENE.json: one editable object with a field and its lights, directional
  * or point (as data/scenes/editable_box.json); BAKED.exr: the same scene without
  * "editable", baked and drawn by sss-view at the same size and exposure
@@ -16,7 +16,11 @@
  * and a column of each image's difference from it, measured on the means
  * of 8 × 8 pixel blocks (the reference's per-pixel noise averaged down;
  * its own relative standard error on those blocks is printed first, the
- * floor under that column), the baked image's in the table's heading. */
+ * floor under that column), the baked image's in the table's heading.
+ * RHO_D ≥ 0 draws every light's surface terms in the pass (specular, and
+ * diffuse reflection of share RHO_D, each shadowed by its own map;
+ * docs/heterogeneous.md §9.1) to time them; the error columns then hold
+ * them too, against a baked image without them. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -140,12 +144,13 @@ static float *reference_image(const sss_bake_file *f, const sss_hetero *h, const
 int main(int argc, char **argv)
 {
     if (argc < 6) {
-        fprintf(stderr, "usage: htsm_bench SCENE.json BAKED.exr WIDTH HEIGHT EXPOSURE [FRAMES [R0_MM]]\n");
+        fprintf(stderr, "usage: htsm_bench SCENE.json BAKED.exr WIDTH HEIGHT EXPOSURE [FRAMES [R0_MM [PATHS [RHO_D]]]]\n");
         return 2;
     }
     const int W = atoi(argv[3]), H = atoi(argv[4]), frames = argc > 6 ? atoi(argv[6]) : 7;
     const double r0 = argc > 7 ? atof(argv[7]) : 0.0; /* 0: the viewer's default */
     const long paths = argc > 8 ? atol(argv[8]) : 0;
+    const double rho_d = argc > 9 ? atof(argv[9]) : -1.0; /* < 0: no surface terms */
     sss_error err = {{0}};
     sss_scene sc;
     if (sss_scene_load(argv[1], &sc, &err) != SSS_OK) die(argv[1], &err);
@@ -173,7 +178,8 @@ int main(int argc, char **argv)
     if (sss_htsm_gpu_create(r, &o->hetero, 0, 0, &g, &err) != SSS_OK) die("htsm", &err);
     sss_view_params p;
     sss_view_params_default(&p);
-    p.specular = 0;
+    p.specular = rho_d >= 0.0;
+    p.diffuse = rho_d > 0.0 ? rho_d : 0.0;
     p.single = -1;
     p.near_terms = 0;
     p.exposure = atof(argv[5]);
@@ -194,7 +200,8 @@ int main(int argc, char **argv)
     const char *tmp = "htsm_bench.tmp.exr";
     float *ref = NULL, *pt = NULL;
     const uint32_t ns[4] = {1, 5, 9, 13}, steps[5] = {2, 4, 8, 16, 32};
-    printf("%s, %dx%d, light-space map 256², field 64³\n\n", sss_gl_renderer_name(), W, H);
+    printf("%s, %dx%d, light-space map 256², field 64³, %u light(s)%s\n\n", sss_gl_renderer_name(), W, H,
+           (lights.no_p_light ? 0u : 1u) + lights.nmore, rho_d >= 0.0 ? ", surface terms on" : "");
     if (paths > 0) pt = reference_image(&f, &o->hetero, &p, W, H, (uint64_t)paths, baked.rgb);
     printf("| n | steps | frame ms (median of %d) | vs baked | vs n = 13, 64 steps |%s\n|---:|---:|---:|---:|---:|%s\n",
            frames, pt ? " vs path-traced (8 × 8 blocks) |" : "", pt ? "---:|" : "");

@@ -410,6 +410,194 @@ static void pointLightJoinsTheSumOfTheLights(void **state)
     block_free(&b);
 }
 
+/* ---- the surface terms of every light (docs/heterogeneous.md §9.1) ---- */
+
+/* A plate of 0.9 × 0.9 × 0.2 units floating 0.4 units in front of the
+ * block's face z = 0.5 (z from PZ0 to PZ1), in the same mesh, so that it
+ * shadows part of that face from a light in front. */
+#define PH 0.45
+#define PZ0 0.9
+#define PZ1 1.1
+
+static void shadowed_block_make(block *b)
+{
+    sss_error err = {{0}};
+    sss_mesh box, plate;
+    memset(b, 0, sizeof *b);
+    assert_int_equal(sss_gen_box(&box, 2.0, 2.0, 1.0, 6, 0, &err), SSS_OK);
+    assert_int_equal(sss_gen_box(&plate, 2 * PH, 2 * PH, PZ1 - PZ0, 2, 0, &err), SSS_OK);
+    assert_int_equal(sss_mesh_alloc(&b->m, box.nv + plate.nv, box.nf + plate.nf, &err), SSS_OK);
+    memcpy(b->m.pos, box.pos, 3 * (size_t)box.nv * sizeof *box.pos);
+    memcpy(b->m.tri, box.tri, 3 * (size_t)box.nf * sizeof *box.tri);
+    for (uint32_t v = 0; v < plate.nv; v++)
+        for (int k = 0; k < 3; k++)
+            b->m.pos[3 * (size_t)(box.nv + v) + k] = plate.pos[3 * (size_t)v + k] + (k == 2 ? (float)(0.5 * (PZ0 + PZ1)) : 0.0f);
+    for (size_t i = 0; i < 3 * (size_t)plate.nf; i++) b->m.tri[3 * (size_t)box.nf + i] = plate.tri[i] + box.nv;
+    sss_mesh_free(&box);
+    sss_mesh_free(&plate);
+    assert_int_equal(sss_mesh_compute_normals_areas(&b->m, "mesh", &err), SSS_OK);
+    bake_preset(&b->m, "marble", 0, 10.0, 6, SSS_QUANT_FLOAT, -1, &b->f);
+    if (sss_renderer_create(&b->f, &b->r, &err) != SSS_OK) fail_msg("renderer: %s", err.msg);
+}
+
+/* The plate as seen from x along the unit ray u (towards the light, no
+ * farther than tmax): −1 when the ray crosses both of the plate's planes
+ * z = PZ0, PZ1 within its square shrunk by m (shadowed), +1 when at both it
+ * lies beyond the square grown by m on one side (lit), 0 between (the
+ * shadow's outline, which the map's texels draw within a few texels). */
+static int plate_shadow(const double x[3], const double u[3], double tmax, double m)
+{
+    double p[2][2];
+    for (int k = 0; k < 2; k++) {
+        const double t = ((k ? PZ1 : PZ0) - x[2]) / u[2];
+        if (!(t > 0.0 && t < tmax)) return 1;
+        p[k][0] = x[0] + t * u[0], p[k][1] = x[1] + t * u[1];
+    }
+    int in = 1;
+    for (int k = 0; k < 2; k++) in = in && fabs(p[k][0]) < PH - m && fabs(p[k][1]) < PH - m;
+    if (in) return -1;
+    for (int a = 0; a < 2; a++)
+        if ((p[0][a] > PH + m && p[1][a] > PH + m) || (p[0][a] < -PH - m && p[1][a] < -PH - m)) return 1;
+    return 0;
+}
+
+/* surface.glsl's terms in double: E's specular (a share 1 − ρ_d) and
+ * diffuse (ρ_d) reflection at a point of normal n seen along v (unit, to
+ * the eye) under the unit l (to the light); F_r = 1 − F_t. */
+static void surface_oracle(const double n[3], const double v[3], const double l[3], const double E[3], double eta,
+                           double rho_d, double out[3])
+{
+    const double nl = sss_dot3(n, l);
+    double h[3] = {l[0] + v[0], l[1] + v[1], l[2] + v[2]};
+    sss_normalize3(h);
+    const double d = 88.0 / (8.0 * SSS_PI) * pow(fmax(sss_dot3(n, h), 0.0), 80.0);
+    const double sp = (1.0 - rho_d) * (1.0 - sss_ft(eta, sss_dot3(v, h))) * d * nl,
+                 di = rho_d * (1.0 - sss_ft(eta, nl)) * nl / SSS_PI;
+    for (int c = 0; c < 3; c++) out[c] = nl > 0.0 ? E[c] * (sp + di) : 0.0;
+}
+
+/* The face z = 0.5 lit from the front, the plate's shadow on it. */
+static void front_params(sss_view_params *p)
+{
+    params(p);
+    p->specular = 1;
+    p->diffuse = 0.5;
+    p->surface_shadow = 1;
+    p->scatter = 0;
+    p->tonemap = SSS_TONEMAP_CLAMP;
+    p->light[0] = -0.7, p->light[1] = -0.5, p->light[2] = 1.0;
+    p->light_rgb[0] = 1.0, p->light_rgb[1] = 0.8, p->light_rgb[2] = 0.6;
+    p->view[0] = 0.5, p->view[1] = 0.35, p->view[2] = 1.0; /* the plate hides little of its shadow */
+}
+
+/* Per pixel of the face z = 0.5 away from its edges (where every normal is
+ * (0, 0, 1)): the surface terms of v's only light against the oracle, lit
+ * pixels within 10⁻⁴ of the largest, shadowed ones 0; counts in lit and
+ * dark. point: v's light is its first more light, a point light. */
+static void check_surface(const block *b, sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p,
+                          int point, int *lit, int *dark)
+{
+    float *q, *x, *s;
+    sss_error err = {{0}};
+    frame_read(g, v, p, &q, &x);
+    assert_int_equal(sss_htsm_gpu_read_surface(g, &s, &err), SSS_OK);
+    double eye[3], right[3], up[3], fwd[3], smax = 0.0, worst = 0.0;
+    sss_renderer_camera(b->r, p, eye, right, up, fwd);
+    const double n[3] = {0.0, 0.0, 1.0};
+    *lit = *dark = 0;
+    for (int i = 0; i < W * H; i++) {
+        const double xo[3] = {x[4 * i], x[4 * i + 1], x[4 * i + 2]};
+        if (x[4 * i + 3] != 1.0f || fabs(xo[2] - 0.5) > 1e-5 || fabs(xo[0]) > 2.0 / 3 || fabs(xo[1]) > 2.0 / 3)
+            continue;
+        double l[3], E[3], tmax = INFINITY, ve[3] = {eye[0] - xo[0], eye[1] - xo[1], eye[2] - xo[2]}, want[3];
+        sss_normalize3(ve);
+        if (point) {
+            for (int k = 0; k < 3; k++) l[k] = v->more_light[0][k] - xo[k];
+            tmax = sss_normalize3(l);
+            for (int k = 0; k < 3; k++) E[k] = v->more_rgb[0][k] / (tmax * tmax); /* I / r² */
+        } else {
+            memcpy(l, p->light, sizeof l);
+            sss_normalize3(l);
+            memcpy(E, p->light_rgb, sizeof E);
+        }
+        const int sh = plate_shadow(xo, l, tmax, 0.06);
+        surface_oracle(n, ve, l, E, b->f.material.eta, p->diffuse, want);
+        if (sh < 0) {
+            (*dark)++;
+            for (int c = 0; c < 3; c++) assert_true(s[4 * i + c] == 0.0f);
+        } else if (sh > 0) {
+            (*lit)++;
+            for (int c = 0; c < 3; c++) {
+                smax = fmax(smax, want[c]);
+                worst = fmax(worst, fabs(s[4 * i + c] - want[c]));
+            }
+        }
+    }
+    printf("%s light: %d pixels lit, %d in the plate's shadow (0); lit against the oracle within %.2e of the "
+           "largest surface term %.4g\n", point ? "point" : "directional", *lit, *dark, worst / smax, smax);
+    assert_true(smax > 0.0 && worst < 1e-4 * smax);
+    free(q);
+    free(x);
+    free(s);
+}
+
+/* Each light's surface terms (specular and diffuse reflection) at every
+ * pixel: a directional light's and a point light's (E = I / r² at each
+ * point) against the oracle on the block's face, none where the plate
+ * shadows it from that light (tested against that light's own map); two
+ * identical directional lights draw twice one's surface light, and the
+ * directional and the point light together the sum of each alone, through
+ * the renderer's whole draw. */
+static void surfaceTermsOfEveryLight(void **state)
+{
+    (void)state;
+    block b;
+    shadowed_block_make(&b);
+    sss_htsm_gpu *g = gpu_of(&b, NULL);
+    sss_view_params p;
+    front_params(&p);
+    sss_htsm_view v, vp, v2, vb;
+    view(&b, 5, 4, &v);
+    int lit, dark;
+    check_surface(&b, g, &v, &p, 0, &lit, &dark);
+    assert_true(lit > 50 && dark > 100);
+    vp = v;
+    vp.no_p_light = 1;
+    vp.nmore = 1;
+    vp.more_point[0] = 1;
+    const double P[3] = {-1.4, -1.0, 3.0}, I[3] = {9.0, 12.0, 6.0};
+    memcpy(vp.more_light[0], P, sizeof P);
+    memcpy(vp.more_rgb[0], I, sizeof I);
+    check_surface(&b, g, &vp, &p, 1, &lit, &dark);
+    assert_true(lit > 50 && dark > 100);
+    /* whole images, exposure · L: one light, the same twice, the point light alone, both */
+    v2 = v;
+    v2.nmore = 1;
+    memcpy(v2.more_light[0], p.light, sizeof p.light);
+    memcpy(v2.more_rgb[0], p.light_rgb, sizeof p.light_rgb);
+    vb = vp;
+    vb.no_p_light = 0;
+    const sss_htsm_view *vs[4] = {&v, &v2, &vp, &vb};
+    float *rgb[4], *hdr[4];
+    sss_error err = {{0}};
+    for (int k = 0; k < 4; k++)
+        if (sss_htsm_gpu_render_image(g, vs[k], &p, W, H, &rgb[k], &hdr[k], &err) != SSS_OK) fail_msg("%s", err.msg);
+    double d2 = 0.0, dsum = 0.0, m1 = 0.0;
+    int on = 0;
+    for (int i = 0; i < 3 * W * H; i++) {
+        m1 = fmax(m1, hdr[0][i]);
+        on += hdr[0][i] > 0.0f && hdr[2][i] > 0.0f;
+        d2 = fmax(d2, fabs(hdr[1][i] - 2.0 * hdr[0][i]));
+        dsum = fmax(dsum, fabs(hdr[3][i] - (hdr[0][i] + hdr[2][i])));
+    }
+    printf("two identical lights: %.2e from twice one, the pair of kinds %.2e from the sum (largest %.4g, %d "
+           "samples lit by both)\n", d2 / m1, dsum / m1, m1, on);
+    assert_true(on > W * H / 4 && d2 <= 1e-6 * m1 && dsum <= 1e-6 * m1);
+    for (int k = 0; k < 4; k++) free(rgb[k]), free(hdr[k]);
+    sss_htsm_gpu_destroy(g);
+    block_free(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -419,6 +607,7 @@ int main(void)
         cmocka_unit_test(pointLightPerPixelAgreesWithTheCpuOracle),
         cmocka_unit_test(farPointLightConvergesToTheDirectionalFrame),
         cmocka_unit_test(pointLightJoinsTheSumOfTheLights),
+        cmocka_unit_test(surfaceTermsOfEveryLight),
     };
     return cmocka_run_group_tests(tests, gl_setup, gl_teardown);
 }

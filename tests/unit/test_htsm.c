@@ -334,6 +334,32 @@ static void farPointLightIsTheDirectionalLight(void **state)
     sss_htsm_map_free(&md);
 }
 
+/* A point light is drawn from outside the maps' sphere only (the mesh's
+ * bounding sphere, 2 % larger): a box of half-diagonal 1.5 about (1, 0, 0),
+ * lights along +x just inside and just outside 1.02 · 1.5; the message
+ * names the light and the object. */
+static void pointLightOutsideTheMapsSphereOnly(void **state)
+{
+    (void)state;
+    sss_mesh m = {0};
+    sss_error err = {{0}};
+    assert_int_equal(sss_mesh_alloc(&m, 2, 0, &err), SSS_OK);
+    const float corner[6] = {0.0f, -1.0f, -0.5f, 2.0f, 1.0f, 0.5f};
+    memcpy(m.pos, corner, sizeof corner);
+    const double R = 1.5 * (1.0 + SSS_HTSM_MAP_MARGIN);
+    double r = 0.0;
+    const double in[3] = {1.0 + R * (1.0 - 1e-9), 0.0, 0.0}, out[3] = {1.0 + R * (1.0 + 1e-9), 0.0, 0.0},
+                 centre[3] = {1.0, 0.0, 0.0};
+    assert_int_equal(sss_htsm_point_drawn(&m, in, &r), 0);
+    assert_true(fabs(r - R) < 1e-12);
+    assert_int_equal(sss_htsm_point_drawn(&m, centre, NULL), 0);
+    assert_int_equal(sss_htsm_point_drawn(&m, out, NULL), 1);
+    char msg[320];
+    sss_htsm_point_inside_msg(msg, sizeof msg, centre, "blob", r);
+    assert_non_null(strstr(msg, "the point light at (1, 0, 0) lies within object 'blob''s bounding sphere (radius 1.53)"));
+    sss_mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -343,6 +369,7 @@ int main(void)
         cmocka_unit_test(marchConvergesAsStepsGrow),
         cmocka_unit_test(volumeLevelsAndBadArguments),
         cmocka_unit_test(farPointLightIsTheDirectionalLight),
+        cmocka_unit_test(pointLightOutsideTheMapsSphereOnly),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

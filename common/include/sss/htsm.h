@@ -31,9 +31,11 @@
 #ifndef SSS_HTSM_H
 #define SSS_HTSM_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include "sss/dipole.h"
 #include "sss/field.h"
+#include "sss/mesh.h"
 #include "sss/result.h"
 
 #ifdef __cplusplus
@@ -44,6 +46,10 @@ extern "C" {
 #define SSS_HTSM_MAX_SAMPLES 13  /* the thesis's largest pattern (Fig. 5.7) */
 #define SSS_HTSM_MAX_STEPS 1024
 #define SSS_HTSM_MAX_LIGHTS 8 /* directional and point lights summed per frame (docs/heterogeneous.md §9.1) */
+/* The light-space maps are fitted to the mesh's bounding sphere
+ * (sss_mesh_bounding_sphere) enlarged by this share, as the renderer's
+ * shadow map (its SSS_SHADOW_MARGIN): no triangle is clipped. */
+#define SSS_HTSM_MAP_MARGIN 0.02
 
 /* The light-space map: `levels` mip levels, level l of size >> l texels
  * per side, 4 floats per texel in each of the three images. */
@@ -133,6 +139,17 @@ typedef struct sss_htsm_material {
  * base material alone). steps 1 to SSS_HTSM_MAX_STEPS. */
 void sss_htsm_q(const sss_htsm_map *map, const sss_htsm_volume *vol, const sss_htsm_material *mat,
                 const sss_htsm_pattern *pat, uint32_t steps, const double xo[3], double q[3]);
+
+/* Whether the run-time path draws a point light at P (world = mesh
+ * units) on the mesh m: 1 when P lies outside the maps' sphere (above);
+ * 0 when within it, where no perspective view sees the object whole
+ * (docs/heterogeneous.md §9.1). *R: that sphere's radius (may be NULL). */
+int sss_htsm_point_drawn(const sss_mesh *m, const double P[3], double *R);
+
+/* The one sentence the planner's reason and sss-view's message give for a
+ * point light at P within object `object`'s sphere of radius R, into buf
+ * (n bytes). */
+void sss_htsm_point_inside_msg(char *buf, size_t n, const double P[3], const char *object, double R);
 
 #ifdef __cplusplus
 }

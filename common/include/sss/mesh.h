@@ -94,6 +94,11 @@ sss_result sss_mesh_check_range(const sss_mesh *m, double mm_per_unit, const cha
 /* Axis-aligned bounds of the positions; returns the diagonal length. */
 double sss_mesh_bounds(const sss_mesh *m, double lo[3], double hi[3]);
 
+/* The sphere about the centre of those bounds through the farthest vertex:
+ * its radius (1 for a mesh of no extent), the centre in centre[3]. The
+ * viewer frames it (sss_view_bounds) and fits light-space maps to it. */
+double sss_mesh_bounding_sphere(const sss_mesh *m, double centre[3]);
+
 /* δ, the offset of the visibility rays cast from m's vertices, in mesh
  * units: 1e-5 of the bounding-box diagonal (sss_mesh_bounds), rounded once
  * to float. Every test that must give V(x, ω) (Hao–Varshney 2004 §3.1's

@@ -18,6 +18,12 @@ extern "C" {
  * when it does not fit. */
 sss_result sss_scene_edited_path(const char *path, char *out, size_t n, sss_error *err);
 
+/* Whether out can take the edited scene of the scene at path, checked
+ * before anything is drawn (sss-view --save-scene): out may be written
+ * (sss_output_check: never the input) and its folder exists. Creates
+ * nothing; one line naming out otherwise (SSS_ERR_IO). */
+sss_result sss_scene_edited_check(const char *path, const char *out, sss_error *err);
+
 /* Writes the scene at path again to out with object `object`'s material
  * replaced by m: the base's σa, σ′s and η as numbers, the inside's σa and
  * σ′s, the field as it was, and the strength s (f → min(1, s f)) folded

@@ -193,6 +193,7 @@ static void rule_editable(const plan_in *in, sss_object_plan *p)
            "texture (docs/heterogeneous.md sec. 9)", ob->hetero.field.kind != SSS_FIELD_NONE ?
            sss_field_kind_name(ob->hetero.field.kind) : "no");
     uint32_t drawn = 0;
+    double R = 0.0;
     for (uint32_t l = 0; l < s->nlights; l++) {
         const sss_scene_light *L = &s->lights[l];
         char eff[32];
@@ -203,16 +204,20 @@ static void rule_editable(const plan_in *in, sss_object_plan *p)
         else if (L->kind != SSS_LIGHT_DIRECTIONAL && L->kind != SSS_LIGHT_POINT)
             decide(p, eff, "none", "the run-time path takes directional and point lights only (this %s light is not "
                    "drawn on the object)", sss_light_kind_name(L->kind));
-        else if (drawn++ >= SSS_HTSM_MAX_LIGHTS)
+        else if (L->kind == SSS_LIGHT_POINT && !sss_htsm_point_drawn(&in->world[p->object], L->position, &R)) {
+            char why[sizeof p->decisions[0].reason];
+            sss_htsm_point_inside_msg(why, sizeof why, L->position, ob->name, R);
+            decide(p, eff, "none", "%s", why);
+        } else if (drawn++ >= SSS_HTSM_MAX_LIGHTS)
             decide(p, eff, "none", "the run-time path sums the first %d directional and point lights",
                    SSS_HTSM_MAX_LIGHTS);
         else if (L->kind == SSS_LIGHT_POINT)
             decide(p, eff, "run-time", "point light: its perspective light-space map (1/r^2 fall-off, each texel's "
-                   "area by its depth) is rendered each frame, the lights' q summed; not drawn from within the "
-                   "object's bounding sphere (docs/heterogeneous.md sec. 9.1)");
+                   "area by its depth) is rendered each frame, the lights' q and surface terms summed, each light's shadowed "
+                   "by its own map (docs/heterogeneous.md sec. 9.1)");
         else
             decide(p, eff, "run-time", "directional light: its light-space map is rendered each frame, the lights' "
-                   "q summed (docs/heterogeneous.md sec. 9.1)");
+                   "q and surface terms summed, each light's shadowed by its own map (docs/heterogeneous.md sec. 9.1)");
     }
 }
 

@@ -9,7 +9,11 @@
  *      oracle, sss_htsm_q): the hierarchical pattern of n = 1, 5, 9 or 13
  *      samples, each marched through the field's mipmapped 3D texture with
  *      a fixed number of steps;
- * then the renderer's own draw shades that q per pixel as it shades any q.
+ *   3. in the same pass, the light's surface terms at each pixel's x_o
+ *      (specular and diffuse reflection, as p asks), shadowed by testing
+ *      x_o against that light's own map, summed over the lights;
+ * then the renderer's own draw shades that q per pixel as it shades any q
+ * and adds the surface terms as they are.
  * The materials, the field's strength, n and the steps are uniforms: an
  * edit shows in the next frame. Needs the renderer's context.
  */
@@ -53,7 +57,7 @@ void sss_htsm_view_default(sss_htsm_view *v, const sss_bake_file *f, const sss_h
  * other directional or point light into v's more lights, up to
  * SSS_HTSM_MAX_LIGHTS in all. Not drawn, and counted in *skipped:
  * environment lights, point lights within the bounding sphere of the mesh
- * m (sss_view_bounds with the light-space map's 2 % margin: no view from
+ * m (sss_htsm_point_drawn: no view from
  * there sees the object whole), and lights beyond the limit. Returns how
  * many are drawn. */
 uint32_t sss_htsm_view_lights(sss_htsm_view *v, sss_view_params *p, const sss_scene *sc, const sss_mesh *m,
@@ -91,6 +95,11 @@ sss_result sss_htsm_gpu_attach(sss_htsm_gpu *g, int on);
  * exit point x_o (RGBA, w = 1 where the object was drawn), width × height
  * floats × 4 each (caller frees). */
 sss_result sss_htsm_gpu_read(const sss_htsm_gpu *g, sss_htsm_map *map, float **q, float **x, sss_error *err);
+
+/* The last frame's surface terms per pixel (RGBA, rgb the radiance of
+ * every light's specular and diffuse reflection summed, before the
+ * exposure), width × height floats × 4 (caller frees). */
+sss_result sss_htsm_gpu_read_surface(const sss_htsm_gpu *g, float **s, sss_error *err);
 
 /* The field's volume as uploaded (owned by g). */
 const sss_htsm_volume *sss_htsm_gpu_volume(const sss_htsm_gpu *g);

@@ -47,22 +47,7 @@ float sss_tonemap_apply(sss_tonemap t, float x)
     return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
 }
 
-double sss_view_bounds(const sss_mesh *m, double centre[3])
-{
-    double lo[3], hi[3];
-    sss_mesh_bounds(m, lo, hi);
-    for (int k = 0; k < 3; k++) centre[k] = 0.5 * (lo[k] + hi[k]);
-    double r2 = 0;
-    for (uint32_t v = 0; v < m->nv; v++) {
-        double d2 = 0;
-        for (int k = 0; k < 3; k++) {
-            double d = m->pos[3 * (size_t)v + k] - centre[k];
-            d2 += d * d;
-        }
-        if (d2 > r2) r2 = d2;
-    }
-    return r2 > 0 ? sqrt(r2) : 1.0;
-}
+double sss_view_bounds(const sss_mesh *m, double centre[3]) { return sss_mesh_bounding_sphere(m, centre); }
 
 /* The shading program, with single scattering (single.glsl, defines
  * SSS_SINGLE) or without it: a frame without the term runs a program that
@@ -72,8 +57,9 @@ double sss_view_bounds(const sss_mesh *m, double centre[3])
 static GLuint shade_program(const char *defines, sss_error *err)
 {
     GLuint vs = sss_gl_compile(GL_VERTEX_SHADER, "", sss_glsl_shade_vert, err);
-    const char *parts[5] = {defines, sss_glsl_shadow_map, sss_glsl_fresnel, sss_glsl_single, sss_glsl_shade_frag};
-    GLuint fs = vs ? sss_gl_compile_parts(GL_FRAGMENT_SHADER, parts, 5, err) : 0;
+    const char *parts[6] = {defines,         sss_glsl_shadow_map, sss_glsl_fresnel,
+                            sss_glsl_single, sss_glsl_surface,    sss_glsl_shade_frag};
+    GLuint fs = vs ? sss_gl_compile_parts(GL_FRAGMENT_SHADER, parts, 6, err) : 0;
     GLuint pr = fs ? sss_gl_link(vs, fs, err) : 0;
     if (vs && !fs) glDeleteShader(vs);
     return pr;
@@ -187,7 +173,10 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     /* the surface terms' shadow: the map for this light, rendered (outside
      * the draw's timer: llvmpipe's timer spans no framebuffer switch) only
      * when the light direction or the size changes */
-    const int shadowed = p->surface_shadow && (p->specular || rho_d > 0) &&
+    /* the run-time path's surface terms come per pixel, each light's tested
+     * against its own light-space map (htsm_gpu.c): no shadow map here */
+    const int simage = d->qtex && d->q_lit && d->stex;
+    const int shadowed = !simage && p->surface_shadow && (p->specular || rho_d > 0) &&
                          lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2] > 0.5f &&
                          sss_shadow_ensure(&d->shadow, m->vao, m->nf, m->centre, m->radius, p->shadow_size);
     if (shadowed) sss_shadow_update(d->shadow, lf, 0);
@@ -235,9 +224,14 @@ void sss_draw_frame(sss_draw *d, const sss_gpu_mesh *m, const sss_view_params *p
     /* q per pixel (the splatting, splat_gpu.c) instead of per vertex */
     glUniform1i(glGetUniformLocation(pr, "u_qimage"), d->qtex != 0);
     glUniform1i(glGetUniformLocation(pr, "u_q_lit"), d->qtex != 0 && d->q_lit);
+    glUniform1i(glGetUniformLocation(pr, "u_simage"), simage);
     if (d->qtex) {
         glActiveTexture(GL_TEXTURE1);
         glBindTexture(GL_TEXTURE_2D, d->qtex);
+        if (simage) {
+            glActiveTexture(GL_TEXTURE4);
+            glBindTexture(GL_TEXTURE_2D, d->stex);
+        }
         glActiveTexture(GL_TEXTURE0);
     }
     glDrawElements(GL_TRIANGLES, (GLsizei)(3 * m->nf), GL_UNSIGNED_INT, NULL);

@@ -3,7 +3,7 @@
  * rasterising the mesh: along the light into the map's three images (MRT,
  * then glGenerateMipmap: the 2 × 2 means sss_htsm_map_mips computes), and
  * from the camera into q and x_o per pixel (htsm.frag.glsl, sss_htsm_q's
- * sum). The field's 3D texture is uploaded once with every level computed
+ * sum, and the light's surface terms shadowed by the same map). The field's 3D texture is uploaded once with every level computed
  * on the CPU (sss_htsm_volume_build), so that the pass and its oracle read
  * the same numbers.
  */
@@ -29,7 +29,7 @@ struct sss_htsm_gpu {
     sss_htsm_volume vol;
     int vol_on;
     GLuint vol_tex;
-    GLuint q_fbo, q_tex[2], q_depth; /* q, x_o */
+    GLuint q_fbo, q_tex[3], q_depth; /* q, x_o, the surface terms */
     int w, h;
 };
 
@@ -45,9 +45,9 @@ static GLuint program(const char *vs_src, const char *const *fs_parts, int npart
 static void q_free(sss_htsm_gpu *g)
 {
     if (g->q_fbo) glDeleteFramebuffers(1, &g->q_fbo);
-    if (g->q_tex[0]) glDeleteTextures(2, g->q_tex);
+    if (g->q_tex[0]) glDeleteTextures(3, g->q_tex);
     if (g->q_depth) glDeleteRenderbuffers(1, &g->q_depth);
-    g->q_fbo = g->q_tex[0] = g->q_tex[1] = g->q_depth = 0;
+    g->q_fbo = g->q_tex[0] = g->q_tex[1] = g->q_tex[2] = g->q_depth = 0;
     g->w = g->h = 0;
 }
 
@@ -81,8 +81,6 @@ void sss_htsm_view_default(sss_htsm_view *v, const sss_bake_file *f, const sss_h
 uint32_t sss_htsm_view_lights(sss_htsm_view *v, sss_view_params *p, const sss_scene *sc, const sss_mesh *m,
                               uint32_t *skipped)
 {
-    double c[3];
-    const double R = sss_view_bounds(m, c) * (1.0 + SSS_SHADOW_MARGIN);
     uint32_t n = 0;
     *skipped = 0;
     v->nmore = 0;
@@ -91,8 +89,7 @@ uint32_t sss_htsm_view_lights(sss_htsm_view *v, sss_view_params *p, const sss_sc
         const sss_scene_light *L = &sc->lights[l];
         if (L->intensity == 0.0) continue;
         const int point = L->kind == SSS_LIGHT_POINT;
-        const double dc[3] = {L->position[0] - c[0], L->position[1] - c[1], L->position[2] - c[2]};
-        if ((!point && L->kind != SSS_LIGHT_DIRECTIONAL) || (point && !(sqrt(sss_dot3(dc, dc)) > R)) ||
+        if ((!point && L->kind != SSS_LIGHT_DIRECTIONAL) || (point && !sss_htsm_point_drawn(m, L->position, NULL)) ||
             n == SSS_HTSM_MAX_LIGHTS) {
             (*skipped)++;
             continue;
@@ -107,7 +104,7 @@ uint32_t sss_htsm_view_lights(sss_htsm_view *v, sss_view_params *p, const sss_sc
         }
         for (int k = 0; k < 3; k++) d[k] = point ? L->position[k] : L->direction[k], e[k] = L->intensity * L->colour[k];
     }
-    /* the draw's surface terms take p's light alone: none without a directional light */
+    /* p's light is not drawn: nothing of it in p for other readers */
     if (v->no_p_light) p->light_rgb[0] = p->light_rgb[1] = p->light_rgb[2] = 0.0;
     return n;
 }
@@ -177,9 +174,10 @@ sss_result sss_htsm_gpu_create(sss_renderer *r, const sss_hetero *h, uint32_t ma
     g->size = map_size;
     for (uint32_t s = map_size; s >= 1; s >>= 1) g->levels++;
     const char *map_parts[2] = {sss_glsl_fresnel, sss_glsl_htsm_map_frag};
-    const char *q_parts[1] = {sss_glsl_htsm_frag};
+    const char *q_parts[3] = {sss_glsl_fresnel, sss_glsl_surface, sss_glsl_htsm_frag};
     g->prog_map = program(sss_glsl_htsm_map_vert, map_parts, 2, err);
-    g->prog_q = g->prog_map ? program(sss_glsl_single_map_vert, q_parts, 1, err) : 0;
+    /* the camera pass takes the map's vertex stage for the normal the surface terms need */
+    g->prog_q = g->prog_map ? program(sss_glsl_htsm_map_vert, q_parts, 3, err) : 0;
     sss_result res = g->prog_q ? make_map(g, err) : SSS_ERR_UNSUPPORTED;
     if (res == SSS_OK && h && h->field.kind != SSS_FIELD_NONE) {
         double lo[3], hi[3];
@@ -202,8 +200,8 @@ static sss_result q_ensure(sss_htsm_gpu *g, int w, int h, sss_error *err)
 {
     if (g->q_fbo && g->w == w && g->h == h) return SSS_OK;
     q_free(g);
-    glGenTextures(2, g->q_tex);
-    for (int i = 0; i < 2; i++) {
+    glGenTextures(3, g->q_tex);
+    for (int i = 0; i < 3; i++) {
         glBindTexture(GL_TEXTURE_2D, g->q_tex[i]);
         glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, w, h);
     }
@@ -217,6 +215,7 @@ static sss_result q_ensure(sss_htsm_gpu *g, int w, int h, sss_error *err)
     glBindFramebuffer(GL_FRAMEBUFFER, g->q_fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->q_tex[0], 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, g->q_tex[1], 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT2, GL_TEXTURE_2D, g->q_tex[2], 0);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g->q_depth);
     const GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)prev);
@@ -268,6 +267,7 @@ static sss_result set_estimator(const sss_htsm_gpu *g, const sss_htsm_view *v, s
                 (float)g->light[3]);
     uni_f(p, "u_ht_wref", (float)g->ref_w);
     uni_f(p, "u_ht_span", (float)(texel * g->size));
+    uni_f(p, "u_ht_texel", (float)(texel / v->mat.mm_per_unit));
     uni_f(p, "u_ht_mm", (float)v->mat.mm_per_unit);
     uni_i(p, "u_ht_size", (int)g->size);
     uni_i(p, "u_ht_n", (int)pat.n);
@@ -299,6 +299,26 @@ static sss_result set_estimator(const sss_htsm_gpu *g, const sss_htsm_view *v, s
     return SSS_OK;
 }
 
+/* The surface terms' uniforms (docs/heterogeneous.md §9.1): the light's
+ * E0 or I, the view's lobes and whether they are shadowed, by the map with
+ * shadow.h's constants. */
+static void set_surface(const sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, const double rgb[3],
+                        const double eye[3])
+{
+    const GLuint pr = g->prog_q;
+    const double rho_d = p->diffuse > 0 ? (p->diffuse < 1 ? p->diffuse : 1.0) : 0.0; /* as draw.c's */
+    uni_v3(pr, "u_ht_rgb", rgb);
+    uni_v3(pr, "u_ht_eye", eye);
+    uni_f(pr, "u_ht_eta", (float)v->mat.base.eta);
+    uni_i(pr, "u_ht_specular", p->specular);
+    uni_f(pr, "u_ht_diffuse", (float)rho_d);
+    uni_i(pr, "u_ht_shadow", p->surface_shadow);
+    uni_f(pr, "u_ht_k_n", (float)SSS_SHADOW_NORMAL_OFFSET);
+    uni_f(pr, "u_ht_k_c", (float)SSS_SHADOW_BIAS_CONST);
+    uni_f(pr, "u_ht_k_s", (float)SSS_SHADOW_BIAS_SLOPE);
+    uni_f(pr, "u_ht_tan_max", (float)SSS_SHADOW_TAN_MAX);
+}
+
 static void unbind_units(void)
 {
     for (int i = 0; i < 3; i++) {
@@ -308,18 +328,19 @@ static void unbind_units(void)
     glActiveTexture(GL_TEXTURE0);
 }
 
-/* One light's two draws (§9.1): its map from the light, then q and x_o
- * from the camera, which the first light's pass clears and each later one
- * adds to: q blended one-to-one, the depth buffer already the nearest
- * surface's, so only that surface's fragments pass (GL_LEQUAL) and x_o is
- * written again with the same values. point 0: light is the direction
- * towards a directional light, orthographic map; 1: a point light's
- * position, perspective map. */
-static sss_result light_pass(sss_htsm_gpu *g, const sss_htsm_view *v, const double light[3], int point,
-                             const double rgb[3], const float mvp[16], int width, int height, int add, sss_error *err)
+/* One light's two draws (§9.1): its map from the light, then q, x_o and
+ * its surface terms from the camera, which the first light's pass clears
+ * and each later one adds to: q and the surface terms blended one-to-one,
+ * the depth buffer already the nearest surface's, so only that surface's
+ * fragments pass (GL_LEQUAL) and x_o is written again with the same
+ * values. point 0: light is the direction towards a directional light,
+ * orthographic map; 1: a point light's position, perspective map. */
+static sss_result light_pass(sss_htsm_gpu *g, const sss_htsm_view *v, const sss_view_params *p, const double light[3],
+                             int point, const double rgb[3], const float mvp[16], const double eye[3], int width,
+                             int height, int add, sss_error *err)
 {
     const sss_gpu_mesh *m = &g->r->mesh;
-    const double R = m->radius * (1.0 + SSS_SHADOW_MARGIN);
+    const double R = m->radius * (1.0 + SSS_HTSM_MAP_MARGIN); /* sss_htsm_point_drawn's sphere */
     float clip[16];
     if (point) {
         if (!sss_shadow_frame_point(m->centre, R, light, clip, g->lookup, &g->ref_w))
@@ -360,21 +381,24 @@ static sss_result light_pass(sss_htsm_gpu *g, const sss_htsm_view *v, const doub
         glGenerateMipmap(GL_TEXTURE_2D);
     }
     glBindTexture(GL_TEXTURE_2D, 0);
-    /* 2. q and x_o per pixel from the camera */
+    /* 2. q, x_o and the surface terms per pixel from the camera */
     glBindFramebuffer(GL_FRAMEBUFFER, g->q_fbo);
-    glDrawBuffers(2, bufs);
+    glDrawBuffers(3, bufs);
     glViewport(0, 0, width, height);
     if (add) {
         glDepthFunc(GL_LEQUAL);
-        glEnablei(GL_BLEND, 0);
-        glBlendEquationi(0, GL_FUNC_ADD);
-        glBlendFunci(0, GL_ONE, GL_ONE);
+        for (GLuint i = 0; i < 3; i += 2) {
+            glEnablei(GL_BLEND, i);
+            glBlendEquationi(i, GL_FUNC_ADD);
+            glBlendFunci(i, GL_ONE, GL_ONE);
+        }
     } else {
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     }
     glUseProgram(g->prog_q);
     glUniformMatrix4fv(glGetUniformLocation(g->prog_q, "u_mat"), 1, GL_FALSE, mvp);
     sss_result res = set_estimator(g, v, err);
+    set_surface(g, v, p, rgb, eye);
     if (res == SSS_OK) glDrawElements(GL_TRIANGLES, (GLsizei)(3 * m->nf), GL_UNSIGNED_INT, NULL);
     unbind_units();
     glDisable(GL_BLEND);
@@ -402,9 +426,9 @@ sss_result sss_htsm_gpu_frame(sss_htsm_gpu *g, const sss_htsm_view *v, const sss
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glBindVertexArray(m->vao);
-    if (!v->no_p_light) res = light_pass(g, v, p->light, 0, p->light_rgb, mvp, width, height, 0, err);
+    if (!v->no_p_light) res = light_pass(g, v, p, p->light, 0, p->light_rgb, mvp, eye, width, height, 0, err);
     for (uint32_t k = 0; res == SSS_OK && k < v->nmore; k++)
-        res = light_pass(g, v, v->more_light[k], v->more_point[k], v->more_rgb[k], mvp, width, height,
+        res = light_pass(g, v, p, v->more_light[k], v->more_point[k], v->more_rgb[k], mvp, eye, width, height,
                          k > 0 || !v->no_p_light, err);
     glBindVertexArray(0);
     glUseProgram(0);
@@ -422,11 +446,9 @@ sss_result sss_htsm_gpu_render_image(sss_htsm_gpu *g, const sss_htsm_view *v, co
     if (hdr) *hdr = NULL;
     sss_result res = sss_htsm_gpu_frame(g, v, p, width, height, NULL, err);
     if (res != SSS_OK) return res;
-    g->r->draw.qtex = g->q_tex[0];
-    g->r->draw.q_lit = 1;
+    sss_htsm_gpu_attach(g, 1);
     res = sss_draw_read_image(g->r, p, width, height, rgb, hdr, err);
-    g->r->draw.qtex = 0;
-    g->r->draw.q_lit = 0;
+    sss_htsm_gpu_attach(g, 0);
     return res;
 }
 
@@ -434,6 +456,7 @@ sss_result sss_htsm_gpu_attach(sss_htsm_gpu *g, int on)
 {
     g->r->draw.qtex = on ? g->q_tex[0] : 0;
     g->r->draw.q_lit = on != 0;
+    g->r->draw.stex = on ? g->q_tex[2] : 0;
     return SSS_OK;
 }
 
@@ -467,5 +490,15 @@ sss_result sss_htsm_gpu_read(const sss_htsm_gpu *g, sss_htsm_map *map, float **q
     glBindTexture(GL_TEXTURE_2D, 0);
     *q = a;
     *x = b;
+    return SSS_OK;
+}
+
+sss_result sss_htsm_gpu_read_surface(const sss_htsm_gpu *g, float **s, sss_error *err)
+{
+    *s = malloc((size_t)g->w * g->h * 4 * sizeof **s);
+    if (!*s) return sss_fail(err, SSS_ERR_NOMEM, "out of memory");
+    glBindTexture(GL_TEXTURE_2D, g->q_tex[2]);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, *s);
+    glBindTexture(GL_TEXTURE_2D, 0);
     return SSS_OK;
 }

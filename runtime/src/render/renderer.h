@@ -68,8 +68,13 @@ typedef struct sss_draw {
     GLuint qtex; /* non-zero: q per pixel from this RGBA32F texture of the frame's size (splat_gpu.c) */
     /* 1: that q already holds its lights' irradiance, each light's E in its
      * own light-space map (htsm_gpu.c, docs/heterogeneous.md §9.1): not
-     * scaled again by p's light_rgb, which the surface terms still take */
+     * scaled again by p's light_rgb */
     int q_lit;
+    /* non-zero (with q_lit): the surface terms per pixel from this RGBA32F
+     * texture of the frame's size, every light's each shadowed by its own
+     * light-space map (htsm_gpu.c), instead of p's light's with the shadow
+     * map */
+    GLuint stex;
 } sss_draw;
 
 sss_result sss_draw_create(sss_draw *d, sss_error *err);

@@ -89,7 +89,18 @@ static int state_open(const sss_pose_view *v, edit_state *s, sss_view_params *p)
     sss_htsm_view_default(&s->hv, &s->f, &o->hetero);
     if (o->field_strength > 0.0) s->hv.mat.strength = o->field_strength;
     uint32_t skipped = 0;
-    if (!sss_htsm_view_lights(&s->hv, p, &s->sc, &s->f.mesh, &skipped)) {
+    const uint32_t drawn = sss_htsm_view_lights(&s->hv, p, &s->sc, &s->f.mesh, &skipped);
+    /* each point light left out for its place, in the planner's words (--plan) */
+    for (uint32_t l = 0; l < s->sc.nlights; l++) {
+        const sss_scene_light *L = &s->sc.lights[l];
+        double R = 0.0;
+        if (L->kind == SSS_LIGHT_POINT && L->intensity != 0.0 && !sss_htsm_point_drawn(&s->f.mesh, L->position, &R)) {
+            char why[320];
+            sss_htsm_point_inside_msg(why, sizeof why, L->position, o->name, R);
+            sss_cli_printf(stderr, "%s: %s: /lights/%u: %s\n", T, v->scene, l, why);
+        }
+    }
+    if (!drawn) {
         sss_cli_printf(stderr, "%s: %s: /lights: no directional or point light of non-zero intensity outside the "
                        "object: the run-time path draws no other\n", T, v->scene);
         return 2;

@@ -16,6 +16,7 @@
 #include "sss/fileio.h"
 #include "sss/format.h"
 #include "sss/render.h"
+#include "sss/scene_edit.h"
 #include "sss/vec3.h"
 
 static const char *TOOL = "sss-view";
@@ -655,8 +656,9 @@ int main(int argc, char **argv)
                             a.splat, a.splat_levels, !a.splat_uniform, a.save_scene};
         if (!a.offscreen) a.p.background[0] = a.p.background[1] = a.p.background[2] = 0.02f; /* as window() */
         const int editable = sss_edit_wanted(a.scene);
-        /* the edited scene replaces no input (sss/fileio.h), checked before anything is drawn */
-        if (a.save_scene && (!editable || sss_output_check(a.save_scene, &a.inputs, NULL, &err) != SSS_OK)) {
+        /* the edited scene replaces no input (sss/fileio.h) and its folder
+         * exists, checked before anything is drawn (docs/heterogeneous.md §9.6) */
+        if (a.save_scene && (!editable || sss_scene_edited_check(a.scene, a.save_scene, &err) != SSS_OK)) {
             if (!editable) snprintf(err.msg, sizeof err.msg, "--save-scene: only for a scene whose object is editable");
             sss_cli_printf(stderr, "%s: %s\n", TOOL, err.msg);
             return 2;
