@@ -15,8 +15,8 @@ const uint PER = 32u / BITS, W = (C * N + PER - 1u) / PER; // codes per word, wo
 layout(std430, binding = 3) writeonly buffer Q { float q[]; };
 // Every load below is one uvec4, vec4 or vec2 where it can be: a software GPU
 // (llvmpipe) runs each storage-buffer load as a loop over the lanes, so the
-// count of loads, not their width, sets the pass's time (docs/gpu_layout.md §4,
-// docs/benchmarks.md, "One pass's loads in vectors").
+// count of loads, not their width, sets the pass's time (docs/gpu_layout.md §2,
+// docs/benchmarks.md, "One load per table, in vectors").
 #if NCOEF > 0
 // each coded vertex's C * N codes in file order (channel-major), packed from the
 // low bits up, starting on a word of its own, its words in groups of four;
