@@ -117,11 +117,12 @@ int main(int argc, char **argv)
                                       (GLsizeiptr)L.row_range);
             else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, L.buffer[k].binding, buf[k]);
         }
-        if (blk[p]) { /* the folded tables at binding 4 */
+        if (blk[p]) { /* the folded tables at binding 4: the coded pass's as a uniform block if sh_uniform */
+            const GLenum target = p == SSS_GPU_PASS_CODED && L.sh_uniform ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER;
             glGenBuffers(1, &tab[p]);
-            glBindBuffer(GL_SHADER_STORAGE_BUFFER, tab[p]);
-            glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)blk_bytes[p], blk[p], GL_DYNAMIC_DRAW);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, tab[p]);
+            glBindBuffer(target, tab[p]);
+            glBufferData(target, (GLsizeiptr)blk_bytes[p], blk[p], GL_DYNAMIC_DRAW);
+            glBindBufferBase(target, 4, tab[p]);
         }
         glUniform3f(glGetUniformLocation(prog[p], "u_w"), fr.u_w[0], fr.u_w[1], fr.u_w[2]);
         glUniform1ui(glGetUniformLocation(prog[p], "u_channels"), fr.u_channels);

@@ -11,8 +11,8 @@
  *           below any storage-block limit, while the whole table (1 GB for
  *           the 437K dragon in RGB float) only needs to fit in memory;
  *   compressed forms (Hao–Varshney 2004 §4) stay compressed: the SH codes
- *           (§4.1, each vertex's codes word-aligned; 4, 8 or 16 bits), and for the reference
- *           form each coded vertex's triangle and weight codes (§4.2–4.3).
+ *           (§4.1, each vertex's codes on groups of four words; 4, 8 or 16 bits), and for the
+ *           reference form each coded vertex's three references and two weights (§4.2–4.3).
  *           Two passes: the references' values, then every coded vertex
  *           (blend of three references plus its SH-coded delta).
  * Per frame the CPU does only the light-dependent, vertex-independent work:
@@ -146,58 +146,85 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
     if (sh || refs) {
         if (shc->ncoef) {
             /* The codes as stored, but each vertex's C·ncoef codes starting
-             * on a word of their own (at most 3 bytes of padding per
-             * vertex), and word-major: word n of coded vertex k at
-             * n·ncoded + k, so that neighbouring invocations (vertices)
-             * read neighbouring words. Vertex-major (k·W + n), a group's
-             * loads were W words apart, a cache line each: 74 words per
-             * vertex at order 7 in 16 bits, and the SH-only frame was 50×
-             * lloyd8's on llvmpipe (docs/benchmarks.md, "Compressed forms'
-             * per-frame cost"). */
+             * on a word of their own and padded to a group of four words
+             * (one uvec4 load), and quad-major: word n of coded vertex k at
+             * ((n / 4)·ncoded + k)·4 + n mod 4, so that neighbouring
+             * invocations (vertices) read neighbouring groups. Vertex-major
+             * (k·W + n), a group's loads were W words apart, a cache line
+             * each: 74 words per vertex at order 7 in 16 bits, and the
+             * SH-only frame was 50× lloyd8's on llvmpipe; one word per load,
+             * each load was a loop over the lanes there (docs/benchmarks.md,
+             * "Compressed forms' per-frame cost"). */
             const uint32_t per_word = shc->kind == SSS_SHQ_LLOYD4 ? 8 : shc->kind == SSS_SHQ_LINEAR16 ? 2 : 4;
             const uint32_t ncv = C * shc->ncoef;
             const uint32_t vwords = (ncv + per_word - 1) / per_word, bits = 32 / per_word;
-            uint32_t *words = calloc((size_t)L->ncoded * vwords + 1, sizeof *words);
+            const uint32_t quads = (vwords + 3) / 4;
+            uint32_t *words = calloc((size_t)L->ncoded * quads * 4 + 1, sizeof *words);
             if (!words) goto oom;
             L->owned_[0] = words;
             for (size_t k = 0; k < L->ncoded; k++)
-                for (uint32_t b = 0; b < ncv; b++)
-                    words[(size_t)(b / per_word) * L->ncoded + k] |= sss_shq_code(shc->code, shc->kind, (uint64_t)k * ncv + b)
-                                                        << (b % per_word * bits);
+                for (uint32_t b = 0; b < ncv; b++) {
+                    const uint32_t n = b / per_word;
+                    words[((size_t)(n / 4) * L->ncoded + k) * 4 + n % 4] |=
+                        sss_shq_code(shc->code, shc->kind, (uint64_t)k * ncv + b) << (b % per_word * bits);
+                }
             one_block(&L->buffer[SSS_GPU_BUF_SH_CODES], "sh_codes", 0, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, words,
-                      (uint64_t)L->ncoded * vwords * 4);
-            L->sh_bytes = sss_decode_fold_floats(shc->kind, C, shc->ncoef) * sizeof(float);
+                      (uint64_t)L->ncoded * quads * 16);
+            /* The frame's tables as a uniform block when they fit the 16 KiB
+             * minimum of GL_MAX_UNIFORM_BLOCK_SIZE (and Vulkan's
+             * maxUniformBufferRange): the linear kinds' C·ncoef steps and
+             * order 3's 4-bit pair tables (12.2 KiB in RGB). On llvmpipe a
+             * uniform load at a constant index is one scalar load, and at a
+             * code-dependent one a gather, where a storage-buffer load is a
+             * loop over the lanes (docs/benchmarks.md). std140 gives a
+             * float[] a 16-byte stride, so the block is a vec4[]. */
+            const uint64_t fl = sss_decode_fold_floats(shc->kind, C, shc->ncoef);
+            L->sh_uniform = fl * sizeof(float) <= 16384;
+            L->sh_bytes = L->sh_uniform ? (fl + 3) / 4 * 16 : fl * sizeof(float);
+            if (L->sh_uniform) {
+                const size_t d = strlen(L->pass[SSS_GPU_PASS_CODED].defines);
+                snprintf(L->pass[SSS_GPU_PASS_CODED].defines + d, sizeof L->pass[0].defines - d, "#define SH_UBO %u\n",
+                         (unsigned)((fl + 3) / 4));
+            }
         }
     }
     if (refs) {
         const sss_refcode *rf = &f->ref;
+        /* four floats a reference, whatever C (1 or 3): the coded pass
+         * loads a reference's values as one vec4 */
         one_block(&L->buffer[SSS_GPU_BUF_REF_Q], "ref_q", 5, both, SSS_GPU_WRITTEN, NULL,
-                  (uint64_t)rf->nref * C * sizeof(float));
+                  (uint64_t)rf->nref * 4 * sizeof(float));
         one_block(&L->buffer[SSS_GPU_BUF_REF_VERTEX], "ref_vertex", 6, 1u << SSS_GPU_PASS_ROWS, SSS_GPU_UPLOAD,
                   rf->ref_vertex, (uint64_t)rf->nref * sizeof(uint32_t));
-        one_block(&L->buffer[SSS_GPU_BUF_REF_TRI], "ref_tri", 2, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, rf->ref_tri,
-                  (uint64_t)rf->nrt * 3 * sizeof(uint32_t));
-        /* one record per coded vertex: its vertex, its reference triangle,
-         * its two weight codes packed in one word (≤ 16 bits each) */
-        uint32_t *rec = malloc(((size_t)L->ncoded * 3 + 1) * sizeof *rec);
-        /* every weight a code can stand for, as the C decoder computes it
-         * (sss_decode_ref_weight): at most 65536 floats, and the GPU then
-         * needs no division */
-        const uint32_t nw = rf->wbits == 16 ? 65536u : 256u;
-        float *wt = malloc(nw * sizeof *wt);
+        /* One record per coded vertex, resolved here once: its vertex and
+         * its reference triangle's three references (one uvec4 load), and
+         * its two weights as the floats the C decoder blends with
+         * (sss_decode_ref_weight, in double rounded to float: the GPU needs
+         * no division; one vec2 load). Each table a vertex followed before
+         * (triangle, then references, then two weight codes, then their
+         * weights) was a load of its own, and on llvmpipe every load a loop
+         * over the lanes (docs/benchmarks.md). 24 bytes a coded vertex. */
+        uint32_t *rec = malloc(((size_t)L->ncoded * 4 + 1) * sizeof *rec);
+        float *wt = malloc(((size_t)L->ncoded * 2 + 1) * sizeof *wt);
         L->owned_[1] = rec;
         L->owned_[2] = wt;
         if (!rec || !wt) goto oom;
+        const uint32_t nw = rf->wbits == 16 ? 65536u : 256u;
+        float *wtab = malloc(nw * sizeof *wtab);
+        if (!wtab) goto oom;
+        for (uint32_t x = 0; x < nw; x++) wtab[x] = sss_decode_ref_weight(rf, x);
         for (size_t k = 0; k < L->ncoded; k++) {
-            rec[3 * k] = rf->coded_vertex[k];
-            rec[3 * k + 1] = rf->vtri[k];
-            rec[3 * k + 2] = (uint32_t)rf->w[2 * k] | (uint32_t)rf->w[2 * k + 1] << 16;
+            const uint32_t *t = rf->ref_tri + 3 * (size_t)rf->vtri[k];
+            rec[4 * k] = rf->coded_vertex[k];
+            for (int j = 0; j < 3; j++) rec[4 * k + 1 + j] = t[j];
+            wt[2 * k] = wtab[rf->w[2 * k]];
+            wt[2 * k + 1] = wtab[rf->w[2 * k + 1]];
         }
-        for (uint32_t x = 0; x < nw; x++) wt[x] = sss_decode_ref_weight(rf, x);
+        free(wtab);
         one_block(&L->buffer[SSS_GPU_BUF_CODED], "coded", 1, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, rec,
-                  (uint64_t)L->ncoded * 3 * sizeof(uint32_t));
+                  (uint64_t)L->ncoded * 4 * sizeof(uint32_t));
         one_block(&L->buffer[SSS_GPU_BUF_WEIGHTS], "weights", 6, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, wt,
-                  (uint64_t)nw * sizeof(float));
+                  (uint64_t)L->ncoded * 2 * sizeof(float));
     }
     return SSS_OK;
 oom:
@@ -238,7 +265,7 @@ sss_result sss_gpu_frame_init(const sss_gpu_layout *L, sss_gpu_frame *fr, sss_er
 {
     memset(fr, 0, sizeof *fr);
     if (L->levels_bytes && !(fr->levels = malloc(L->levels_bytes))) goto oom;
-    if (L->sh_bytes && !(fr->sh = malloc(L->sh_bytes))) goto oom;
+    if (L->sh_bytes && !(fr->sh = calloc(1, L->sh_bytes))) goto oom; /* a uniform block's padding stays 0 */
     fr->levels_bytes = L->levels_bytes;
     fr->sh_bytes = L->sh_bytes;
     return SSS_OK;

@@ -19,7 +19,8 @@ layout(std430, binding = 7) readonly buffer RowD { float row_d[]; };
 #endif
 layout(std430, binding = 3) writeonly buffer Q { float q[]; };
 #ifdef REFS
-// reference values for pass 2, and which vertex each reference is
+// reference values for pass 2, four floats a reference (the coded pass loads
+// a reference's channels as one vec4), and which vertex each reference is
 layout(std430, binding = 5) writeonly buffer Refs { float refq[]; };
 layout(std430, binding = 6) readonly buffer RefVertex { uint ref_vertex[]; };
 #endif
@@ -69,8 +70,9 @@ void main() {
     float x = u_w.x * row_a[i] + u_w.y * row_b[i] + u_w.z * row_c[i];
 #endif
 #ifdef REFS
-    refq[i] = x;
-    q[ref_vertex[i / u_channels] * u_channels + ch] = x;
+    uint r = i / u_channels;
+    refq[4u * r + ch] = x;
+    q[ref_vertex[r] * u_channels + ch] = x;
 #else
     q[i] = x;
 #endif

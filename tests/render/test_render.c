@@ -18,6 +18,7 @@
 #include "sss/render.h"
 #include "sss/bake.h"
 #include "sss/compress.h"
+#include "sss/gpu.h"
 #include "sss/decode.h"
 #include "sss/import.h"
 
@@ -157,7 +158,10 @@ static void gpuEvaluationMatchesCDecoderCompressed(void **state)
         {0, 7, 0.0, SSS_SHQ_LINEAR16, 16, 0},/* SH-only, 16-bit codes: the paper's §4.1 storage */
         {1, 5, 0.0, SSS_SHQ_LINEAR16, 16, 0},/* SH-only, grey, 16-bit, odd count of codes per vertex */
         {0, 3, 0.05, SSS_SHQ_LINEAR16, 8, 1},/* references, 16-bit SH delta */
+        {0, 3, 0.01, SSS_SHQ_LLOYD4, 8, 1},  /* references, lloyd4 at order 3 (the compact preset's): pair tables
+                                                as a uniform block */
     };
+    int seen[2] = {0, 0}; /* the frame's SH tables as a storage buffer, as a uniform block (sss/gpu.h) */
     sss_bake_file src[2];
     bake_preset(&m, "skin1", 0, 20.0, 100, SSS_QUANT_FLOAT, -1, &src[0]);
     bake_preset(&m, "skin1", 1, 20.0, 100, SSS_QUANT_FLOAT, -1, &src[1]);
@@ -169,8 +173,16 @@ static void gpuEvaluationMatchesCDecoderCompressed(void **state)
         sss_storage_describe(&f, label, sizeof label);
         if (cases[k].ls) strncat(label, ", least squares", sizeof label - strlen(label) - 1);
         check_gpu_vs_c(&f, label);
+        if (cases[k].order) {
+            sss_gpu_layout L;
+            assert_int_equal(sss_gpu_layout_create(&f, 16, &L, &err), SSS_OK);
+            seen[L.sh_uniform != 0]++;
+            sss_gpu_layout_free(&L);
+        }
         sss_file_free(&f);
     }
+    /* both ways of binding the tables ran against the C decoder */
+    assert_true(seen[0] > 0 && seen[1] > 0);
     sss_file_free(&src[0]);
     sss_file_free(&src[1]);
     sss_mesh_free(&m);

@@ -95,7 +95,7 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
                 else x = fr->u_w[0] * a[i] + fr->u_w[1] * b[i] + fr->u_w[2] * c[i];
             }
             if (refs) {
-                refq[i] = x;
+                refq[4 * (i / C) + i % C] = x; /* four floats a reference */
                 q[ref_vertex[i / C] * C + i % C] = x;
             } else {
                 q[i] = x;
@@ -104,21 +104,29 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
     }
     if (p1->name) {
         uint32_t *codes = image(L, SSS_GPU_BUF_SH_CODES), *rec = image(L, SSS_GPU_BUF_CODED);
-        uint32_t *ref_tri = image(L, SSS_GPU_BUF_REF_TRI);
-        float *wtab = image(L, SSS_GPU_BUF_WEIGHTS);
+        float *wts = image(L, SSS_GPU_BUF_WEIGHTS);
         const uint32_t N = L->f->sh.ncoef, Lv = L->sh_levels ? L->sh_levels : 256u;
         const int lin16 = strstr(p1->defines, "SH_LINEAR16") != NULL, lin8 = strstr(p1->defines, "SH_LINEAR8") != NULL;
         const uint32_t BITS = strstr(p1->defines, "SH_NIBBLE") ? 4u : lin16 ? 16u : 8u, PER = 32u / BITS;
-        const uint32_t W = (C * N + PER - 1u) / PER; /* words per coded vertex */
-        if (N) assert_int_equal(L->buffer[SSS_GPU_BUF_SH_CODES].bytes, (uint64_t)fr->u_count[1] * W * 4);
+        const uint32_t W = (C * N + PER - 1u) / PER; /* words per coded vertex, in groups of four */
+        if (N) assert_int_equal(L->buffer[SSS_GPU_BUF_SH_CODES].bytes, (uint64_t)fr->u_count[1] * ((W + 3) / 4) * 16);
+        /* the frame's tables: a uniform block (vec4[], padded with zeros) exactly when they fit 16 KiB */
+        const uint64_t fl = sss_decode_fold_floats(L->f->sh.kind, C, N);
+        if (N) {
+            assert_int_equal(L->sh_uniform, fl * 4 <= 16384);
+            assert_int_equal(L->sh_bytes, L->sh_uniform ? (fl + 3) / 4 * 16 : fl * 4);
+            assert_int_equal(strstr(p1->defines, "#define SH_UBO ") != NULL, L->sh_uniform);
+            for (uint64_t x = fl; x < L->sh_bytes / 4; x++) assert_true(fr->sh[x] == 0.0f);
+        }
+        /* word n of coded vertex k: group n / 4, quad-major, element n mod 4 */
+#define WORD(n) codes[(((n) / 4) * fr->u_count[1] + k) * 4 + (n) % 4]
         for (uint32_t k = 0; k < fr->u_count[1]; k++) {
             uint32_t v = k, r0 = 0, r1 = 0, r2 = 0;
             float w0 = 0, w1 = 0, w2 = 0;
             if (rec) {
-                v = rec[3 * k];
-                const uint32_t t = 3 * rec[3 * k + 1], wc = rec[3 * k + 2];
-                r0 = ref_tri[t] * C, r1 = ref_tri[t + 1] * C, r2 = ref_tri[t + 2] * C;
-                w0 = wtab[wc & 65535u], w1 = wtab[wc >> 16];
+                v = rec[4 * k];
+                r0 = 4 * rec[4 * k + 1], r1 = 4 * rec[4 * k + 2], r2 = 4 * rec[4 * k + 3];
+                w0 = wts[2 * k], w1 = wts[2 * k + 1];
                 w2 = 1.0f - w0 - w1;
             }
             for (uint32_t ch = 0; ch < C; ch++) {
@@ -126,7 +134,7 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
                 if (rec) x = w0 * refq[r0 + ch] + w1 * refq[r1 + ch] + w2 * refq[r2 + ch];
                 if (N) {
                     float acc = 0.0f;
-#define CODE_AT(e) ((codes[((e) / PER) * fr->u_count[1] + k] >> (((e) % PER) * BITS)) & ((1u << BITS) - 1u))
+#define CODE_AT(e) ((WORD((e) / PER) >> (((e) % PER) * BITS)) & ((1u << BITS) - 1u))
                     if (BITS == 4) { /* the pairs' tables, then an odd last code (sss_decode_fold_sh) */
                         const uint32_t P = N / 2, e = ch * N;
                         for (uint32_t m = 0; m < P; m++)
@@ -136,7 +144,7 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
 #undef CODE_AT
                     for (uint32_t j = 0; j < N && BITS != 4; j++) {
                         const uint32_t e = ch * N + j;
-                        const uint32_t code = (codes[(e / PER) * fr->u_count[1] + k] >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
+                        const uint32_t code = (WORD(e / PER) >> ((e % PER) * BITS)) & ((1u << BITS) - 1u);
                         if (lin16 || lin8) {
                             /* int(w << (32 − BITS − shift)) >> (32 − BITS): the sign-extended code times the folded step */
                             const float prod = (float)(lin16 ? (int16_t)code : (int8_t)code) * fr->sh[ch * N + j];
@@ -150,7 +158,8 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
                 q[v * C + ch] = x > 0.0f ? x : 0.0f;
             }
         }
-        free(codes), free(rec), free(ref_tri), free(wtab);
+#undef WORD
+        free(codes), free(rec), free(wts);
     }
     free(rows), free(ref_vertex);
 }
@@ -167,7 +176,7 @@ static void check_form(const sss_bake_file *f, const char *what)
     assert_int_equal(sss_gpu_frame_init(&L, &fr, &err), SSS_OK);
     const size_t n = (size_t)f->mesh.nv * f->channels;
     float *gpu = malloc(n * sizeof *gpu), *cpu = malloc(n * sizeof *cpu);
-    float *refq = malloc(((size_t)f->ref.nref * f->channels + 1) * sizeof *refq);
+    float *refq = malloc(((size_t)f->ref.nref * 4 + 1) * sizeof *refq);
     assert_true(gpu && cpu && refq);
     const double lights[][3] = {{0, 0, 1}, {0.3, 0.5, 0.8}, {-1, 0.2, 0.1}, {0, -2, 0}, {0.7, -0.1, -0.7}, {0, 0, 0}};
     for (int n4 = 0; n4 < 2; n4++)

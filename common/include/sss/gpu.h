@@ -62,13 +62,14 @@ enum {
 enum {
     SSS_GPU_BUF_ROWS = 0,    /* the direction rows, row j at j·stride; bound as three ranges (bindings 0–2) */
     SSS_GPU_BUF_Q,           /* the output q, nv·C float32; written by the GPU (binding 3) */
-    SSS_GPU_BUF_REF_Q,       /* reference values of the frame, nref·C float32; GPU scratch (binding 5) */
+    SSS_GPU_BUF_REF_Q,       /* reference values of the frame, nref·4 float32 (a reference's C ≤ 3 values,
+                                then padding); GPU scratch (binding 5) */
     SSS_GPU_BUF_REF_VERTEX,  /* nref uint32: the vertex of each reference (binding 6, rows pass) */
-    SSS_GPU_BUF_SH_CODES,    /* SH codes, each coded vertex's on a word of its own (binding 0, coded pass) */
-    SSS_GPU_BUF_CODED,       /* per coded vertex 3 uint32: vertex, reference triangle, weight codes
-                                (w0 | w1 << 16) (binding 1, coded pass) */
-    SSS_GPU_BUF_REF_TRI,     /* 3·nrt uint32: reference triangles, indices into the references (binding 2) */
-    SSS_GPU_BUF_WEIGHTS,     /* 256 or 65536 floats: the weight each code stands for (binding 6, coded pass) */
+    SSS_GPU_BUF_SH_CODES,    /* SH codes, each coded vertex's on groups of four words of its own (binding 0,
+                                coded pass) */
+    SSS_GPU_BUF_CODED,       /* per coded vertex 4 uint32: its vertex, its reference triangle's three
+                                references (binding 1, coded pass) */
+    SSS_GPU_BUF_WEIGHTS,     /* per coded vertex 2 float32: its weights w0, w1 (binding 6, coded pass) */
     SSS_GPU_BUFFERS
 };
 
@@ -76,7 +77,7 @@ enum {
 enum { SSS_GPU_UPLOAD = 0, SSS_GPU_WRITTEN = 1 };
 
 typedef struct sss_gpu_buffer {
-    const char *name;     /* "rows", "q", "ref_q", "ref_vertex", "sh_codes", "coded", "ref_tri", "weights" */
+    const char *name;     /* "rows", "q", "ref_q", "ref_vertex", "sh_codes", "coded", "weights" */
     uint32_t binding;     /* the std430 binding index the shaders declare it at */
     uint32_t passes;      /* bit p: pass p binds it (1u << SSS_GPU_PASS_*); 0: the file has no such buffer */
     uint32_t access;      /* SSS_GPU_UPLOAD or SSS_GPU_WRITTEN (data NULL) */
@@ -118,7 +119,13 @@ typedef struct sss_gpu_layout {
     sss_gpu_buffer buffer[SSS_GPU_BUFFERS];
     /* Per-frame block sizes (sss_gpu_frame), 0 when absent. */
     uint64_t levels_bytes;    /* 4·C·256 float32 (lloyd8, reference form): a table per blended row */
-    uint64_t sh_bytes;        /* C·ncoef·sh_levels float32 (SH, reference form with an SH part) */
+    uint64_t sh_bytes;        /* the folded SH tables' floats (sss_decode_fold_floats; SH, reference form with
+                                 an SH part), rounded up to 16 bytes when sh_uniform */
+    /* 1: the coded pass declares the frame's sh as a uniform block (std140,
+     * uniform-buffer binding 4: bind it with GL_UNIFORM_BUFFER), since it
+     * fits the 16 KiB every GL 4.3 and Vulkan allows; 0: a storage buffer
+     * at binding 4 */
+    int sh_uniform;
     void *owned_[3];          /* what the layout built; private */
 } sss_gpu_layout;
 
@@ -139,8 +146,9 @@ typedef struct sss_gpu_frame {
      * table 0 in triangle frames) (lloyd8 and the references' rows; NULL otherwise) */
     float *levels;
     uint64_t levels_bytes;
-    /* binding 4 of the coded pass: sh[(c·ncoef + i)·L + x] = table_c,i[x] · y_i(ω)
-     * (sss_decode_fold_sh; NULL without an SH part) */
+    /* binding 4 of the coded pass (a uniform buffer when the layout's sh_uniform, else a storage
+     * buffer): sh[(c·ncoef + i)·L + x] = table_c,i[x] · y_i(ω) (sss_decode_fold_sh; NULL without an
+     * SH part) */
     float *sh;
     uint64_t sh_bytes;
 } sss_gpu_frame;

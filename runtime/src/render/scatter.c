@@ -160,7 +160,8 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], i
             if (L->vector) glUniform3f(glGetUniformLocation(prog, "u_light"), fr->u_light[0], fr->u_light[1], fr->u_light[2]);
             glUniform1ui(glGetUniformLocation(prog, "u_channels"), fr->u_channels);
         } else if (fr->sh) {
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s->sh_tab);
+            /* a uniform block when the tables fit one (sss_gpu_layout.sh_uniform) */
+            glBindBufferBase(L->sh_uniform ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER, 4, s->sh_tab);
         }
         glUniform1ui(glGetUniformLocation(prog, "u_count"), fr->u_count[p]);
         glDispatchCompute(L->pass[p].groups, 1, 1);
