@@ -102,7 +102,7 @@ static float *reference_image(const sss_bake_file *f, const sss_hetero *h, const
     if (sss_ref_medium_validate(&med, &err) != SSS_OK || sss_ref_scene_create(&f->mesh, f->mm_per_unit, &rs, &err) != SSS_OK)
         die("reference", &err);
     double centre[3];
-    const double radius = sss_view_bounds(&f->mesh, centre);
+    const double radius = sss_mesh_bounding_sphere(&f->mesh, centre);
     sss_ref_camera cam = {.width = W, .height = H};
     sss_view_frame(p, centre, radius, cam.eye, cam.right, cam.up, cam.fwd);
     cam.tan_half_fov = tan(0.5 * (p->fov_deg > 0 ? p->fov_deg : 35.0) * 3.14159265358979323846 / 180.0);

@@ -451,7 +451,7 @@ static void sceneCameraPutsTheEyeAtItsPositionLookingAtItsTarget(void **state)
     sss_view_params_default(&p);
     sss_scene_camera_params(&sc, &f, &p);
     double c[3], eye[3], right[3], up[3], fwd[3];
-    const double rad = sss_view_bounds(&f.mesh, c);
+    const double rad = sss_mesh_bounding_sphere(&f.mesh, c);
     sss_view_frame(&p, c, rad, eye, right, up, fwd);
     double d[3];
     for (int k = 0; k < 3; k++) {

@@ -275,7 +275,7 @@ static void twoLightsGiveTheSumOfEachAlone(void **state)
 static double radius(const block *b)
 {
     double c[3];
-    return sss_view_bounds(&b->f.mesh, c);
+    return sss_mesh_bounding_sphere(&b->f.mesh, c);
 }
 
 /* A point light at centre + dist · dir (dir as p's back light, unit) of
@@ -284,7 +284,7 @@ static double radius(const block *b)
 static void point_only(const block *b, const sss_view_params *p, double dist, sss_htsm_view *v)
 {
     double c[3], l[3] = {p->light[0], p->light[1], p->light[2]};
-    (void)sss_view_bounds(&b->f.mesh, c);
+    (void)sss_mesh_bounding_sphere(&b->f.mesh, c);
     sss_normalize3(l);
     v->no_p_light = 1;
     v->nmore = 1;
@@ -375,7 +375,7 @@ static void pointLightJoinsTheSumOfTheLights(void **state)
     sss_htsm_view v, vp;
     view(&b, 5, 8, &v);
     double c[3];
-    sss_view_bounds(&b.f.mesh, c);
+    sss_mesh_bounding_sphere(&b.f.mesh, c);
     const double at[3] = {c[0] + 2.5, c[1] + 1.0, c[2] + 1.5}, I[3] = {4.0, 3.0, 2.0};
     vp = v;
     vp.no_p_light = 1;

@@ -96,7 +96,7 @@ double sss_mesh_bounds(const sss_mesh *m, double lo[3], double hi[3]);
 
 /* The sphere about the centre of those bounds through the farthest vertex:
  * its radius (1 for a mesh of no extent), the centre in centre[3]. The
- * viewer frames it (sss_view_bounds) and fits light-space maps to it. */
+ * viewer frames it (sss_view_frame) and fits light-space maps to it. */
 double sss_mesh_bounding_sphere(const sss_mesh *m, double centre[3]);
 
 /* δ, the offset of the visibility rays cast from m's vertices, in mesh

@@ -76,19 +76,10 @@ sss_result sss_ref_medium_from_material(const sss_material *m, double g, sss_ref
 
 void sss_ref_camera_view(const sss_mesh *m, const double view[3], int width, int height, sss_ref_camera *cam)
 {
-    /* the renderer's frame (runtime's draw.c: sss_view_bounds and camera) */
-    double lo[3], hi[3], centre[3], r2 = 0.0;
-    sss_mesh_bounds(m, lo, hi);
-    for (int k = 0; k < 3; k++) centre[k] = 0.5 * (lo[k] + hi[k]);
-    for (uint32_t v = 0; v < m->nv; v++) {
-        double d2 = 0.0;
-        for (int k = 0; k < 3; k++) {
-            const double d = m->pos[3 * (size_t)v + k] - centre[k];
-            d2 += d * d;
-        }
-        if (d2 > r2) r2 = d2;
-    }
-    const double radius = r2 > 0.0 ? sqrt(r2) : 1.0;
+    /* the renderer's frame (runtime's draw.c: sss_view_frame) about the
+     * bounding sphere the viewer and the light-space maps use */
+    double centre[3];
+    const double radius = sss_mesh_bounding_sphere(m, centre);
     double v[3] = {view[0], view[1], view[2]};
     sss_normalize3(v);
     if (!(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0.5)) v[0] = 0, v[1] = 0, v[2] = 1;

@@ -154,12 +154,8 @@ typedef struct sss_view_params {
  * diffuse 0. Needs no context. */
 void sss_view_params_default(sss_view_params *p);
 
-/* The frame sss_view_params is measured in: the centre of m's bounding box
- * into centre, and returns the bounding radius about it (1 when m has no
- * extent). Needs no context. */
-double sss_view_bounds(const sss_mesh *m, double centre[3]);
-
-/* The camera of p about a bounding sphere (centre, radius): the eye, and
+/* The camera of p about a bounding sphere (centre, radius; the frame
+ * sss_view_params is measured in is sss_mesh_bounding_sphere's): the eye, and
  * the picture's right, up and forward directions (world space). */
 void sss_view_frame(const sss_view_params *p, const double centre[3], double radius, double eye[3], double right[3],
                     double up[3], double fwd[3]);

@@ -47,8 +47,6 @@ float sss_tonemap_apply(sss_tonemap t, float x)
     return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
 }
 
-double sss_view_bounds(const sss_mesh *m, double centre[3]) { return sss_mesh_bounding_sphere(m, centre); }
-
 /* The shading program, with single scattering (single.glsl, defines
  * SSS_SINGLE) or without it: a frame without the term runs a program that
  * does not hold it, which llvmpipe would otherwise step through masked

@@ -77,7 +77,7 @@ static sss_result renderer_create(const sss_bake_file *f, int vector, sss_render
     m->nv = f->mesh.nv;
     m->nf = f->mesh.nf;
     m->C = f->channels;
-    m->radius = sss_view_bounds(&f->mesh, m->centre);
+    m->radius = sss_mesh_bounding_sphere(&f->mesh, m->centre);
 
     sss_result res = vector ? sss_scatter_create(&r->scatter, m, err) : sss_scatter_create_scalar(&r->scatter, m, err);
     if (res == SSS_OK) res = sss_draw_create(&r->draw, err);

@@ -27,7 +27,7 @@
 typedef struct sss_gpu_mesh {
     const sss_bake_file *f;
     uint32_t nv, nf, C;
-    double centre[3], radius; /* sss_view_bounds */
+    double centre[3], radius; /* sss_mesh_bounding_sphere */
     GLuint vao, vbo_pos, vbo_nrm, ebo;
     GLuint qbuf;              /* per-vertex q, nv·C floats */
 } sss_gpu_mesh;

@@ -275,7 +275,7 @@ void sss_scene_camera_params(const sss_scene *sc, const sss_bake_file *f, sss_vi
 {
     if (!sc->camera.present) return;
     double c[3];
-    const double rad = sss_view_bounds(&f->mesh, c);
+    const double rad = sss_mesh_bounding_sphere(&f->mesh, c);
     double d[3];
     for (int k = 0; k < 3; k++) d[k] = sc->camera.position[k] - sc->camera.target[k];
     const double dist = sss_normalize3(d);

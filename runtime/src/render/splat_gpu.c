@@ -499,7 +499,7 @@ sss_result sss_splat_gpu_render_image(sss_splat_gpu *s, const sss_view_params *p
     const uint32_t N0 = (uint32_t)s->o.light_size;
     /* the pose's own bounds: the light frame must hold this shape, not the first */
     double c[3];
-    const double Rl = 1.001 * sss_view_bounds(&m->f->mesh, c);
+    const double Rl = 1.001 * sss_mesh_bounding_sphere(&m->f->mesh, c);
     double RPw[3] = {0, 0, 0}, RPmm[3] = {0, 0, 0}, Rcut[3] = {0, 0, 0}, RPsel[3] = {0, 0, 0};
     for (uint32_t k = 0; k < C; k++) {
         RPmm[k] = s->RP_mm[k];
