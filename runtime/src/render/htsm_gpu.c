@@ -3,9 +3,10 @@
  * rasterising the mesh: along the light into the map's three images (MRT,
  * then glGenerateMipmap: the 2 × 2 means sss_htsm_map_mips computes), and
  * from the camera into q and x_o per pixel (htsm.frag.glsl, sss_htsm_q's
- * sum, and the light's surface terms shadowed by the same map). The field's 3D texture is uploaded once with every level computed
- * on the CPU (sss_htsm_volume_build), so that the pass and its oracle read
- * the same numbers.
+ * sum, and the light's surface terms shadowed by the same map). The
+ * field's 3D texture is uploaded once with every level computed on the CPU
+ * (sss_htsm_volume_build), so that the pass and its oracle read the same
+ * numbers.
  */
 #include "sss/htsm_gpu.h"
 
@@ -460,6 +461,20 @@ sss_result sss_htsm_gpu_attach(sss_htsm_gpu *g, int on)
     return SSS_OK;
 }
 
+/* The last frame's image i (q_tex: 0 q, 1 x_o, 2 the surface terms), RGBA
+ * floats of the frame's size, into a new array (caller frees). */
+static sss_result frame_image(const sss_htsm_gpu *g, int i, float **out, sss_error *err)
+{
+    *out = NULL;
+    if (!g->q_fbo) return sss_fail(err, SSS_ERR_ARG, "no frame drawn yet");
+    *out = malloc((size_t)g->w * g->h * 4 * sizeof **out);
+    if (!*out) return sss_fail(err, SSS_ERR_NOMEM, "out of memory");
+    glBindTexture(GL_TEXTURE_2D, g->q_tex[i]);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, *out);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return SSS_OK;
+}
+
 sss_result sss_htsm_gpu_read(const sss_htsm_gpu *g, sss_htsm_map *map, float **q, float **x, sss_error *err)
 {
     *q = *x = NULL;
@@ -473,32 +488,19 @@ sss_result sss_htsm_gpu_read(const sss_htsm_gpu *g, sss_htsm_map *map, float **q
         glBindTexture(GL_TEXTURE_2D, g->map_tex[i]);
         glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, dst[i]);
     }
-    sss_htsm_map_mips(map);
-    const size_t n = (size_t)g->w * g->h * 4;
-    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
-    if (!a || !b) {
-        free(a);
-        free(b);
-        glBindTexture(GL_TEXTURE_2D, 0);
-        sss_htsm_map_free(map);
-        return sss_fail(err, SSS_ERR_NOMEM, "out of memory");
-    }
-    glBindTexture(GL_TEXTURE_2D, g->q_tex[0]);
-    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, a);
-    glBindTexture(GL_TEXTURE_2D, g->q_tex[1]);
-    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, b);
     glBindTexture(GL_TEXTURE_2D, 0);
-    *q = a;
-    *x = b;
-    return SSS_OK;
+    sss_htsm_map_mips(map);
+    sss_result r = frame_image(g, 0, q, err);
+    if (r == SSS_OK) r = frame_image(g, 1, x, err);
+    if (r != SSS_OK) {
+        free(*q);
+        *q = NULL;
+        sss_htsm_map_free(map);
+    }
+    return r;
 }
 
 sss_result sss_htsm_gpu_read_surface(const sss_htsm_gpu *g, float **s, sss_error *err)
 {
-    *s = malloc((size_t)g->w * g->h * 4 * sizeof **s);
-    if (!*s) return sss_fail(err, SSS_ERR_NOMEM, "out of memory");
-    glBindTexture(GL_TEXTURE_2D, g->q_tex[2]);
-    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, *s);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    return SSS_OK;
+    return frame_image(g, 2, s, err);
 }
