@@ -557,13 +557,17 @@ static inline size_t sh_group(const sss_shcode *s, size_t C)
     return bytes <= 64 ? SH_BLOCK : (s->ncoded + SH_BLOCK - 1) / SH_BLOCK * SH_BLOCK;
 }
 
-/* The load-time layout of the references' blend (sss_refcode.bw, .bo):
- * per coded vertex its first two weights as the floats coded_blend forms
- * from the codes (sss_decode_ref_weight; the third, 1 − w0 − w1, is formed
- * per frame as before) and its triangle's three references as 16-bit
- * indices, in blocks (plane_at, G = SH_BLOCK). A frame's blend then loads them as
- * vectors; it no longer converts 16-bit weight codes (two double divisions
- * a vertex) nor follows vtri into ref_tri, and it reads 14 bytes a vertex.
+/* The load-time layout of the references' blend (sss_refcode.blend): per
+ * coded vertex one 16-byte record, in order, of its first two weights as
+ * the floats coded_blend forms from the codes (sss_decode_ref_weight; the
+ * third, 1 − w0 − w1, is formed per frame as before) and its triangle's
+ * three references as 16-bit indices. A frame's blend then no longer
+ * converts 16-bit weight codes (two double divisions a vertex) nor follows
+ * vtri into ref_tri. One stream over the whole frame: as five planes per
+ * block (two of weights, three of references, 256 vertices each) the
+ * blend's loads of memory the viewer's draw had evicted waited on five
+ * short streams per block that the hardware prefetcher had to find anew
+ * each time (docs/benchmarks.md, "The blend's records in one stream").
  * Built when the references number at most 65536 (3 % of 2.1 million
  * vertices); above, the blend reads the codes (blend_block_c). Returns 0,
  * or −1 when out of memory (nothing built). */
@@ -572,22 +576,16 @@ static int prepare_blend(sss_bake_file *f)
     sss_refcode *r = &f->ref;
     const size_t n = f->sh.ncoded;
     if (f->quant != SSS_QUANT_REFS || !n || !r->w || !r->vtri || !r->ref_tri || r->nref > 65536) return 0;
-    float *bw = calloc(planes_size(n, 2, SH_BLOCK), sizeof *bw);
-    uint16_t *bo = calloc(planes_size(n, 3, SH_BLOCK), sizeof *bo);
-    if (!bw || !bo) {
-        free(bw);
-        free(bo);
-        return -1;
-    }
+    struct sss_blend_rec *rec = calloc(n, sizeof *rec);
+    if (!rec) return -1;
     for (size_t k = 0; k < n; k++) {
         float w[3];
         coded_weights(r, k, w);
         const uint32_t *t = r->ref_tri + 3 * (size_t)r->vtri[k];
-        for (size_t j = 0; j < 2; j++) bw[plane_at(k, j, 2, SH_BLOCK)] = w[j];
-        for (size_t j = 0; j < 3; j++) bo[plane_at(k, j, 3, SH_BLOCK)] = (uint16_t)t[j];
+        rec[k].w0 = w[0], rec[k].w1 = w[1];
+        for (size_t j = 0; j < 3; j++) rec[k].t[j] = (uint16_t)t[j];
     }
-    r->bw = bw;
-    r->bo = bo;
+    r->blend = rec;
     r->blend_of = r->w;
     return 0;
 }
@@ -598,10 +596,8 @@ int sss_decode_prepare(sss_bake_file *f)
     free(s->planes);
     s->planes = NULL;
     s->planes_of = NULL;
-    free(f->ref.bw);
-    free(f->ref.bo);
-    f->ref.bw = NULL;
-    f->ref.bo = NULL;
+    free(f->ref.blend);
+    f->ref.blend = NULL;
     f->ref.blend_of = NULL;
     if ((f->quant != SSS_QUANT_SH && f->quant != SSS_QUANT_REFS) || !s->ncoef || !s->ncoded || !s->code ||
         !sss_shq_levels(s->kind))
@@ -859,7 +855,7 @@ BLOCK_INLINE void blend_block_c(const sss_bake_file *f, const float *R, const fl
 }
 
 /* Whether f's references have a current load-time blend layout. */
-static int has_blend(const sss_bake_file *f) { return f->ref.bw && f->ref.blend_of == f->ref.w; }
+static int has_blend(const sss_bake_file *f) { return f->ref.blend && f->ref.blend_of == f->ref.w; }
 
 /* RGB: the blend of four vertices at a time with the channels in the lanes
  * of a 4-float vector: a reference's three values are adjacent in R (R[t·3
@@ -871,17 +867,17 @@ static int has_blend(const sss_bake_file *f) { return f->ref.bw && f->ref.blend_
  * channels back in acc's planes, and x + acc is acc + x to the bit (IEEE
  * addition commutes). Returns the first vertex left to the plane loop. */
 #ifdef DECODE_X86
-BLOCK_INLINE size_t blend_rgb_lanes(const float *R, const float *w0, const float *w1, const uint16_t *t0,
-                                    const uint16_t *t1, const uint16_t *t2, size_t nb, float *acc)
+BLOCK_INLINE size_t blend_rgb_lanes(const float *R, const struct sss_blend_rec *restrict rec, size_t nb, float *acc)
 {
     size_t b = 0;
     for (; b + 4 <= nb; b += 4) {
         __m128 v[4];
         for (size_t i = 0; i < 4; i++) {
-            const float a = w0[b + i], c = w1[b + i], e = 1.0f - a - c;
-            const __m128 x = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(a), _mm_loadu_ps(R + 3 * (size_t)t0[b + i])),
-                                        _mm_mul_ps(_mm_set1_ps(c), _mm_loadu_ps(R + 3 * (size_t)t1[b + i])));
-            v[i] = _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(e), _mm_loadu_ps(R + 3 * (size_t)t2[b + i])));
+            const struct sss_blend_rec *e = rec + b + i;
+            const float a = e->w0, c = e->w1, w2 = 1.0f - a - c;
+            const __m128 x = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(a), _mm_loadu_ps(R + 3 * (size_t)e->t[0])),
+                                        _mm_mul_ps(_mm_set1_ps(c), _mm_loadu_ps(R + 3 * (size_t)e->t[1])));
+            v[i] = _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(w2), _mm_loadu_ps(R + 3 * (size_t)e->t[2])));
         }
         _MM_TRANSPOSE4_PS(v[0], v[1], v[2], v[3]);
         for (size_t c = 0; c < 3; c++) {
@@ -894,24 +890,22 @@ BLOCK_INLINE size_t blend_rgb_lanes(const float *R, const float *w0, const float
 #endif
 
 /* blend_block_c through the load-time layout (prepare_blend): the same
- * weights and offsets, read as planes, so the arithmetic per channel and
- * vertex is the same to the bit. */
+ * weights and offsets, read from the records, so the arithmetic per channel
+ * and vertex is the same to the bit. */
 BLOCK_INLINE void blend_block_planes(const sss_bake_file *f, const float *R, size_t kb, size_t nb, float *acc,
                                      size_t C)
 {
-    const sss_refcode *r = &f->ref;
-    /* the block's planes, SH_BLOCK apart */
-    const float *restrict w0 = r->bw + plane_at(kb, 0, 2, SH_BLOCK), *restrict w1 = w0 + SH_BLOCK;
-    const uint16_t *restrict t0 = r->bo + plane_at(kb, 0, 3, SH_BLOCK), *restrict t1 = t0 + SH_BLOCK, *restrict t2 = t1 + SH_BLOCK;
+    const struct sss_blend_rec *restrict rec = f->ref.blend + kb;
     size_t b0 = 0;
 #ifdef DECODE_X86
-    if (C == 3) b0 = blend_rgb_lanes(R, w0, w1, t0, t1, t2, nb, acc);
+    if (C == 3) b0 = blend_rgb_lanes(R, rec, nb, acc);
 #endif
-    float w2[SH_BLOCK];
+    float w0[SH_BLOCK], w1[SH_BLOCK], w2[SH_BLOCK];
     int32_t o0[SH_BLOCK], o1[SH_BLOCK], o2[SH_BLOCK];
     for (size_t b = b0; b < nb; b++) {
+        w0[b] = rec[b].w0, w1[b] = rec[b].w1;
         w2[b] = 1.0f - w0[b] - w1[b];
-        o0[b] = (int32_t)(t0[b] * C), o1[b] = (int32_t)(t1[b] * C), o2[b] = (int32_t)(t2[b] * C);
+        o0[b] = (int32_t)(rec[b].t[0] * C), o1[b] = (int32_t)(rec[b].t[1] * C), o2[b] = (int32_t)(rec[b].t[2] * C);
     }
     for (size_t c = 0; c < C; c++) {
         float *restrict a = acc + c * SH_BLOCK;
@@ -952,8 +946,6 @@ BLOCK_INLINE void store_run(float *restrict o, const float *restrict acc, size_t
             for (size_t b = 0; b < len; b++) o[b * C + c] = a[c * SH_BLOCK + b];
 }
 
-static size_t lower_bound_u32(const uint32_t *a, size_t n, size_t x);
-
 /* Coded vertices [kb, kb + nb), nb ≤ SH_BLOCK, through the planes: the SH
  * sums, the references' blend (R non-NULL), the clamp at 0 as a vector
  * loop (a data-dependent branch per value cost more than the sums), then
@@ -976,14 +968,22 @@ BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const floa
          * about eight runs of 30 a block), each as the SH-only path stores,
          * not value by value through coded_vertex. */
         const sss_refcode *r = &f->ref;
-        const uint32_t *cv = r->coded_vertex + kb;
-        size_t j = lower_bound_u32(r->ref_vertex, r->nref, cv[0]);
+        const uint32_t *rv = r->ref_vertex;
+        /* The runs follow from the references alone: coded vertex kb is
+         * vertex v with v − kb references before it, and after a run the
+         * next run starts at the next vertex that is not a reference.
+         * Reading coded_vertex at each run (and searching ref_vertex per
+         * block) made each run wait for a load of memory that the viewer's
+         * draw had evicted, one after the other (perf on decode_bench
+         * --evict, docs/benchmarks.md "The blend's records in one
+         * stream"). */
+        size_t v = r->coded_vertex[kb], j = v - kb;
         for (size_t b = 0; b < nb;) {
-            const size_t v = cv[b];
-            while (j < r->nref && r->ref_vertex[j] < v) j++;
-            const size_t gap = j < r->nref ? r->ref_vertex[j] - v : nb - b, len = gap < nb - b ? gap : nb - b;
+            while (j < r->nref && rv[j] == v) j++, v++;
+            const size_t gap = j < r->nref ? rv[j] - v : nb - b, len = gap < nb - b ? gap : nb - b;
             store_run(out + (v - first) * C, acc, b, len, C);
             b += len;
+            v += len;
         }
         return;
     }

@@ -142,8 +142,6 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
                  : shc->kind == SSS_SHQ_LINEAR8  ? "#define SH_LINEAR8 1\n"
                                                  : "",
                  refs ? "#define REFS 1\n" : "");
-    }
-    if (sh || refs) {
         if (shc->ncoef) {
             /* The codes as stored, but each vertex's C·ncoef codes starting
              * on a word of their own and padded to a group of four words

@@ -74,8 +74,13 @@ void main() {
     // in memory when the loops are too long to unroll (order 7 in 16 bits: 74 words)
     uvec4 quad = uvec4(0u);
     uint word = 0u;
-#endif
-#if NCOEF > 0
+    // code element e (walking 0 … C·N − 1 in order): at the first code of a
+    // word, that word, from a group loaded at the group's first word
+#define WORD_AT(e) \
+    if ((e) % PER == 0u) { \
+        if (((e) / PER) % 4u == 0u) quad = codes[((e) / PER / 4u) * u_count + k]; \
+        word = quad[((e) / PER) % 4u]; \
+    }
     // each channel's SH sum (§4.1) first, in a loop of its own: with the
     // blend and the store in the same loop body, the reference form's body
     // grew past what the GLSL compiler unrolls (order 3 in linear8), and the
@@ -87,34 +92,22 @@ void main() {
         const uint P = N / 2u;
         for (uint m = 0u; m < P; m++) {
             uint e = ch * N + 2u * m;
-            if (e % PER == 0u) { // e walks 0 … C·N − 1 in order
-                if ((e / PER) % 4u == 0u) quad = codes[(e / PER / 4u) * u_count + k];
-                word = quad[(e / PER) % 4u];
-            }
+            WORD_AT(e)
             uint x0 = (word >> ((e % PER) * BITS)) & 15u;
             e++;
-            if (e % PER == 0u) {
-                if ((e / PER) % 4u == 0u) quad = codes[(e / PER / 4u) * u_count + k];
-                word = quad[(e / PER) % 4u];
-            }
+            WORD_AT(e)
             uint x1 = (word >> ((e % PER) * BITS)) & 15u;
             acc += SH_T((ch * P + m) * 256u + (x0 | (x1 << 4u)));
         }
         if (N % 2u == 1u) {
             uint e = ch * N + N - 1u;
-            if (e % PER == 0u) {
-                if ((e / PER) % 4u == 0u) quad = codes[(e / PER / 4u) * u_count + k];
-                word = quad[(e / PER) % 4u];
-            }
+            WORD_AT(e)
             acc += SH_T(C * P * 256u + ch * 16u + ((word >> ((e % PER) * BITS)) & 15u));
         }
 #else
         for (uint j = 0u; j < N; j++) {
             uint e = ch * N + j;
-            if (e % PER == 0u) { // e walks 0 … C·N − 1 in order
-                if ((e / PER) % 4u == 0u) quad = codes[(e / PER / 4u) * u_count + k];
-                word = quad[(e / PER) % 4u];
-            }
+            WORD_AT(e)
 #ifdef SH_LINEAR
             // the BITS bits, sign-extended: the C decoder's (int8_t) or (int16_t) code
             int code = int(word << (32u - BITS - (e % PER) * BITS)) >> (32u - BITS);

@@ -1,9 +1,12 @@
 /* decode_bench: CPU scatter-evaluation throughput of sss_decode_all against
  * the memory-bandwidth bound, for one .sss file.
  *   decode_bench FILE.sss [FRAMES]
- *   decode_bench --decode-only FRAMES FILE.sss...
+ *   decode_bench --decode-only FRAMES [--evict MIB] FILE.sss...
  *     one line per file: "FILE quant ms_1t", the one-thread median alone
- *     (no bandwidth runs: the files' forms compared side by side)
+ *     (no bandwidth runs: the files' forms compared side by side);
+ *     --evict: before each frame, write MIB MiB of other memory, as the
+ *     viewer's draw does between two decodes, so that the decode reads
+ *     its data from memory, not from the caches (docs/benchmarks.md)
  * Prints one JSON object: the measured read and copy bandwidth (one thread
  * and all threads), the decode time per frame (median over FRAMES light
  * directions, one thread and all threads), the bytes each frame must move
@@ -58,12 +61,19 @@ static void bandwidth(int threads, double *sum3_bps, double *copy_bps)
     free(a); free(b); free(c); free(o);
 }
 
+/* Memory written between frames (--evict): n bytes, each frame other
+ * values, so no cache keeps the decode's data. */
+static unsigned char *g_evict;
+static size_t g_evict_n;
+
 static double decode_ms(const sss_bake_file *f, float *out, int threads, int frames)
 {
     omp_set_num_threads(threads);
     double *t = malloc(sizeof(double) * (size_t)frames);
     for (int i = -2; i < frames; i++) {
         double a = 0.37 * i, light[3] = {sin(a), 0.3, cos(a)};
+        /* read and written through the caches (a large memset may bypass them) */
+        for (size_t k = 0; k < g_evict_n; k += 64) g_evict[k] = (unsigned char)(g_evict[k] + 1);
         double t0 = sss_now();
         sss_decode_all(f, light, out);
         if (i >= 0) t[i] = 1e3 * (sss_now() - t0);
@@ -75,10 +85,16 @@ static double decode_ms(const sss_bake_file *f, float *out, int threads, int fra
 
 int main(int argc, char **argv)
 {
-    if (argc < 2) { fprintf(stderr, "usage: decode_bench FILE.sss [FRAMES] | --decode-only FRAMES FILE...\n"); return 2; }
+    if (argc < 2) { fprintf(stderr, "usage: decode_bench FILE.sss [FRAMES] | --decode-only FRAMES [--evict MIB] FILE...\n"); return 2; }
     if (!strcmp(argv[1], "--decode-only") && argc > 3) {
         const int n = atoi(argv[2]) > 0 ? atoi(argv[2]) : 1;
-        for (int a = 3; a < argc; a++) {
+        int a = 3;
+        if (!strcmp(argv[3], "--evict") && argc > 5) {
+            g_evict_n = (size_t)atoi(argv[4]) << 20;
+            if (!(g_evict = calloc(g_evict_n ? g_evict_n : 1, 1))) return 1;
+            a = 5;
+        }
+        for (; a < argc; a++) {
             sss_bake_file g;
             sss_error e = {{0}};
             if (sss_file_read(argv[a], &g, &e) != SSS_OK) { fprintf(stderr, "decode_bench: %s\n", e.msg); return 1; }
@@ -89,6 +105,7 @@ int main(int argc, char **argv)
             free(o);
             sss_file_free(&g);
         }
+        free(g_evict);
         return 0;
     }
     int frames = argc > 2 ? atoi(argv[2]) : 50;

@@ -285,10 +285,10 @@ static void staleLayoutIsNotUsed(void **state)
     free(b);
 }
 
-/* The references' load-time blend (sss_refcode.bw, .bo; built by
+/* The references' load-time blend (sss_refcode.blend; built by
  * sss_decode_prepare beside the planes): it holds each coded vertex's first
  * two weights as sss_decode_ref_weight's floats and its triangle's three
- * references, block-major (256 vertices a block, format.h). After the
+ * references, one record a vertex in order (format.h). After the
  * weight codes are replaced (a new array) it is not used: the blend reads
  * the new codes through the planes and gives, on every instruction set, the
  * per-vertex loop's floats for them. 16-bit weights in RGB, 8-bit in grey. */
@@ -303,17 +303,15 @@ static void check_stale_blend(const sss_bake_file *src, uint32_t wbits)
     if (sss_compress(src, &o, &f, &err) != SSS_OK) fail_msg("compress: %s", err.msg);
     sss_refcode *r = &f.ref;
     assert_int_equal(sss_decode_prepare(&f), 0);
-    assert_non_null(r->bw);
-    assert_non_null(r->bo);
+    assert_non_null(r->blend);
     assert_ptr_equal(r->blend_of, r->w);
     const size_t nc = f.sh.ncoded, C = f.channels, n = (size_t)f.mesh.nv * C;
     for (size_t k = 0; k < nc; k += 37) {
-        const size_t at = (k / 256) * 256 * 2 + k % 256, ot = (k / 256) * 256 * 3 + k % 256;
         for (uint32_t j = 0; j < 2; j++) {
             const float w = sss_decode_ref_weight(r, r->w[2 * k + j]);
-            assert_memory_equal(&r->bw[at + j * 256], &w, sizeof w);
+            assert_memory_equal(j ? &r->blend[k].w1 : &r->blend[k].w0, &w, sizeof w);
         }
-        for (size_t j = 0; j < 3; j++) assert_int_equal(r->bo[ot + j * 256], r->ref_tri[3 * (size_t)r->vtri[k] + j]);
+        for (size_t j = 0; j < 3; j++) assert_int_equal(r->blend[k].t[j], r->ref_tri[3 * (size_t)r->vtri[k] + j]);
     }
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b), *want = malloc(n * sizeof *want);
     uint16_t *w = malloc(2 * nc * sizeof *w);
@@ -373,7 +371,7 @@ static void readerBuildsTheLayout(void **state)
     if (sss_file_decode(buf, len, "planes.sss", &g, &err) != SSS_OK) fail_msg("decode: %s", err.msg);
     assert_non_null(g.sh.planes);
     assert_ptr_equal(g.sh.planes_of, g.sh.code);
-    assert_non_null(g.ref.bw); /* and the references' blend */
+    assert_non_null(g.ref.blend); /* and the references' blend */
     assert_ptr_equal(g.ref.blend_of, g.ref.w);
     const size_t n = (size_t)f.mesh.nv * f.channels;
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);

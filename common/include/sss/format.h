@@ -123,14 +123,16 @@ typedef struct sss_refcode {
     uint32_t *coded_vertex;/* derived by the reader: the ncoded non-reference vertices, increasing; owned */
     /* Not in the file: the decoder's load-time layout of the blend
      * (sss_decode_prepare, docs/benchmarks.md "The references' blend from a
-     * load-time table"), block-major like sss_shcode.planes: coded vertex
-     * k's first two weights as the floats the decoder blends with
-     * (sss_decode_ref_weight; the third is 1 − w0 − w1) in bw, its
-     * triangle's three references (ref_tri[3 * vtri[k] + j]) in bo. NULL
-     * when not built (more than 65536 references); used only while
-     * blend_of == w. Owned. */
-    float *bw;
-    uint16_t *bo;
+     * load-time table" and "The blend's records in one stream"): per coded
+     * vertex k, in order, one 16-byte record of its first two weights as
+     * the floats the decoder blends with (sss_decode_ref_weight; the third
+     * is 1 − w0 − w1) and its triangle's three references (ref_tri[3 *
+     * vtri[k] + j]). NULL when not built (more than 65536 references); used
+     * only while blend_of == w. Owned. */
+    struct sss_blend_rec {
+        float w0, w1;
+        uint16_t t[3], pad;
+    } *blend;
     const uint16_t *blend_of;
 } sss_refcode;
 

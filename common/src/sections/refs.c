@@ -224,8 +224,7 @@ void sss_sec_refs_free(sss_bake_file *f)
     free(r->levels);
     free(r->idx);
     free(r->coded_vertex);
-    free(r->bw);
-    free(r->bo);
+    free(r->blend);
     memset(r, 0, sizeof *r);
 }
 

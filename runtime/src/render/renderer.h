@@ -41,6 +41,9 @@ typedef struct sss_scatter {
     GLuint levels, sh_tab;           /* the frame's folded tables (binding 4 of each pass) */
     GLuint prog[SSS_GPU_PASSES];     /* by SSS_GPU_PASS_*; 0 where the file has no such pass */
     GLuint prog_n4;                  /* the rows pass's 4-nearest variant (SSS_GPU_NEAREST4_DEFINE) */
+    /* each program's uniform locations, looked up once at creation (by
+     * SSS_GPU_PASS_*, then the 4-nearest variant); −1 where it has none */
+    struct sss_scatter_uniforms { GLint w, light, channels, count; } uni[SSS_GPU_PASSES + 1];
     float *cpu_q;       /* CPU path scratch */
     double cpu_ms;      /* the CPU path's last evaluation and upload, wall clock */
 } sss_scatter;

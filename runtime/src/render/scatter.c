@@ -58,6 +58,16 @@ static sss_result scatter_create(sss_scatter *s, const sss_gpu_mesh *m, int vect
         if (!cs || !(s->prog_n4 = sss_gl_link(cs, 0, err))) return SSS_ERR_UNSUPPORTED;
     }
 
+    /* Each frame sets these uniforms: their locations once, here. */
+    for (int p = 0; p <= SSS_GPU_PASSES; p++) {
+        const GLuint prog = p < SSS_GPU_PASSES ? s->prog[p] : s->prog_n4;
+        struct sss_scatter_uniforms *u = &s->uni[p];
+        u->w = prog ? glGetUniformLocation(prog, "u_w") : -1;
+        u->light = prog ? glGetUniformLocation(prog, "u_light") : -1;
+        u->channels = prog ? glGetUniformLocation(prog, "u_channels") : -1;
+        u->count = prog ? glGetUniformLocation(prog, "u_count") : -1;
+    }
+
     /* Buffers bound whole must fit one storage block; so must a row range. */
     GLint64 max_block = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
@@ -137,7 +147,9 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], i
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     glBeginQuery(GL_TIME_ELAPSED, query);
     for (int p = 0; p < SSS_GPU_PASSES; p++) {
-        const GLuint prog = p == SSS_GPU_PASS_ROWS && n4 ? s->prog_n4 : s->prog[p];
+        const int variant = p == SSS_GPU_PASS_ROWS && n4 ? SSS_GPU_PASSES : p;
+        const GLuint prog = variant == SSS_GPU_PASSES ? s->prog_n4 : s->prog[p];
+        const struct sss_scatter_uniforms *u = &s->uni[variant];
         if (!prog || fr->u_count[p] == 0) continue;
         /* the coded pass reads the reference values the rows pass has just written */
         if (p == SSS_GPU_PASS_CODED && s->prog[SSS_GPU_PASS_ROWS]) glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -155,15 +167,15 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], i
         }
         if (p == SSS_GPU_PASS_ROWS) {
             if (fr->levels) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, s->levels);
-            if (n4) glUniform4f(glGetUniformLocation(prog, "u_w"), fr->u_w[0], fr->u_w[1], fr->u_w[2], fr->u_w[3]);
-            else glUniform3f(glGetUniformLocation(prog, "u_w"), fr->u_w[0], fr->u_w[1], fr->u_w[2]);
-            if (L->vector) glUniform3f(glGetUniformLocation(prog, "u_light"), fr->u_light[0], fr->u_light[1], fr->u_light[2]);
-            glUniform1ui(glGetUniformLocation(prog, "u_channels"), fr->u_channels);
+            if (n4) glUniform4f(u->w, fr->u_w[0], fr->u_w[1], fr->u_w[2], fr->u_w[3]);
+            else glUniform3f(u->w, fr->u_w[0], fr->u_w[1], fr->u_w[2]);
+            if (L->vector) glUniform3f(u->light, fr->u_light[0], fr->u_light[1], fr->u_light[2]);
+            glUniform1ui(u->channels, fr->u_channels);
         } else if (fr->sh) {
             /* a uniform block when the tables fit one (sss_gpu_layout.sh_uniform) */
             glBindBufferBase(L->sh_uniform ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER, 4, s->sh_tab);
         }
-        glUniform1ui(glGetUniformLocation(prog, "u_count"), fr->u_count[p]);
+        glUniform1ui(u->count, fr->u_count[p]);
         glDispatchCompute(L->pass[p].groups, 1, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
