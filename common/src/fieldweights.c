@@ -877,11 +877,26 @@ static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t
     }
 }
 
-void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa)
+/* Whether κ(i, o) has κ(o, i)'s bits at distance r (mm): neither disk
+ * covers the other endpoint, so every profile is the point value R_d(r)
+ * in both orders (kappa_from), and the sum of the two ends' g and the
+ * product under the root commute. */
+static int kappa_symmetric(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double r)
+{
+    return r > 0.0 && r >= rho_of(k, mesh, o) && r >= rho_of(k, mesh, i);
+}
+
+int sss_field_kappa_sym(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa)
 {
     double tau_exp[SSS_MAX_CHANNELS];
     const double r = pair_tau(k, mesh, o, i, tau_exp);
     kappa_from(k, mesh, o, i, r, tau_exp, kappa);
+    return kappa_symmetric(k, mesh, o, i, r);
+}
+
+void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa)
+{
+    (void)sss_field_kappa_sym(k, mesh, o, i, kappa);
 }
 
 /* The entry of source i in row o of sorted rows, or UINT64_MAX. */
@@ -932,11 +947,9 @@ static void scale_pair(const sss_field_kernel *k, const sss_mesh *mesh, sss_weig
     float *w = &rows->w[e * C];
     for (uint32_t c = 0; c < C; c++) w[c] = (float)((double)w[c] * kap[c]);
     if (mirror == UINT64_MAX) return;
-    /* Neither disk covering the other endpoint, every profile is the point
-     * value R_d(r) in both orders, and the product under the root
-     * commutes: κ(i, o) has κ(o, i)'s bits, and its three profiles per
-     * channel are not evaluated again. */
-    if (!(r > 0.0 && r >= rho_of(k, mesh, o) && r >= rho_of(k, mesh, i))) kappa_from(k, mesh, i, o, r, tau_exp, kap);
+    /* κ(i, o) has κ(o, i)'s bits where neither disk covers the other
+     * endpoint: its profiles are not evaluated again */
+    if (!kappa_symmetric(k, mesh, o, i, r)) kappa_from(k, mesh, i, o, r, tau_exp, kap);
     w = &rows->w[mirror * C];
     for (uint32_t c = 0; c < C; c++) w[c] = (float)((double)w[c] * kap[c]);
 }

@@ -184,6 +184,10 @@ uint64_t sss_gather_workspace_rows_bytes(uint32_t max_rows, uint32_t n_dirs, uin
 /* Bytes of per-thread work space of sss_gather_run (an estimate). */
 uint64_t sss_gather_workspace_bytes(uint32_t nv, uint32_t n_dirs, uint32_t channels, const sss_gather_params *p,
                                     int threads);
+/* Bytes a field (sss_gather_tree_set_field) adds to sss_gather_run's work
+ * space over `threads` threads: each thread's near pairs' κ within the
+ * group of blocks it runs (docs/heterogeneous.md §4.5). */
+uint64_t sss_gather_field_workspace_bytes(int threads);
 
 #ifdef __cplusplus
 }
