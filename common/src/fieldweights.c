@@ -697,6 +697,19 @@ static int march_steps(const sss_field_kernel *k, double L_mm)
     return (int)n;
 }
 
+/* τ's exponent per channel along the segment a → b (world units, r mm
+ * long) between ends of σtr sa and sb: the midpoint rule of §4.2 over the
+ * excess above their mean (pair_tau, sss_field_kappa_point). */
+static void march_tau(const sss_field_kernel *k, const double a[3], const double b[3], double r, const double *sa,
+                      const double *sb, double *tau_exp)
+{
+    const int n = march_steps(k, r);
+    double mean[SSS_MAX_CHANNELS] = {0};
+    for (uint32_t c = 0; c < k->C; c++) mean[c] = 0.5 * (sa[c] + sb[c]);
+    march_sum(k, a, b, n, mean, tau_exp);
+    for (uint32_t c = 0; c < k->C; c++) tau_exp[c] *= r / n;
+}
+
 /* ∫ (σtr(x) − σtr_ref) dξ / L along the segment a → b (world units). */
 static void mean_excess(const sss_field_kernel *k, const double a[3], const double b[3], double L_mm, double *out)
 {
@@ -850,19 +863,17 @@ static double pair_tau(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t
         wc = u >= 1.0 ? 1.0 : u * u * (3.0 - 2.0 * u);
         double mt[SSS_MAX_CHANNELS];
         const double *m = cell_excess(k, k->cell[a], k->cell[b], mt);
-        for (uint32_t c = 0; c < C; c++)
-            cached[c] = r * fmax(0.0, m[c] + (k->sigma_tr_ref[c] -
-                                              0.5 * (k->sigma_tr[(size_t)a * C + c] + k->sigma_tr[(size_t)b * C + c])));
+        for (uint32_t c = 0; c < C; c++) {
+            /* max(0, ·) written out, as in march_sum: libm's fmax is a
+             * call per far pair and channel (the sign of a zero does not
+             * reach κ: exp(±0) = 1, and ±0 added to a sum leaves it) */
+            const double e = m[c] + (k->sigma_tr_ref[c] - 0.5 * (k->sigma_tr[(size_t)a * C + c] +
+                                                                   k->sigma_tr[(size_t)b * C + c]));
+            cached[c] = r * (e > 0.0 ? e : 0.0);
+        }
     }
-    if (wc < 1.0 && k->step_mm > 0.0 && r > 0.0) {
-        /* midpoint rule over n equal steps (docs/heterogeneous.md §4.2) */
-        const int n = march_steps(k, r);
-        double mean[SSS_MAX_CHANNELS] = {0};
-        for (uint32_t c = 0; c < C; c++)
-            mean[c] = 0.5 * (k->sigma_tr[(size_t)a * C + c] + k->sigma_tr[(size_t)b * C + c]);
-        march_sum(k, pa, pb, n, mean, tau_exp);
-        for (uint32_t c = 0; c < C; c++) tau_exp[c] *= r / n;
-    }
+    if (wc < 1.0 && k->step_mm > 0.0 && r > 0.0)
+        march_tau(k, pa, pb, r, &k->sigma_tr[(size_t)a * C], &k->sigma_tr[(size_t)b * C], tau_exp);
     if (wc > 0.0)
         for (uint32_t c = 0; c < C; c++) tau_exp[c] = wc >= 1.0 ? cached[c] : (1.0 - wc) * tau_exp[c] + wc * cached[c];
     return r;
@@ -875,12 +886,16 @@ static double rho_of(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t v
 }
 
 /* κ(o, i) from the pair's shared part: the profiles, which depend on the
- * order (the own-area disks), times τ. */
-static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double r,
+ * order (the own-area disks), times τ. Returns whether κ(i, o) has the
+ * same bits: neither disk covers the other endpoint, so every profile is
+ * the point value R_d(r) in both orders, and the sum of the two ends' g
+ * and the product under the root commute. */
+static int kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double r,
                        const double *tau_exp, double *kappa)
 {
     const uint32_t C = k->C;
     const double rho_o = rho_of(k, mesh, o), rho_i = rho_of(k, mesh, i);
+    const int sym = r > 0.0 && r >= rho_o && r >= rho_i;
     /* Both endpoints at the reference's f (most of a surface that an
      * inclusion or a stratum does not reach): the profile ratio is 1, as
      * sqrt(P²)/P computes it, without three profiles per channel. */
@@ -894,7 +909,7 @@ static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t
         j = j > SSS_FIELD_PROFILE_R - 2 ? SSS_FIELD_PROFILE_R - 2 : j;
         const double rw = u - (double)j;
         for (uint32_t c = 0; c < C; c++) kappa[c] = exp(prof_at(k, o, j, rw, c) + prof_at(k, i, j, rw, c) - tau_exp[c]);
-        return;
+        return sym;
     }
     for (uint32_t c = 0; c < C; c++) {
         /* τ = 1 exactly where nothing on the segment exceeds the mean
@@ -915,23 +930,14 @@ static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t
                                                 : profile(&k->dip[(size_t)i * C + c], r, rho_o, rho_i);
         kappa[c] = pr > 0.0 ? sqrt(po * pi) / pr * tau : 0.0;
     }
-}
-
-/* Whether κ(i, o) has κ(o, i)'s bits at distance r (mm): neither disk
- * covers the other endpoint, so every profile is the point value R_d(r)
- * in both orders (kappa_from), and the sum of the two ends' g and the
- * product under the root commute. */
-static int kappa_symmetric(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double r)
-{
-    return r > 0.0 && r >= rho_of(k, mesh, o) && r >= rho_of(k, mesh, i);
+    return sym;
 }
 
 int sss_field_kappa_sym(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa)
 {
     double tau_exp[SSS_MAX_CHANNELS];
     const double r = pair_tau(k, mesh, o, i, tau_exp);
-    kappa_from(k, mesh, o, i, r, tau_exp, kappa);
-    return kappa_symmetric(k, mesh, o, i, r);
+    return kappa_from(k, mesh, o, i, r, tau_exp, kappa);
 }
 
 void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa)
@@ -983,13 +989,13 @@ static void scale_pair(const sss_field_kernel *k, const sss_mesh *mesh, sss_weig
     const uint32_t C = k->C;
     double tau_exp[SSS_MAX_CHANNELS], kap[SSS_MAX_CHANNELS];
     const double r = pair_tau(k, mesh, o, i, tau_exp);
-    kappa_from(k, mesh, o, i, r, tau_exp, kap);
+    const int sym = kappa_from(k, mesh, o, i, r, tau_exp, kap);
     float *w = &rows->w[e * C];
     for (uint32_t c = 0; c < C; c++) w[c] = (float)((double)w[c] * kap[c]);
     if (mirror == UINT64_MAX) return;
     /* κ(i, o) has κ(o, i)'s bits where neither disk covers the other
      * endpoint: its profiles are not evaluated again */
-    if (!kappa_symmetric(k, mesh, o, i, r)) kappa_from(k, mesh, i, o, r, tau_exp, kap);
+    if (!sym) kappa_from(k, mesh, i, o, r, tau_exp, kap);
     w = &rows->w[mirror * C];
     for (uint32_t c = 0; c < C; c++) w[c] = (float)((double)w[c] * kap[c]);
 }
@@ -1080,13 +1086,8 @@ void sss_field_kappa_point(const sss_field_kernel *k, const sss_mesh *mesh, uint
     }
     const double r = sqrt(d2);
     double tau_exp[SSS_MAX_CHANNELS] = {0};
-    if (k->step_mm > 0.0 && r > 0.0) { /* §4.2's midpoint rule, from x_o to the point */
-        const int n = march_steps(k, r);
-        double mean[SSS_MAX_CHANNELS] = {0};
-        for (uint32_t c = 0; c < C; c++) mean[c] = 0.5 * (k->sigma_tr[(size_t)o * C + c] + pt->sigma_tr[c]);
-        march_sum(k, po, pt->x, n, mean, tau_exp);
-        for (uint32_t c = 0; c < C; c++) tau_exp[c] *= r / n;
-    }
+    if (k->step_mm > 0.0 && r > 0.0) /* from x_o to the point */
+        march_tau(k, po, pt->x, r, &k->sigma_tr[(size_t)o * C], pt->sigma_tr, tau_exp);
     /* both ends at the reference's f: the ratio is 1 (kappa_from) */
     const int ref_ends = k->f[o] == k->f_min && pt->f == k->f_min;
     for (uint32_t c = 0; c < C; c++) {
