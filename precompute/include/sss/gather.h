@@ -80,6 +80,8 @@ typedef struct sss_gather_stats {
     uint64_t near_pairs;      /* Σ over blocks of receivers × near sources */
     uint64_t far_pairs;       /* Σ over blocks of receivers × far nodes */
     double rows_mean;         /* mean rows (near sources + 10 per far node) per block */
+    uint64_t field_kept;      /* with a field: near κ read from the group's table, not computed (§4.5 of
+                               * docs/heterogeneous.md) */
     double flops;             /* 2 · C · B · rows · directions summed over the block products */
     double t_build;           /* Morton order, nodes, moments (s) */
     /* thread-seconds: CPU time of the threads (CLOCK_THREAD_CPUTIME_ID), so

@@ -334,7 +334,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
     }
     uint32_t ng = 0;
     for (uint32_t b = b0; b < b1; b++)
-        if (b == b0 || !t->field || off[b - b0 + 1] - off[gstart[ng - 1] - b0] > SSS_GATHER_FIELD_GROUP) gstart[ng++] = b;
+        if (b == b0 || !t->field || off[b - b0 + 1] - off[gstart[ng - 1] - b0] > t->field_group) gstart[ng++] = b;
     gstart[ng] = b1;
     int failed = 0;
     double rows_total = 0;
@@ -344,7 +344,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
         memset(&wk, 0, sizeof wk);
         double tl = 0, tw = 0, tg = 0, ts = 0, fl = 0;
         uint64_t np = 0, fp = 0;
-        if (t->field) {
+        if (t->field && t->field_group) {
             wk.fp.cap = (size_t)SSS_GATHER_FIELD_GROUP * (SSS_GATHER_FIELD_GROUP - 1) / 2;
             wk.fp.kap = malloc(wk.fp.cap * SSS_MAX_CHANNELS * sizeof *wk.fp.kap);
             wk.fp.stamp = calloc(wk.fp.cap, sizeof *wk.fp.stamp);
@@ -355,10 +355,10 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
         }
 #pragma omp for schedule(dynamic, 1)
         for (int64_t g = 0; g < (int64_t)ng; g++) {
-            if (t->field && !failed) { /* the group's receivers; its pairs kept from now on */
+            if (wk.fp.kap && !failed) { /* the group's receivers; its pairs kept from now on */
                 wk.fp.lo = t->node[t->block[gstart[g]]].lo;
                 wk.fp.n = (uint32_t)(off[gstart[g + 1] - b0] - off[gstart[g] - b0]);
-                if (wk.fp.n > SSS_GATHER_FIELD_GROUP) wk.fp.n = 0; /* one block larger than a group: none kept */
+                if (wk.fp.n > SSS_GATHER_FIELD_GROUP) wk.fp.n = 0; /* one block larger than the table: none kept */
                 wk.fp.gen++;
             }
         for (int64_t bi = (int64_t)gstart[g]; bi < (int64_t)gstart[g + 1]; bi++) {
@@ -465,6 +465,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
             s0.t_scatter += ts;
             s0.flops += fl;
             s0.near_pairs += np;
+            s0.field_kept += wk.fp.kept;
             s0.far_pairs += fp;
         }
         free(wk.W);

@@ -45,6 +45,7 @@ sss_result sss_gather_tree_set_field(sss_gather_tree *t, const sss_mesh *mesh, c
                         (long long)bad, f);
     }
     t->field = k;
+    t->field_group = SSS_GATHER_FIELD_GROUP;
     return SSS_OK;
 }
 
@@ -73,6 +74,7 @@ void sss_gather_field_scale(const sss_gather_tree *t, const sss_mesh *mesh, uint
         const uint32_t y = msrc[a] - (fp ? fp->lo : 0);
         if (row && y < x && rstamp[y] == fp->gen) {
             memcpy(kap, row + (size_t)y * SSS_MAX_CHANNELS, C * sizeof *kap); /* kept by receiver y */
+            fp->kept++;
         } else if (sss_field_kappa_sym(t->field, mesh, o, src[a], kap) && x != UINT32_MAX && y > x && y < fp->n) {
             const size_t e = (size_t)y * (y - 1) / 2 + x; /* for receiver y, which comes later */
             memcpy(fp->kap + e * SSS_MAX_CHANNELS, kap, C * sizeof *kap);

@@ -38,6 +38,7 @@ struct sss_gather_tree {
     float *Gm;             /* nv × D transfer table in Morton order (row m is vertex perm[m]) */
     const sss_field_kernel *field; /* κ of a heterogeneous object, or NULL (sss_gather_tree_set_field) */
     sss_field_point *fpt;  /* per node: its centroid's f, σtr and dipoles (gather_field.c) */
+    uint32_t field_group;  /* most receivers per group whose near κ are kept (≤ SSS_GATHER_FIELD_GROUP; 0: none) */
 };
 
 /* A thread's near pairs' κ within a group of consecutive blocks
@@ -50,6 +51,7 @@ typedef struct sss_gather_fpairs {
     size_t cap;     /* entries allocated */
     uint32_t lo, n; /* the group's receivers: Morton positions [lo, lo + n) */
     uint32_t gen;
+    uint64_t kept; /* κ read from the table */
 } sss_gather_fpairs;
 
 /* Receivers per group of blocks whose near pairs' κ are kept (at most). */
