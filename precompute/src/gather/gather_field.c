@@ -73,11 +73,13 @@ void sss_gather_field_scale(const sss_gather_tree *t, const sss_mesh *mesh, uint
         if (!any) continue;
         const uint32_t y = msrc[a] - (fp ? fp->lo : 0);
         if (row && y < x && rstamp[y] == fp->gen) {
-            memcpy(kap, row + (size_t)y * SSS_MAX_CHANNELS, C * sizeof *kap); /* kept by receiver y */
+            /* kept by receiver y; the channels copied by a loop, not a call
+             * to memcpy of a size the compiler does not know */
+            for (uint32_t c = 0; c < C; c++) kap[c] = row[(size_t)y * SSS_MAX_CHANNELS + c];
             fp->kept++;
         } else if (sss_field_kappa_sym(t->field, mesh, o, src[a], kap) && x != UINT32_MAX && y > x && y < fp->n) {
             const size_t e = (size_t)y * (y - 1) / 2 + x; /* for receiver y, which comes later */
-            memcpy(fp->kap + e * SSS_MAX_CHANNELS, kap, C * sizeof *kap);
+            for (uint32_t c = 0; c < C; c++) fp->kap[e * SSS_MAX_CHANNELS + c] = kap[c];
             fp->stamp[e] = fp->gen;
         }
         for (uint32_t c = 0; c < C; c++) W[c * ldc + a] = (float)((double)W[c * ldc + a] * kap[c]);
