@@ -580,6 +580,46 @@ static void march_sum(const sss_field_kernel *k, const double a[3], const double
 #else
     float v[SSS_FIELD_TR_W];
 #endif
+#ifdef MARCH_SSE2
+    if (inside && !bh && mean) {
+        /* The common case (a segment inside the grid, no bricks: veins)
+         * in its own loop, with the arithmetic below in the same order on
+         * the same values, so the same bits: no branches per midpoint, and
+         * few enough live values that the compiler keeps them in
+         * registers (the general loop reloaded five from the stack per
+         * midpoint); x and y's coordinates as one pair of doubles (the
+         * same IEEE operations per lane), j + ½ counted in doubles (exact:
+         * n ≤ SSS_FIELD_MARCH_MAX). */
+        const __m128d g01 = _mm_loadu_pd(g0), d01 = _mm_loadu_pd(dg);
+        const double g2 = g0[2], d2 = dg[2];
+        const int32_t sx = (int32_t)stride[0], sy = (int32_t)stride[1], sz = (int32_t)stride[2];
+        const float *tr = k->tr;
+        double jh = 0.5;
+        for (int j = 0; j < n; j++, jh += 1.0) {
+            const double t = jh * inv_n;
+            const __m128d u01 = _mm_add_pd(g01, _mm_mul_pd(_mm_set1_pd(t), d01));
+            const __m128i i01 = _mm_cvttpd_epi32(u01);
+            const __m128 w01 = _mm_cvtpd_ps(_mm_sub_pd(u01, _mm_cvtepi32_pd(i01)));
+            const double u2 = g2 + t * d2;
+            const int32_t i2 = (int32_t)u2;
+            const float w2 = (float)(u2 - (double)i2);
+            const int32_t ix = _mm_cvtsi128_si32(i01), iy = _mm_cvtsi128_si32(_mm_shuffle_epi32(i01, 0x55));
+            const float *q = tr + ((size_t)ix * sx + (size_t)iy * sy + (size_t)i2 * sz);
+            const __m128 wx = _mm_shuffle_ps(w01, w01, 0x00), wy = _mm_shuffle_ps(w01, w01, 0x55), wz = _mm_set1_ps(w2);
+            const __m128 c00 = lerp4(_mm_load_ps(q), _mm_load_ps(q + sx), wx);
+            const __m128 c01 = lerp4(_mm_load_ps(q + sy), _mm_load_ps(q + sy + sx), wx);
+            const __m128 c10 = lerp4(_mm_load_ps(q + sz), _mm_load_ps(q + sz + sx), wx);
+            const __m128 c11 = lerp4(_mm_load_ps(q + sz + sy), _mm_load_ps(q + sz + sy + sx), wx);
+            const __m128 r = lerp4(lerp4(c00, c01, wy), lerp4(c10, c11, wy), wz);
+            a01 = _mm_add_pd(a01, _mm_max_pd(_mm_sub_pd(_mm_cvtps_pd(r), m01), zero));
+            a23 = _mm_add_pd(a23, _mm_max_pd(_mm_sub_pd(_mm_cvtps_pd(_mm_movehl_ps(r, r)), m23), zero));
+        }
+        _mm_storeu_pd(acc, a01);
+        _mm_storeu_pd(acc + 2, a23);
+        for (uint32_t c = 0; c < C; c++) out[c] = acc[c];
+        return;
+    }
+#endif
     for (int j = 0; j < n; j++) {
         const double t = (j + 0.5) * inv_n;
         size_t base = 0, cl[3];
@@ -655,6 +695,19 @@ static int march_steps(const sss_field_kernel *k, double L_mm)
     double n = ceil(L_mm / k->step_mm);
     n = n < 1.0 ? 1.0 : n > SSS_FIELD_MARCH_MAX ? SSS_FIELD_MARCH_MAX : n;
     return (int)n;
+}
+
+/* τ's exponent per channel along the segment a → b (world units, r mm
+ * long) between ends of σtr sa and sb: the midpoint rule of §4.2 over the
+ * excess above their mean (pair_tau, sss_field_kappa_point). */
+static void march_tau(const sss_field_kernel *k, const double a[3], const double b[3], double r, const double *sa,
+                      const double *sb, double *tau_exp)
+{
+    const int n = march_steps(k, r);
+    double mean[SSS_MAX_CHANNELS] = {0};
+    for (uint32_t c = 0; c < k->C; c++) mean[c] = 0.5 * (sa[c] + sb[c]);
+    march_sum(k, a, b, n, mean, tau_exp);
+    for (uint32_t c = 0; c < k->C; c++) tau_exp[c] *= r / n;
 }
 
 /* ∫ (σtr(x) − σtr_ref) dξ / L along the segment a → b (world units). */
@@ -810,19 +863,17 @@ static double pair_tau(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t
         wc = u >= 1.0 ? 1.0 : u * u * (3.0 - 2.0 * u);
         double mt[SSS_MAX_CHANNELS];
         const double *m = cell_excess(k, k->cell[a], k->cell[b], mt);
-        for (uint32_t c = 0; c < C; c++)
-            cached[c] = r * fmax(0.0, m[c] + (k->sigma_tr_ref[c] -
-                                              0.5 * (k->sigma_tr[(size_t)a * C + c] + k->sigma_tr[(size_t)b * C + c])));
+        for (uint32_t c = 0; c < C; c++) {
+            /* max(0, ·) written out, as in march_sum: libm's fmax is a
+             * call per far pair and channel (the sign of a zero does not
+             * reach κ: exp(±0) = 1, and ±0 added to a sum leaves it) */
+            const double e = m[c] + (k->sigma_tr_ref[c] - 0.5 * (k->sigma_tr[(size_t)a * C + c] +
+                                                                   k->sigma_tr[(size_t)b * C + c]));
+            cached[c] = r * (e > 0.0 ? e : 0.0);
+        }
     }
-    if (wc < 1.0 && k->step_mm > 0.0 && r > 0.0) {
-        /* midpoint rule over n equal steps (docs/heterogeneous.md §4.2) */
-        const int n = march_steps(k, r);
-        double mean[SSS_MAX_CHANNELS] = {0};
-        for (uint32_t c = 0; c < C; c++)
-            mean[c] = 0.5 * (k->sigma_tr[(size_t)a * C + c] + k->sigma_tr[(size_t)b * C + c]);
-        march_sum(k, pa, pb, n, mean, tau_exp);
-        for (uint32_t c = 0; c < C; c++) tau_exp[c] *= r / n;
-    }
+    if (wc < 1.0 && k->step_mm > 0.0 && r > 0.0)
+        march_tau(k, pa, pb, r, &k->sigma_tr[(size_t)a * C], &k->sigma_tr[(size_t)b * C], tau_exp);
     if (wc > 0.0)
         for (uint32_t c = 0; c < C; c++) tau_exp[c] = wc >= 1.0 ? cached[c] : (1.0 - wc) * tau_exp[c] + wc * cached[c];
     return r;
@@ -835,12 +886,16 @@ static double rho_of(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t v
 }
 
 /* κ(o, i) from the pair's shared part: the profiles, which depend on the
- * order (the own-area disks), times τ. */
-static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double r,
+ * order (the own-area disks), times τ. Returns whether κ(i, o) has the
+ * same bits: neither disk covers the other endpoint, so every profile is
+ * the point value R_d(r) in both orders, and the sum of the two ends' g
+ * and the product under the root commute. */
+static int kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double r,
                        const double *tau_exp, double *kappa)
 {
     const uint32_t C = k->C;
     const double rho_o = rho_of(k, mesh, o), rho_i = rho_of(k, mesh, i);
+    const int sym = r > 0.0 && r >= rho_o && r >= rho_i;
     /* Both endpoints at the reference's f (most of a surface that an
      * inclusion or a stratum does not reach): the profile ratio is 1, as
      * sqrt(P²)/P computes it, without three profiles per channel. */
@@ -854,7 +909,7 @@ static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t
         j = j > SSS_FIELD_PROFILE_R - 2 ? SSS_FIELD_PROFILE_R - 2 : j;
         const double rw = u - (double)j;
         for (uint32_t c = 0; c < C; c++) kappa[c] = exp(prof_at(k, o, j, rw, c) + prof_at(k, i, j, rw, c) - tau_exp[c]);
-        return;
+        return sym;
     }
     for (uint32_t c = 0; c < C; c++) {
         /* τ = 1 exactly where nothing on the segment exceeds the mean
@@ -875,13 +930,19 @@ static void kappa_from(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t
                                                 : profile(&k->dip[(size_t)i * C + c], r, rho_o, rho_i);
         kappa[c] = pr > 0.0 ? sqrt(po * pi) / pr * tau : 0.0;
     }
+    return sym;
+}
+
+int sss_field_kappa_sym(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa)
+{
+    double tau_exp[SSS_MAX_CHANNELS];
+    const double r = pair_tau(k, mesh, o, i, tau_exp);
+    return kappa_from(k, mesh, o, i, r, tau_exp, kappa);
 }
 
 void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa)
 {
-    double tau_exp[SSS_MAX_CHANNELS];
-    const double r = pair_tau(k, mesh, o, i, tau_exp);
-    kappa_from(k, mesh, o, i, r, tau_exp, kappa);
+    (void)sss_field_kappa_sym(k, mesh, o, i, kappa);
 }
 
 /* The entry of source i in row o of sorted rows, or UINT64_MAX. */
@@ -928,15 +989,13 @@ static void scale_pair(const sss_field_kernel *k, const sss_mesh *mesh, sss_weig
     const uint32_t C = k->C;
     double tau_exp[SSS_MAX_CHANNELS], kap[SSS_MAX_CHANNELS];
     const double r = pair_tau(k, mesh, o, i, tau_exp);
-    kappa_from(k, mesh, o, i, r, tau_exp, kap);
+    const int sym = kappa_from(k, mesh, o, i, r, tau_exp, kap);
     float *w = &rows->w[e * C];
     for (uint32_t c = 0; c < C; c++) w[c] = (float)((double)w[c] * kap[c]);
     if (mirror == UINT64_MAX) return;
-    /* Neither disk covering the other endpoint, every profile is the point
-     * value R_d(r) in both orders, and the product under the root
-     * commutes: κ(i, o) has κ(o, i)'s bits, and its three profiles per
-     * channel are not evaluated again. */
-    if (!(r > 0.0 && r >= rho_of(k, mesh, o) && r >= rho_of(k, mesh, i))) kappa_from(k, mesh, i, o, r, tau_exp, kap);
+    /* κ(i, o) has κ(o, i)'s bits where neither disk covers the other
+     * endpoint: its profiles are not evaluated again */
+    if (!sym) kappa_from(k, mesh, i, o, r, tau_exp, kap);
     w = &rows->w[mirror * C];
     for (uint32_t c = 0; c < C; c++) w[c] = (float)((double)w[c] * kap[c]);
 }
@@ -1027,13 +1086,8 @@ void sss_field_kappa_point(const sss_field_kernel *k, const sss_mesh *mesh, uint
     }
     const double r = sqrt(d2);
     double tau_exp[SSS_MAX_CHANNELS] = {0};
-    if (k->step_mm > 0.0 && r > 0.0) { /* §4.2's midpoint rule, from x_o to the point */
-        const int n = march_steps(k, r);
-        double mean[SSS_MAX_CHANNELS] = {0};
-        for (uint32_t c = 0; c < C; c++) mean[c] = 0.5 * (k->sigma_tr[(size_t)o * C + c] + pt->sigma_tr[c]);
-        march_sum(k, po, pt->x, n, mean, tau_exp);
-        for (uint32_t c = 0; c < C; c++) tau_exp[c] *= r / n;
-    }
+    if (k->step_mm > 0.0 && r > 0.0) /* from x_o to the point */
+        march_tau(k, po, pt->x, r, &k->sigma_tr[(size_t)o * C], pt->sigma_tr, tau_exp);
     /* both ends at the reference's f: the ratio is 1 (kappa_from) */
     const int ref_ends = k->f[o] == k->f_min && pt->f == k->f_min;
     for (uint32_t c = 0; c < C; c++) {

@@ -31,6 +31,7 @@
 #include "sss/reference.h"
 #include "sss/transfer.h"
 #include "sss/vec3.h"
+#include "gather/gather_internal.h"
 
 static char tmpdir[256];
 
@@ -566,11 +567,24 @@ static void kernelIsSymmetricInItsEndpoints(void **state)
     if (sss_field_kernel_create(&m, 1.0, &base, &h, 3, 1e-3, "ball", &k, &err) != SSS_OK) fail_msg("%s", err.msg);
     assert_true(k.f_min < k.f_max);
     double worst = 0.0;
+    uint32_t sym = 0, asym = 0;
     for (uint32_t o = 0; o < m.nv; o += 7)
         for (uint32_t i = 0; i < m.nv; i += 5) {
             double a[3], b[3];
             sss_field_kappa(&k, &m, o, i, a);
             sss_field_kappa(&k, &m, i, o, b);
+            /* where sss_field_kappa_sym says so, κ(i, o) has κ(o, i)'s bits
+             * (the tree gather keeps one for both, gather_field.c) */
+            double s0[3], s1[3];
+            const int so = sss_field_kappa_sym(&k, &m, o, i, s0), si = sss_field_kappa_sym(&k, &m, i, o, s1);
+            assert_int_equal(so, si);
+            assert_memory_equal(s0, a, sizeof a);
+            if (so) {
+                assert_memory_equal(a, b, sizeof a);
+                sym++;
+            } else {
+                asym++;
+            }
             for (int c = 0; c < 3; c++) {
                 /* the profile ratio and τ are symmetric; the weights then
                  * differ only by ΔA_i vs ΔA_o, as the homogeneous ones do */
@@ -579,7 +593,51 @@ static void kernelIsSymmetricInItsEndpoints(void **state)
                 assert_true(a[c] >= 0.0 && isfinite(a[c]));
             }
         }
-    print_message("kappa(o,i) vs kappa(i,o): max relative difference %.3g\n", worst);
+    print_message("kappa(o,i) vs kappa(i,o): max relative difference %.3g; %u pairs symmetric bit for bit, %u not "
+                  "(own term, near disks)\n", worst, sym, asym);
+    assert_true(sym > 0 && asym > 0);
+    sss_field_kernel_free(&k);
+    sss_mesh_free(&m);
+}
+
+/* The tree gather keeps a near pair's κ for the pair's second receiver
+ * when both lie in one group of blocks (docs/heterogeneous.md §4.5,
+ * gather_field.c): q with the groups' tables has the bits of q with every
+ * κ computed (field_group 0), and the table was read from. */
+static void treeKeptKappaHasTheBitsItWouldCompute(void **state)
+{
+    (void)state;
+    sss_mesh m;
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(&m, 10.0, 4, &err), SSS_OK);
+    sss_hetero h;
+    sss_material base;
+    veined_ball(0.3, &h, &base);
+    sss_field_kernel k;
+    if (sss_field_kernel_create(&m, 1.0, &base, &h, 3, 1e-3, "ball", &k, &err) != SSS_OK) fail_msg("%s", err.msg);
+    float *G = malloc((size_t)m.nv * sizeof *G);
+    float *qa = malloc((size_t)m.nv * 3 * sizeof *qa), *qb = malloc((size_t)m.nv * 3 * sizeof *qb);
+    assert_non_null(G);
+    assert_non_null(qa);
+    assert_non_null(qb);
+    for (uint32_t v = 0; v < m.nv; v++) G[v] = 0.5f + 0.5f * m.pos[3 * (size_t)v + 2] / 10.0f; /* lit from +z */
+    sss_gather_tree *t = NULL;
+    sss_gather_params p = {0};
+    assert_int_equal(sss_gather_tree_build(&m, 1.0, G, 1, &p, &t, &err), SSS_OK);
+    assert_int_equal(sss_gather_tree_set_field(t, &m, &k, &err), SSS_OK);
+    assert_true(t->field_group > 0 && m.nv > t->field_group); /* more than one group */
+    sss_gather_stats sa, sb;
+    const uint32_t nb = sss_gather_tree_blocks(t);
+    assert_int_equal(sss_gather_run(t, &m, k.dip_ref, 3, k.radius_mm, 0, nb, qa, 1, &sa, &err), SSS_OK);
+    t->field_group = 0;
+    assert_int_equal(sss_gather_run(t, &m, k.dip_ref, 3, k.radius_mm, 0, nb, qb, 1, &sb, &err), SSS_OK);
+    print_message("tree: %llu near pairs, %llu near kappa read from the groups' tables\n",
+                  (unsigned long long)sa.near_pairs, (unsigned long long)sa.field_kept);
+    assert_true(sa.field_kept > 0);
+    assert_true(sb.field_kept == 0);
+    assert_memory_equal(qa, qb, (size_t)m.nv * 3 * sizeof *qa);
+    sss_gather_tree_destroy(t);
+    free(G), free(qa), free(qb);
     sss_field_kernel_free(&k);
     sss_mesh_free(&m);
 }
@@ -1038,6 +1096,7 @@ int main(void)
         cmocka_unit_test(backLitSlabFollowsBeerLambertThroughAnAbsorbingLayer),
         cmocka_unit_test(fieldMovedRigidlyWithItsObjectLeavesQUnchanged),
         cmocka_unit_test(kernelIsSymmetricInItsEndpoints),
+        cmocka_unit_test(treeKeptKappaHasTheBitsItWouldCompute),
         cmocka_unit_test(profileTableIsWithinItsBoundOfTheExactProfiles),
         cmocka_unit_test(fieldSectionRoundTripsAndRefusesABadGrid),
         cmocka_unit_test(vdbWrittenAndReadBackGivesTheSameField),

@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -197,6 +198,35 @@ static void sceneTreeAgreesWithTheDirectRows(void **state)
     free(hom);
 }
 
+/* A field through the tree keeps a near pair's κ for its second block
+ * when both lie in one group of blocks (docs/heterogeneous.md §4.5,
+ * gather_field.c): which thread runs which group must not reach the
+ * bytes. One thread and three give the same q. (Which pairs are kept
+ * depends on the groups alone; test_field's
+ * treeKeptKappaHasTheBitsItWouldCompute compares kept with computed.) */
+static void fieldThroughTheTreeHasTheSameBytesWhateverTheThreadCount(void **state)
+{
+    (void)state;
+    const int saved = omp_get_max_threads();
+    sss_bake_file a, b;
+    sss_bake_stats sa, sb;
+    char js[1500];
+    snprintf(js, sizeof js, "%s", scene(VEINS, STATIC_LIGHT, "\"gather\":\"tree\""));
+    omp_set_num_threads(1);
+    bake(js, SSS_GATHER_TREE, &a, &sa);
+    omp_set_num_threads(3);
+    bake(js, SSS_GATHER_TREE, &b, &sb);
+    omp_set_num_threads(saved);
+    assert_int_equal(a.hetero.field.kind, SSS_FIELD_VEINS);
+    assert_int_equal(a.fx.nexact, 1);
+    assert_int_equal(b.fx.nexact, 1);
+    assert_true(a.mesh.nv > 1024); /* more than one group (SSS_GATHER_FIELD_GROUP, 1,024 receivers) */
+    const size_t n = (size_t)a.mesh.nv * a.channels;
+    assert_memory_equal(a.fx.exact_q, b.fx.exact_q, n * sizeof *a.fx.exact_q);
+    sss_file_free(&a);
+    sss_file_free(&b);
+}
+
 /* Constant fields through the tree: c = 0 folds (planner) into the
  * homogeneous tree bake; a box holding the whole blob (f = 1 everywhere)
  * and a stratum far away (f = 0) go through the kernel, whose κ is then 1
@@ -268,6 +298,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(sceneTreeIsThePlainTreeBake),
         cmocka_unit_test(sceneTreeAgreesWithTheDirectRows),
+        cmocka_unit_test(fieldThroughTheTreeHasTheSameBytesWhateverTheThreadCount),
         cmocka_unit_test(constantFieldsThroughTheTreeAreTheHomogeneousTreeBakes),
         cmocka_unit_test(gatherKeyIsPlannedWithItsReasonAndBadValuesAreRefused),
     };

@@ -150,6 +150,11 @@ void sss_field_march_sum(const sss_field_kernel *k, const double a[3], const dou
  * (prof, §4.1) where it has one. 1 exactly when the field is constant.
  * Symmetric in o, i. */
 void sss_field_kappa(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa);
+/* sss_field_kappa, returning 1 when κ(i, o) has exactly κ(o, i)'s bits
+ * (neither endpoint within the other's area disk, so both orders take the
+ * point profiles; the own term and the near disks are not symmetric), so
+ * that a caller may keep one pair's κ for both its entries. */
+int sss_field_kappa_sym(const sss_field_kernel *k, const sss_mesh *mesh, uint32_t o, uint32_t i, double *kappa);
 
 /* Scales every entry of rows (built for k->dip_ref over the same mesh,
  * row r = vertex r) by κ. Polls cancel. */

@@ -80,6 +80,8 @@ typedef struct sss_gather_stats {
     uint64_t near_pairs;      /* Σ over blocks of receivers × near sources */
     uint64_t far_pairs;       /* Σ over blocks of receivers × far nodes */
     double rows_mean;         /* mean rows (near sources + 10 per far node) per block */
+    uint64_t field_kept;      /* with a field: near κ read from the group's table, not computed (§4.5 of
+                               * docs/heterogeneous.md) */
     double flops;             /* 2 · C · B · rows · directions summed over the block products */
     double t_build;           /* Morton order, nodes, moments (s) */
     /* thread-seconds: CPU time of the threads (CLOCK_THREAD_CPUTIME_ID), so
@@ -184,6 +186,10 @@ uint64_t sss_gather_workspace_rows_bytes(uint32_t max_rows, uint32_t n_dirs, uin
 /* Bytes of per-thread work space of sss_gather_run (an estimate). */
 uint64_t sss_gather_workspace_bytes(uint32_t nv, uint32_t n_dirs, uint32_t channels, const sss_gather_params *p,
                                     int threads);
+/* Bytes a field (sss_gather_tree_set_field) adds to sss_gather_run's work
+ * space over `threads` threads: each thread's near pairs' κ within the
+ * group of blocks it runs (docs/heterogeneous.md §4.5). */
+uint64_t sss_gather_field_workspace_bytes(int threads);
 
 #ifdef __cplusplus
 }

@@ -280,7 +280,8 @@ sss_result sss_bake_object(const sss_scene *scene, const sss_plan *plan, const s
             const int threads = 1;
 #endif
             const uint64_t tb = sss_gather_tree_size(tree, widest) +
-                                sss_gather_workspace_bytes(c.mesh->nv, widest, c.C, &gp, threads);
+                                sss_gather_workspace_bytes(c.mesh->nv, widest, c.C, &gp, threads) +
+                                (fk.f ? sss_gather_field_workspace_bytes(threads) : 0);
             if (tb + hat_bytes >= avail - need)
                 r = sss_fail(err, SSS_ERR_NOMEM, "the bake needs more than %.2f GiB for %u vertices (the gather tree "
                              "with %u source column%s) but %.2f GiB is available (estimate before starting; "

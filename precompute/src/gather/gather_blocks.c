@@ -39,8 +39,8 @@ typedef struct work {
     size_t caprows;
     float *pack; /* the block product's scratch */
     size_t cappack;
-    uint32_t *src;
-    size_t capsrc;
+    uint32_t *src, *msrc; /* the near sources and their Morton positions */
+    size_t capsrc, capmsrc;
     float *fs; /* per source: dA, r², inside; then the far scratch */
     size_t capfs;
     double *sxyz; /* source positions (mesh units), x then y then z */
@@ -48,6 +48,7 @@ typedef struct work {
     unsigned char *flag;
     size_t capflag;
     sss_glist l;
+    sss_gather_fpairs fp; /* a field's near pairs within the group (gather_field.c) */
 } work;
 
 static int grow(void **p, size_t *cap, size_t need, size_t elem)
@@ -322,6 +323,19 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
         const sss_gnode *n = &t->node[t->block[b]];
         off[b - b0 + 1] = off[b - b0] + (n->hi - n->lo);
     }
+    /* Groups of consecutive blocks, each run by one thread in Morton
+     * order: with a field, of at most SSS_GATHER_FIELD_GROUP receivers, so
+     * that the near pairs within a group are computed once (gather_field.c);
+     * without, one block each. */
+    uint32_t *gstart = malloc(((size_t)(b1 - b0) + 1) * sizeof *gstart);
+    if (!gstart) {
+        free(off);
+        return sss_fail(err, SSS_ERR_NOMEM, "gather: out of memory");
+    }
+    uint32_t ng = 0;
+    for (uint32_t b = b0; b < b1; b++)
+        if (b == b0 || !t->field || off[b - b0 + 1] - off[gstart[ng - 1] - b0] > t->field_group) gstart[ng++] = b;
+    gstart[ng] = b1;
     int failed = 0;
     double rows_total = 0;
 #pragma omp parallel reduction(+ : rows_total)
@@ -330,98 +344,118 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
         memset(&wk, 0, sizeof wk);
         double tl = 0, tw = 0, tg = 0, ts = 0, fl = 0;
         uint64_t np = 0, fp = 0;
+        if (t->field && t->field_group) {
+            wk.fp.cap = (size_t)SSS_GATHER_FIELD_GROUP * (SSS_GATHER_FIELD_GROUP - 1) / 2;
+            wk.fp.kap = malloc(wk.fp.cap * SSS_MAX_CHANNELS * sizeof *wk.fp.kap);
+            wk.fp.stamp = calloc(wk.fp.cap, sizeof *wk.fp.stamp);
+            if (!wk.fp.kap || !wk.fp.stamp) {
+#pragma omp atomic write
+                failed = 1;
+            }
+        }
 #pragma omp for schedule(dynamic, 1)
-        for (int64_t bi = (int64_t)b0; bi < (int64_t)b1; bi++) {
-            if (failed || sss_cancelled(t->p.cancel)) continue;
-            const uint32_t bn = t->block[bi];
-            const sss_gnode *blk = &t->node[bn];
-            const uint32_t B = blk->hi - blk->lo;
-            double t0 = sss_thread_cpu();
-            if (!sss_gather_lists(t, bn, radius_mm, &wk.l)) {
-#pragma omp atomic write
-                failed = 1;
-                continue;
+        for (int64_t g = 0; g < (int64_t)ng; g++) {
+            if (wk.fp.kap && !failed) { /* the group's receivers; its pairs kept from now on */
+                wk.fp.lo = t->node[t->block[gstart[g]]].lo;
+                wk.fp.n = (uint32_t)(off[gstart[g + 1] - b0] - off[gstart[g] - b0]);
+                if (wk.fp.n > SSS_GATHER_FIELD_GROUP) wk.fp.n = 0; /* one block larger than the table: none kept */
+                wk.fp.gen++;
             }
-            const uint32_t Sn = wk.l.near_sources, Sf = wk.l.nfar;
-            const size_t S = (size_t)Sn + (size_t)SSS_GATHER_MOMENTS * Sf;
-            if (!grow((void **)&wk.W, &wk.capW, (size_t)C * B * S + 1, sizeof(float)) ||
-                !grow((void **)&wk.rows, &wk.caprows, S + 1, sizeof(float *)) ||
-                !grow((void **)&wk.pack, &wk.cappack, sss_gather_gemm_scratch(D), sizeof(float)) ||
-                !grow((void **)&wk.Q, &wk.capQ, (size_t)C * B * D + 1, sizeof(float)) ||
-                !grow((void **)&wk.src, &wk.capsrc, (size_t)Sn + 1, sizeof(uint32_t)) ||
-                !grow((void **)&wk.fs, &wk.capfs, 3 * (size_t)Sn + 10 * (size_t)Sf + 1, sizeof(float)) ||
-                !grow((void **)&wk.sxyz, &wk.capxyz, 3 * ((size_t)Sn + Sf) + 1, sizeof(double)) ||
-                !grow((void **)&wk.flag, &wk.capflag, (size_t)Sn + 8, 1)) {
+            for (int64_t bi = (int64_t)gstart[g]; bi < (int64_t)gstart[g + 1]; bi++) {
+                if (failed || sss_cancelled(t->p.cancel)) continue;
+                const uint32_t bn = t->block[bi];
+                const sss_gnode *blk = &t->node[bn];
+                const uint32_t B = blk->hi - blk->lo;
+                double t0 = sss_thread_cpu();
+                if (!sss_gather_lists(t, bn, radius_mm, &wk.l)) {
 #pragma omp atomic write
-                failed = 1;
-                continue;
-            }
-            memset(wk.flag + Sn, 0, 8); /* near_weights reads the flags eight at a time */
-            /* Ψ: the near sources' transfer rows (a leaf is a contiguous
-             * run of the Morton-ordered G), then the far nodes' moment rows */
-            uint32_t a = 0;
-            for (uint32_t e = 0; e < wk.l.nnear; e++) {
-                const sss_gnode *n = &t->node[wk.l.near[e]];
-                for (uint32_t m = n->lo; m < n->hi; m++, a++) {
-                    const uint32_t i = t->perm[m];
-                    wk.rows[a] = t->Gm + (size_t)m * D;
-                    wk.src[a] = i;
-                    wk.fs[a] = (float)(mesh->area[i] * t->s * t->s);
-                    for (int x = 0; x < 3; x++) wk.sxyz[(size_t)x * Sn + a] = mesh->pos[3 * (size_t)i + x];
+                    failed = 1;
+                    continue;
                 }
-            }
-            double *const fc = wk.sxyz + 3 * (size_t)Sn; /* far centroids, x then y then z */
-            sss_gather_far_centroids(t, wk.l.far, Sf, fc);
-            for (uint32_t f = 0; f < Sf; f++) { /* moment-major, as sss_gather_far_weights writes W */
-                const float *mf = t->mom + (size_t)wk.l.far[f] * SSS_GATHER_MOMENTS * D;
-                for (int x = 0; x < SSS_GATHER_MOMENTS; x++) wk.rows[(size_t)Sn + (size_t)x * Sf + f] = mf + (size_t)x * D;
-            }
-            double t1 = sss_thread_cpu();
-            /* W: row c·B + k is receiver k's weights for channel c */
-            for (uint32_t kr = 0; kr < B; kr++) {
-                const uint32_t o = t->perm[blk->lo + kr];
-                float *wrow = wk.W + (size_t)kr * S;
-                near_weights(t, mesh, dip, tab, C, radius_mm, o, wk.src, wk.sxyz, wk.fs, Sn, wk.fs + Sn,
-                             wk.fs + 2 * (size_t)Sn, wk.flag, wrow, (uint64_t)B * S);
-                sss_gather_far_weights(fc, Sf, t->pmm + 3 * (size_t)o, k, C, radius_mm, wk.fs + 3 * (size_t)Sn,
-                                       wrow + Sn, (uint64_t)B * S);
-                if (t->field) /* docs/heterogeneous.md §4.5 */
-                    sss_gather_field_scale(t, mesh, C, o, wk.src, Sn, wk.l.far, Sf, wrow, (uint64_t)B * S);
-            }
-            double t2 = sss_thread_cpu();
-            sss_gather_gemm(C * B, D, (uint32_t)S, wk.W, S, wk.rows, wk.Q, D, wk.pack);
-            double t3 = sss_thread_cpu();
-            /* q is a sum of non-negative terms; the far field's Taylor
-             * terms and float cancellation can leave tiny negative values
-             * where it is ~0 (fully shadowed): clamp, as the file requires
-             * (not Q's components, which take either sign).
-             * The channels of one (vertex, direction) share a cache line
-             * of q: write them together, a direction at a time (q is
-             * vertex-major within a direction, so a receiver's directions
-             * are nv·C floats apart). */
-            const uint64_t base = off[bi - b0];
-            for (uint32_t kr = 0; kr < B; kr++) {
-                const uint32_t v = t->perm[blk->lo + kr];
-                const float *qr = wk.Q + (size_t)kr * D; /* channel c at qr + c·B·D */
-                const size_t cs = (size_t)B * D;
-                for (uint32_t j = 0; j < D; j++) {
-                    float *o = full ? out + ((size_t)(j0 + j) * nv + v) * C : out + ((base + kr) * D + j) * C;
-                    for (uint32_t c = 0; c < C; c++) {
-                        const float x = qr[c * cs + j];
-                        o[c] = x > 0.0f || t->p.signed_sources ? x : 0.0f;
+                const uint32_t Sn = wk.l.near_sources, Sf = wk.l.nfar;
+                const size_t S = (size_t)Sn + (size_t)SSS_GATHER_MOMENTS * Sf;
+                if (!grow((void **)&wk.W, &wk.capW, (size_t)C * B * S + 1, sizeof(float)) ||
+                    !grow((void **)&wk.rows, &wk.caprows, S + 1, sizeof(float *)) ||
+                    !grow((void **)&wk.pack, &wk.cappack, sss_gather_gemm_scratch(D), sizeof(float)) ||
+                    !grow((void **)&wk.Q, &wk.capQ, (size_t)C * B * D + 1, sizeof(float)) ||
+                    !grow((void **)&wk.src, &wk.capsrc, (size_t)Sn + 1, sizeof(uint32_t)) ||
+                    !grow((void **)&wk.msrc, &wk.capmsrc, (size_t)Sn + 1, sizeof(uint32_t)) ||
+                    !grow((void **)&wk.fs, &wk.capfs, 3 * (size_t)Sn + 10 * (size_t)Sf + 1, sizeof(float)) ||
+                    !grow((void **)&wk.sxyz, &wk.capxyz, 3 * ((size_t)Sn + Sf) + 1, sizeof(double)) ||
+                    !grow((void **)&wk.flag, &wk.capflag, (size_t)Sn + 8, 1)) {
+#pragma omp atomic write
+                    failed = 1;
+                    continue;
+                }
+                memset(wk.flag + Sn, 0, 8); /* near_weights reads the flags eight at a time */
+                /* Ψ: the near sources' transfer rows (a leaf is a contiguous
+                 * run of the Morton-ordered G), then the far nodes' moment rows */
+                uint32_t a = 0;
+                for (uint32_t e = 0; e < wk.l.nnear; e++) {
+                    const sss_gnode *n = &t->node[wk.l.near[e]];
+                    for (uint32_t m = n->lo; m < n->hi; m++, a++) {
+                        const uint32_t i = t->perm[m];
+                        wk.rows[a] = t->Gm + (size_t)m * D;
+                        wk.src[a] = i;
+                        wk.msrc[a] = m;
+                        wk.fs[a] = (float)(mesh->area[i] * t->s * t->s);
+                        for (int x = 0; x < 3; x++) wk.sxyz[(size_t)x * Sn + a] = mesh->pos[3 * (size_t)i + x];
                     }
                 }
+                double *const fc = wk.sxyz + 3 * (size_t)Sn; /* far centroids, x then y then z */
+                sss_gather_far_centroids(t, wk.l.far, Sf, fc);
+                for (uint32_t f = 0; f < Sf; f++) { /* moment-major, as sss_gather_far_weights writes W */
+                    const float *mf = t->mom + (size_t)wk.l.far[f] * SSS_GATHER_MOMENTS * D;
+                    for (int x = 0; x < SSS_GATHER_MOMENTS; x++) wk.rows[(size_t)Sn + (size_t)x * Sf + f] = mf + (size_t)x * D;
+                }
+                double t1 = sss_thread_cpu();
+                /* W: row c·B + k is receiver k's weights for channel c */
+                for (uint32_t kr = 0; kr < B; kr++) {
+                    const uint32_t o = t->perm[blk->lo + kr];
+                    float *wrow = wk.W + (size_t)kr * S;
+                    near_weights(t, mesh, dip, tab, C, radius_mm, o, wk.src, wk.sxyz, wk.fs, Sn, wk.fs + Sn,
+                                 wk.fs + 2 * (size_t)Sn, wk.flag, wrow, (uint64_t)B * S);
+                    sss_gather_far_weights(fc, Sf, t->pmm + 3 * (size_t)o, k, C, radius_mm, wk.fs + 3 * (size_t)Sn,
+                                           wrow + Sn, (uint64_t)B * S);
+                    if (t->field) /* docs/heterogeneous.md §4.5 */
+                        sss_gather_field_scale(t, mesh, C, o, blk->lo + kr, wk.src, wk.msrc, Sn, wk.l.far, Sf, wrow,
+                                               (uint64_t)B * S, wk.fp.kap ? &wk.fp : NULL);
+                }
+                double t2 = sss_thread_cpu();
+                sss_gather_gemm(C * B, D, (uint32_t)S, wk.W, S, wk.rows, wk.Q, D, wk.pack);
+                double t3 = sss_thread_cpu();
+                /* q is a sum of non-negative terms; the far field's Taylor
+                 * terms and float cancellation can leave tiny negative values
+                 * where it is ~0 (fully shadowed): clamp, as the file requires
+                 * (not Q's components, which take either sign).
+                 * The channels of one (vertex, direction) share a cache line
+                 * of q: write them together, a direction at a time (q is
+                 * vertex-major within a direction, so a receiver's directions
+                 * are nv·C floats apart). */
+                const uint64_t base = off[bi - b0];
+                for (uint32_t kr = 0; kr < B; kr++) {
+                    const uint32_t v = t->perm[blk->lo + kr];
+                    const float *qr = wk.Q + (size_t)kr * D; /* channel c at qr + c·B·D */
+                    const size_t cs = (size_t)B * D;
+                    for (uint32_t j = 0; j < D; j++) {
+                        float *o = full ? out + ((size_t)(j0 + j) * nv + v) * C : out + ((base + kr) * D + j) * C;
+                        for (uint32_t c = 0; c < C; c++) {
+                            const float x = qr[c * cs + j];
+                            o[c] = x > 0.0f || t->p.signed_sources ? x : 0.0f;
+                        }
+                    }
+                }
+                double t4 = sss_thread_cpu();
+                tl += t1 - t0;
+                tw += t2 - t1;
+                tg += t3 - t2;
+                ts += t4 - t3;
+                fl += 2.0 * C * B * (double)S * D;
+                np += (uint64_t)B * Sn;
+                fp += (uint64_t)B * Sf;
+                rows_total += (double)S;
+                sss_progress_tick(sss_gather_block_work(t, (uint32_t)bi, (uint32_t)S, C, D));
             }
-            double t4 = sss_thread_cpu();
-            tl += t1 - t0;
-            tw += t2 - t1;
-            tg += t3 - t2;
-            ts += t4 - t3;
-            fl += 2.0 * C * B * (double)S * D;
-            np += (uint64_t)B * Sn;
-            fp += (uint64_t)B * Sf;
-            rows_total += (double)S;
-            sss_progress_tick(sss_gather_block_work(t, (uint32_t)bi, (uint32_t)S, C, D));
         }
 #pragma omp critical
         {
@@ -431,6 +465,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
             s0.t_scatter += ts;
             s0.flops += fl;
             s0.near_pairs += np;
+            s0.field_kept += wk.fp.kept;
             s0.far_pairs += fp;
         }
         free(wk.W);
@@ -438,6 +473,9 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
         free(wk.pack);
         free(wk.Q);
         free(wk.src);
+        free(wk.msrc);
+        free(wk.fp.kap);
+        free(wk.fp.stamp);
         free(wk.fs);
         free(wk.sxyz);
         free(wk.flag);
@@ -445,6 +483,7 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
         free(wk.l.far);
     }
     free(off);
+    free(gstart);
     s0.rows_mean = b1 > b0 ? rows_total / (b1 - b0) : 0;
     if (st) *st = s0;
     if (failed) return sss_fail(err, SSS_ERR_NOMEM, "gather: out of memory for a block's matrices");

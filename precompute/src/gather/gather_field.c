@@ -45,21 +45,43 @@ sss_result sss_gather_tree_set_field(sss_gather_tree *t, const sss_mesh *mesh, c
                         (long long)bad, f);
     }
     t->field = k;
+    t->field_group = SSS_GATHER_FIELD_GROUP;
     return SSS_OK;
 }
 
-void sss_gather_field_scale(const sss_gather_tree *t, const sss_mesh *mesh, uint32_t C, uint32_t o,
-                            const uint32_t *src, uint32_t Sn, const uint32_t *far, uint32_t nfar, float *W,
-                            uint64_t ldc)
+void sss_gather_field_scale(const sss_gather_tree *t, const sss_mesh *mesh, uint32_t C, uint32_t o, uint32_t mo,
+                            const uint32_t *src, const uint32_t *msrc, uint32_t Sn, const uint32_t *far, uint32_t nfar,
+                            float *W, uint64_t ldc, sss_gather_fpairs *fp)
 {
     double kap[SSS_MAX_CHANNELS];
+    /* Each near pair is asked for twice, once from each endpoint's block
+     * (the direct rows compute it once for both entries, §4.3). Where both
+     * endpoints lie in the group of blocks this thread runs, the first
+     * (the receiver earlier in Morton order) keeps κ and the second reads
+     * it: the blocks of a group run in Morton order on one thread, and κ
+     * is a pure function of the pair with the same bits in both orders
+     * (sss_field_kappa_sym), so the q have the same bytes whether or not
+     * a pair was kept, whatever the thread count. */
+    const uint32_t x = fp && mo - fp->lo < fp->n ? mo - fp->lo : UINT32_MAX;
+    const double *row = x != UINT32_MAX ? fp->kap + (size_t)x * (x - 1) / 2 * SSS_MAX_CHANNELS : NULL;
+    const uint32_t *rstamp = x != UINT32_MAX ? fp->stamp + (size_t)x * (x - 1) / 2 : NULL;
     for (uint32_t a = 0; a < Sn; a++) {
         /* beyond the cutoff every channel's weight is 0, and so is its
          * product with κ: no march */
         int any = 0;
         for (uint32_t c = 0; c < C; c++) any |= W[c * ldc + a] != 0.0f;
         if (!any) continue;
-        sss_field_kappa(t->field, mesh, o, src[a], kap);
+        const uint32_t y = msrc[a] - (fp ? fp->lo : 0);
+        if (row && y < x && rstamp[y] == fp->gen) {
+            /* kept by receiver y; the channels copied by a loop, not a call
+             * to memcpy of a size the compiler does not know */
+            for (uint32_t c = 0; c < C; c++) kap[c] = row[(size_t)y * SSS_MAX_CHANNELS + c];
+            fp->kept++;
+        } else if (sss_field_kappa_sym(t->field, mesh, o, src[a], kap) && x != UINT32_MAX && y > x && y < fp->n) {
+            const size_t e = (size_t)y * (y - 1) / 2 + x; /* for receiver y, which comes later */
+            for (uint32_t c = 0; c < C; c++) fp->kap[e * SSS_MAX_CHANNELS + c] = kap[c];
+            fp->stamp[e] = fp->gen;
+        }
         for (uint32_t c = 0; c < C; c++) W[c * ldc + a] = (float)((double)W[c * ldc + a] * kap[c]);
     }
     float *wf = W + Sn; /* moment x of far node f at wf[x · nfar + f] */
@@ -75,4 +97,10 @@ void sss_gather_field_scale(const sss_gather_tree *t, const sss_mesh *mesh, uint
                 *w = (float)((double)*w * kap[c]);
             }
     }
+}
+
+uint64_t sss_gather_field_workspace_bytes(int threads)
+{
+    const uint64_t pairs = (uint64_t)SSS_GATHER_FIELD_GROUP * (SSS_GATHER_FIELD_GROUP - 1) / 2;
+    return pairs * (SSS_MAX_CHANNELS * sizeof(double) + sizeof(uint32_t)) * (uint64_t)(threads > 0 ? threads : 1);
 }

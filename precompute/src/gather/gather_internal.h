@@ -38,14 +38,33 @@ struct sss_gather_tree {
     float *Gm;             /* nv × D transfer table in Morton order (row m is vertex perm[m]) */
     const sss_field_kernel *field; /* κ of a heterogeneous object, or NULL (sss_gather_tree_set_field) */
     sss_field_point *fpt;  /* per node: its centroid's f, σtr and dipoles (gather_field.c) */
+    uint32_t field_group;  /* most receivers per group whose near κ are kept (≤ SSS_GATHER_FIELD_GROUP; 0: none) */
 };
 
+/* A thread's near pairs' κ within a group of consecutive blocks
+ * (gather_field.c, docs/heterogeneous.md §4.5): the pair of Morton
+ * offsets x > y from the group's first receiver at entry x(x − 1)/2 + y,
+ * SSS_MAX_CHANNELS doubles, valid where stamp holds gen. */
+typedef struct sss_gather_fpairs {
+    double *kap;
+    uint32_t *stamp;
+    size_t cap;     /* entries allocated */
+    uint32_t lo, n; /* the group's receivers: Morton positions [lo, lo + n) */
+    uint32_t gen;
+    uint64_t kept; /* κ read from the table */
+} sss_gather_fpairs;
+
+/* Receivers per group of blocks whose near pairs' κ are kept (at most). */
+#define SSS_GATHER_FIELD_GROUP 1024
+
 /* Scales receiver o's weights in W (channel c at W + c·ldc: Sn near
- * columns for the sources src, then SSS_GATHER_MOMENTS × nfar far
- * columns, moment-major) by the field's κ (gather_field.c). */
-void sss_gather_field_scale(const sss_gather_tree *t, const sss_mesh *mesh, uint32_t C, uint32_t o,
-                            const uint32_t *src, uint32_t Sn, const uint32_t *far, uint32_t nfar, float *W,
-                            uint64_t ldc);
+ * columns for the sources src at Morton positions msrc, then
+ * SSS_GATHER_MOMENTS × nfar far columns, moment-major) by the field's κ
+ * (gather_field.c); mo is o's Morton position, fp the thread's pairs of
+ * the group being run (or NULL). */
+void sss_gather_field_scale(const sss_gather_tree *t, const sss_mesh *mesh, uint32_t C, uint32_t o, uint32_t mo,
+                            const uint32_t *src, const uint32_t *msrc, uint32_t Sn, const uint32_t *far, uint32_t nfar,
+                            float *W, uint64_t ldc, sss_gather_fpairs *fp);
 
 /* Interaction list of one receiver block. */
 typedef struct sss_glist {
