@@ -554,17 +554,24 @@ static void veined_ball(double inside_sa, sss_hetero *h, sss_material *base)
     for (int c = 0; c < 3; c++) h->inside.sigma_a[c] = inside_sa;
 }
 
+/* A veined ball of radius 10 (subdivision level sub) and its kernel (3
+ * channels, inside σa 0.3/mm); h is borrowed by k, so the caller holds it. */
+static void veined_ball_kernel(uint32_t sub, sss_mesh *m, sss_hetero *h, sss_field_kernel *k)
+{
+    sss_error err = {{0}};
+    assert_int_equal(sss_gen_sphere(m, 10.0, sub, &err), SSS_OK);
+    sss_material base;
+    veined_ball(0.3, h, &base);
+    if (sss_field_kernel_create(m, 1.0, &base, h, 3, 1e-3, "ball", k, &err) != SSS_OK) fail_msg("%s", err.msg);
+}
+
 static void kernelIsSymmetricInItsEndpoints(void **state)
 {
     (void)state;
     sss_mesh m;
-    sss_error err = {{0}};
-    assert_int_equal(sss_gen_sphere(&m, 10.0, 2, &err), SSS_OK);
     sss_hetero h;
-    sss_material base;
-    veined_ball(0.3, &h, &base);
     sss_field_kernel k;
-    if (sss_field_kernel_create(&m, 1.0, &base, &h, 3, 1e-3, "ball", &k, &err) != SSS_OK) fail_msg("%s", err.msg);
+    veined_ball_kernel(2, &m, &h, &k);
     assert_true(k.f_min < k.f_max);
     double worst = 0.0;
     uint32_t sym = 0, asym = 0;
@@ -609,12 +616,9 @@ static void treeKeptKappaHasTheBitsItWouldCompute(void **state)
     (void)state;
     sss_mesh m;
     sss_error err = {{0}};
-    assert_int_equal(sss_gen_sphere(&m, 10.0, 4, &err), SSS_OK);
     sss_hetero h;
-    sss_material base;
-    veined_ball(0.3, &h, &base);
     sss_field_kernel k;
-    if (sss_field_kernel_create(&m, 1.0, &base, &h, 3, 1e-3, "ball", &k, &err) != SSS_OK) fail_msg("%s", err.msg);
+    veined_ball_kernel(4, &m, &h, &k);
     float *G = malloc((size_t)m.nv * sizeof *G);
     float *qa = malloc((size_t)m.nv * 3 * sizeof *qa), *qb = malloc((size_t)m.nv * 3 * sizeof *qb);
     assert_non_null(G);

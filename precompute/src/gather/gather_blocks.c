@@ -345,9 +345,8 @@ sss_result sss_gather_run_chunk(const sss_gather_tree *t, const sss_mesh *mesh, 
         double tl = 0, tw = 0, tg = 0, ts = 0, fl = 0;
         uint64_t np = 0, fp = 0;
         if (t->field && t->field_group) {
-            wk.fp.cap = (size_t)SSS_GATHER_FIELD_GROUP * (SSS_GATHER_FIELD_GROUP - 1) / 2;
-            wk.fp.kap = malloc(wk.fp.cap * SSS_MAX_CHANNELS * sizeof *wk.fp.kap);
-            wk.fp.stamp = calloc(wk.fp.cap, sizeof *wk.fp.stamp);
+            wk.fp.kap = malloc(SSS_GATHER_FIELD_PAIRS * SSS_MAX_CHANNELS * sizeof *wk.fp.kap);
+            wk.fp.stamp = calloc(SSS_GATHER_FIELD_PAIRS, sizeof *wk.fp.stamp);
             if (!wk.fp.kap || !wk.fp.stamp) {
 #pragma omp atomic write
                 failed = 1;

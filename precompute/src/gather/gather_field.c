@@ -101,6 +101,6 @@ void sss_gather_field_scale(const sss_gather_tree *t, const sss_mesh *mesh, uint
 
 uint64_t sss_gather_field_workspace_bytes(int threads)
 {
-    const uint64_t pairs = (uint64_t)SSS_GATHER_FIELD_GROUP * (SSS_GATHER_FIELD_GROUP - 1) / 2;
-    return pairs * (SSS_MAX_CHANNELS * sizeof(double) + sizeof(uint32_t)) * (uint64_t)(threads > 0 ? threads : 1);
+    return SSS_GATHER_FIELD_PAIRS * (SSS_MAX_CHANNELS * sizeof(double) + sizeof(uint32_t)) *
+           (uint64_t)(threads > 0 ? threads : 1);
 }

@@ -48,14 +48,15 @@ struct sss_gather_tree {
 typedef struct sss_gather_fpairs {
     double *kap;
     uint32_t *stamp;
-    size_t cap;     /* entries allocated */
     uint32_t lo, n; /* the group's receivers: Morton positions [lo, lo + n) */
     uint32_t gen;
     uint64_t kept; /* κ read from the table */
 } sss_gather_fpairs;
 
-/* Receivers per group of blocks whose near pairs' κ are kept (at most). */
+/* Receivers per group of blocks whose near pairs' κ are kept (at most),
+ * and the entries of a thread's table: one per pair of them. */
 #define SSS_GATHER_FIELD_GROUP 1024
+#define SSS_GATHER_FIELD_PAIRS ((size_t)SSS_GATHER_FIELD_GROUP * (SSS_GATHER_FIELD_GROUP - 1) / 2)
 
 /* Scales receiver o's weights in W (channel c at W + c·ldc: Sn near
  * columns for the sources src at Morton positions msrc, then
