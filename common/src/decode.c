@@ -767,6 +767,84 @@ __attribute__((target("avx512f"))) static void planes_nibble_avx512(float *restr
 }
 #endif
 
+/* The linear kinds on the wider sets, in blocks (n = SH_BLOCK): a[b] += Σ_i
+ * (float)code_i · T[i], the m planes' terms added in plane order, as
+ * planes_linear8 / planes_linear16 add them, but each vector of vertices
+ * summed in a register over all m planes: one code load, widening and
+ * conversion per plane and vector, where the compiler's copies widened
+ * 8-bit codes through 16 bits and the halves of 256-bit vectors (SH order
+ * 3 in linear8: the one-thread decode 0.19 → 0.13 ms on the 100K dragon,
+ * docs/benchmarks.md "The blend four vertices a vector"). With all coded
+ * vertices in one group (order 7) the m planes are ncoded apart, m streams
+ * for one vector, and three planes a pass over the block stay faster.
+ * Vertices past the last full vector: the same sums, one at a time. */
+#ifdef DECODE_X86
+#define LINEAR_TAIL(CODE)                                                                                              \
+    for (; b < nb; b++) {                                                                                              \
+        float x = a[b];                                                                                                \
+        for (size_t i = 0; i < m; i++) {                                                                               \
+            const float y = (float)((const CODE *)p)[i * n + b] * T[i];                                                \
+            x += y;                                                                                                    \
+        }                                                                                                              \
+        a[b] = x;                                                                                                      \
+    }
+__attribute__((target("avx2"))) static void planes_linear_avx2(float *restrict a, const void *restrict p, int wide,
+                                                              size_t n, const float *restrict T, size_t m, size_t nb)
+{
+    size_t b = 0;
+    if (wide) {
+        for (; b + 8 <= nb; b += 8) {
+            __m256 x = _mm256_loadu_ps(a + b);
+            for (size_t i = 0; i < m; i++) {
+                const __m128i q = _mm_loadu_si128((const __m128i *)((const int16_t *)p + i * n + b));
+                x = _mm256_add_ps(x, _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_cvtepi16_epi32(q)), _mm256_set1_ps(T[i])));
+            }
+            _mm256_storeu_ps(a + b, x);
+        }
+        LINEAR_TAIL(int16_t)
+    } else {
+        for (; b + 8 <= nb; b += 8) {
+            __m256 x = _mm256_loadu_ps(a + b);
+            for (size_t i = 0; i < m; i++) {
+                const __m128i q = _mm_loadl_epi64((const __m128i *)((const int8_t *)p + i * n + b));
+                x = _mm256_add_ps(x, _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_cvtepi8_epi32(q)), _mm256_set1_ps(T[i])));
+            }
+            _mm256_storeu_ps(a + b, x);
+        }
+        LINEAR_TAIL(int8_t)
+    }
+}
+
+__attribute__((target("avx512f"))) static void planes_linear_avx512(float *restrict a, const void *restrict p, int wide,
+                                                                   size_t n, const float *restrict T, size_t m,
+                                                                   size_t nb)
+{
+    size_t b = 0;
+    if (wide) {
+        for (; b + 16 <= nb; b += 16) {
+            __m512 x = _mm512_loadu_ps(a + b);
+            for (size_t i = 0; i < m; i++) {
+                const __m256i q = _mm256_loadu_si256((const __m256i *)((const int16_t *)p + i * n + b));
+                x = _mm512_add_ps(x, _mm512_mul_ps(_mm512_cvtepi32_ps(_mm512_cvtepi16_epi32(q)), _mm512_set1_ps(T[i])));
+            }
+            _mm512_storeu_ps(a + b, x);
+        }
+        LINEAR_TAIL(int16_t)
+    } else {
+        for (; b + 16 <= nb; b += 16) {
+            __m512 x = _mm512_loadu_ps(a + b);
+            for (size_t i = 0; i < m; i++) {
+                const __m128i q = _mm_loadu_si128((const __m128i *)((const int8_t *)p + i * n + b));
+                x = _mm512_add_ps(x, _mm512_mul_ps(_mm512_cvtepi32_ps(_mm512_cvtepi8_epi32(q)), _mm512_set1_ps(T[i])));
+            }
+            _mm512_storeu_ps(a + b, x);
+        }
+        LINEAR_TAIL(int8_t)
+    }
+}
+#undef LINEAR_TAIL
+#endif
+
 /* The SH sums of coded vertices [k0, k0 + nb), nb ≤ SH_BLOCK, from the
  * planes: channel c of the block's vertex b into acc[c·SH_BLOCK + b]. isa
  * is the copy's instruction set (a constant once inlined); T is fold_sh's. */
@@ -780,6 +858,17 @@ BLOCK_INLINE void sh_block(const sss_shcode *s, const float *T, size_t C, size_t
         float *a = acc + c * SH_BLOCK;
         for (size_t b = 0; b < nb; b++) a[b] = 0.0f;
         const size_t e = c * N; /* the channel's first code element */
+#ifdef DECODE_X86
+        const int linear = s->kind == SSS_SHQ_LINEAR16 || s->kind == SSS_SHQ_LINEAR8;
+        if (linear && isa != SSS_DECODE_ISA_BASELINE && n == SH_BLOCK) {
+            const int wide = s->kind == SSS_SHQ_LINEAR16;
+            const void *pl = wide ? (const void *)((const int16_t *)s->planes + at + e * n)
+                                  : (const void *)((const int8_t *)s->planes + at + e * n);
+            if (isa == SSS_DECODE_ISA_AVX512) planes_linear_avx512(a, pl, wide, n, T + e, N, nb);
+            else planes_linear_avx2(a, pl, wide, n, T + e, N, nb);
+            continue;
+        }
+#endif
         if (s->kind == SSS_SHQ_LINEAR16)
             planes_linear16(a, (const int16_t *)s->planes + at + e * n, n, T + e, L, N, nb);
         else if (s->kind == SSS_SHQ_LINEAR8)
@@ -857,6 +946,25 @@ BLOCK_INLINE void blend_block_c(const sss_bake_file *f, const float *R, const fl
 /* Whether f's references have a current load-time blend layout. */
 static int has_blend(const sss_bake_file *f) { return f->ref.blend && f->ref.blend_of == f->ref.w; }
 
+/* The next block's SH codes, fetched while the blend runs: k cache lines
+ * at each step of four vertices, n bytes from p (n 0: none). A block's
+ * codes are one run of memory (plane_at), and between two blocks' SH sums
+ * the blend and the stores leave that stream idle, so the hardware
+ * prefetcher, which runs ahead of the loads it sees, had fetched little of
+ * the next block when its sums began: with the viewer's draw evicting the
+ * codes between frames, the paper preset's decode waited there for about
+ * a third of its time (docs/benchmarks.md, "The blend four vertices a
+ * vector"). */
+typedef struct blend_ahead {
+    const char *p;
+    size_t n, k;
+} blend_ahead;
+
+static inline void ahead_step(const blend_ahead *a, size_t step)
+{
+    for (size_t j = step * a->k, e = j + a->k; j < e && 64 * j < a->n; j++) __builtin_prefetch(a->p + 64 * j, 0, 3);
+}
+
 /* RGB: the blend of four vertices at a time with the channels in the lanes
  * of a 4-float vector: a reference's three values are adjacent in R (R[t·3
  * + c]), so one unaligned load brings all three (the fourth lane reads the
@@ -867,10 +975,12 @@ static int has_blend(const sss_bake_file *f) { return f->ref.blend && f->ref.ble
  * channels back in acc's planes, and x + acc is acc + x to the bit (IEEE
  * addition commutes). Returns the first vertex left to the plane loop. */
 #ifdef DECODE_X86
-BLOCK_INLINE size_t blend_rgb_lanes(const float *R, const struct sss_blend_rec *restrict rec, size_t nb, float *acc)
+BLOCK_INLINE size_t blend_rgb_lanes(const float *R, const struct sss_blend_rec *restrict rec, size_t nb, float *acc,
+                                    const blend_ahead *ah)
 {
     size_t b = 0;
     for (; b + 4 <= nb; b += 4) {
+        ahead_step(ah, b / 4);
         __m128 v[4];
         for (size_t i = 0; i < 4; i++) {
             const struct sss_blend_rec *e = rec + b + i;
@@ -887,22 +997,102 @@ BLOCK_INLINE size_t blend_rgb_lanes(const float *R, const struct sss_blend_rec *
     }
     return b;
 }
+
+/* blend_rgb_lanes on the wider sets: two vertices a vector on AVX2 (one in
+ * each 128-bit half), four on AVX-512 (one in each quarter). Two (four)
+ * records are one load; their weights go to their vertex's lanes by a
+ * permute; each reference's three values are one 128-bit load into the
+ * vertex's part. Every lane forms its channel's sum as blend_rgb_lanes
+ * does, so the floats are the same; per vertex about half the
+ * instructions (docs/benchmarks.md, "The blend four vertices a vector").
+ * Records are 16 bytes, w0 and w1 the first two floats. */
+__attribute__((target("avx2"))) static size_t blend_rgb_avx2(const float *R, const struct sss_blend_rec *restrict rec,
+                                                            size_t nb, float *acc, const blend_ahead *ah)
+{
+    const __m256 one = _mm256_set1_ps(1.0f);
+    const __m256i i0 = _mm256_set_epi32(4, 4, 4, 4, 0, 0, 0, 0), i1 = _mm256_set_epi32(5, 5, 5, 5, 1, 1, 1, 1);
+    const __m256i planes = _mm256_set_epi32(7, 3, 6, 2, 5, 1, 4, 0);
+    size_t b = 0;
+    for (; b + 4 <= nb; b += 4) {
+        ahead_step(ah, b / 4);
+        __m256 v[2];
+        for (size_t h = 0; h < 2; h++) {
+            const struct sss_blend_rec *e = rec + b + 2 * h;
+            const __m256 q = _mm256_loadu_ps(&e->w0); /* records e[0] and e[1] */
+            const __m256 w0 = _mm256_permutevar8x32_ps(q, i0), w1 = _mm256_permutevar8x32_ps(q, i1);
+            const __m256 w2 = _mm256_sub_ps(_mm256_sub_ps(one, w0), w1);
+#define PAIR(j)                                                                                                        \
+    _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(R + 3 * (size_t)e[0].t[j])),                              \
+                         _mm_loadu_ps(R + 3 * (size_t)e[1].t[j]), 1)
+            const __m256 x = _mm256_add_ps(_mm256_mul_ps(w0, PAIR(0)), _mm256_mul_ps(w1, PAIR(1)));
+            v[h] = _mm256_add_ps(x, _mm256_mul_ps(w2, PAIR(2)));
+#undef PAIR
+        }
+        /* [r0 g0 b0 · | r1 g1 b1 ·], [r2 … | r3 …] → r0…r3 g0…g3, b0…b3 */
+        const __m256 rg = _mm256_permutevar8x32_ps(_mm256_unpacklo_ps(v[0], v[1]), planes);
+        const __m256 bx = _mm256_permutevar8x32_ps(_mm256_unpackhi_ps(v[0], v[1]), planes);
+        float *a = acc + b;
+        _mm_storeu_ps(a, _mm_add_ps(_mm256_castps256_ps128(rg), _mm_loadu_ps(a)));
+        _mm_storeu_ps(a + SH_BLOCK, _mm_add_ps(_mm256_extractf128_ps(rg, 1), _mm_loadu_ps(a + SH_BLOCK)));
+        _mm_storeu_ps(a + 2 * SH_BLOCK, _mm_add_ps(_mm256_castps256_ps128(bx), _mm_loadu_ps(a + 2 * SH_BLOCK)));
+    }
+    return b;
+}
+
+__attribute__((target("avx512f"))) static size_t blend_rgb_avx512(const float *R,
+                                                                 const struct sss_blend_rec *restrict rec, size_t nb,
+                                                                 float *acc, const blend_ahead *ah)
+{
+    const __m512 one = _mm512_set1_ps(1.0f);
+    const __m512i i0 = _mm512_set_epi32(12, 12, 12, 12, 8, 8, 8, 8, 4, 4, 4, 4, 0, 0, 0, 0);
+    const __m512i i1 = _mm512_set_epi32(13, 13, 13, 13, 9, 9, 9, 9, 5, 5, 5, 5, 1, 1, 1, 1);
+    const __m512i planes = _mm512_set_epi32(15, 11, 7, 3, 14, 10, 6, 2, 13, 9, 5, 1, 12, 8, 4, 0);
+    size_t b = 0;
+    for (; b + 4 <= nb; b += 4) {
+        ahead_step(ah, b / 4);
+        const struct sss_blend_rec *e = rec + b;
+        const __m512 q = _mm512_loadu_ps(&e->w0); /* records e[0] … e[3] */
+        const __m512 w0 = _mm512_permutexvar_ps(i0, q), w1 = _mm512_permutexvar_ps(i1, q);
+        const __m512 w2 = _mm512_sub_ps(_mm512_sub_ps(one, w0), w1);
+#define QUAD(j)                                                                                                        \
+    _mm512_insertf32x4(                                                                                                \
+        _mm512_insertf32x4(_mm512_insertf32x4(_mm512_castps128_ps512(_mm_loadu_ps(R + 3 * (size_t)e[0].t[j])),        \
+                                              _mm_loadu_ps(R + 3 * (size_t)e[1].t[j]), 1),                             \
+                           _mm_loadu_ps(R + 3 * (size_t)e[2].t[j]), 2),                                                \
+        _mm_loadu_ps(R + 3 * (size_t)e[3].t[j]), 3)
+        __m512 x = _mm512_add_ps(_mm512_mul_ps(w0, QUAD(0)), _mm512_mul_ps(w1, QUAD(1)));
+        x = _mm512_add_ps(x, _mm512_mul_ps(w2, QUAD(2)));
+#undef QUAD
+        x = _mm512_permutexvar_ps(planes, x); /* r0…r3 g0…g3 b0…b3 · */
+        float *a = acc + b;
+        _mm_storeu_ps(a, _mm_add_ps(_mm512_castps512_ps128(x), _mm_loadu_ps(a)));
+        _mm_storeu_ps(a + SH_BLOCK, _mm_add_ps(_mm512_extractf32x4_ps(x, 1), _mm_loadu_ps(a + SH_BLOCK)));
+        _mm_storeu_ps(a + 2 * SH_BLOCK, _mm_add_ps(_mm512_extractf32x4_ps(x, 2), _mm_loadu_ps(a + 2 * SH_BLOCK)));
+    }
+    return b;
+}
 #endif
 
 /* blend_block_c through the load-time layout (prepare_blend): the same
  * weights and offsets, read from the records, so the arithmetic per channel
  * and vertex is the same to the bit. */
 BLOCK_INLINE void blend_block_planes(const sss_bake_file *f, const float *R, size_t kb, size_t nb, float *acc,
-                                     size_t C)
+                                     size_t C, int isa, const blend_ahead *ah)
 {
     const struct sss_blend_rec *restrict rec = f->ref.blend + kb;
     size_t b0 = 0;
 #ifdef DECODE_X86
-    if (C == 3) b0 = blend_rgb_lanes(R, rec, nb, acc);
+    if (C == 3)
+        b0 = isa == SSS_DECODE_ISA_AVX512 ? blend_rgb_avx512(R, rec, nb, acc, ah)
+             : isa == SSS_DECODE_ISA_AVX2 ? blend_rgb_avx2(R, rec, nb, acc, ah)
+                                          : blend_rgb_lanes(R, rec, nb, acc, ah);
+#else
+    (void)isa;
 #endif
     float w0[SH_BLOCK], w1[SH_BLOCK], w2[SH_BLOCK];
     int32_t o0[SH_BLOCK], o1[SH_BLOCK], o2[SH_BLOCK];
     for (size_t b = b0; b < nb; b++) {
+        if (b % 4 == 0) ahead_step(ah, b / 4);
         w0[b] = rec[b].w0, w1[b] = rec[b].w1;
         w2[b] = 1.0f - w0[b] - w1[b];
         o0[b] = (int32_t)(rec[b].t[0] * C), o1[b] = (int32_t)(rec[b].t[1] * C), o2[b] = (int32_t)(rec[b].t[2] * C);
@@ -919,11 +1109,21 @@ BLOCK_INLINE void blend_block_planes(const sss_bake_file *f, const float *R, siz
 }
 
 BLOCK_INLINE void blend_block(const sss_bake_file *f, const float *R, const float *wt, size_t kb, size_t nb,
-                              float *acc)
+                              float *acc, int isa)
 {
     if (has_blend(f)) {
-        if (f->channels == 3) blend_block_planes(f, R, kb, nb, acc, 3);
-        else blend_block_planes(f, R, kb, nb, acc, f->channels);
+        /* the next block's codes (sh_group: blocks of SH_BLOCK), spread
+         * over this block's steps of four vertices */
+        const sss_shcode *s = &f->sh;
+        const size_t C = f->channels, B = kb / SH_BLOCK + 1, steps = nb / 4 ? nb / 4 : 1;
+        blend_ahead ah = {NULL, 0, 0};
+        if (sh_group(s, C) == SH_BLOCK && B * SH_BLOCK < s->ncoded) {
+            ah.n = sh_nplanes(s, C) * SH_BLOCK * (s->kind == SSS_SHQ_LINEAR16 ? 2 : 1);
+            ah.p = (const char *)s->planes + B * ah.n;
+            ah.k = (ah.n / 64 + steps - 1) / steps;
+        }
+        if (C == 3) blend_block_planes(f, R, kb, nb, acc, 3, isa, &ah);
+        else blend_block_planes(f, R, kb, nb, acc, C, isa, &ah);
         return;
     }
     if (f->channels == 3) blend_block_c(f, R, wt, kb, nb, acc, 3);
@@ -956,7 +1156,7 @@ BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const floa
     const size_t C = f->channels;
     float acc[SSS_MAX_CHANNELS * SH_BLOCK];
     sh_block(&f->sh, T, C, kb, nb, acc, isa);
-    if (R) blend_block(f, R, wt, kb, nb, acc);
+    if (R) blend_block(f, R, wt, kb, nb, acc, isa);
     for (size_t c = 0; c < C; c++) {
         float *a = acc + c * SH_BLOCK;
         for (size_t b = 0; b < nb; b++) a[b] = a[b] > 0.0f ? a[b] : 0.0f;
