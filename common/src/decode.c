@@ -788,60 +788,54 @@ __attribute__((target("avx512f"))) static void planes_nibble_avx512(float *restr
         }                                                                                                              \
         a[b] = x;                                                                                                      \
     }
+/* One pass over the block for planes [i0, i1) (at most three). */
+#define LINEAR_PASS(VEC, W, LOAD, WIDEN, CVT, MUL, ADD, SET1, LD, ST, CODE)                                          \
+    for (size_t b = 0; b + W <= nb; b += W) {                                                                        \
+        VEC x = LD(a + b);                                                                                           \
+        for (size_t i = i0; i < i1; i++) x = ADD(x, MUL(CVT(WIDEN(LOAD((const CODE *)p + i * n + b))), SET1(T[i]))); \
+        ST(a + b, x);                                                                                                \
+    }
 __attribute__((target("avx2"))) static void planes_linear_avx2(float *restrict a, const void *restrict p, int wide,
                                                               size_t n, const float *restrict T, size_t m, size_t nb)
 {
-    size_t b = 0;
-    if (wide) {
-        for (; b + 8 <= nb; b += 8) {
-            __m256 x = _mm256_loadu_ps(a + b);
-            for (size_t i = 0; i < m; i++) {
-                const __m128i q = _mm_loadu_si128((const __m128i *)((const int16_t *)p + i * n + b));
-                x = _mm256_add_ps(x, _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_cvtepi16_epi32(q)), _mm256_set1_ps(T[i])));
-            }
-            _mm256_storeu_ps(a + b, x);
-        }
-        LINEAR_TAIL(int16_t)
-    } else {
-        for (; b + 8 <= nb; b += 8) {
-            __m256 x = _mm256_loadu_ps(a + b);
-            for (size_t i = 0; i < m; i++) {
-                const __m128i q = _mm_loadl_epi64((const __m128i *)((const int8_t *)p + i * n + b));
-                x = _mm256_add_ps(x, _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_cvtepi8_epi32(q)), _mm256_set1_ps(T[i])));
-            }
-            _mm256_storeu_ps(a + b, x);
-        }
-        LINEAR_TAIL(int8_t)
+#define LOAD16(q) _mm_loadu_si128((const __m128i *)(q))
+#define LOAD8(q) _mm_loadl_epi64((const __m128i *)(q))
+    for (size_t i0 = 0; i0 < m; i0 += 3) {
+        const size_t i1 = i0 + 3 < m ? i0 + 3 : m;
+        if (wide)
+            LINEAR_PASS(__m256, 8, LOAD16, _mm256_cvtepi16_epi32, _mm256_cvtepi32_ps, _mm256_mul_ps, _mm256_add_ps,
+                        _mm256_set1_ps, _mm256_loadu_ps, _mm256_storeu_ps, int16_t)
+        else
+            LINEAR_PASS(__m256, 8, LOAD8, _mm256_cvtepi8_epi32, _mm256_cvtepi32_ps, _mm256_mul_ps, _mm256_add_ps,
+                        _mm256_set1_ps, _mm256_loadu_ps, _mm256_storeu_ps, int8_t)
     }
+#undef LOAD16
+#undef LOAD8
+    size_t b = nb / 8 * 8;
+    if (wide) LINEAR_TAIL(int16_t) else LINEAR_TAIL(int8_t)
 }
 
 __attribute__((target("avx512f"))) static void planes_linear_avx512(float *restrict a, const void *restrict p, int wide,
                                                                    size_t n, const float *restrict T, size_t m,
                                                                    size_t nb)
 {
-    size_t b = 0;
-    if (wide) {
-        for (; b + 16 <= nb; b += 16) {
-            __m512 x = _mm512_loadu_ps(a + b);
-            for (size_t i = 0; i < m; i++) {
-                const __m256i q = _mm256_loadu_si256((const __m256i *)((const int16_t *)p + i * n + b));
-                x = _mm512_add_ps(x, _mm512_mul_ps(_mm512_cvtepi32_ps(_mm512_cvtepi16_epi32(q)), _mm512_set1_ps(T[i])));
-            }
-            _mm512_storeu_ps(a + b, x);
-        }
-        LINEAR_TAIL(int16_t)
-    } else {
-        for (; b + 16 <= nb; b += 16) {
-            __m512 x = _mm512_loadu_ps(a + b);
-            for (size_t i = 0; i < m; i++) {
-                const __m128i q = _mm_loadu_si128((const __m128i *)((const int8_t *)p + i * n + b));
-                x = _mm512_add_ps(x, _mm512_mul_ps(_mm512_cvtepi32_ps(_mm512_cvtepi8_epi32(q)), _mm512_set1_ps(T[i])));
-            }
-            _mm512_storeu_ps(a + b, x);
-        }
-        LINEAR_TAIL(int8_t)
+#define LOAD16(q) _mm256_loadu_si256((const __m256i *)(q))
+#define LOAD8(q) _mm_loadu_si128((const __m128i *)(q))
+    for (size_t i0 = 0; i0 < m; i0 += 3) {
+        const size_t i1 = i0 + 3 < m ? i0 + 3 : m;
+        if (wide)
+            LINEAR_PASS(__m512, 16, LOAD16, _mm512_cvtepi16_epi32, _mm512_cvtepi32_ps, _mm512_mul_ps, _mm512_add_ps,
+                        _mm512_set1_ps, _mm512_loadu_ps, _mm512_storeu_ps, int16_t)
+        else
+            LINEAR_PASS(__m512, 16, LOAD8, _mm512_cvtepi8_epi32, _mm512_cvtepi32_ps, _mm512_mul_ps, _mm512_add_ps,
+                        _mm512_set1_ps, _mm512_loadu_ps, _mm512_storeu_ps, int8_t)
     }
+#undef LOAD16
+#undef LOAD8
+    size_t b = nb / 16 * 16;
+    if (wide) LINEAR_TAIL(int16_t) else LINEAR_TAIL(int8_t)
 }
+#undef LINEAR_PASS
 #undef LINEAR_TAIL
 #endif
 
