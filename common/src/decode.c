@@ -1145,7 +1145,7 @@ BLOCK_INLINE void store_run(float *restrict o, const float *restrict acc, size_t
  * loop (a data-dependent branch per value cost more than the sums), then
  * coded vertex k's C values to out + (v − first)·C, v its vertex. */
 BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t kb,
-                              size_t nb, size_t first, float *out, int isa)
+                              size_t nb, size_t first, size_t end, float *out, int isa)
 {
     const size_t C = f->channels;
     float acc[SSS_MAX_CHANNELS * SH_BLOCK];
@@ -1173,12 +1173,18 @@ BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const floa
          * stream"). */
         size_t v = r->coded_vertex[kb], j = v - kb;
         for (size_t b = 0; b < nb;) {
-            while (j < r->nref && rv[j] == v) j++, v++;
+            if (b) /* the references between two runs: their own values */
+                for (; j < r->nref && rv[j] == v; j++, v++)
+                    for (size_t c = 0; c < C; c++) out[(v - first) * C + c] = R[j * C + c];
             const size_t gap = j < r->nref ? rv[j] - v : nb - b, len = gap < nb - b ? gap : nb - b;
             store_run(out + (v - first) * C, acc, b, len, C);
             b += len;
             v += len;
         }
+        /* and those after the block's last coded vertex, up to the next
+         * coded vertex (the next block's) or the end of the range */
+        for (; j < r->nref && rv[j] == v && v < end; j++, v++)
+            for (size_t c = 0; c < C; c++) out[(v - first) * C + c] = R[j * C + c];
         return;
     }
     store_run(out + (kb - first) * C, acc, 0, nb, C);
@@ -1196,27 +1202,27 @@ BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const floa
  * but AVX-512F includes it, so this unit is compiled with
  * -ffp-contract=off (common/CMakeLists.txt). */
 typedef void (*block_fn)(const sss_bake_file *, const float *, const float *, const float *, size_t, size_t, size_t,
-                         float *);
+                         size_t, float *);
 
 static void block_baseline(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t kb,
-                           size_t nb, size_t first, float *out)
+                           size_t nb, size_t first, size_t end, float *out)
 {
-    coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_BASELINE);
+    coded_block(f, R, T, wt, kb, nb, first, end, out, SSS_DECODE_ISA_BASELINE);
 }
 
 #ifdef DECODE_X86
 __attribute__((target("avx2"))) static void block_avx2(const sss_bake_file *f, const float *R, const float *T,
-                                                      const float *wt, size_t kb, size_t nb, size_t first,
+                                                      const float *wt, size_t kb, size_t nb, size_t first, size_t end,
                                                       float *out)
 {
-    coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_AVX2);
+    coded_block(f, R, T, wt, kb, nb, first, end, out, SSS_DECODE_ISA_AVX2);
 }
 
 __attribute__((target("avx512f"))) static void block_avx512(const sss_bake_file *f, const float *R, const float *T,
-                                                           const float *wt, size_t kb, size_t nb, size_t first,
+                                                           const float *wt, size_t kb, size_t nb, size_t first, size_t end,
                                                            float *out)
 {
-    coded_block(f, R, T, wt, kb, nb, first, out, SSS_DECODE_ISA_AVX512);
+    coded_block(f, R, T, wt, kb, nb, first, end, out, SSS_DECODE_ISA_AVX512);
 }
 #endif
 
@@ -1265,7 +1271,7 @@ static block_fn block_for(int isa)
 /* decode_compressed's loop over coded vertices [k0, k1) through the
  * planes, in blocks (coded_block); R NULL without references. */
 static void coded_blocks(const sss_bake_file *f, const float *R, const float *T, const float *wt, size_t k0,
-                         size_t k1, size_t first, float *out)
+                         size_t k1, size_t first, size_t end, float *out)
 {
     const size_t C = f->channels;
     const block_fn block = block_for(sss_decode_isa());
@@ -1278,7 +1284,7 @@ static void coded_blocks(const sss_bake_file *f, const float *R, const float *T,
     for (ptrdiff_t blk = 0; blk < nblk; blk++) {
         const size_t B = B0 + (size_t)blk, kb = B * SH_BLOCK > k0 ? B * SH_BLOCK : k0,
                      ke = (B + 1) * SH_BLOCK < k1 ? (B + 1) * SH_BLOCK : k1;
-        block(f, R, T, wt, kb, ke - kb, first, out);
+        block(f, R, T, wt, kb, ke - kb, first, end, out);
     }
 }
 
@@ -1306,11 +1312,17 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
         if (!(R = malloc(((size_t)r->nref * C + 1) * sizeof *R))) goto oom;
         R[(size_t)r->nref * C] = 0.0f; /* the padding blend_rgb_lanes's last load may read */
         ref_values(f, d, interp, R);
-        const size_t r1 = lower_bound_u32(r->ref_vertex, r->nref, end);
-        for (size_t k = lower_bound_u32(r->ref_vertex, r->nref, first); k < r1; k++)
-            for (size_t c = 0; c < C; c++) out[((size_t)r->ref_vertex[k] - first) * C + c] = R[k * C + c];
         const ptrdiff_t k0 = (ptrdiff_t)lower_bound_u32(r->coded_vertex, f->sh.ncoded, first);
         const ptrdiff_t k1 = (ptrdiff_t)lower_bound_u32(r->coded_vertex, f->sh.ncoded, end);
+        const int blocks = T && has_planes(f) && (size_t)r->nref * C <= INT32_MAX; /* blend_block's offsets */
+        /* the references' own values: through the blocks each block
+         * stores those after its coded vertices, in order with its runs
+         * (coded_block); here those before the range's first coded vertex,
+         * or all of them */
+        const size_t vr = blocks && k0 < k1 ? r->coded_vertex[k0] : end;
+        const size_t r1 = lower_bound_u32(r->ref_vertex, r->nref, vr);
+        for (size_t k = lower_bound_u32(r->ref_vertex, r->nref, first); k < r1; k++)
+            for (size_t c = 0; c < C; c++) out[((size_t)r->ref_vertex[k] - first) * C + c] = R[k * C + c];
         /* 8-bit weight codes: their 256 weights once per call, as
          * coded_weights computes each (a division per weight saved) */
         float wt8[256];
@@ -1319,8 +1331,8 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
             for (uint32_t x = 0; x < 256; x++) wt8[x] = sss_decode_ref_weight(r, x);
             wt = wt8;
         }
-        if (T && has_planes(f) && (size_t)r->nref * C <= INT32_MAX) { /* blend_block's offsets */
-            coded_blocks(f, R, T, wt, (size_t)k0, (size_t)k1, first, out);
+        if (blocks) {
+            coded_blocks(f, R, T, wt, (size_t)k0, (size_t)k1, first, end, out);
         } else {
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if ((k1 - k0) * (ptrdiff_t)C >= PAR_MIN / 4)
@@ -1329,7 +1341,7 @@ static void decode_compressed(const sss_bake_file *f, const double d[3], sss_int
                 coded_values(f, R, T, wt, (size_t)k, out + ((size_t)r->coded_vertex[k] - first) * C);
         }
     } else if (T && has_planes(f)) {
-        coded_blocks(f, NULL, T, NULL, first, end, first, out);
+        coded_blocks(f, NULL, T, NULL, first, end, first, end, out);
     } else {
         const ptrdiff_t n = (ptrdiff_t)count;
 #ifdef _OPENMP

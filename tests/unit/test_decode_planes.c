@@ -179,10 +179,26 @@ static void check_form(const sss_bake_file *src, uint32_t order, double fraction
         }
         assert_int_equal(sss_decode_force_isa(-1), 0);
         for (size_t i = 0; i < n; i++) positive += want[i] > 0.0f;
-        /* a range that starts and ends inside blocks: the slice */
-        const uint32_t first = (uint32_t)nv / 3 + 1, count = (uint32_t)nv / 2 + 3;
-        sss_decode_range(&f, lights[t], first, count, got);
-        assert_memory_equal(got, want + (size_t)first * C, (size_t)count * C * sizeof *got);
+        /* ranges that start and end inside blocks: the slice; with
+         * references, also ranges that start or end at one or hold only
+         * references (each block stores the references after its coded
+         * vertices, the caller those before the range's first) */
+        uint32_t ranges[6][2] = {{(uint32_t)nv / 3 + 1, (uint32_t)nv / 2 + 3}};
+        size_t nr = 1;
+        if (f.quant == SSS_QUANT_REFS && f.ref.nref > 2) {
+            const uint32_t *rv = f.ref.ref_vertex, a = rv[f.ref.nref / 3], b = rv[2 * f.ref.nref / 3];
+            ranges[nr][0] = a, ranges[nr++][1] = b - a + 1;  /* a reference at each end */
+            ranges[nr][0] = a + 1, ranges[nr++][1] = b - a;  /* ends on one */
+            ranges[nr][0] = a, ranges[nr++][1] = 1;          /* one reference alone */
+            ranges[nr][0] = 0, ranges[nr++][1] = rv[0] + 1;  /* up to the first */
+            ranges[nr][0] = rv[f.ref.nref - 1], ranges[nr++][1] = (uint32_t)nv - rv[f.ref.nref - 1]; /* from the last */
+        }
+        for (size_t q = 0; q < nr; q++) {
+            const uint32_t first = ranges[q][0], count = ranges[q][1];
+            memset(got, 0xff, n * sizeof *got);
+            sss_decode_range(&f, lights[t], first, count, got);
+            assert_memory_equal(got, want + (size_t)first * C, (size_t)count * C * sizeof *got);
+        }
         for (uint32_t v = 0; v < nv; v += 97) {
             float one[3];
             sss_decode_vertex(&f, v, lights[t], one);
