@@ -450,14 +450,17 @@ static void ref_values(const sss_bake_file *f, const double d[3], sss_interp int
             T[1][k][x] = (float)(w[1] * L);
             T[2][k][x] = (float)(w[2] * L);
         }
-    const ptrdiff_t n = (ptrdiff_t)row;
+    /* reference by reference, the channels inner: no division per value
+     * to find its channel */
+    const ptrdiff_t nref = (ptrdiff_t)r->nref;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(static) if (n >= PAR_MIN)
+#pragma omp parallel for schedule(static) if ((ptrdiff_t)row >= PAR_MIN)
 #endif
-    for (ptrdiff_t i = 0; i < n; i++) {
-        const size_t k = (size_t)i % C;
-        R[i] = T[0][k][a[i]] + T[1][k][b[i]] + T[2][k][c[i]];
-    }
+    for (ptrdiff_t k = 0; k < nref; k++)
+        for (size_t ch = 0; ch < C; ch++) {
+            const size_t i = (size_t)k * C + ch;
+            R[i] = T[0][ch][a[i]] + T[1][ch][b[i]] + T[2][ch][c[i]];
+        }
 }
 
 /* The blend of coded vertex k's three reference values (§4.2), every
