@@ -10,7 +10,9 @@
 # shows "—" there. Each round runs every file on every BUILD (default: build) in turn, so
 # that builds and forms share the machine's load; printed: the median over
 # the rounds of sss-view's scatter median (--offscreen --bench 15 --size
-# 64x64, GPU path and --cpu path) and of decode_bench's one-thread decode.
+# 64x64, GPU path and --cpu path) and of decode_bench's one-thread decode,
+# with the data in cache and with 64 MiB written between frames (--evict
+# 64: the caches emptied, as the viewer's draw empties them).
 # OMP_NUM_THREADS=1: on a loaded machine OpenMP's spinning threads, not the
 # decode, set the CPU path's time (docs/benchmarks.md).
 # Needs data/fetch.sh, python3.
@@ -49,9 +51,12 @@ for ((r = 0; r < ROUNDS; r++)); do
              python3 -c 'import json,sys; print(json.load(sys.stdin)["scatter_ms_median"])') || ms=nan
         printf '%s\t%s\t%s\t%s\n' "$b" "$f" "$path" "$ms" >> "$OUT/forms.tsv"
       done
-      ms=$("$b/tests/bench/decode_bench" --decode-only 30 "$OUT/$f.sss" | awk '{print $3}') || ms=nan
-      [ -n "$ms" ] || ms=nan
-      printf '%s\t%s\t%s\t%s\n' "$b" "$f" decode1t "$ms" >> "$OUT/forms.tsv"
+      for ev in 0 64; do
+        ms=$("$b/tests/bench/decode_bench" --decode-only 30 --evict $ev "$OUT/$f.sss" | awk '{print $3}') || ms=nan
+        [ -n "$ms" ] || ms=nan
+        col=decode1t; [ $ev = 0 ] || col=decode1t_evict
+        printf '%s\t%s\t%s\t%s\n' "$b" "$f" $col "$ms" >> "$OUT/forms.tsv"
+      done
     done
   done
   echo "compressed_forms: round $((r + 1)) of $ROUNDS" >&2
@@ -65,8 +70,9 @@ med = {}
 for b, f, p, ms in rows:
     med.setdefault((b, f, p), []).append(float(ms))
 m = {k: statistics.median(v) for k, v in med.items()}
-cols = [(b, p) for p in ("gpu", "cpu", "decode1t") for b in builds]
-name = {"gpu": "GPU path (llvmpipe) scatter", "cpu": "CPU path scatter", "decode1t": "sss_decode_all, 1 thread"}
+cols = [(b, p) for p in ("gpu", "cpu", "decode1t", "decode1t_evict") for b in builds]
+name = {"gpu": "GPU path (llvmpipe) scatter", "cpu": "CPU path scatter", "decode1t": "sss_decode_all, 1 thread",
+        "decode1t_evict": "the same, caches evicted"}
 print("| form | " + " | ".join(f"{name[p]}, ms ({b})" for b, p in cols) + " |")
 print("|---|" + "---|" * len(cols))
 for f in files:
