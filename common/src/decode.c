@@ -772,14 +772,15 @@ __attribute__((target("avx512f"))) static void planes_nibble_avx512(float *restr
 
 /* The linear kinds on the wider sets, in blocks (n = SH_BLOCK): a[b] += Σ_i
  * (float)code_i · T[i], the m planes' terms added in plane order, as
- * planes_linear8 / planes_linear16 add them, but each vector of vertices
- * summed in a register over all m planes: one code load, widening and
- * conversion per plane and vector, where the compiler's copies widened
- * 8-bit codes through 16 bits and the halves of 256-bit vectors (SH order
- * 3 in linear8: the one-thread decode 0.19 → 0.13 ms on the 100K dragon,
- * docs/benchmarks.md "The blend four vertices a vector"). With all coded
- * vertices in one group (order 7) the m planes are ncoded apart, m streams
- * for one vector, and three planes a pass over the block stay faster.
+ * planes_linear8 / planes_linear16 add them: three planes a pass over the
+ * block, each vector's three terms summed in a register, one code load,
+ * widening and conversion per plane and vector, where the compiler's
+ * copies widened 8-bit codes through 16 bits and the halves of 256-bit
+ * vectors (SH order 3 in linear8: the one-thread decode 0.19 → 0.12 ms on
+ * the 100K dragon). All planes a vector was faster with the codes in cache
+ * but, hopping across the block's planes, slower with them evicted
+ * (docs/benchmarks.md, "The blend four vertices a vector"). The AVX2 and
+ * AVX-512 copies differ in vector width only, as the 4-bit ones above.
  * Vertices past the last full vector: the same sums, one at a time. */
 #ifdef DECODE_X86
 #define LINEAR_TAIL(CODE)                                                                                              \
@@ -1175,19 +1176,19 @@ BLOCK_INLINE void coded_block(const sss_bake_file *f, const float *R, const floa
          * --evict, docs/benchmarks.md "The blend's records in one
          * stream"). */
         size_t v = r->coded_vertex[kb], j = v - kb;
-        for (size_t b = 0; b < nb;) {
-            if (b) /* the references between two runs: their own values */
-                for (; j < r->nref && rv[j] == v; j++, v++)
+        for (size_t b = 0;;) {
+            /* after each run, the references up to the next coded vertex
+             * (after the block's last run: the next block's, or the end of
+             * the range): their own values */
+            if (b)
+                for (; j < r->nref && rv[j] == v && v < end; j++, v++)
                     for (size_t c = 0; c < C; c++) out[(v - first) * C + c] = R[j * C + c];
+            if (b == nb) break;
             const size_t gap = j < r->nref ? rv[j] - v : nb - b, len = gap < nb - b ? gap : nb - b;
             store_run(out + (v - first) * C, acc, b, len, C);
             b += len;
             v += len;
         }
-        /* and those after the block's last coded vertex, up to the next
-         * coded vertex (the next block's) or the end of the range */
-        for (; j < r->nref && rv[j] == v && v < end; j++, v++)
-            for (size_t c = 0; c < C; c++) out[(v - first) * C + c] = R[j * C + c];
         return;
     }
     store_run(out + (kb - first) * C, acc, 0, nb, C);
