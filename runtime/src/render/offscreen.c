@@ -13,21 +13,28 @@ struct sss_offscreen {
     EGLContext ctx;
 };
 
+/* The first display that initialises: the surfaceless platform (no X, no
+ * GPU needed), then each EGL device (NVIDIA's driver offers no surfaceless
+ * display, or one that may not initialise), then the default display. */
 static EGLDisplay open_display(void)
 {
-    /* Prefer the surfaceless platform (no X, no GPU needed); fall back to
-     * the first EGL device, then to the default display. */
     const char *ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    EGLDisplay d = EGL_NO_DISPLAY;
+    EGLDisplay cand[6];
+    int n = 0;
     if (ext && strstr(ext, "EGL_MESA_platform_surfaceless"))
-        d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
-    if (d == EGL_NO_DISPLAY && ext && strstr(ext, "EGL_EXT_platform_device")) {
+        cand[n++] = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+    if (ext && strstr(ext, "EGL_EXT_platform_device")) {
         EGLDeviceEXT dev[4];
-        EGLint n = 0;
-        if (eglQueryDevicesEXT(4, dev, &n) && n > 0) d = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, dev[0], NULL);
+        EGLint nd = 0;
+        if (eglQueryDevicesEXT(4, dev, &nd))
+            for (EGLint i = 0; i < nd && i < 4; i++) cand[n++] = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, dev[i], NULL);
     }
-    if (d == EGL_NO_DISPLAY) d = eglGetDisplay(EGL_DEFAULT_DISPLAY);
-    return d;
+    cand[n++] = eglGetDisplay(EGL_DEFAULT_DISPLAY);
+    for (int i = 0; i < n; i++) {
+        EGLint major, minor;
+        if (cand[i] != EGL_NO_DISPLAY && eglInitialize(cand[i], &major, &minor)) return cand[i];
+    }
+    return EGL_NO_DISPLAY;
 }
 
 sss_result sss_offscreen_create(sss_offscreen **out, sss_error *err)
@@ -36,8 +43,7 @@ sss_result sss_offscreen_create(sss_offscreen **out, sss_error *err)
     sss_offscreen *o = calloc(1, sizeof *o);
     if (!o) return sss_fail(err, SSS_ERR_NOMEM, "offscreen: out of memory");
     o->dpy = open_display();
-    EGLint major, minor;
-    if (o->dpy == EGL_NO_DISPLAY || !eglInitialize(o->dpy, &major, &minor)) {
+    if (o->dpy == EGL_NO_DISPLAY) {
         free(o);
         return sss_fail(err, SSS_ERR_UNSUPPORTED, "offscreen: no EGL display (install libegl-mesa0 and libgl1-mesa-dri)");
     }
