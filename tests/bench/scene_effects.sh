@@ -6,7 +6,7 @@
 # GPU (fx_gpu.c, the default) and on the CPU (--cpu). Prints a Markdown table.
 # usage: tests/bench/scene_effects.sh BUILD_DIR [MESH] [MM_PER_UNIT]
 # (defaults: data/stanford/dragon_22998.ply, 4000 mm per unit; the light
-# positions and camera are set for that mesh)
+# positions and camera are set for that mesh; THREADS: the bakes' threads, default 2)
 set -eu
 B=${1:?build dir}
 MESH=$(readlink -f "${2:-data/stanford/dragon_22998.ply}")
@@ -37,7 +37,7 @@ echo "| scene | effects | bake (s) | rays | scattering bytes/vertex | file bytes
 echo "|---|---|---:|---:|---:|---:|---:|---:|---|---:|"
 for s in sun_grey sun moving_sun env point sun_env all; do
   mkdir -p "$T/$s"
-  j=$("$B/precompute/sss-bake" --scene "$T/$s.json" -o "$T/$s" --threads 2 -q --json)
+  j=$("$B/precompute/sss-bake" --scene "$T/$s.json" -o "$T/$s" --threads "${THREADS:-2}" -q --json)
   fx=$(echo "$j" | sed 's/.*"effects":\[\([^]]*\)\].*/\1/; s/"//g; s/,/ /g')
   tb=$(echo "$j" | sed 's/.*"bake_seconds":\([0-9.e+-]*\).*/\1/')
   rays=$(echo "$j" | sed 's/.*"rays":\([0-9.e+-]*\).*/\1/')

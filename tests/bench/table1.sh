@@ -28,7 +28,7 @@
 # paper's 200 bytes per vertex are one byte per direction), 200 directions
 # as the paper. Views: 1024x1024 (the paper's "about 1024 pixels in each
 # dimension"), FRAMES frames each (default 5), medians. Needs data/fetch.sh
-# and python3. Writes OUT_DIR/table1.jsonl and prints the table;
+# and python3. THREADS: the bakes' threads (default 2). Writes OUT_DIR/table1.jsonl and prints the table;
 # REPORT_ONLY=1 prints the table of an earlier run's OUT_DIR/table1.jsonl.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -89,7 +89,7 @@ for m in $MODELS; do
     esac
     file=$OUT/${m}_$st.sss
     /usr/bin/time -f '%e' -o "$OUT/wall" "$BAKE" "$mesh" -o "$file" "${GREY[@]}" --mm-per-unit "$s" "${opt[@]}" \
-      --threads 2 --json -q |
+      --threads "${THREADS:-2}" --json -q |
       python3 -c "import json,sys; d=json.load(sys.stdin); print(json.dumps({'model':'$m','storage':'$st','bake':1,
 'vertices':d['vertices'],'triangles':d['triangles'],'mm_per_unit':$s,'integral_bpv':d['integral_bytes_per_vertex'],
 'file_bpv':d['bytes_per_vertex'],'refs':d.get('refs',0),'bake_s':d['seconds']['total'],
