@@ -235,14 +235,23 @@ print('bandwidth:', bw)
 t = get('tests', 'render')
 print('render tests:', t and t['summary'], 'failed:', t and t['failed'])
 print()
-print('| file | vertices | ch | storage | path | B/vertex | scatter ms (GL timer) | bound ms | ratio | frame ms (fps) |')
-print('|---|---|---|---|---|---|---|---|---|---|')
+# bytes a frame moves per vertex on the GPU path: the three directions'
+# rows of an uncompressed file (one byte or float per channel each), every
+# stored byte of a compressed one, and q written (a float per channel)
+def moved(d):
+    C = d['channels']
+    read = {'lloyd8': 3 * C, 'float': 12 * C}.get(d['quant'], d['bytes_per_vertex'])
+    return read + 4 * C
+print('| file | vertices | ch | storage | path | B/vertex moved | scatter ms (GL timer) | near terms ms (GL timer) | bound ms | ratio | frame ms (fps) |')
+print('|---|---|---|---|---|---|---|---|---|---|---|')
 for r in rows:
     if r['kind'] != 'view' or r['name'] == 'smoke': continue
     d = r['data']
-    bound = d['vertices'] * d['bytes_per_vertex'] / (bw['read_GBps'] * 1e9) * 1e3 if bw and d['path'] == 'gpu' else None
-    print(f"| {r['name']} | {d['vertices']:,} | {d['channels']} | {d['storage']} | {d['path']} | {d['bytes_per_vertex']:.1f} | "
-          f"{d['scatter_ms_median']:.3f} ({d['gpu_timer_scatter_ms_last']:.3f}) | {'%.3f' % bound if bound else '—'} | "
+    gpu = d['path'] == 'gpu'
+    bound = d['vertices'] * moved(d) / (bw['copy_GBps'] * 1e9) * 1e3 if bw and gpu else None
+    print(f"| {r['name']} | {d['vertices']:,} | {d['channels']} | {d['storage']} | {d['path']} | {moved(d):.1f} | "
+          f"{d['scatter_ms_median']:.3f} ({'%.3f' % d['gpu_timer_scatter_ms_last'] if gpu else '—'}) | "
+          f"{'%.3f' % d['gpu_timer_own_ms_last'] if gpu and d['own_term'] != 'none' else '—'} | {'%.4f' % bound if bound else '—'} | "
           f"{'%.1f' % (d['scatter_ms_median'] / bound) if bound else '—'} | {d['frame_ms_median']:.2f} ({d['fps']:.0f}) |")
 PY
 }
