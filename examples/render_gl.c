@@ -70,14 +70,17 @@ int main(int argc, char **argv)
     sss_error err = {{0}};
     if (sss_file_read(argv[1], &f, &err) != SSS_OK) return fprintf(stderr, "render_gl: %s\n", err.msg), 1;
 
+    /* Mesa's surfaceless platform, else the default display (NVIDIA's
+     * driver gives its first GPU there, with no window system) */
     EGLDisplay dpy = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+    if (dpy == EGL_NO_DISPLAY || !eglInitialize(dpy, NULL, NULL)) dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
     static const EGLint ctx_attr[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 3,
                                       EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     EGLContext ctx = EGL_NO_CONTEXT;
     if (dpy != EGL_NO_DISPLAY && eglInitialize(dpy, NULL, NULL) && eglBindAPI(EGL_OPENGL_API))
         ctx = eglCreateContext(dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attr);
     if (ctx == EGL_NO_CONTEXT || !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx))
-        return fprintf(stderr, "render_gl: no OpenGL 4.3 context through EGL surfaceless\n"), 1;
+        return fprintf(stderr, "render_gl: no OpenGL 4.3 context through EGL\n"), 1;
 
     /* 1. the layout: static buffers once, packed to the GL's range alignment */
     GLint align = 4;
