@@ -13,7 +13,7 @@
 # 64x64, GPU path and --cpu path) and of decode_bench's one-thread decode,
 # with the data in cache and with 64 MiB written between frames (--evict
 # 64: the caches emptied, as the viewer's draw empties them).
-# OMP_NUM_THREADS=1: on a loaded machine OpenMP's spinning threads, not the
+# OMP_NUM_THREADS=1 (THREADS=N for N): on a loaded machine OpenMP's spinning threads, not the
 # decode, set the CPU path's time (docs/benchmarks.md).
 # Needs data/fetch.sh, python3.
 set -euo pipefail
@@ -40,7 +40,7 @@ form sh7_linear16 7 0 --kind linear16
 form refs_paper 3 0.03 --kind linear8
 form refs_compact 3 0.01 --kind lloyd4 --wbits 8 --ls --illum 0.001
 FILES=(d100_lloyd8 sh3_linear8 sh3_lloyd4 sh7_linear16 refs_paper refs_compact)
-export OMP_NUM_THREADS=1
+export OMP_NUM_THREADS=${THREADS:-1}
 : > "$OUT/forms.tsv"
 for ((r = 0; r < ROUNDS; r++)); do
   for b in "${BUILDS[@]}"; do
