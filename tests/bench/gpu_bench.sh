@@ -167,7 +167,9 @@ PY
   log "render tests: $(grep -E 'tests passed' "$OUT/ctest.txt")"
   log "waiting for the bakes"
   while kill -0 $bakes 2>/dev/null && [ "$(left)" -gt 200 ]; do sleep 2; done
-  kill $bakes 2>/dev/null; wait $bakes 2>/dev/null
+  # a bake still running past the budget: its timeout (which ends the bake
+  # with it) and then the list
+  pkill -P $bakes 2>/dev/null; kill $bakes 2>/dev/null; wait $bakes 2>/dev/null
   ls -l "$W"/*.sss >> "$OUT/log.txt"
 
   # 3. bandwidth
