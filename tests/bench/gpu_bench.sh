@@ -30,11 +30,13 @@
 #        near terms by rays and by shadow map);
 #     5. the compressed forms against lloyd8 (the 100K dragon, as
 #        compressed_forms.sh makes them);
-#     6. Table I's models (table1.sh's stand-ins) on the GPU path;
+#     6. Table I (table1.sh: its models and stand-ins, both paths, with and
+#        without scattering, bakes on every core);
 #     7. the scene effects (scene_effects.sh), single scattering per pixel
 #        (single_gpu.sh).
 #   OUTDIR gets results.jsonl (one JSON object a measurement), log.txt,
-#   ctest.txt and a 1920x1080 image of the default dragon lit from behind.
+#   ctest.txt, bakes.txt, the tables of steps 6-7 and a 1920x1080 image of
+#   each PREBAKED file lit from behind.
 #   GPU_BENCH_ANY_GL=1 goes on without an NVIDIA renderer (to try the script
 #   here, on llvmpipe).
 # report: the Markdown tables of OUTDIR/results.jsonl.
