@@ -65,9 +65,11 @@ void main() {
 #endif
     precise float x = max(qx * u_light.x + qy * u_light.y + qz * u_light.z, 0.0);
 #elif defined(NEAREST4)
-    float x = u_w.x * row_a[i] + u_w.y * row_b[i] + u_w.z * row_c[i] + u_w.w * row_d[i];
+    precise float x = u_w.x * row_a[i] + u_w.y * row_b[i] + u_w.z * row_c[i] + u_w.w * row_d[i];
 #else
-    float x = u_w.x * row_a[i] + u_w.y * row_b[i] + u_w.z * row_c[i];
+    // precise: no fused multiply-adds (NVIDIA's compiler fuses where it
+    // may), so the products and sums round as the C decoder's do
+    precise float x = u_w.x * row_a[i] + u_w.y * row_b[i] + u_w.z * row_c[i];
 #endif
 #ifdef REFS
     uint r = i / u_channels;
