@@ -6,6 +6,7 @@
 #   tests/bench/gpu_bench.sh pack [BUILD] [PREBAKED.sss...]   # here
 #   tests/bench/gpu_bench.sh run OUTDIR [BUDGET_S]            # there
 #   tests/bench/gpu_bench.sh report OUTDIR                    # here
+#   tests/bench/gpu_bench.sh shell OUTDIR CMD...              # there: CMD in run's set-up
 #
 # pack (on the machine that built BUILD, default build/): writes
 #   .gpubench/bundle.tar.xz (git-ignored, under 64 MiB): BUILD's programs and
@@ -43,7 +44,7 @@
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$PWD
-MODE=${1:?usage: gpu_bench.sh pack [BUILD] [PREBAKED...] | run OUTDIR [BUDGET_S] | report OUTDIR}
+MODE=${1:?usage: gpu_bench.sh pack [BUILD] [PREBAKED...] | run OUTDIR [BUDGET_S] | report OUTDIR | shell OUTDIR CMD...}
 shift
 
 pack() {
@@ -96,9 +97,8 @@ view() { # NAME FILE ARGS...: one sss-view --bench row
   else log "view $n $*: no result"; fi
 }
 
-run() {
-  OUT=${1:?run OUTDIR}; BUDGET=${2:-420}
-  mkdir -p "$OUT"; : > "$OUT/results.jsonl"; : > "$OUT/log.txt"
+# the bundle unpacked and the environment pointed at it and at the driver
+setup() {
   X=$ROOT/.gpubench/x
   log "unpacking"
   rm -rf "$X" && mkdir -p "$X"
@@ -106,7 +106,7 @@ run() {
   # the build's absolute paths are /work/main/...: point them here
   [ "$ROOT" = /work/main ] || { mkdir -p /work && ln -sfn "$ROOT" /work/main; }
   [ -e build ] || ln -s "$X/build" build
-  mkdir -p data/stanford && cp -n "$X"/data/*.ply data/stanford/
+  mkdir -p data/stanford && cp --update=none "$X"/data/*.ply data/stanford/ 2>/dev/null || cp -n "$X"/data/*.ply data/stanford/
   local LP=$X/lib
   ldconfig -p | grep -q 'libstdc++.so.6 ' || LP=$LP:$X/libcxx
   ldconfig -p | grep -q 'libEGL.so.1 ' || LP=$LP:$X/glvnd
@@ -114,9 +114,15 @@ run() {
   export LD_LIBRARY_PATH=$LP${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
   local vj=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
   [ -f /usr/share/glvnd/egl_vendor.d/10_nvidia.json ] || [ ! -f $vj ] || export __EGL_VENDOR_LIBRARY_FILENAMES=$vj
-  local NT; NT=$(nproc)
+  NT=$(nproc)
   export OMP_NUM_THREADS=$NT
   log "threads $NT, LD_LIBRARY_PATH=$LD_LIBRARY_PATH"
+}
+
+run() {
+  OUT=${1:?run OUTDIR}; BUDGET=${2:-420}
+  mkdir -p "$OUT"; : > "$OUT/results.jsonl"; : > "$OUT/log.txt"
+  setup || return 1
 
   # 1. the machine
   local smi; smi=$(nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max.mem --format=csv,noheader 2>&1 | head -1)
@@ -263,6 +269,7 @@ PY
 case $MODE in
   pack) pack "$@" ;;
   run) run "$@" ;;
+  shell) OUT=${1:?shell OUTDIR CMD...}; shift; BUDGET=600; mkdir -p "$OUT"; : > "$OUT/log.txt"; setup && "$@" ;;
   report) report "$@" ;;
-  *) echo "gpu_bench.sh: unknown mode '$MODE' (pack, run or report)" >&2; exit 2 ;;
+  *) echo "gpu_bench.sh: unknown mode '$MODE' (pack, run, report or shell)" >&2; exit 2 ;;
 esac
