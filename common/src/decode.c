@@ -780,7 +780,8 @@ __attribute__((target("avx512f"))) static void planes_nibble_avx512(float *restr
  * the 100K dragon). All planes a vector was faster with the codes in cache
  * but, hopping across the block's planes, slower with them evicted
  * (docs/benchmarks.md, "The blend four vertices a vector"). The AVX2 and
- * AVX-512 copies differ in vector width only, as the 4-bit ones above.
+ * AVX-512 copies are one macro at two vector widths (the same machine code
+ * as when they were written out).
  * Vertices past the last full vector: the same sums, one at a time. */
 #ifdef DECODE_X86
 #define LINEAR_TAIL(CODE)                                                                                              \
@@ -813,46 +814,33 @@ __attribute__((target("avx512f"))) static void planes_nibble_avx512(float *restr
             ST(a + b, x);                                                                                            \
         }                                                                                                            \
     }
-__attribute__((target("avx2"))) static void planes_linear_avx2(float *restrict a, const void *restrict p, int wide,
-                                                              size_t n, const float *restrict T, size_t m, size_t nb)
-{
-#define LOAD16(q) _mm_loadu_si128((const __m128i *)(q))
-#define LOAD8(q) _mm_loadl_epi64((const __m128i *)(q))
-    for (size_t i0 = 0; i0 < m; i0 += 3) {
-        const size_t i1 = i0 + 3 < m ? i0 + 3 : m;
-        if (wide)
-            LINEAR_PASS(__m256, 8, LOAD16, _mm256_cvtepi16_epi32, _mm256_cvtepi32_ps, _mm256_mul_ps, _mm256_add_ps,
-                        _mm256_set1_ps, _mm256_loadu_ps, _mm256_storeu_ps, int16_t)
-        else
-            LINEAR_PASS(__m256, 8, LOAD8, _mm256_cvtepi8_epi32, _mm256_cvtepi32_ps, _mm256_mul_ps, _mm256_add_ps,
-                        _mm256_set1_ps, _mm256_loadu_ps, _mm256_storeu_ps, int8_t)
+/* planes_linear_avx2 and planes_linear_avx512: the passes, then the tail;
+ * X the intrinsics' prefix, LOAD16 and LOAD8 W codes' load. */
+#define PLANES_LINEAR(NAME, TARGET, VEC, W, X, LOAD16, LOAD8)                                                         \
+    __attribute__((target(TARGET))) static void NAME(float *restrict a, const void *restrict p, int wide, size_t n,   \
+                                                     const float *restrict T, size_t m, size_t nb)                     \
+    {                                                                                                                \
+        for (size_t i0 = 0; i0 < m; i0 += 3) {                                                                       \
+            const size_t i1 = i0 + 3 < m ? i0 + 3 : m;                                                               \
+            if (wide)                                                                                                \
+                LINEAR_PASS(VEC, W, LOAD16, X##_cvtepi16_epi32, X##_cvtepi32_ps, X##_mul_ps, X##_add_ps,             \
+                            X##_set1_ps, X##_loadu_ps, X##_storeu_ps, int16_t)                                       \
+            else                                                                                                     \
+                LINEAR_PASS(VEC, W, LOAD8, X##_cvtepi8_epi32, X##_cvtepi32_ps, X##_mul_ps, X##_add_ps,               \
+                            X##_set1_ps, X##_loadu_ps, X##_storeu_ps, int8_t)                                        \
+        }                                                                                                            \
+        size_t b = nb / W * W;                                                                                       \
+        if (wide) LINEAR_TAIL(int16_t) else LINEAR_TAIL(int8_t)                                                      \
     }
-#undef LOAD16
-#undef LOAD8
-    size_t b = nb / 8 * 8;
-    if (wide) LINEAR_TAIL(int16_t) else LINEAR_TAIL(int8_t)
-}
-
-__attribute__((target("avx512f"))) static void planes_linear_avx512(float *restrict a, const void *restrict p, int wide,
-                                                                   size_t n, const float *restrict T, size_t m,
-                                                                   size_t nb)
-{
-#define LOAD16(q) _mm256_loadu_si256((const __m256i *)(q))
-#define LOAD8(q) _mm_loadu_si128((const __m128i *)(q))
-    for (size_t i0 = 0; i0 < m; i0 += 3) {
-        const size_t i1 = i0 + 3 < m ? i0 + 3 : m;
-        if (wide)
-            LINEAR_PASS(__m512, 16, LOAD16, _mm512_cvtepi16_epi32, _mm512_cvtepi32_ps, _mm512_mul_ps, _mm512_add_ps,
-                        _mm512_set1_ps, _mm512_loadu_ps, _mm512_storeu_ps, int16_t)
-        else
-            LINEAR_PASS(__m512, 16, LOAD8, _mm512_cvtepi8_epi32, _mm512_cvtepi32_ps, _mm512_mul_ps, _mm512_add_ps,
-                        _mm512_set1_ps, _mm512_loadu_ps, _mm512_storeu_ps, int8_t)
-    }
-#undef LOAD16
-#undef LOAD8
-    size_t b = nb / 16 * 16;
-    if (wide) LINEAR_TAIL(int16_t) else LINEAR_TAIL(int8_t)
-}
+#define LOAD_128(q) _mm_loadu_si128((const __m128i *)(q))
+#define LOAD_64(q) _mm_loadl_epi64((const __m128i *)(q))
+#define LOAD_256(q) _mm256_loadu_si256((const __m256i *)(q))
+PLANES_LINEAR(planes_linear_avx2, "avx2", __m256, 8, _mm256, LOAD_128, LOAD_64)
+PLANES_LINEAR(planes_linear_avx512, "avx512f", __m512, 16, _mm512, LOAD_256, LOAD_128)
+#undef LOAD_128
+#undef LOAD_64
+#undef LOAD_256
+#undef PLANES_LINEAR
 #undef LINEAR_PASS
 #undef LINEAR_TAIL
 #endif
