@@ -7,6 +7,8 @@
 #   tests/bench/gpu_bench.sh run OUTDIR [BUDGET_S]            # there
 #   tests/bench/gpu_bench.sh report OUTDIR                    # here
 #   tests/bench/gpu_bench.sh shell OUTDIR CMD...              # there: CMD in run's set-up
+#   tests/bench/gpu_bench.sh schemes OUTDIR [ROUNDS [BUDGET_S]] # there: the compressed forms' GPU schemes
+#   tests/bench/gpu_bench.sh report-schemes OUTDIR            # here: their rows
 #
 # pack (on the machine that built BUILD, default build/): writes
 #   .gpubench/bundle.tar.xz (git-ignored, under 64 MiB): BUILD's programs and
@@ -234,6 +236,71 @@ PY
   log "done, $(left) s of the budget left"
 }
 
+# The GPU schemes of the compressed forms (docs/viewer.md, "GPU schemes"):
+# the render tests on the driver (every scheme against the C decoder, to
+# the bit), then ROUNDS rounds of every form of step 5 under every scheme
+# that applies, GPU path at 1920x1080, with the CPU path (every core) and
+# decode_bench's one-thread decode beside them.
+schemes() {
+  OUT=${1:?schemes OUTDIR [ROUNDS]}; local R=${2:-3}; BUDGET=${3:-400}
+  mkdir -p "$OUT"; : > "$OUT/results.jsonl"; : > "$OUT/log.txt"
+  setup || return 1
+  local smi; smi=$(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1 | head -1)
+  json machine gpu "$(python3 -c 'import json,sys; print(json.dumps(sys.argv[1]))' "$smi")"
+  log "gpu: $smi"
+  local W=${SCHEMES_WORK:-$X/work}; mkdir -p "$W"   # SCHEMES_WORK: files made before (a try here)
+  local L20=(--material marble --mm-per-unit 976.13 --own-term baked --weights point -q)
+  [ -f "$W/refs_compact.sss" ] || (
+    timeout 200 build/precompute/sss-bake data/stanford/dragon_100250.ply -o "$W/d100_rgb_f32.sss" --quant float "${L20[@]}"
+    timeout 200 build/precompute/sss-bake data/stanford/dragon_100250.ply -o "$W/d100_rgb_l8.sss" --quant lloyd8 "${L20[@]}" &
+    B=build/tests/bench/compress_bench
+    timeout 100 $B "$W/d100_rgb_f32.sss" 3 0 --kind linear8 --dirs 2 --out "$W/sh3_linear8.sss" &
+    timeout 100 $B "$W/d100_rgb_f32.sss" 3 0 --kind lloyd4 --dirs 2 --out "$W/sh3_lloyd4.sss" &
+    timeout 100 $B "$W/d100_rgb_f32.sss" 7 0 --kind linear16 --dirs 2 --out "$W/sh7_linear16.sss" &
+    timeout 150 $B "$W/d100_rgb_f32.sss" 3 0.03 --kind linear8 --dirs 2 --out "$W/refs_paper.sss" &
+    timeout 150 $B "$W/d100_rgb_f32.sss" 3 0.01 --kind lloyd4 --wbits 8 --ls --illum 0.001 --dirs 2 --out "$W/refs_compact.sss" &
+    wait
+    # BIG=1: the 437,645-vertex dragon's lloyd8 and reference forms too
+    [ -n "${BIG:-}" ] || exit 0
+    timeout 200 build/precompute/sss-bake data/stanford/dragon_437645.ply -o "$W/d437_rgb_f32.sss" --quant float "${L20[@]}"
+    timeout 200 build/precompute/sss-bake data/stanford/dragon_437645.ply -o "$W/d437_rgb_l8.sss" --quant lloyd8 "${L20[@]}" &
+    timeout 200 $B "$W/d437_rgb_f32.sss" 3 0.03 --kind linear8 --dirs 2 --out "$W/d437_refs_paper.sss" &
+    timeout 200 $B "$W/d437_rgb_f32.sss" 3 0.01 --kind lloyd4 --wbits 8 --ls --illum 0.001 --dirs 2 --out "$W/d437_refs_compact.sss" &
+    wait
+  ) > "$OUT/bakes.txt" 2>&1 &
+  local bakes=$!
+  log "render tests"
+  [ -n "${BIG:-}" ] || step 60 150 ctest --test-dir build -L render -j 6 --timeout 120 --output-on-failure > "$OUT/ctest.txt" 2>&1
+  log "render tests: $(grep -E 'tests passed' "$OUT/ctest.txt")"
+  step 30 60 build/tests/render/test_render_single > "$OUT/render_single.txt" 2>&1; echo "exit $?" >> "$OUT/render_single.txt"
+  step 30 90 build/tests/render/test_render > "$OUT/render.txt" 2>&1; echo "exit $?" >> "$OUT/render.txt"
+  log "test_render_single: $(tail -1 "$OUT/render_single.txt"), test_render: $(tail -1 "$OUT/render.txt")"
+  while kill -0 $bakes 2>/dev/null && [ "$(left)" -gt 200 ]; do sleep 1; done
+  wait $bakes 2>/dev/null
+  ls -l "$W"/*.sss >> "$OUT/log.txt"
+  local HD=(--size 1920x1080) NB=${FRAMES:-30}
+  for ((r = 0; r < R; r++)); do
+    for n in d100_rgb_l8 sh3_linear8 sh3_lloyd4 sh7_linear16 refs_paper refs_compact d437_rgb_l8 d437_refs_paper d437_refs_compact; do
+      [ -f "$W/$n.sss" ] || { log "$n: not made"; continue; }
+      local sc=("")
+      case $n in
+        sh3_*|sh7_*) sc=("--sh-tables uniform" "--sh-tables storage") ;;
+        refs_*|d437_refs_*) sc=("--ref-passes 2 --sh-tables uniform" "--ref-passes 2 --sh-tables storage"
+                    "--ref-passes 1 --sh-tables uniform" "--ref-passes 1 --sh-tables storage") ;;
+      esac
+      for a in "${sc[@]}"; do
+        # shellcheck disable=SC2086
+        view "schemes/$n/${a// /_}/r$r" "$W/$n.sss" --bench "$NB" "${HD[@]}" $a
+      done
+      [ -z "${NOCPU:-}" ] || continue   # NOCPU=1: the GPU path alone
+      view "schemes/$n/cpu/r$r" "$W/$n.sss" --bench 15 --size 64x64 --cpu
+      local ms; ms=$(OMP_NUM_THREADS=1 step 20 30 build/tests/bench/decode_bench --decode-only 30 --evict 64 "$W/$n.sss" | awk '{print $3}')
+      json decode "schemes/$n/decode1t_evict/r$r" "${ms:-null}"
+    done
+  done
+  log "done, $(left) s of the budget left"
+}
+
 report() {
   python3 - "${1:?report OUTDIR}/results.jsonl" <<'PY'
 import json, sys
@@ -266,10 +333,36 @@ for r in rows:
 PY
 }
 
+# the schemes' rows: medians over the rounds, ms
+report_schemes() {
+  python3 - "${1:?report-schemes OUTDIR}/results.jsonl" <<'PY'
+import json, statistics, sys
+rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+print('GPU:', next((r['data'] for r in rows if r['kind'] == 'machine'), None))
+cell = {}
+for r in rows:
+    if not r['name'].startswith('schemes/') or r['data'] is None: continue
+    _, form, scheme, _ = r['name'].split('/')
+    cell.setdefault((form, scheme), []).append(r['data'])
+med = lambda v: statistics.median(v) if v else float('nan')
+print('| form | scheme | rounds | scatter ms, wall | submit ms | GL timer ms | frame ms |')
+print('|---|---|---|---|---|---|---|')
+for (form, scheme), v in cell.items():
+    if scheme.startswith('decode'):
+        print(f'| {form} | decode_bench, 1 thread, --evict 64 | {len(v)} | {med(v):.4f} | | | |'); continue
+    print(f"| {form} | {v[0]['scheme'] if scheme != 'cpu' else 'CPU path, every core'} | {len(v)} | "
+          f"{med([d['scatter_ms_median'] for d in v]):.4f} | {med([d['scatter_submit_ms_median'] for d in v]):.4f} | "
+          f"{med([d.get('gpu_timer_scatter_ms_median', d['gpu_timer_scatter_ms_last']) for d in v]):.4f} | "
+          f"{med([d['frame_ms_median'] for d in v]):.3f} |")
+PY
+}
+
 case $MODE in
   pack) pack "$@" ;;
   run) run "$@" ;;
+  schemes) schemes "$@" ;;
   shell) OUT=${1:?shell OUTDIR CMD...}; shift; BUDGET=600; mkdir -p "$OUT"; : > "$OUT/log.txt"; setup && "$@" ;;
   report) report "$@" ;;
+  report-schemes) report_schemes "$@" ;;
   *) echo "gpu_bench.sh: unknown mode '$MODE' (pack, run, report or shell)" >&2; exit 2 ;;
 esac

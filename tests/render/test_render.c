@@ -52,6 +52,8 @@ static void check_gpu_vs_c_interp(const sss_bake_file *f, const char *label, sss
     p.interp = (int)interp;
     double worst = 0, cmax = 0;
     size_t nzero = 0, nval = 0, nother = 0;
+    const int compressed = f->quant == SSS_QUANT_SH || f->quant == SSS_QUANT_REFS;
+    int schemes = 0;
     for (int t = 0; t < 40; t++) {
         if ((uint32_t)t < f->dirs.n && t < 5) memcpy(p.light, &f->dirs.dir[3 * t], sizeof p.light); /* exactly on samples too */
         else if (t == 5 || t == 6) p.light[0] = 0, p.light[1] = 0, p.light[2] = t == 5 ? 1 : -1;
@@ -59,6 +61,17 @@ static void check_gpu_vs_c_interp(const sss_bake_file *f, const char *label, sss
         sss_renderer_evaluate(r, &p);
         sss_renderer_read_q(r, g);
         sss_decode_all_interp(f, p.light, interp, c);
+        /* every GPU scheme (docs/viewer.md, "GPU schemes") gives the same q to the bit */
+        for (int one = 0; compressed && one < 2; one++)
+            for (int st = 0; st < 2; st++) {
+                p.ref_passes = 2 - one;
+                p.sh_tables = st ? SSS_SH_TABLES_STORAGE : SSS_SH_TABLES_UNIFORM;
+                sss_renderer_evaluate(r, &p);
+                sss_renderer_read_q(r, tri);
+                assert_memory_equal(tri, g, n * sizeof *g);
+                schemes += t == 0;
+            }
+        p.ref_passes = p.sh_tables = 0;
         /* the other interpolation gives other values between the samples:
          * the switch reaches the evaluation */
         sss_decode_all_interp(f, p.light, interp == SSS_INTERP_NEAREST4 ? SSS_INTERP_TRIANGLE : SSS_INTERP_NEAREST4,
@@ -80,6 +93,7 @@ static void check_gpu_vs_c_interp(const sss_bake_file *f, const char *label, sss
                   cmax, 100.0 * (double)nzero / (double)nval, 100.0 * (double)nother / (double)nval);
     assert_true(worst <= 1e-4);
     assert_true(cmax > 0); /* the comparison saw light */
+    assert_int_equal(schemes, compressed ? 4 : 0);
     if (f->quant == SSS_QUANT_SH) assert_int_equal(nother, 0); /* no direction samples: nothing to choose */
     else assert_true(nother > nval / 10);
     free(g);

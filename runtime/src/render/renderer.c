@@ -149,7 +149,7 @@ void sss_renderer_evaluate(sss_renderer *r, const sss_view_params *p)
     if (p->path == SSS_EVAL_CPU) {
         sss_scatter_cpu(&r->scatter, &r->mesh, l, p->interp);
     } else {
-        sss_scatter_gpu(&r->scatter, &r->mesh, l, p->interp, r->queries[0]);
+        sss_scatter_gpu(&r->scatter, &r->mesh, l, p, r->queries[0]);
         r->have_times |= 1;
     }
     q_passes(r, l, p);
@@ -214,6 +214,19 @@ sss_frame_times sss_renderer_times(const sss_renderer *r)
 }
 
 unsigned sss_renderer_q_buffer(const sss_renderer *r) { return r->mesh.qbuf; }
+
+const char *sss_renderer_scheme(const sss_renderer *r, const sss_view_params *p)
+{
+    if (p->path == SSS_EVAL_CPU) return "cpu";
+    const sss_gpu_layout *L = &r->scatter.layout;
+    if (!L->pass[SSS_GPU_PASS_CODED].name) return "rows";
+    int one, storage;
+    sss_scatter_scheme(&r->scatter, p, &one, &storage);
+    static const char *const names[2][2] = {{"two passes, uniform tables", "two passes, storage tables"},
+                                            {"one pass, uniform tables", "one pass, storage tables"}};
+    if (!L->sh_bytes) return L->pass[SSS_GPU_PASS_ROWS].name ? (one ? "one pass" : "two passes") : "coded";
+    return L->pass[SSS_GPU_PASS_ROWS].name ? names[one][storage] : storage ? "storage tables" : "uniform tables";
+}
 
 double sss_renderer_bytes_per_vertex(const sss_renderer *r) { return sss_file_integral_bytes_per_vertex(r->mesh.f); }
 

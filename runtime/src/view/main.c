@@ -66,6 +66,11 @@ static void usage(FILE *f)
         "                       --shadow-size zeroes them where the light is blocked: docs/viewer.md)\n"
         "  --interp triangle|nearest4  q between the direction samples: inside their triangle\n"
         "                       (default), or the paper's 4 nearest samples (both paths)\n"
+        "  --ref-passes 1|2     GPU path, reference form: its references' values formed inside the coded\n"
+        "                       pass (1), or by a pass of their own first (2); default: 2 on a software\n"
+        "                       GL, 1 on a GPU. Same q to the bit, only the time differs (docs/viewer.md)\n"
+        "  --sh-tables uniform|storage   GPU path, SH codes: the frame's tables as a uniform block or a\n"
+        "                       storage buffer; default: uniform on a software GL, storage on a GPU\n"
         "  --no-own-term        files baked with --own-term runtime: draw the stored rows alone, without\n"
         "                       the near terms the viewer adds back (for comparison)\n"
         "  --near-visibility rays|map   where those near terms' visibility comes from: the bake's own ray,\n"
@@ -147,6 +152,10 @@ static int parse(int argc, char **argv, view_args *a)
     static const int off[] = {0};
     static const char *const onoff[] = {"on", "off", NULL};
     static const int onoff_values[] = {1, -1};
+    static const char *const passes[] = {"1", "2", NULL};
+    static const int pass_values[] = {1, 2};
+    static const char *const tables[] = {"uniform", "storage", NULL};
+    static const int table_values[] = {SSS_SH_TABLES_UNIFORM, SSS_SH_TABLES_STORAGE};
     static const char *const marches[] = {"segments", "seed", NULL};
     static const int march_values[] = {SSS_SINGLE_MARCH_SEGMENTS, SSS_SINGLE_MARCH_SEED};
     /* sss-view's own wordings where they differ from the library's defaults */
@@ -178,6 +187,10 @@ static int parse(int argc, char **argv, view_args *a)
         {.name = "--no-surface-shadow", .kind = SSS_CLI_FLAG, .dest = &a->p.surface_shadow, .values = off},
         {.name = "--interp", .kind = SSS_CLI_CHOICE, .dest = &a->p.interp, .choices = interps,
          .values = interp_values},
+        {.name = "--ref-passes", .kind = SSS_CLI_CHOICE, .dest = &a->p.ref_passes, .choices = passes,
+         .values = pass_values},
+        {.name = "--sh-tables", .kind = SSS_CLI_CHOICE, .dest = &a->p.sh_tables, .choices = tables,
+         .values = table_values},
         {.name = "--no-own-term", .kind = SSS_CLI_FLAG, .dest = &a->p.near_terms, .values = off},
         {.name = "--near-visibility", .kind = SSS_CLI_CHOICE, .dest = &a->p.near_visibility,
          .choices = visibilities, .values = visibility_values},
@@ -267,7 +280,8 @@ static double median(double *v, int n)
 static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, int w, int h, int n)
 {
     double *scatter = malloc(sizeof(double) * (size_t)n), *draw = malloc(sizeof(double) * (size_t)n),
-           *frame = malloc(sizeof(double) * (size_t)n);
+           *frame = malloc(sizeof(double) * (size_t)n), *submit = malloc(sizeof(double) * (size_t)n),
+           *timer = malloc(sizeof(double) * (size_t)n);
     float *rgb = NULL, *hdr = NULL;
     sss_error err;
     sss_renderer_render_image(r, p, w, h, &rgb, &hdr, &err); /* warms caches */
@@ -283,6 +297,7 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
         glFinish();
         double t0 = now_ms();
         sss_renderer_evaluate(r, p);
+        submit[i] = now_ms() - t0;
         glFinish();
         double t1 = now_ms();
         sss_renderer_draw(r, p, w, h);
@@ -291,6 +306,7 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
         scatter[i] = t1 - t0;
         draw[i] = t2 - t1;
         frame[i] = t2 - t0;
+        timer[i] = sss_renderer_times(r).scatter_ms; /* complete after glFinish */
     }
     sss_frame_times gt = sss_renderer_times(r);
     char storage[128], own[96];
@@ -311,13 +327,17 @@ static void bench(sss_renderer *r, const sss_bake_file *f, sss_view_params *p, i
            "\"width\":%d,\"height\":%d,\"own_term\":\"%s\",\"scatter_ms_median\":%.4f,\"draw_ms_median\":%.4f,"
            "\"frame_ms_median\":%.4f,\"scatter_vertices_per_s\":%.6g,\"fps\":%.3f,\"gpu_timer_scatter_ms_last\":%.4f,"
            "\"gpu_timer_draw_ms_last\":%.4f,\"gpu_timer_own_ms_last\":%.4f,\"bytes_per_vertex\":%.3f,"
-           "\"interp\":\"%s\",\"surface_shadow\":%s,\"diffuse\":%.4g}\n",
+           "\"interp\":\"%s\",\"surface_shadow\":%s,\"diffuse\":%.4g,\"scatter_submit_ms_median\":%.4f,"
+           "\"scheme\":\"%s\",\"gpu_timer_scatter_ms_median\":%.4f}\n",
            f->mesh.nv, f->channels, sss_quant_name(f->quant), storage,
            p->path == SSS_EVAL_CPU ? "cpu" : "gpu", sss_gl_renderer_name(), n, w, h, own, median(scatter, n),
            median(draw, n), median(frame, n), f->mesh.nv / (1e-3 * median(scatter, n)), 1e3 / median(frame, n),
            gt.scatter_ms, gt.draw_ms, gt.near_ms, sss_renderer_bytes_per_vertex(r),
            p->interp == SSS_INTERP_NEAREST4 ? "nearest4" : "triangle",
-           p->surface_shadow && (p->specular || p->diffuse > 0) ? "true" : "false", p->diffuse);
+           p->surface_shadow && (p->specular || p->diffuse > 0) ? "true" : "false", p->diffuse,
+           median(submit, n), sss_renderer_scheme(r, p), median(timer, n));
+    free(submit);
+    free(timer);
     free(scatter);
     free(draw);
     free(frame);
