@@ -223,15 +223,6 @@ static sss_result layout_create(const sss_bake_file *f, uint32_t row_alignment, 
                   (uint64_t)L->ncoded * 4 * sizeof(uint32_t));
         one_block(&L->buffer[SSS_GPU_BUF_WEIGHTS], "weights", 6, 1u << SSS_GPU_PASS_CODED, SSS_GPU_UPLOAD, wt,
                   (uint64_t)L->ncoded * 2 * sizeof(float));
-        /* the same coded pass forming the references' values itself
-         * (docs/gpu_layout.md §6); its groups also cover the references */
-        sss_gpu_program *o = &L->one_pass;
-        if (L->buffer[SSS_GPU_BUF_ROWS].bytes / 4 <= UINT32_MAX) { /* u_row counts words */
-            *o = L->pass[SSS_GPU_PASS_CODED];
-            o->groups = (uint32_t)(((uint64_t)L->ncoded + rf->nref + SSS_GPU_GROUP_SIZE - 1) / SSS_GPU_GROUP_SIZE);
-            const size_t d = strlen(o->defines);
-            snprintf(o->defines + d, sizeof o->defines - d, "%s", SSS_GPU_ONE_PASS_DEFINE);
-        }
     }
     return SSS_OK;
 oom:
@@ -317,7 +308,6 @@ void sss_gpu_frame_eval_interp(const sss_gpu_layout *L, const double light[3], s
     for (int k = 0; k < 4; k++) {
         fr->row[k] = idx[k];
         fr->row_offset[k] = (uint64_t)idx[k] * L->buffer[SSS_GPU_BUF_ROWS].stride;
-        fr->u_row[k] = (uint32_t)(fr->row_offset[n4 || k < 3 ? k : 0] / 4);
         fr->u_w[k] = (float)w[k];
     }
     for (int k = 0; k < 3; k++) fr->u_light[k] = (float)d[k]; /* as sss_decode_vector_range rounds it */

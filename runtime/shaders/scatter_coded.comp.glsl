@@ -44,30 +44,6 @@ layout(std430, binding = 4) readonly buffer ShTable { float sh_t[]; };
 // decoder blends with (sss_decode_ref_weight)
 layout(std430, binding = 1) readonly buffer Coded { uvec4 rec[]; };
 layout(std430, binding = 6) readonly buffer Weights { vec2 wts[]; };
-#ifdef REFS_INLINE
-// One pass (docs/gpu_layout.md §6): each reference's value is formed where
-// it is needed, from the references' 8-bit rows (all of them, bound whole;
-// u_row: the light's rows' first words) and the frame's folded level tables,
-// as the rows pass forms it (scatter.comp.glsl), so the two passes' barrier
-// and second dispatch go. Invocations past the coded vertices write the
-// references' own vertices' q.
-layout(std430, binding = 2) readonly buffer RefRows { uint rrow[]; };
-layout(std430, binding = 5) readonly buffer RefVertex { uint ref_vertex[]; };
-layout(std430, binding = 7) readonly buffer Levels { float levels[]; };
-uniform uvec4 u_row;
-uniform uint u_nrows;   // 3, or 4 (the 4-nearest blend)
-uniform uint u_nref;
-uint byte_at(uint word, uint i) { return (word >> ((i & 3u) * 8u)) & 255u; }
-// the rows pass's sum for entry i = r·C + c, term for term
-float ref_value(uint r, uint c) {
-    uint i = r * C + c, k = i >> 2u, t = 256u * C, base = 256u * c;
-    precise float x = levels[base + byte_at(rrow[u_row.x + k], i)] + levels[t + base + byte_at(rrow[u_row.y + k], i)]
-                    + levels[2u * t + base + byte_at(rrow[u_row.z + k], i)];
-    if (u_nrows == 4u) x = x + levels[3u * t + base + byte_at(rrow[u_row.w + k], i)];
-    return x;
-}
-#define REF_AT(r) vec4(ref_value(r, 0u), C > 1u ? ref_value(r, 1u) : 0.0, C > 2u ? ref_value(r, 2u) : 0.0, 0.0)
-#else
 // the references' values of the frame, written by the rows pass, four floats a reference
 #if CHANNELS == 1
 layout(std430, binding = 5) readonly buffer Refs { float refq[]; };
@@ -77,22 +53,11 @@ layout(std430, binding = 5) readonly buffer Refs { vec4 refq[]; };
 #define REF_AT(r) refq[r]
 #endif
 #endif
-#endif
 uniform uint u_count;   // coded vertices
 void main() {
     // no early return: an invocation past the end redoes the last vertex and
     // stores nothing, so that the loads run outside any branch
     bool live = gl_GlobalInvocationID.x < u_count;
-#ifdef REFS_INLINE
-    // a reference's own vertex: its value, nothing blended
-    if (!live) {
-        uint r = gl_GlobalInvocationID.x - u_count;
-        if (r >= u_nref) return;
-        uint rv = ref_vertex[r];
-        for (uint ch = 0u; ch < C; ch++) q[rv * C + ch] = ref_value(r, ch);
-        return;
-    }
-#endif
     uint k = min(gl_GlobalInvocationID.x, u_count - 1u), v = k;
 #ifdef REFS
     // the channels share the triangle and the weights (§4.2)

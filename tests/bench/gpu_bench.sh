@@ -236,11 +236,13 @@ PY
   log "done, $(left) s of the budget left"
 }
 
-# The GPU schemes of the compressed forms (docs/viewer.md, "GPU schemes"):
-# the render tests on the driver (every scheme against the C decoder, to
-# the bit), then ROUNDS rounds of every form of step 5 under every scheme
-# that applies, GPU path at 1920x1080, with the CPU path (every core) and
-# decode_bench's one-thread decode beside them.
+# The compressed forms' SH tables on the GPU (docs/viewer.md, "SH tables
+# on the GPU"): the render tests on the driver (both ways against the C
+# decoder, to the bit), then ROUNDS rounds of every form of step 5 with
+# its tables as a uniform block and as a storage buffer, GPU path at
+# 1920x1080 (FRAMES frames, default 30), with the CPU path (every core)
+# and decode_bench's one-thread decode beside them (NOCPU=1: not); BIG=1
+# adds the 437,645-vertex dragon's lloyd8 and reference forms.
 schemes() {
   OUT=${1:?schemes OUTDIR [ROUNDS]}; local R=${2:-3}; BUDGET=${3:-400}
   mkdir -p "$OUT"; : > "$OUT/results.jsonl"; : > "$OUT/log.txt"
@@ -285,8 +287,7 @@ schemes() {
       local sc=("")
       case $n in
         sh3_*|sh7_*) sc=("--sh-tables uniform" "--sh-tables storage") ;;
-        refs_*|d437_refs_*) sc=("--ref-passes 2 --sh-tables uniform" "--ref-passes 2 --sh-tables storage"
-                    "--ref-passes 1 --sh-tables uniform" "--ref-passes 1 --sh-tables storage") ;;
+        refs_*|d437_refs_*) sc=("--sh-tables uniform" "--sh-tables storage") ;;
       esac
       for a in "${sc[@]}"; do
         # shellcheck disable=SC2086

@@ -17,7 +17,7 @@ expect_msg() {
 F=$TMP/none.sss
 # a value missing at the end of the line
 for o in --out --screenshot --size --light --view --exposure --intensity --tonemap --exit --scene --near-visibility \
-         --shadow-size --bench --diffuse --interp; do
+         --shadow-size --bench --diffuse --interp --sh-tables; do
   expect_msg "sss-view: $o needs a value" "$F" "$o"
 done
 # a value is the next argument, whatever it looks like
@@ -53,6 +53,7 @@ expect_msg "sss-view: --tonemap: '' must be clamp or reinhard" "$F" --tonemap ''
 expect_msg "sss-view: --exit: 'normalized' must be jensen or normalised" "$F" --exit normalized
 expect_msg "sss-view: --near-visibility: 'maps' must be rays or map" "$F" --near-visibility maps
 expect_msg "sss-view: --interp: 'nearest' must be triangle or nearest4" "$F" --interp nearest
+expect_msg "sss-view: --sh-tables: 'ssbo' must be uniform or storage" "$F" --sh-tables ssbo
 # single scattering (docs/layers.md section 8)
 for o in --single --single-samples --single-march; do expect_msg "sss-view: $o needs a value" "$F" "$o"; done
 expect_msg "sss-view: --single: 'maybe' must be on or off" "$F" --single maybe

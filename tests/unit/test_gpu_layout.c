@@ -12,7 +12,6 @@
 #include <cmocka.h>
 
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -165,33 +164,6 @@ static void replay(const sss_gpu_layout *L, const sss_gpu_frame *fr, float *q, f
     free(rows), free(ref_vertex);
 }
 
-/* The one-pass reference form (docs/gpu_layout.md §6): its program is the
- * coded pass plus SSS_GPU_ONE_PASS_DEFINE, its groups cover the references
- * too, and each reference's value formed from the whole rows buffer at
- * frame.u_row, as its ref_value does, is the rows pass's to the bit. */
-static void one_pass_refs(const sss_gpu_layout *L, const sss_gpu_frame *fr, const float *refq)
-{
-    const sss_gpu_program *o = &L->one_pass, *c = &L->pass[SSS_GPU_PASS_CODED];
-    char want[sizeof o->defines + sizeof SSS_GPU_ONE_PASS_DEFINE];
-    snprintf(want, sizeof want, "%s%s", c->defines, SSS_GPU_ONE_PASS_DEFINE);
-    assert_string_equal(o->defines, want);
-    assert_int_equal(o->count, c->count);
-    const uint64_t n = (uint64_t)c->count + L->f->ref.nref;
-    assert_true((uint64_t)o->groups * SSS_GPU_GROUP_SIZE >= n && (uint64_t)(o->groups - 1) * SSS_GPU_GROUP_SIZE < n);
-    uint8_t *rows = image(L, SSS_GPU_BUF_ROWS);
-    const uint32_t C = L->channels, t = 256u * C;
-    for (uint32_t r = 0; r < L->f->ref.nref; r++)
-        for (uint32_t ch = 0; ch < C; ch++) {
-            const uint32_t i = r * C + ch, base = 256u * ch;
-            float x = fr->levels[base + byte_at(rows + 4 * (size_t)fr->u_row[0], i)] +
-                      fr->levels[t + base + byte_at(rows + 4 * (size_t)fr->u_row[1], i)];
-            x += fr->levels[2u * t + base + byte_at(rows + 4 * (size_t)fr->u_row[2], i)];
-            if (fr->nrows == 4) x += fr->levels[3u * t + base + byte_at(rows + 4 * (size_t)fr->u_row[3], i)];
-            assert_memory_equal(&x, &refq[4 * r + ch], sizeof x);
-        }
-    free(rows);
-}
-
 /* Every light of a fixed set, and no light, with either interpolation: the
  * replay equals sss_decode_all_interp (the 4-nearest frames with the rows
  * pass's NEAREST4 variant). */
@@ -215,8 +187,6 @@ static void check_form(const sss_bake_file *f, const char *what)
             else sss_gpu_frame_eval(&L, lights[i], &fr);
             assert_int_equal(fr.nrows, n4 ? 4u : 3u);
             replay(&L, &fr, gpu, refq);
-            assert_int_equal(L.one_pass.name != NULL, f->quant == SSS_QUANT_REFS);
-            if (L.one_pass.name) one_pass_refs(&L, &fr, refq);
             sss_decode_all_interp(f, lights[i], in, cpu);
             if (memcmp(gpu, cpu, n * sizeof *gpu) != 0)
                 fail_msg("%s, %s, light %zu: the layout's q differs from sss_decode_all_interp", what,

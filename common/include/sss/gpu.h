@@ -45,8 +45,6 @@ extern "C" {
  * SSS_GPU_ROW4_BINDING, and a vec4 u_w (docs/gpu_layout.md). */
 #define SSS_GPU_NEAREST4_DEFINE "#define NEAREST4 1\n"
 #define SSS_GPU_ROW4_BINDING 7u
-/* What the coded pass's defines gain in sss_gpu_layout.one_pass. */
-#define SSS_GPU_ONE_PASS_DEFINE "#define REFS_INLINE 1\n"
 /* Invocations per work group (local_size_x of both shaders). */
 #define SSS_GPU_GROUP_SIZE 256u
 
@@ -118,17 +116,6 @@ typedef struct sss_gpu_layout {
      * the layout of a file with Q, unless made by sss_gpu_layout_create_scalar */
     int vector;
     sss_gpu_program pass[SSS_GPU_PASSES];
-    /* The reference form in one pass (docs/gpu_layout.md §6): the coded
-     * pass with SSS_GPU_ONE_PASS_DEFINE added, forming each reference's
-     * value from the references' rows itself; it runs instead of both
-     * passes, without the barrier between them. count: the coded vertices
-     * (its u_count); groups: for count + nref invocations (the references'
-     * own vertices follow). Its bindings: SH codes 0, coded 1, the rows
-     * bound whole 2, q 3, the SH tables 4, ref_vertex 5, weights 6, the
-     * frame's levels 7. name NULL: no reference form, or its rows exceed
-     * max_block_bytes (given to the layout's caller, not here: the
-     * engine checks rows.bytes). */
-    sss_gpu_program one_pass;
     sss_gpu_buffer buffer[SSS_GPU_BUFFERS];
     /* Per-frame block sizes (sss_gpu_frame), 0 when absent. */
     uint64_t levels_bytes;    /* 4·C·256 float32 (lloyd8, reference form): a table per blended row */
@@ -151,11 +138,7 @@ typedef struct sss_gpu_frame {
                                  fourth, 4-nearest frames only, at SSS_GPU_ROW4_BINDING) */
     float u_w[4];             /* uniform vec3 u_w: barycentric weights (float rows), u_w[3] = 0; 4-nearest
                                  frames: uniform vec4 u_w; all 0 for no light */
-    uint32_t nrows;           /* direction rows the frame blends: 3, or 4 (SSS_INTERP_NEAREST4); uniform
-                                 uint u_nrows of the one-pass reference form */
-    uint32_t u_row[4];        /* uniform uvec4 u_row of the one-pass reference form: row_offset[k] / 4, the
-                                 rows' first words in the rows buffer bound whole (triangle frames: the
-                                 fourth = the first) */
+    uint32_t nrows;           /* direction rows the frame blends: 3, or 4 (SSS_INTERP_NEAREST4) */
     uint32_t u_count[SSS_GPU_PASSES]; /* uniform uint u_count of each pass (= pass[p].count) */
     uint32_t u_channels;      /* uniform uint u_channels (rows pass) */
     float u_light[3];         /* uniform vec3 u_light (rows pass of a vector layout): the unit light, as float */

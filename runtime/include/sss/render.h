@@ -142,13 +142,10 @@ typedef struct sss_view_params {
     int single_samples;   /* its N, segments along the view ray (0: the default, 32) */
     int single_march;     /* SSS_SINGLE_MARCH_SEGMENTS (0, default: the per-segment closed form) or
                            * SSS_SINGLE_MARCH_SEED (seed 002's Algorithm 1) */
-    /* How the GPU path evaluates the compressed forms; every choice gives the
-     * same q to the bit, only the time differs (docs/viewer.md, "GPU
-     * schemes"). 0 (default): the renderer's choice for the GL it runs on. */
-    int ref_passes;       /* the reference form: 1, one pass forming the references' values inline;
-                           * 2, the references' rows pass, a barrier, then the coded pass */
-    int sh_tables;        /* the frame's SH tables: SSS_SH_TABLES_UNIFORM (a uniform block, when they
-                           * fit 16 KiB) or SSS_SH_TABLES_STORAGE (a storage buffer) */
+    int sh_tables;        /* GPU path, SH codes: the frame's folded tables as SSS_SH_TABLES_UNIFORM (a
+                           * uniform block, where they fit 16 KiB) or SSS_SH_TABLES_STORAGE (a storage
+                           * buffer); the same q to the bit, only the time differs. 0 (default): storage
+                           * on a GPU, uniform on a software GL (docs/viewer.md, "SH tables on the GPU") */
 } sss_view_params;
 
 #define SSS_SH_TABLES_UNIFORM 1
@@ -284,10 +281,10 @@ unsigned sss_renderer_q_buffer(const sss_renderer *r);
 /* Bytes per vertex of the scattering data as stored in the file (for the
  * overlay). Needs no context. */
 double sss_renderer_bytes_per_vertex(const sss_renderer *r);
-/* The GPU path's scheme for p (sss_view_params.ref_passes, sh_tables) as a
- * few words: "rows" (float, lloyd8), "one pass" or "two passes" (reference
- * form), "… uniform tables" or "… storage tables" (SH codes); "cpu" on
- * the CPU path. Static; for reports. */
+/* How the frame for p evaluates q, in a few words, for reports: "cpu"; on
+ * the GPU path "rows" (float, lloyd8, or a reference form without SH part)
+ * or where the coded pass reads the SH tables from, "uniform tables" or
+ * "storage tables" (sss_view_params.sh_tables). Static. */
 const char *sss_renderer_scheme(const sss_renderer *r, const sss_view_params *p);
 
 /* Camera frame for p: eye position (world units) and unit right / up /

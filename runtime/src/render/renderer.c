@@ -218,14 +218,8 @@ unsigned sss_renderer_q_buffer(const sss_renderer *r) { return r->mesh.qbuf; }
 const char *sss_renderer_scheme(const sss_renderer *r, const sss_view_params *p)
 {
     if (p->path == SSS_EVAL_CPU) return "cpu";
-    const sss_gpu_layout *L = &r->scatter.layout;
-    if (!L->pass[SSS_GPU_PASS_CODED].name) return "rows";
-    int one, storage;
-    sss_scatter_scheme(&r->scatter, p, &one, &storage);
-    static const char *const names[2][2] = {{"two passes, uniform tables", "two passes, storage tables"},
-                                            {"one pass, uniform tables", "one pass, storage tables"}};
-    if (!L->sh_bytes) return L->pass[SSS_GPU_PASS_ROWS].name ? (one ? "one pass" : "two passes") : "coded";
-    return L->pass[SSS_GPU_PASS_ROWS].name ? names[one][storage] : storage ? "storage tables" : "uniform tables";
+    if (!r->scatter.layout.sh_bytes) return "rows";
+    return sss_scatter_storage(&r->scatter, p) ? "storage tables" : "uniform tables";
 }
 
 double sss_renderer_bytes_per_vertex(const sss_renderer *r) { return sss_file_integral_bytes_per_vertex(r->mesh.f); }

@@ -41,12 +41,11 @@ typedef struct sss_scatter {
     GLuint levels, sh_tab;           /* the frame's folded tables (binding 4 of each pass) */
     GLuint prog[SSS_GPU_PASSES];     /* by SSS_GPU_PASS_*; 0 where the file has no such pass */
     GLuint prog_n4;                  /* the rows pass's 4-nearest variant (SSS_GPU_NEAREST4_DEFINE) */
-    /* the coded pass by [one pass][SH tables in a storage buffer] (sss_view_params.ref_passes,
-     * sh_tables), compiled when a frame first asks; [0][!layout.sh_uniform] is prog[SSS_GPU_PASS_CODED] */
-    GLuint coded[2][2];
-    struct sss_coded_uniforms { GLint count, row, nrows, nref; } coded_uni[2][2];
-    int coded_failed[2][2];          /* that variant did not compile (said once on stderr) */
-    int one_pass;                    /* the layout has the one-pass reference form and its rows fit a block */
+    /* the coded pass by its SH tables' block: [0] uniform, [1] storage (sss_view_params.sh_tables),
+     * compiled when a frame first asks; the layout's own is prog[SSS_GPU_PASS_CODED] */
+    GLuint coded[2];
+    GLint coded_count[2];            /* their u_count */
+    int coded_failed[2];             /* that variant did not compile (said once on stderr) */
     int software;                    /* the GL renders in software (llvmpipe, softpipe, SwiftShader) */
     /* each program's uniform locations, looked up once at creation (by
      * SSS_GPU_PASS_*, then the 4-nearest variant); −1 where it has none */
@@ -62,17 +61,18 @@ sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *
 sss_result sss_scatter_create_scalar(sss_scatter *s, const sss_gpu_mesh *m, sss_error *err);
 void sss_scatter_destroy(sss_scatter *s);
 /* q for the unit light l into m->qbuf, interpolated as interp says
- * (sss_interp; on the GPU p's interp, ref_passes and sh_tables): on the GPU, the compute passes under the GL_TIME_ELAPSED
- * query `query`; on the CPU, sss_decode_all_interp and an upload, timed
+ * (sss_interp; on the GPU p's interp and sh_tables): on the GPU, the
+ * compute passes under the GL_TIME_ELAPSED query `query`; on the CPU, sss_decode_all_interp and an upload, timed
  * into s->cpu_ms. */
 void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], const sss_view_params *p,
                      GLuint query);
-/* The GPU scheme p asks for and this file and GL allow (docs/viewer.md,
- * "GPU schemes"): the reference form in one pass, the SH tables in a
- * storage buffer. By default, on a software GL the layout's own (two
- * passes, the tables a uniform block: there every storage-buffer load is a
- * loop over the lanes); on a GPU one pass and a storage buffer. */
-void sss_scatter_scheme(const sss_scatter *s, const sss_view_params *p, int *one, int *storage);
+/* 1: the coded pass reads its SH tables from a storage buffer for p
+ * (sss_view_params.sh_tables; docs/viewer.md, "SH tables on the GPU"): by
+ * default on a GPU, where the invocations' code-dependent loads from a
+ * uniform block are serialised, and never on a software GL, where a
+ * storage-buffer load is a loop over the lanes; always when the tables do
+ * not fit a uniform block. 0 without SH tables. */
+int sss_scatter_storage(const sss_scatter *s, const sss_view_params *p);
 void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], int interp);
 
 /* draw.c: the shading program and the float framebuffer. */

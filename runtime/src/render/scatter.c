@@ -8,7 +8,10 @@
  * codes and records, and per frame the folded tables, which are the C
  * decoder's own terms, so the GPU's sums give its result to the bit. This
  * file is that layout's GL consumer: it makes the buffers and programs,
- * uploads the frame's tables and dispatches the passes.
+ * uploads the frame's tables and dispatches the passes. The SH tables
+ * are bound as a uniform block or a storage buffer, whichever is faster
+ * on the GL at hand (sss_scatter_storage; docs/viewer.md, "SH tables on
+ * the GPU").
  *
  * The CPU path (SSS_EVAL_CPU) decodes with sss_decode_all_interp (or, for
  * a file with the vector integrals Q, sss_decode_vector_range) and
@@ -61,14 +64,11 @@ static sss_result scatter_create(sss_scatter *s, const sss_gpu_mesh *m, int vect
     /* the coded pass as the layout declares it; its other variants when a frame asks */
     if (s->prog[SSS_GPU_PASS_CODED]) {
         const int st = L->sh_bytes && !L->sh_uniform;
-        s->coded[0][st] = s->prog[SSS_GPU_PASS_CODED];
-        s->coded_uni[0][st].count = glGetUniformLocation(s->coded[0][st], "u_count");
+        s->coded[st] = s->prog[SSS_GPU_PASS_CODED];
+        s->coded_count[st] = glGetUniformLocation(s->coded[st], "u_count");
     }
     const char *gl = (const char *)glGetString(GL_RENDERER);
     s->software = gl && (strstr(gl, "llvmpipe") || strstr(gl, "softpipe") || strstr(gl, "SwiftShader"));
-    GLint64 max_rows = 0;
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_rows);
-    s->one_pass = L->one_pass.name && (max_rows <= 0 || L->buffer[SSS_GPU_BUF_ROWS].bytes <= (uint64_t)max_rows);
 
     /* Each frame sets these uniforms: their locations once, here. */
     for (int p = 0; p <= SSS_GPU_PASSES; p++) {
@@ -115,40 +115,35 @@ sss_result sss_scatter_create_scalar(sss_scatter *s, const sss_gpu_mesh *m, sss_
     return scatter_create(s, m, 0, err);
 }
 
-/* The coded pass in one pass or two (sss_view_params.ref_passes) with
- * its SH tables as a storage buffer or not (sh_tables), compiled the first
+/* The coded pass with its SH tables as a storage buffer or as the
+ * layout's uniform block (sss_view_params.sh_tables), compiled the first
  * time a frame asks; 0 if it does not compile. */
-static GLuint coded_program(sss_scatter *s, int one, int storage)
+static GLuint coded_program(sss_scatter *s, int storage)
 {
-    if (s->coded[one][storage] || s->coded_failed[one][storage]) return s->coded[one][storage];
-    const sss_gpu_layout *L = &s->layout;
-    const sss_gpu_program *pg = one ? &L->one_pass : &L->pass[SSS_GPU_PASS_CODED];
+    if (s->coded[storage] || s->coded_failed[storage]) return s->coded[storage];
+    const sss_gpu_program *pg = &s->layout.pass[SSS_GPU_PASS_CODED];
     char def[sizeof pg->defines];
     snprintf(def, sizeof def, "%s", pg->defines);
+    /* the same floats as a storage buffer: the block's line out */
     char *u = strstr(def, "#define SH_UBO ");
     if (storage && u) memmove(u, strchr(u, '\n') + 1, strlen(strchr(u, '\n') + 1) + 1);
     sss_error err = {{0}};
     GLuint cs = sss_gl_compile(GL_COMPUTE_SHADER, def, pg->source, &err);
     GLuint prog = cs ? sss_gl_link(cs, 0, &err) : 0;
     if (!prog) {
-        fprintf(stderr, "sss-view: the coded pass (%s, SH tables %s): %s\n", one ? "one pass" : "two passes",
-                storage ? "storage" : "uniform", err.msg);
-        s->coded_failed[one][storage] = 1;
+        fprintf(stderr, "sss-view: the coded pass with its SH tables as a %s: %s\n",
+                storage ? "storage buffer" : "uniform block", err.msg);
+        s->coded_failed[storage] = 1;
         return 0;
     }
-    struct sss_coded_uniforms *cu = &s->coded_uni[one][storage];
-    cu->count = glGetUniformLocation(prog, "u_count");
-    cu->row = glGetUniformLocation(prog, "u_row");
-    cu->nrows = glGetUniformLocation(prog, "u_nrows");
-    cu->nref = glGetUniformLocation(prog, "u_nref");
-    return s->coded[one][storage] = prog;
+    s->coded_count[storage] = glGetUniformLocation(prog, "u_count");
+    return s->coded[storage] = prog;
 }
 
 void sss_scatter_destroy(sss_scatter *s)
 {
-    for (int a = 0; a < 2; a++)
-        for (int b = 0; b < 2; b++)
-            if (s->coded[a][b] && s->coded[a][b] != s->prog[SSS_GPU_PASS_CODED]) glDeleteProgram(s->coded[a][b]);
+    for (int k = 0; k < 2; k++)
+        if (s->coded[k] && s->coded[k] != s->prog[SSS_GPU_PASS_CODED]) glDeleteProgram(s->coded[k]);
     glDeleteBuffers(SSS_GPU_BUFFERS, s->buf);
     glDeleteBuffers(1, &s->levels);
     glDeleteBuffers(1, &s->sh_tab);
@@ -173,35 +168,11 @@ void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], i
     s->cpu_ms = now_ms() - t0;
 }
 
-void sss_scatter_scheme(const sss_scatter *s, const sss_view_params *p, int *one, int *storage)
+int sss_scatter_storage(const sss_scatter *s, const sss_view_params *p)
 {
     const sss_gpu_layout *L = &s->layout;
-    *one = s->one_pass && (p->ref_passes == 1 || (p->ref_passes == 0 && !s->software));
-    *storage = L->sh_bytes && (!L->sh_uniform || p->sh_tables == SSS_SH_TABLES_STORAGE ||
-                               (p->sh_tables == 0 && !s->software));
-}
-
-/* The reference form in one dispatch (docs/gpu_layout.md §6): the coded
- * pass forms the references' values from their rows itself. */
-static void one_pass(sss_scatter *s, const sss_gpu_mesh *m, GLuint prog, const struct sss_coded_uniforms *u,
-                     int storage)
-{
-    const sss_gpu_layout *L = &s->layout;
-    const sss_gpu_frame *fr = &s->frame;
-    glUseProgram(prog);
-    if (s->buf[SSS_GPU_BUF_SH_CODES]) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, s->buf[SSS_GPU_BUF_SH_CODES]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, s->buf[SSS_GPU_BUF_CODED]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, s->buf[SSS_GPU_BUF_ROWS]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m->qbuf);
-    if (fr->sh) glBindBufferBase(storage ? GL_SHADER_STORAGE_BUFFER : GL_UNIFORM_BUFFER, 4, s->sh_tab);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, s->buf[SSS_GPU_BUF_REF_VERTEX]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, s->buf[SSS_GPU_BUF_WEIGHTS]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, s->levels);
-    glUniform1ui(u->count, L->one_pass.count);
-    glUniform4ui(u->row, fr->u_row[0], fr->u_row[1], fr->u_row[2], fr->u_row[3]);
-    glUniform1ui(u->nrows, fr->nrows);
-    glUniform1ui(u->nref, L->f->ref.nref);
-    glDispatchCompute(L->one_pass.groups, 1, 1);
+    return L->sh_bytes && (!L->sh_uniform || p->sh_tables == SSS_SH_TABLES_STORAGE ||
+                           (p->sh_tables == 0 && !s->software));
 }
 
 void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], const sss_view_params *vp,
@@ -211,13 +182,11 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], c
     sss_gpu_frame *fr = &s->frame;
     const int interp = vp->interp;
     const int n4 = interp == SSS_INTERP_NEAREST4;
-    int one, storage;
-    sss_scatter_scheme(s, vp, &one, &storage);
-    GLuint coded = s->prog[SSS_GPU_PASS_CODED] ? coded_program(s, one, storage) : 0;
+    const int storage = sss_scatter_storage(s, vp);
+    GLuint coded = s->prog[SSS_GPU_PASS_CODED] ? coded_program(s, storage) : 0;
     if (s->prog[SSS_GPU_PASS_CODED] && !coded) /* a variant this GL cannot compile: the layout's own */
         coded = s->prog[SSS_GPU_PASS_CODED];
-    const int use_one = one && coded == s->coded[1][storage] && coded;
-    const int use_storage = coded && coded == s->coded[use_one][1];
+    const int use_storage = coded && coded == s->coded[1];
     /* the light's rows, weights and folded tables (sss/gpu.h) */
     sss_gpu_frame_eval_interp(L, l, n4 ? SSS_INTERP_NEAREST4 : SSS_INTERP_TRIANGLE, fr);
     if (fr->levels) {
@@ -230,12 +199,6 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], c
     }
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     glBeginQuery(GL_TIME_ELAPSED, query);
-    if (use_one) {
-        one_pass(s, m, coded, &s->coded_uni[1][use_storage], use_storage);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        glEndQuery(GL_TIME_ELAPSED);
-        return;
-    }
     for (int p = 0; p < SSS_GPU_PASSES; p++) {
         const int variant = p == SSS_GPU_PASS_ROWS && n4 ? SSS_GPU_PASSES : p;
         const GLuint prog = variant == SSS_GPU_PASSES ? s->prog_n4 : p == SSS_GPU_PASS_CODED ? coded : s->prog[p];
@@ -262,10 +225,10 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], c
             if (L->vector) glUniform3f(u->light, fr->u_light[0], fr->u_light[1], fr->u_light[2]);
             glUniform1ui(u->channels, fr->u_channels);
         } else if (fr->sh) {
-            /* a uniform block when the tables fit one (sss_gpu_layout.sh_uniform) */
+            /* a uniform block where the tables fit one and that is faster here (sss_scatter_storage) */
             glBindBufferBase(use_storage ? GL_SHADER_STORAGE_BUFFER : GL_UNIFORM_BUFFER, 4, s->sh_tab);
         }
-        glUniform1ui(p == SSS_GPU_PASS_CODED ? s->coded_uni[0][use_storage].count : u->count, fr->u_count[p]);
+        glUniform1ui(p == SSS_GPU_PASS_CODED ? s->coded_count[use_storage] : u->count, fr->u_count[p]);
         glDispatchCompute(L->pass[p].groups, 1, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);

@@ -66,11 +66,9 @@ static void usage(FILE *f)
         "                       --shadow-size zeroes them where the light is blocked: docs/viewer.md)\n"
         "  --interp triangle|nearest4  q between the direction samples: inside their triangle\n"
         "                       (default), or the paper's 4 nearest samples (both paths)\n"
-        "  --ref-passes 1|2     GPU path, reference form: its references' values formed inside the coded\n"
-        "                       pass (1), or by a pass of their own first (2); default: 2 on a software\n"
-        "                       GL, 1 on a GPU. Same q to the bit, only the time differs (docs/viewer.md)\n"
         "  --sh-tables uniform|storage   GPU path, SH codes: the frame's tables as a uniform block or a\n"
-        "                       storage buffer; default: uniform on a software GL, storage on a GPU\n"
+        "                       storage buffer; default: uniform on a software GL, storage on a GPU.\n"
+        "                       Same q to the bit, only the time differs (docs/viewer.md)\n"
         "  --no-own-term        files baked with --own-term runtime: draw the stored rows alone, without\n"
         "                       the near terms the viewer adds back (for comparison)\n"
         "  --near-visibility rays|map   where those near terms' visibility comes from: the bake's own ray,\n"
@@ -152,8 +150,6 @@ static int parse(int argc, char **argv, view_args *a)
     static const int off[] = {0};
     static const char *const onoff[] = {"on", "off", NULL};
     static const int onoff_values[] = {1, -1};
-    static const char *const passes[] = {"1", "2", NULL};
-    static const int pass_values[] = {1, 2};
     static const char *const tables[] = {"uniform", "storage", NULL};
     static const int table_values[] = {SSS_SH_TABLES_UNIFORM, SSS_SH_TABLES_STORAGE};
     static const char *const marches[] = {"segments", "seed", NULL};
@@ -187,8 +183,6 @@ static int parse(int argc, char **argv, view_args *a)
         {.name = "--no-surface-shadow", .kind = SSS_CLI_FLAG, .dest = &a->p.surface_shadow, .values = off},
         {.name = "--interp", .kind = SSS_CLI_CHOICE, .dest = &a->p.interp, .choices = interps,
          .values = interp_values},
-        {.name = "--ref-passes", .kind = SSS_CLI_CHOICE, .dest = &a->p.ref_passes, .choices = passes,
-         .values = pass_values},
         {.name = "--sh-tables", .kind = SSS_CLI_CHOICE, .dest = &a->p.sh_tables, .choices = tables,
          .values = table_values},
         {.name = "--no-own-term", .kind = SSS_CLI_FLAG, .dest = &a->p.near_terms, .values = off},
