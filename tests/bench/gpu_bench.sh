@@ -286,8 +286,7 @@ schemes() {
       [ -f "$W/$n.sss" ] || { log "$n: not made"; continue; }
       local sc=("")
       case $n in
-        sh3_*|sh7_*) sc=("--sh-tables uniform" "--sh-tables storage") ;;
-        refs_*|d437_refs_*) sc=("--sh-tables uniform" "--sh-tables storage") ;;
+        sh3_*|sh7_*|refs_*|d437_refs_*) sc=("" "--sh-tables uniform" "--sh-tables storage") ;;   # "": the default
       esac
       for a in "${sc[@]}"; do
         # shellcheck disable=SC2086
@@ -351,7 +350,8 @@ print('|---|---|---|---|---|---|---|')
 for (form, scheme), v in cell.items():
     if scheme.startswith('decode'):
         print(f'| {form} | decode_bench, 1 thread, --evict 64 | {len(v)} | {med(v):.4f} | | | |'); continue
-    print(f"| {form} | {v[0]['scheme'] if scheme != 'cpu' else 'CPU path, every core'} | {len(v)} | "
+    name = 'CPU path, every core' if scheme == 'cpu' else ('default: ' if scheme == '' else '') + v[0]['scheme']
+    print(f"| {form} | {name} | {len(v)} | "
           f"{med([d['scatter_ms_median'] for d in v]):.4f} | {med([d['scatter_submit_ms_median'] for d in v]):.4f} | "
           f"{med([d.get('gpu_timer_scatter_ms_median', d['gpu_timer_scatter_ms_last']) for d in v]):.4f} | "
           f"{med([d['frame_ms_median'] for d in v]):.3f} |")
