@@ -60,18 +60,18 @@ sss_result sss_scatter_create(sss_scatter *s, const sss_gpu_mesh *m, sss_error *
 /* The same with q's rows even when the file holds Q (sss_renderer_create_scalar). */
 sss_result sss_scatter_create_scalar(sss_scatter *s, const sss_gpu_mesh *m, sss_error *err);
 void sss_scatter_destroy(sss_scatter *s);
-/* q for the unit light l into m->qbuf, interpolated as interp says
- * (sss_interp; on the GPU p's interp and sh_tables): on the GPU, the
- * compute passes under the GL_TIME_ELAPSED query `query`; on the CPU, sss_decode_all_interp and an upload, timed
- * into s->cpu_ms. */
+/* q for the unit light l into m->qbuf: on the GPU, the compute passes as
+ * p's interp and sh_tables say, under the GL_TIME_ELAPSED query `query`;
+ * on the CPU, sss_decode_all_interp (interp: sss_interp) and an upload,
+ * timed into s->cpu_ms. */
 void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], const sss_view_params *p,
                      GLuint query);
 /* 1: the coded pass reads its SH tables from a storage buffer for p
- * (sss_view_params.sh_tables; docs/viewer.md, "SH tables on the GPU"): by
- * default on a GPU, where the invocations' code-dependent loads from a
- * uniform block are serialised, and never on a software GL, where a
- * storage-buffer load is a loop over the lanes; always when the tables do
- * not fit a uniform block. 0 without SH tables. */
+ * (sss_view_params.sh_tables; docs/viewer.md, "SH tables on the GPU"): as
+ * p asks, or by default on a GPU, where the invocations' code-dependent
+ * loads from a uniform block are serialised, but not on a software GL,
+ * where a storage-buffer load is a loop over the lanes; always when the
+ * tables do not fit a uniform block. 0 without SH tables. */
 int sss_scatter_storage(const sss_scatter *s, const sss_view_params *p);
 void sss_scatter_cpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], int interp);
 
