@@ -1,8 +1,10 @@
 layout(local_size_x = 256) in;
 const uint C = uint(CHANNELS);
-// one chunk of receivers u_first ... u_first + u_count - 1 (near.c): row o of
-// the chunk is [start[o], start[o + 1]) of its own Idx and W
-layout(std430, binding = 0) readonly buffer Start { uint start[]; }; // row o: [start[o], start[o + 1])
+// one chunk of receivers u_first ... u_first + u_count - 1 (near.c): row o
+// of the chunk is the count row[o].z entries of its own Idx and W from
+// row[o].x on, row[o].y apart: the rows of a slice of receivers interleaved,
+// so that neighbouring invocations read neighbouring entries
+layout(std430, binding = 0) readonly buffer Row { uvec4 row[]; };    // row o: first entry, stride, count
 layout(std430, binding = 1) readonly buffer Idx { uint idx[]; };     // the row's vertices, o first
 layout(std430, binding = 2) readonly buffer Gv { float gv[]; };
 layout(std430, binding = 3) buffer Q { float q[]; };
@@ -13,7 +15,8 @@ void main() {
     uint o = gl_GlobalInvocationID.x;
     if (o >= u_count) return;
     precise float s[3] = float[3](0.0, 0.0, 0.0);
-    for (uint a = start[o]; a < start[o + 1u]; a++) {
+    uvec4 r = row[o];
+    for (uint k = 0u, a = r.x; k < r.z; k++, a += r.y) {
         float g = gv[idx[a]];
         for (uint ch = 0u; ch < C; ch++) s[ch] += w[a * C + ch] * g;
     }

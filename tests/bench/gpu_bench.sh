@@ -9,6 +9,7 @@
 #   tests/bench/gpu_bench.sh shell OUTDIR CMD...              # there: CMD in run's set-up
 #   tests/bench/gpu_bench.sh schemes OUTDIR [ROUNDS [BUDGET_S]] # there: the compressed forms' GPU schemes
 #   tests/bench/gpu_bench.sh report-schemes OUTDIR            # here: their rows
+#   tests/bench/gpu_bench.sh ab OUTDIR ROUNDS VIEWER_A VIEWER_B [MESH]  # there: two viewers side by side
 #
 # pack (on the machine that built BUILD, default build/): writes
 #   .gpubench/bundle.tar.xz (git-ignored, under 64 MiB): BUILD's programs and
@@ -333,6 +334,28 @@ for r in rows:
 PY
 }
 
+# Two builds of the viewer side by side on one file baked there at the
+# defaults (MESH: default the 100,250-vertex dragon at 20 cm, marble):
+# ROUNDS rounds of each at 1920x1080, --bench 30, interleaved; rows named
+# ab/VIEWER/rROUND. The near terms' GL timer is gpu_timer_own_ms_last.
+ab() {
+  OUT=${1:?ab OUTDIR ROUNDS VIEWER_A VIEWER_B [MESH]}; local R=$2 A=$3 B=$4 M=${5:-data/stanford/dragon_100250.ply}
+  BUDGET=${BUDGET:-400}
+  mkdir -p "$OUT"; : > "$OUT/results.jsonl"; : > "$OUT/log.txt"
+  setup || return 1
+  local W=$X/work; mkdir -p "$W"
+  step 60 300 build/precompute/sss-bake "$M" -o "$W/ab.sss" --material marble --mm-per-unit 976.13 -q 2>>"$OUT/log.txt"
+  log "baked: $(ls -l "$W/ab.sss" 2>&1)"
+  for ((r = 0; r < R; r++)); do
+    for v in "$A" "$B"; do
+      local res; res=$(step 30 150 "$v" "$W/ab.sss" --offscreen --bench 30 --size 1920x1080 2>>"$OUT/log.txt")
+      [ -n "$res" ] && json view "ab/$(basename "$v")/r$r" "$res"
+      log "$(basename "$v") r$r: $(echo "$res" | python3 -c 'import json,sys; d=json.load(sys.stdin); print("scatter %.3f ms, near (GL) %.3f ms, frame %.3f ms" % (d["scatter_ms_median"], d["gpu_timer_own_ms_last"], d["frame_ms_median"]))' 2>/dev/null)"
+    done
+  done
+  log "done, $(left) s of the budget left"
+}
+
 # the schemes' rows: medians over the rounds, ms
 report_schemes() {
   python3 - "${1:?report-schemes OUTDIR}/results.jsonl" <<'PY'
@@ -362,6 +385,7 @@ case $MODE in
   pack) pack "$@" ;;
   run) run "$@" ;;
   schemes) schemes "$@" ;;
+  ab) ab "$@" ;;
   shell) OUT=${1:?shell OUTDIR CMD...}; shift; BUDGET=600; mkdir -p "$OUT"; : > "$OUT/log.txt"; setup && "$@" ;;
   report) report "$@" ;;
   report-schemes) report_schemes "$@" ;;

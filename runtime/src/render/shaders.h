@@ -63,7 +63,9 @@
  * for term, in float, with `precise` so that no multiply-add is fused and
  * nothing reordered, and g V is what sss_near_transfer stores: the C
  * reference and this pass hold the same floats.
- * near_sum: per vertex o, q[o·C + c] += Σ_i w̃(o, i) g_i V_i over o's row:
+ * near_sum: per vertex o, q[o·C + c] += Σ_i w̃(o, i) g_i V_i over o's row
+ * (binding 0: per receiver its first entry, stride and count in the
+ * interleaved rows of bindings 1 and 4, effects/near.c):
  * sss_near_sum's float sum in its order, `precise`, then q += s, as
  * sss_near_add does. Needs "#define CHANNELS n". */
 

@@ -32,6 +32,10 @@
 #include "shadow.h"
 #include "sss/nearterms.h"
 
+/* Receivers per slice of pass 2's interleaved rows (near_build): a warp of
+ * 32 invocations on NVIDIA, half a wave on AMD's 64. */
+#define NEAR_SLICE 32u
+
 typedef struct sss_near_pass {
     sss_shadow *shadow; /* created on the first pass that asks for the map */
     GLuint prog_vis, prog_ray, prog_near; /* pass 1 (map or rays): V and g V per vertex; pass 2: the rows' sums into q */
@@ -47,7 +51,8 @@ typedef struct sss_near_pass {
      * storage buffer each (near_build); one chunk unless the rows are larger
      * than the GL's block limit */
     uint32_t nchunk;
-    GLuint *near_start, *near_idx, *near_w; /* per chunk: row starts from the chunk's first entry, vertices, weights */
+    GLuint *near_start, *near_idx, *near_w; /* per chunk: per receiver (first entry, stride, count, 0), vertices,
+                                             * weights, interleaved in slices (near_build) */
     uint32_t *chunk_first, *chunk_count;
     float delta;        /* the rays' offset δ, sss_mesh_ray_offset (sss/mesh.h) */
 } sss_near_pass;
@@ -72,7 +77,17 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
      * fine mesh (docs/accuracy.md, "Near terms sized by the material").
      * SSS_NEAR_BLOCK_BYTES lowers the limit (tests exercise the chunks on
      * small meshes). Pass 2 runs once per chunk; every receiver's sum is the
-     * same float sum in the same order whatever the chunks. */
+     * same float sum in the same order whatever the chunks.
+     *
+     * Within a chunk the rows are interleaved in slices of up to
+     * NEAR_SLICE consecutive receivers: entry k of the slice's receiver j
+     * at slice base + k·width + j, the slice padded to its longest row.
+     * Pass 2 runs a receiver per invocation, so at each step of the rows'
+     * walk the invocations of a slice read neighbouring entries, one cache
+     * line for 32 of them, where rows one after another had each read its
+     * own line (docs/viewer.md, "Cost per frame"). Each row is still
+     * summed in its own order, to the bit as before. A slice narrower than
+     * NEAR_SLICE only where a small block limit asks for it. */
     uint64_t limit = c->max_block > 0 ? (uint64_t)c->max_block : UINT64_MAX;
     const char *env = getenv("SSS_NEAR_BLOCK_BYTES");
     if (env && *env) {
@@ -84,45 +99,94 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     const uint64_t cap = limit / per_entry < UINT32_MAX ? limit / per_entry : UINT32_MAX; /* entries per chunk */
     r->chunk_first = malloc(((size_t)nv + 1) * sizeof *r->chunk_first);
     r->chunk_count = malloc(((size_t)nv + 1) * sizeof *r->chunk_count);
-    if (!r->chunk_first || !r->chunk_count) {
+    uint64_t *chunk_entries = malloc(((size_t)nv + 1) * sizeof *chunk_entries);
+    uint32_t *slice_w = malloc(((size_t)nv + 1) * sizeof *slice_w); /* each slice's width, in receiver order */
+    if (!r->chunk_first || !r->chunk_count || !chunk_entries || !slice_w) {
+        free(chunk_entries), free(slice_w);
         sss_weights_free(&nr);
         return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the near terms of %u vertices", nv);
     }
+#define ROW(v) (nr.start[(v) + 1] - nr.start[v])
+    uint32_t nslice = 0;
     for (uint32_t v0 = 0; v0 < nv;) {
-        uint32_t v1 = v0 + 1;
-        const uint64_t row = nr.start[v1] - nr.start[v0];
-        if (row > cap) {
-            sss_weights_free(&nr);
-            return sss_fail(err, SSS_ERR_UNSUPPORTED,
-                            "renderer: vertex %u's near terms (%llu entries) exceed this GL's storage block of "
-                            "%.1f MiB (bake with a smaller --near-fraction, --near-radius or fewer --rings)",
-                            v0, (unsigned long long)row, (double)limit / 1048576.0);
+        uint64_t padded = 0;
+        uint32_t v = v0;
+        while (v < nv) {
+            uint32_t w = nv - v < NEAR_SLICE ? nv - v : NEAR_SLICE;
+            uint64_t L = 0;
+            for (uint32_t j = 0; j < w; j++) L = ROW(v + j) > L ? ROW(v + j) : L;
+            while (w > 1 && (uint64_t)w * L > cap) { /* narrower, and its longest row again */
+                w--;
+                L = 0;
+                for (uint32_t j = 0; j < w; j++) L = ROW(v + j) > L ? ROW(v + j) : L;
+            }
+            if (L > cap) {
+                free(chunk_entries), free(slice_w);
+                sss_weights_free(&nr);
+                return sss_fail(err, SSS_ERR_UNSUPPORTED,
+                                "renderer: vertex %u's near terms (%llu entries) exceed this GL's storage block of "
+                                "%.1f MiB (bake with a smaller --near-fraction, --near-radius or fewer --rings)",
+                                v, (unsigned long long)L, (double)limit / 1048576.0);
+            }
+            if (padded + (uint64_t)w * L > cap) break; /* the next chunk's first slice (padded > 0 here) */
+            slice_w[nslice++] = w;
+            padded += (uint64_t)w * L;
+            v += w;
         }
-        while (v1 < nv && nr.start[v1 + 1] - nr.start[v0] <= cap) v1++;
         r->chunk_first[r->nchunk] = v0;
-        r->chunk_count[r->nchunk] = v1 - v0;
+        r->chunk_count[r->nchunk] = v - v0;
+        chunk_entries[r->nchunk] = padded;
         r->nchunk++;
-        v0 = v1;
+        v0 = v;
     }
     r->near_start = calloc((size_t)r->nchunk + 1, sizeof *r->near_start);
     r->near_idx = calloc((size_t)r->nchunk + 1, sizeof *r->near_idx);
     r->near_w = calloc((size_t)r->nchunk + 1, sizeof *r->near_w);
-    uint32_t *start32 = malloc(((size_t)nv + 1) * sizeof *start32);
-    if (!r->near_start || !r->near_idx || !r->near_w || !start32) {
-        free(start32);
+    uint32_t *row = NULL, *idx = NULL;
+    float *wt = NULL;
+    uint64_t most = 0;
+    for (uint32_t k = 0; k < r->nchunk; k++) most = chunk_entries[k] > most ? chunk_entries[k] : most;
+    if (r->near_start && r->near_idx && r->near_w) {
+        row = malloc((size_t)nv * 4 * sizeof *row + 1);
+        idx = calloc((size_t)most + 1, sizeof *idx);
+        wt = calloc((size_t)most * C + 1, sizeof *wt);
+    }
+    if (!row || !idx || !wt) {
+        free(row), free(idx), free(wt), free(chunk_entries), free(slice_w);
         sss_weights_free(&nr);
         return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the near terms of %u vertices", nv);
     }
-    for (uint32_t k = 0; k < r->nchunk; k++) {
+    for (uint32_t k = 0, sl = 0; k < r->nchunk; k++) {
         const uint32_t v0 = r->chunk_first[k], n = r->chunk_count[k];
-        const uint64_t e0 = nr.start[v0], ne = nr.start[v0 + n] - e0;
-        for (uint32_t v = 0; v <= n; v++) start32[v] = (uint32_t)(nr.start[v0 + v] - e0); /* below cap: 32 bits */
-        r->near_start[k] = sss_gl_ssbo((GLsizeiptr)(((size_t)n + 1) * sizeof(uint32_t)), start32, GL_STATIC_DRAW);
-        /* every row holds its vertex: ne ≥ n ≥ 1 */
-        r->near_idx[k] = sss_gl_ssbo((GLsizeiptr)(ne * sizeof(uint32_t)), nr.idx + e0, GL_STATIC_DRAW);
-        r->near_w[k] = sss_gl_ssbo((GLsizeiptr)(ne * C * sizeof(float)), nr.w + e0 * C, GL_STATIC_DRAW);
+        /* per receiver: its first entry, the stride between its entries (its slice's width), its count */
+        uint64_t base = 0;
+        for (uint32_t v = v0; v < v0 + n; sl++) {
+            const uint32_t w = slice_w[sl];
+            uint64_t L = 0;
+            for (uint32_t j = 0; j < w; j++) {
+                const uint64_t e0 = nr.start[v + j], len = ROW(v + j);
+                L = len > L ? len : L;
+                uint32_t *rc = &row[4 * (size_t)(v + j - v0)];
+                rc[0] = (uint32_t)(base + j), rc[1] = w, rc[2] = (uint32_t)len, rc[3] = 0; /* below cap: 32 bits */
+                for (uint64_t e = 0; e < len; e++) {
+                    const uint64_t a = base + e * w + j;
+                    idx[a] = nr.idx[e0 + e];
+                    memcpy(&wt[a * C], &nr.w[(e0 + e) * C], C * sizeof(float));
+                }
+            }
+            base += (uint64_t)w * L;
+            v += w;
+        }
+        r->near_start[k] = sss_gl_ssbo((GLsizeiptr)((size_t)n * 4 * sizeof(uint32_t)), row, GL_STATIC_DRAW);
+        /* every row holds its vertex: base ≥ n ≥ 1 */
+        r->near_idx[k] = sss_gl_ssbo((GLsizeiptr)(base * sizeof(uint32_t)), idx, GL_STATIC_DRAW);
+        r->near_w[k] = sss_gl_ssbo((GLsizeiptr)(base * C * sizeof(float)), wt, GL_STATIC_DRAW);
+        /* the padding between rows is never read; zero it for the next chunk's image */
+        memset(idx, 0, (size_t)base * sizeof *idx);
+        memset(wt, 0, (size_t)base * C * sizeof *wt);
     }
-    free(start32);
+#undef ROW
+    free(row), free(idx), free(wt), free(chunk_entries), free(slice_w);
     sss_weights_free(&nr);
     r->gv = sss_gl_ssbo((GLsizeiptr)nv * sizeof(float), NULL, GL_DYNAMIC_COPY);
     r->lit = sss_gl_ssbo((GLsizeiptr)nv * sizeof(uint32_t), NULL, GL_DYNAMIC_COPY);
