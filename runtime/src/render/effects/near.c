@@ -35,6 +35,9 @@
 /* Receivers per slice of pass 2's interleaved rows (near_build): a warp of
  * 32 invocations on NVIDIA, half a wave on AMD's 64. */
 #define NEAR_SLICE 32u
+/* Entries per upload of those rows (near_build): 16 MiB of indices and
+ * 16·C MiB of weights at a time. */
+#define NEAR_PIECE (1u << 22)
 
 typedef struct sss_near_pass {
     sss_shadow *shadow; /* created on the first pass that asks for the map */
@@ -101,8 +104,9 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     r->chunk_count = malloc(((size_t)nv + 1) * sizeof *r->chunk_count);
     uint64_t *chunk_entries = malloc(((size_t)nv + 1) * sizeof *chunk_entries);
     uint32_t *slice_w = malloc(((size_t)nv + 1) * sizeof *slice_w); /* each slice's width, in receiver order */
-    if (!r->chunk_first || !r->chunk_count || !chunk_entries || !slice_w) {
-        free(chunk_entries), free(slice_w);
+    uint32_t *slice_len = malloc(((size_t)nv + 1) * sizeof *slice_len); /* and its longest row */
+    if (!r->chunk_first || !r->chunk_count || !chunk_entries || !slice_w || !slice_len) {
+        free(chunk_entries), free(slice_w), free(slice_len);
         sss_weights_free(&nr);
         return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the near terms of %u vertices", nv);
     }
@@ -115,13 +119,16 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
             uint32_t w = nv - v < NEAR_SLICE ? nv - v : NEAR_SLICE;
             uint64_t L = 0;
             for (uint32_t j = 0; j < w; j++) L = ROW(v + j) > L ? ROW(v + j) : L;
-            while (w > 1 && (uint64_t)w * L > cap) { /* narrower, and its longest row again */
+            /* narrower, and its longest row again, where a slice would
+             * exceed a quarter of a chunk: so that a chunk holds several,
+             * and goes up in several pieces, even under a small block limit */
+            while (w > 1 && (uint64_t)w * L > cap / 4) {
                 w--;
                 L = 0;
                 for (uint32_t j = 0; j < w; j++) L = ROW(v + j) > L ? ROW(v + j) : L;
             }
             if (L > cap) {
-                free(chunk_entries), free(slice_w);
+                free(chunk_entries), free(slice_w), free(slice_len);
                 sss_weights_free(&nr);
                 return sss_fail(err, SSS_ERR_UNSUPPORTED,
                                 "renderer: vertex %u's near terms (%llu entries) exceed this GL's storage block of "
@@ -129,7 +136,8 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
                                 v, (unsigned long long)L, (double)limit / 1048576.0);
             }
             if (padded + (uint64_t)w * L > cap) break; /* the next chunk's first slice (padded > 0 here) */
-            slice_w[nslice++] = w;
+            slice_w[nslice] = w;
+            slice_len[nslice++] = (uint32_t)L; /* L ≤ cap < 2^32 */
             padded += (uint64_t)w * L;
             v += w;
         }
@@ -142,51 +150,66 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
     r->near_start = calloc((size_t)r->nchunk + 1, sizeof *r->near_start);
     r->near_idx = calloc((size_t)r->nchunk + 1, sizeof *r->near_idx);
     r->near_w = calloc((size_t)r->nchunk + 1, sizeof *r->near_w);
+    /* The interleaved image goes up in pieces of about NEAR_PIECE entries
+     * (whole slices), so that loading holds a piece beside the rows, not a
+     * second copy of them (2.3 GB of weights for the 437K dragon); at most
+     * a quarter of a chunk, so that a small block limit (the tests') also
+     * sends several pieces. */
+    uint64_t piece = cap / 4 < NEAR_PIECE ? (cap / 4 > 0 ? cap / 4 : 1) : NEAR_PIECE;
+    for (uint32_t k = 0; k < nslice; k++)
+        piece = (uint64_t)slice_w[k] * slice_len[k] > piece ? (uint64_t)slice_w[k] * slice_len[k] : piece;
     uint32_t *row = NULL, *idx = NULL;
     float *wt = NULL;
-    uint64_t most = 0;
-    for (uint32_t k = 0; k < r->nchunk; k++) most = chunk_entries[k] > most ? chunk_entries[k] : most;
     if (r->near_start && r->near_idx && r->near_w) {
         row = malloc((size_t)nv * 4 * sizeof *row + 1);
-        idx = calloc((size_t)most + 1, sizeof *idx);
-        wt = calloc((size_t)most * C + 1, sizeof *wt);
+        idx = calloc((size_t)piece + 1, sizeof *idx);
+        wt = calloc((size_t)piece * C + 1, sizeof *wt);
     }
     if (!row || !idx || !wt) {
-        free(row), free(idx), free(wt), free(chunk_entries), free(slice_w);
+        free(row), free(idx), free(wt), free(chunk_entries), free(slice_w), free(slice_len);
         sss_weights_free(&nr);
         return sss_fail(err, SSS_ERR_NOMEM, "renderer: out of memory for the near terms of %u vertices", nv);
     }
     for (uint32_t k = 0, sl = 0; k < r->nchunk; k++) {
         const uint32_t v0 = r->chunk_first[k], n = r->chunk_count[k];
+        const uint64_t ne = chunk_entries[k]; /* every row holds its vertex: ne ≥ n ≥ 1 */
+        r->near_idx[k] = sss_gl_ssbo((GLsizeiptr)(ne * sizeof(uint32_t)), NULL, GL_STATIC_DRAW);
+        r->near_w[k] = sss_gl_ssbo((GLsizeiptr)(ne * C * sizeof(float)), NULL, GL_STATIC_DRAW);
         /* per receiver: its first entry, the stride between its entries (its slice's width), its count */
-        uint64_t base = 0;
-        for (uint32_t v = v0; v < v0 + n; sl++) {
+        uint64_t base = 0, p0 = 0; /* the next slice's first entry; the piece's */
+        for (uint32_t v = v0; v <= v0 + n; sl++) {
+            const int last = v == v0 + n;
+            const uint64_t size = last ? 0 : (uint64_t)slice_w[sl] * slice_len[sl];
+            if (last || base + size - p0 > piece) { /* the piece [p0, base) up; the padding stays 0 */
+                glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->near_idx[k]);
+                glBufferSubData(GL_SHADER_STORAGE_BUFFER, (GLintptr)(p0 * sizeof *idx),
+                                (GLsizeiptr)((base - p0) * sizeof *idx), idx);
+                glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->near_w[k]);
+                glBufferSubData(GL_SHADER_STORAGE_BUFFER, (GLintptr)(p0 * C * sizeof *wt),
+                                (GLsizeiptr)((base - p0) * C * sizeof *wt), wt);
+                memset(idx, 0, (size_t)(base - p0) * sizeof *idx);
+                memset(wt, 0, (size_t)(base - p0) * C * sizeof *wt);
+                p0 = base;
+                if (last) break;
+            }
             const uint32_t w = slice_w[sl];
-            uint64_t L = 0;
             for (uint32_t j = 0; j < w; j++) {
                 const uint64_t e0 = nr.start[v + j], len = ROW(v + j);
-                L = len > L ? len : L;
                 uint32_t *rc = &row[4 * (size_t)(v + j - v0)];
                 rc[0] = (uint32_t)(base + j), rc[1] = w, rc[2] = (uint32_t)len, rc[3] = 0; /* below cap: 32 bits */
                 for (uint64_t e = 0; e < len; e++) {
-                    const uint64_t a = base + e * w + j;
+                    const uint64_t a = base - p0 + e * w + j;
                     idx[a] = nr.idx[e0 + e];
                     memcpy(&wt[a * C], &nr.w[(e0 + e) * C], C * sizeof(float));
                 }
             }
-            base += (uint64_t)w * L;
+            base += size;
             v += w;
         }
         r->near_start[k] = sss_gl_ssbo((GLsizeiptr)((size_t)n * 4 * sizeof(uint32_t)), row, GL_STATIC_DRAW);
-        /* every row holds its vertex: base ≥ n ≥ 1 */
-        r->near_idx[k] = sss_gl_ssbo((GLsizeiptr)(base * sizeof(uint32_t)), idx, GL_STATIC_DRAW);
-        r->near_w[k] = sss_gl_ssbo((GLsizeiptr)(base * C * sizeof(float)), wt, GL_STATIC_DRAW);
-        /* the padding between rows is never read; zero it for the next chunk's image */
-        memset(idx, 0, (size_t)base * sizeof *idx);
-        memset(wt, 0, (size_t)base * C * sizeof *wt);
     }
 #undef ROW
-    free(row), free(idx), free(wt), free(chunk_entries), free(slice_w);
+    free(row), free(idx), free(wt), free(chunk_entries), free(slice_w), free(slice_len);
     sss_weights_free(&nr);
     r->gv = sss_gl_ssbo((GLsizeiptr)nv * sizeof(float), NULL, GL_DYNAMIC_COPY);
     r->lit = sss_gl_ssbo((GLsizeiptr)nv * sizeof(uint32_t), NULL, GL_DYNAMIC_COPY);
