@@ -7,7 +7,7 @@
 #   tests/bench/gpu_bench.sh run OUTDIR [BUDGET_S]            # there
 #   tests/bench/gpu_bench.sh report OUTDIR                    # here
 #   tests/bench/gpu_bench.sh shell OUTDIR CMD...              # there: CMD in run's set-up
-#   tests/bench/gpu_bench.sh schemes OUTDIR [ROUNDS [BUDGET_S]] # there: the compressed forms' GPU schemes
+#   tests/bench/gpu_bench.sh schemes OUTDIR [ROUNDS [BUDGET_S]] # there: the compressed forms' SH tables
 #   tests/bench/gpu_bench.sh report-schemes OUTDIR            # here: their rows
 #   tests/bench/gpu_bench.sh ab OUTDIR ROUNDS VIEWER_A VIEWER_B [MESH]  # there: two viewers side by side
 #
