@@ -67,8 +67,8 @@ static sss_result scatter_create(sss_scatter *s, const sss_gpu_mesh *m, int vect
         s->coded[st] = s->prog[SSS_GPU_PASS_CODED];
         s->coded_count[st] = glGetUniformLocation(s->coded[st], "u_count");
     }
-    const char *gl = (const char *)glGetString(GL_RENDERER);
-    s->software = gl && (strstr(gl, "llvmpipe") || strstr(gl, "softpipe") || strstr(gl, "SwiftShader"));
+    const char *gl = sss_gl_renderer_name();
+    s->software = strstr(gl, "llvmpipe") || strstr(gl, "softpipe") || strstr(gl, "SwiftShader");
 
     /* Each frame sets these uniforms: their locations once, here. */
     for (int p = 0; p <= SSS_GPU_PASSES; p++) {
@@ -182,11 +182,14 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], c
     sss_gpu_frame *fr = &s->frame;
     const int interp = vp->interp;
     const int n4 = interp == SSS_INTERP_NEAREST4;
-    const int storage = sss_scatter_storage(s, vp);
+    /* the coded pass with the tables where they are read fastest here, or
+     * the layout's own where this GL cannot compile that variant */
+    int storage = sss_scatter_storage(s, vp);
     GLuint coded = s->prog[SSS_GPU_PASS_CODED] ? coded_program(s, storage) : 0;
-    if (s->prog[SSS_GPU_PASS_CODED] && !coded) /* a variant this GL cannot compile: the layout's own */
+    if (s->prog[SSS_GPU_PASS_CODED] && !coded) {
+        storage = L->sh_bytes && !L->sh_uniform;
         coded = s->prog[SSS_GPU_PASS_CODED];
-    const int use_storage = coded && coded == s->coded[1];
+    }
     /* the light's rows, weights and folded tables (sss/gpu.h) */
     sss_gpu_frame_eval_interp(L, l, n4 ? SSS_INTERP_NEAREST4 : SSS_INTERP_TRIANGLE, fr);
     if (fr->levels) {
@@ -226,9 +229,9 @@ void sss_scatter_gpu(sss_scatter *s, const sss_gpu_mesh *m, const double l[3], c
             glUniform1ui(u->channels, fr->u_channels);
         } else if (fr->sh) {
             /* a uniform block where the tables fit one and that is faster here (sss_scatter_storage) */
-            glBindBufferBase(use_storage ? GL_SHADER_STORAGE_BUFFER : GL_UNIFORM_BUFFER, 4, s->sh_tab);
+            glBindBufferBase(storage ? GL_SHADER_STORAGE_BUFFER : GL_UNIFORM_BUFFER, 4, s->sh_tab);
         }
-        glUniform1ui(p == SSS_GPU_PASS_CODED ? s->coded_count[use_storage] : u->count, fr->u_count[p]);
+        glUniform1ui(p == SSS_GPU_PASS_CODED ? s->coded_count[storage] : u->count, fr->u_count[p]);
         glDispatchCompute(L->pass[p].groups, 1, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);

@@ -65,6 +65,14 @@ typedef struct sss_near_pass {
  * them), the mesh's BVH for the rays, each vertex's incident triangles for
  * the map, the per-vertex V and g V buffers and the programs. The shadow
  * map itself waits for a pass that asks for it. */
+/* The longest of the rows of receivers v … v + w − 1. */
+static uint64_t longest_row(const sss_weights *nr, uint32_t v, uint32_t w)
+{
+    uint64_t L = 0;
+    for (uint32_t j = v; j < v + w; j++) L = nr->start[j + 1] - nr->start[j] > L ? nr->start[j + 1] - nr->start[j] : L;
+    return L;
+}
+
 static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_error *err)
 {
     const sss_gpu_mesh *m = c->mesh;
@@ -117,16 +125,11 @@ static sss_result near_build(sss_near_pass *r, const sss_effect_ctx *c, sss_erro
         uint32_t v = v0;
         while (v < nv) {
             uint32_t w = nv - v < NEAR_SLICE ? nv - v : NEAR_SLICE;
-            uint64_t L = 0;
-            for (uint32_t j = 0; j < w; j++) L = ROW(v + j) > L ? ROW(v + j) : L;
-            /* narrower, and its longest row again, where a slice would
-             * exceed a quarter of a chunk: so that a chunk holds several,
-             * and goes up in several pieces, even under a small block limit */
-            while (w > 1 && (uint64_t)w * L > cap / 4) {
-                w--;
-                L = 0;
-                for (uint32_t j = 0; j < w; j++) L = ROW(v + j) > L ? ROW(v + j) : L;
-            }
+            /* narrower where a slice would exceed a quarter of a chunk: so
+             * that a chunk holds several, and goes up in several pieces,
+             * even under a small block limit */
+            while (w > 1 && (uint64_t)w * longest_row(&nr, v, w) > cap / 4) w--;
+            const uint64_t L = longest_row(&nr, v, w);
             if (L > cap) {
                 free(chunk_entries), free(slice_w), free(slice_len);
                 sss_weights_free(&nr);
